@@ -1,0 +1,73 @@
+//! The options that choose a robot chain, shared by the kinematics subcommands.
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use graspath::robot::builtin::{baxter, baxter_with_tool, Arm};
+use graspath::robot::{Chain, UrdfRobot};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+use std::path::PathBuf;
+
+/// Either a URDF chain (`--urdf --base --tip`) or a built-in robot (`--robot --arm`).
+#[derive(Debug, Args)]
+pub struct RobotArgs {
+    /// A URDF file (expand .xacro files with `xacro` first).
+    #[arg(long, value_name = "FILE", conflicts_with = "robot", requires_all = ["base", "tip"])]
+    pub urdf: Option<PathBuf>,
+    /// The chain's base link: poses and Jacobians are expressed in its frame.
+    #[arg(long, value_name = "LINK")]
+    pub base: Option<String>,
+    /// The chain's tip link.
+    #[arg(long, value_name = "LINK")]
+    pub tip: Option<String>,
+    /// A built-in robot: `baxter`.
+    #[arg(long, value_name = "NAME")]
+    pub robot: Option<String>,
+    /// The arm of a built-in robot: `left` or `right`.
+    #[arg(long, value_name = "ARM", default_value = "left")]
+    pub arm: String,
+    /// A tool offset after the tip, `x,y,z` in metres in the tip frame.
+    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', num_args = 3)]
+    pub tool_xyz: Option<Vec<f64>>,
+    /// The tool offset's rotation, `roll,pitch,yaw` in radians (URDF convention).
+    #[arg(long, value_name = "R,P,Y", value_delimiter = ',', num_args = 3)]
+    pub tool_rpy: Option<Vec<f64>>,
+}
+
+impl RobotArgs {
+    fn tool(&self) -> Result<Option<Isometry3<f64>>> {
+        if self.tool_xyz.is_none() && self.tool_rpy.is_none() {
+            return Ok(None);
+        }
+        let xyz = self.tool_xyz.clone().unwrap_or_else(|| vec![0.0; 3]);
+        let rpy = self.tool_rpy.clone().unwrap_or_else(|| vec![0.0; 3]);
+        if xyz.iter().chain(&rpy).any(|v| !v.is_finite()) {
+            bail!("--tool-xyz / --tool-rpy: values must be finite numbers");
+        }
+        Ok(Some(Isometry3::from_parts(
+            Translation3::new(xyz[0], xyz[1], xyz[2]),
+            UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+        )))
+    }
+
+    /// Loads the chain the options name.
+    pub fn load(&self) -> Result<Chain> {
+        let tool = self.tool()?;
+        match (&self.urdf, &self.robot) {
+            (Some(path), None) => {
+                let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
+                    bail!("--urdf needs --base LINK and --tip LINK");
+                };
+                Ok(UrdfRobot::from_file(path)?.chain(base, tip, tool)?)
+            }
+            (None, Some(name)) if name == "baxter" => {
+                let arm: Arm = self.arm.parse().map_err(anyhow::Error::msg).context("--arm")?;
+                Ok(match tool {
+                    Some(tool) => baxter_with_tool(arm, tool)?,
+                    None => baxter(arm),
+                })
+            }
+            (None, Some(other)) => bail!("--robot: unknown built-in robot '{other}' (built in: baxter)"),
+            _ => bail!("choose a robot: --robot baxter --arm left|right, or --urdf FILE --base LINK --tip LINK"),
+        }
+    }
+}

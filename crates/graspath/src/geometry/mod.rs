@@ -1,0 +1,17 @@
+//! Rigid-body geometry: poses, SE(3) exponential and logarithm, pose interpolation and
+//! quaternion helpers.
+//!
+//! Conventions (used throughout the crate): metres and radians; a transform is named
+//! `a_from_b` and maps coordinates in frame `b` to frame `a`; transforms compose right to left
+//! (`world_from_wrist = world_from_object * object_from_wrist`). A twist is a 6-vector
+//! `[v; ω]` (linear part first).
+
+mod interpolate;
+mod matrix;
+mod quaternion;
+mod se3;
+
+pub use interpolate::{interpolate_decoupled, interpolate_screw};
+pub use matrix::{pose_from_rows, pose_to_rows, PoseError, ROTATION_TOLERANCE};
+pub use quaternion::{quaternion_angle_between, quaternion_in_hemisphere_of, quaternion_xyzw};
+pub use se3::{se3_exp, se3_log, so3_log, Twist};

@@ -1,0 +1,166 @@
+//! Indices at one configuration, from the geometric Jacobian `J` (rows `[v; ω]`).
+
+use nalgebra::{DMatrix, Dim, Matrix, Storage, Vector3, Vector6, U6};
+
+/// Which rows of the Jacobian an index uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JacobianPart {
+    /// All six rows (mixed units: m/s and rad/s per unit joint velocity).
+    Full,
+    /// The linear-velocity rows `Jv` (m/s per unit joint velocity).
+    Translation,
+    /// The angular-velocity rows `Jω` (rad/s per unit joint velocity).
+    Rotation,
+}
+
+impl JacobianPart {
+    fn rows(self) -> std::ops::Range<usize> {
+        match self {
+            JacobianPart::Full => 0..6,
+            JacobianPart::Translation => 0..3,
+            JacobianPart::Rotation => 3..6,
+        }
+    }
+}
+
+fn part_matrix<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    part: JacobianPart,
+) -> DMatrix<f64> {
+    let rows = part.rows();
+    DMatrix::from_fn(rows.len(), jacobian.ncols(), |r, c| {
+        jacobian[(rows.start + r, c)]
+    })
+}
+
+/// Singular values of the selected rows of `J`, in descending order (as many as rows, padded
+/// with zeros when there are fewer joints than rows).
+pub fn singular_values<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    part: JacobianPart,
+) -> Vec<f64> {
+    let m = part_matrix(jacobian, part);
+    let rows = m.nrows();
+    let mut values: Vec<f64> = m
+        .svd(false, false)
+        .singular_values
+        .iter()
+        .copied()
+        .collect();
+    values.sort_by(|a, b| b.total_cmp(a));
+    values.resize(rows, 0.0);
+    values
+}
+
+/// Yoshikawa's manipulability `sqrt(det(J Jᵀ))` of the selected rows: the product of their
+/// singular values (0 at a singularity or with fewer joints than rows).
+pub fn yoshikawa<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    part: JacobianPart,
+) -> f64 {
+    singular_values(jacobian, part).iter().product()
+}
+
+/// Inverse condition number `σmin / σmax` of the selected rows (0 when `σmax = 0`).
+pub fn inverse_condition<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    part: JacobianPart,
+) -> f64 {
+    let s = singular_values(jacobian, part);
+    let (max, min) = (s[0], s[s.len() - 1]);
+    if max > 0.0 {
+        min / max
+    } else {
+        0.0
+    }
+}
+
+/// Inverse condition number of `J Jᵀ`, `λmin / λmax` (the paper's eq. 12): the square of
+/// [`inverse_condition`].
+pub fn inverse_condition_squared<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    part: JacobianPart,
+) -> f64 {
+    inverse_condition(jacobian, part).powi(2)
+}
+
+/// A direction for the task-relevant index, sized to the rows it is used with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Direction {
+    /// A 6-D unit direction `[v; ω]` for the full Jacobian.
+    Full(Vector6<f64>),
+    /// A 3-D unit direction for `Jv`.
+    Translation(Vector3<f64>),
+    /// A 3-D unit direction for `Jω`.
+    Rotation(Vector3<f64>),
+}
+
+impl Direction {
+    /// The direction as a 6-vector over the rows `[v; ω]` (zeros on the rows it does not use).
+    pub fn as_full(&self) -> Vector6<f64> {
+        match self {
+            Direction::Full(u) => *u,
+            Direction::Translation(u) => Vector6::new(u[0], u[1], u[2], 0.0, 0.0, 0.0),
+            Direction::Rotation(u) => Vector6::new(0.0, 0.0, 0.0, u[0], u[1], u[2]),
+        }
+    }
+}
+
+/// Task-relevant manipulability `M_T = uᵀ J Jᵀ u = ‖Jᵀ u‖²` along a unit direction `u`
+/// (paper eq. 13; no eigen-decomposition needed). Allocation-free.
+pub fn task_relevant<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    direction: &Direction,
+) -> f64 {
+    let weights = direction.as_full();
+    (0..jacobian.ncols())
+        .map(|c| {
+            let column = jacobian.column(c);
+            let projection: f64 = (0..6).map(|r| column[r] * weights[r]).sum();
+            projection * projection
+        })
+        .sum()
+}
+
+/// The velocity transmission ratio `1 / sqrt(uᵀ (J Jᵀ)⁻¹ u)` along a unit direction `u`: the
+/// tip speed along `u` reached with a unit-norm joint velocity. 0 when `u` leaves the range of
+/// `J` (a singular direction).
+pub fn velocity_transmission_ratio<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    direction: &Direction,
+) -> f64 {
+    let (part, u): (JacobianPart, Vec<f64>) = match direction {
+        Direction::Full(u) => (JacobianPart::Full, u.iter().copied().collect()),
+        Direction::Translation(u) => (JacobianPart::Translation, u.iter().copied().collect()),
+        Direction::Rotation(u) => (JacobianPart::Rotation, u.iter().copied().collect()),
+    };
+    let m = part_matrix(jacobian, part);
+    let svd = m.svd(true, false);
+    let Some(left) = svd.u else { return 0.0 };
+    let largest = svd.singular_values.max();
+    let mut quadratic = 0.0;
+    for k in 0..left.ncols() {
+        let along: f64 = (0..u.len()).map(|r| left[(r, k)] * u[r]).sum();
+        let sigma = svd.singular_values[k];
+        if sigma <= largest * 1e-12 {
+            if along.abs() > 1e-12 {
+                return 0.0;
+            }
+            continue;
+        }
+        quadratic += (along / sigma).powi(2);
+    }
+    // Directions outside the column space of U (fewer joints than rows).
+    let covered: f64 = (0..left.ncols())
+        .map(|k| {
+            (0..u.len())
+                .map(|r| left[(r, k)] * u[r])
+                .sum::<f64>()
+                .powi(2)
+        })
+        .sum();
+    if covered < 1.0 - 1e-9 {
+        return 0.0;
+    }
+    1.0 / quadratic.sqrt()
+}

@@ -1,0 +1,22 @@
+//! Manipulability indices at one configuration and their norms along a path.
+//!
+//! Pinned definitions (paper eq. 11–17):
+//! * Yoshikawa `w = sqrt(det(J Jᵀ))` of the full `J`, its translational rows `Jv` or its
+//!   rotational rows `Jω`;
+//! * inverse condition number, both as `σmin/σmax` of `J` and as `λmin/λmax` of `J Jᵀ` (its
+//!   square, the form printed in the paper);
+//! * task-relevant manipulability `M_T = Σ_j λ_j (v_j·u)² = uᵀ J Jᵀ u = ‖Jᵀ u‖²` for a unit
+//!   direction `u` (3-D for `Jv` or `Jω`, 6-D for the full `J`);
+//! * the velocity transmission ratio `1/sqrt(uᵀ (J Jᵀ)⁻¹ u)`;
+//! * over a path: `μ_l2 = ‖M‖₂`, `μ_l∞ = max_i 1/M_i`, `μ_l1 = ½ Σ (M_i + M_{i+1}) Δt_i`.
+
+mod indices;
+mod norms;
+mod tangent;
+
+pub use indices::{
+    inverse_condition, inverse_condition_squared, singular_values, task_relevant,
+    velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
+};
+pub use norms::{PathNorms, SampleIndex};
+pub use tangent::{scaled_jacobian, wrist_tangent, IndexMode, STILL_TWIST_TOLERANCE};

@@ -1,0 +1,91 @@
+//! The unit tangent of a wrist path at a sample, in the base frame, for the task-relevant index.
+
+use super::indices::Direction;
+use crate::geometry::se3_log;
+use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
+
+/// Twists (m or rad per step) below this norm count as "the object is still": the sample is
+/// skipped rather than divided by.
+pub const STILL_TWIST_TOLERANCE: f64 = 1e-9;
+
+/// Which part of the motion the task-relevant index measures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum IndexMode {
+    /// The full 6-D twist, the angular rows of `J` and of the tangent scaled by a characteristic
+    /// length `length_scale` (m). `1.0` reproduces the paper's raw `J`.
+    Twist {
+        /// Characteristic length L (m), > 0.
+        length_scale: f64,
+    },
+    /// The linear velocity of the wrist origin only (`Jv`, 3-D tangent).
+    Translation,
+    /// The angular velocity only (`Jω`, 3-D tangent).
+    Rotation,
+}
+
+impl Default for IndexMode {
+    fn default() -> Self {
+        IndexMode::Twist { length_scale: 1.0 }
+    }
+}
+
+/// The twist moving the wrist from `base_from_wrist` to `base_from_next`, as the velocity of the
+/// wrist origin and the angular velocity along base-frame axes (the quantities `J` maps to).
+fn base_frame_twist(
+    base_from_wrist: &Isometry3<f64>,
+    base_from_next: &Isometry3<f64>,
+) -> Vector6<f64> {
+    let body = se3_log(&(base_from_wrist.inverse() * base_from_next));
+    let r = base_from_wrist.rotation;
+    let v = r * Vector3::new(body[0], body[1], body[2]);
+    let w = r * Vector3::new(body[3], body[4], body[5]);
+    Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z)
+}
+
+/// The unit direction of motion at a sample: `log(wrist_i⁻¹ · wrist_{i+1})` expressed in the
+/// base frame, reduced to the rows `mode` measures (angular part scaled by L in `Twist` mode)
+/// and normalised. `None` when the motion is below [`STILL_TWIST_TOLERANCE`].
+pub fn wrist_tangent(
+    base_from_wrist: &Isometry3<f64>,
+    base_from_next: &Isometry3<f64>,
+    mode: IndexMode,
+) -> Option<Direction> {
+    let twist = base_frame_twist(base_from_wrist, base_from_next);
+    let linear = Vector3::new(twist[0], twist[1], twist[2]);
+    let angular = Vector3::new(twist[3], twist[4], twist[5]);
+    match mode {
+        IndexMode::Twist { length_scale } => {
+            if twist.norm() < STILL_TWIST_TOLERANCE {
+                return None;
+            }
+            let scaled = Vector6::new(
+                linear.x,
+                linear.y,
+                linear.z,
+                length_scale * angular.x,
+                length_scale * angular.y,
+                length_scale * angular.z,
+            );
+            let norm = scaled.norm();
+            (norm > 0.0).then(|| Direction::Full(scaled / norm))
+        }
+        IndexMode::Translation => {
+            let norm = linear.norm();
+            (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Translation(linear / norm))
+        }
+        IndexMode::Rotation => {
+            let norm = angular.norm();
+            (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Rotation(angular / norm))
+        }
+    }
+}
+
+/// The Jacobian the index uses in `mode`: in `Twist` mode the angular rows are multiplied by L;
+/// otherwise `J` unchanged (the direction selects the rows).
+pub fn scaled_jacobian(jacobian: &Matrix6xX<f64>, mode: IndexMode) -> Matrix6xX<f64> {
+    let mut scaled = jacobian.clone();
+    if let IndexMode::Twist { length_scale } = mode {
+        scaled.rows_mut(3, 3).scale_mut(length_scale);
+    }
+    scaled
+}

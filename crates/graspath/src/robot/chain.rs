@@ -1,0 +1,438 @@
+//! A serial chain flattened for speed, and its forward kinematics and geometric Jacobian.
+//!
+//! Every joint frame is re-oriented once, at construction, so that its axis is the local `z`
+//! axis; the constant re-orientations are folded into the neighbouring fixed transforms. One
+//! forward pass then costs, per joint, one 3×3 product, one `sin_cos` and a column rotation,
+//! and writes the Jacobian column at the same time. Nothing is allocated per call.
+
+use super::error::RobotError;
+use super::spec::{ChainSpec, JointKind};
+use nalgebra::{
+    Isometry3, IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, SMatrix, Translation3, Unit, Vector3,
+};
+
+/// Largest number of moving joints in one chain (mimic followers included).
+pub const MAX_JOINTS: usize = 64;
+
+/// How an active joint moves its child.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionKind {
+    /// Rotation about the joint axis (rad).
+    Revolute,
+    /// Translation along the joint axis (m).
+    Prismatic,
+}
+
+/// One moving joint after flattening: the constant transform from the previous aligned joint
+/// frame (or the base) to this joint's aligned frame at `q = 0`, whose `z` axis is the joint axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Segment {
+    rotation: Matrix3<f64>,
+    translation: Vector3<f64>,
+    kind: MotionKind,
+}
+
+/// Which active joint drives a segment (mimic joints follow a leader).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Drive {
+    source: usize,
+    multiplier: f64,
+    offset: f64,
+}
+
+/// A serial kinematic chain from a base link to a tip link (plus an optional tool offset),
+/// ready for fast forward kinematics. Cheap to share between threads (`Sync`, no interior state).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chain {
+    source_name: String,
+    base_link: String,
+    tip_link: String,
+    joint_names: Vec<String>,
+    joint_kinds: Vec<JointKind>,
+    lower: Vec<f64>,
+    upper: Vec<f64>,
+    segments: Vec<Segment>,
+    /// `None` when segment `i` is driven by `q[i]` (no mimic joints).
+    drives: Option<Vec<Drive>>,
+    tail_rotation: Matrix3<f64>,
+    tail_translation: Vector3<f64>,
+}
+
+/// A rotation taking the `z` axis onto the unit vector `axis`.
+fn z_onto(axis: &Vector3<f64>) -> Rotation3<f64> {
+    Rotation3::rotation_between(&Vector3::z(), axis).unwrap_or_else(|| {
+        // `axis` is −z: turn half a revolution about x.
+        Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+    })
+}
+
+impl Chain {
+    /// Flattens a chain description. Fixed joints become constant transforms; mimic joints
+    /// follow their leader (which must be on the chain).
+    pub fn from_spec(spec: &ChainSpec) -> Result<Self, RobotError> {
+        let mut joint_names = Vec::new();
+        let mut joint_kinds = Vec::new();
+        let mut lower = Vec::new();
+        let mut upper = Vec::new();
+        let mut segments = Vec::new();
+        let mut drives = Vec::new();
+        let mut has_mimic = false;
+        // The transform from the last aligned frame (or the base) to the current link frame.
+        let mut pending = Isometry3::<f64>::identity();
+        for joint in &spec.joints {
+            let motion = match joint.kind {
+                JointKind::Fixed => {
+                    pending *= joint.parent_from_joint;
+                    continue;
+                }
+                JointKind::Revolute | JointKind::Continuous => MotionKind::Revolute,
+                JointKind::Prismatic => MotionKind::Prismatic,
+            };
+            let align = Isometry3::from_parts(Translation3::identity(), z_onto(&joint.axis).into());
+            let placement = pending * joint.parent_from_joint * align;
+            pending = align.inverse();
+            let drive = match &joint.mimic {
+                None => {
+                    joint_names.push(joint.name.clone());
+                    joint_kinds.push(joint.kind);
+                    lower.push(joint.lower);
+                    upper.push(joint.upper);
+                    Drive {
+                        source: joint_names.len() - 1,
+                        multiplier: 1.0,
+                        offset: 0.0,
+                    }
+                }
+                Some(mimic) => {
+                    has_mimic = true;
+                    let source = joint_names
+                        .iter()
+                        .position(|n| *n == mimic.leader)
+                        .ok_or_else(|| RobotError::BadJoint {
+                            source_name: spec.source_name.clone(),
+                            joint: joint.name.clone(),
+                            field: "mimic/@joint",
+                            message: format!(
+                                "mimics '{}', which is not an earlier joint of the chain {} -> {}",
+                                mimic.leader, spec.base_link, spec.tip_link
+                            ),
+                        })?;
+                    Drive {
+                        source,
+                        multiplier: mimic.multiplier,
+                        offset: mimic.offset,
+                    }
+                }
+            };
+            drives.push(drive);
+            segments.push(Segment {
+                rotation: placement.rotation.to_rotation_matrix().into_inner(),
+                translation: placement.translation.vector,
+                kind: motion,
+            });
+        }
+        if segments.len() > MAX_JOINTS {
+            return Err(RobotError::BadJoint {
+                source_name: spec.source_name.clone(),
+                joint: spec.tip_link.clone(),
+                field: "joint",
+                message: format!("the chain has more than {MAX_JOINTS} moving joints"),
+            });
+        }
+        let tail = pending * spec.tip_from_tool.unwrap_or_else(Isometry3::identity);
+        Ok(Self {
+            source_name: spec.source_name.clone(),
+            base_link: spec.base_link.clone(),
+            tip_link: spec.tip_link.clone(),
+            joint_names,
+            joint_kinds,
+            lower,
+            upper,
+            segments,
+            drives: has_mimic.then_some(drives),
+            tail_rotation: tail.rotation.to_rotation_matrix().into_inner(),
+            tail_translation: tail.translation.vector,
+        })
+    }
+
+    /// The number of independent joints (the length of `q`).
+    pub fn dof(&self) -> usize {
+        self.joint_names.len()
+    }
+
+    /// `base->tip`, for messages.
+    pub fn name(&self) -> String {
+        format!("{}->{}", self.base_link, self.tip_link)
+    }
+
+    /// The file or built-in model the chain came from.
+    pub fn source_name(&self) -> &str {
+        &self.source_name
+    }
+
+    /// The base link (the frame of every pose and Jacobian).
+    pub fn base_link(&self) -> &str {
+        &self.base_link
+    }
+
+    /// The tip link.
+    pub fn tip_link(&self) -> &str {
+        &self.tip_link
+    }
+
+    /// The names of the independent joints, in the order of `q`.
+    pub fn joint_names(&self) -> &[String] {
+        &self.joint_names
+    }
+
+    /// The kinds of the independent joints.
+    pub fn joint_kinds(&self) -> &[JointKind] {
+        &self.joint_kinds
+    }
+
+    /// Lower joint limits (rad or m; `-∞` for continuous joints).
+    pub fn lower(&self) -> &[f64] {
+        &self.lower
+    }
+
+    /// Upper joint limits (rad or m; `+∞` for continuous joints).
+    pub fn upper(&self) -> &[f64] {
+        &self.upper
+    }
+
+    /// The middle of the joint limits (0 for an unbounded joint).
+    pub fn mid_configuration(&self) -> Vec<f64> {
+        self.lower
+            .iter()
+            .zip(&self.upper)
+            .map(|(&lo, &hi)| {
+                if lo.is_finite() && hi.is_finite() {
+                    0.5 * (lo + hi)
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// Whether every joint value lies within its limits (bounds included).
+    pub fn within_limits(&self, q: &[f64]) -> bool {
+        q.len() == self.dof()
+            && q.iter()
+                .zip(self.lower.iter().zip(&self.upper))
+                .all(|(&v, (&lo, &hi))| v >= lo && v <= hi)
+    }
+
+    /// Checks the length and finiteness of a configuration.
+    pub fn check_configuration(&self, q: &[f64]) -> Result<(), RobotError> {
+        if q.len() != self.dof() {
+            return Err(RobotError::WrongDof {
+                chain: self.name(),
+                expected: self.dof(),
+                got: q.len(),
+            });
+        }
+        if let Some(index) = q.iter().position(|v| !v.is_finite()) {
+            return Err(RobotError::NonFiniteJoint { index });
+        }
+        Ok(())
+    }
+
+    /// The tip pose `base_from_tip` at configuration `q` (rad / m).
+    pub fn pose(&self, q: &[f64]) -> Result<IsometryMatrix3<f64>, RobotError> {
+        self.check_configuration(q)?;
+        Ok(self.pose_unchecked(q))
+    }
+
+    /// The tip pose and the geometric Jacobian (6 × dof, rows `[v; ω]`, base frame) at `q`.
+    ///
+    /// `jacobian` is resized once if it has the wrong number of columns; with the right size
+    /// nothing is allocated.
+    pub fn pose_and_jacobian_into(
+        &self,
+        q: &[f64],
+        jacobian: &mut Matrix6xX<f64>,
+    ) -> Result<IsometryMatrix3<f64>, RobotError> {
+        self.check_configuration(q)?;
+        if jacobian.ncols() != self.dof() {
+            *jacobian = Matrix6xX::zeros(self.dof());
+        }
+        Ok(self.pose_and_jacobian_unchecked(q, jacobian.as_mut_slice()))
+    }
+
+    /// The tip pose and a newly allocated geometric Jacobian at `q`.
+    pub fn pose_and_jacobian(
+        &self,
+        q: &[f64],
+    ) -> Result<(IsometryMatrix3<f64>, Matrix6xX<f64>), RobotError> {
+        let mut jacobian = Matrix6xX::zeros(self.dof());
+        let pose = self.pose_and_jacobian_into(q, &mut jacobian)?;
+        Ok((pose, jacobian))
+    }
+
+    /// Forward kinematics without checks; `q.len()` must equal [`Chain::dof`].
+    pub(crate) fn pose_unchecked(&self, q: &[f64]) -> IsometryMatrix3<f64> {
+        match &self.drives {
+            None => forward(&self.segments, |i| q[i], None, self.tail()),
+            Some(drives) => forward(
+                &self.segments,
+                |i| drives[i].multiplier * q[drives[i].source] + drives[i].offset,
+                None,
+                self.tail(),
+            ),
+        }
+    }
+
+    /// Pose and Jacobian without checks; `jacobian` is the column-major 6 × dof storage.
+    pub(crate) fn pose_and_jacobian_unchecked(
+        &self,
+        q: &[f64],
+        jacobian: &mut [f64],
+    ) -> IsometryMatrix3<f64> {
+        match &self.drives {
+            None => forward(&self.segments, |i| q[i], Some(jacobian), self.tail()),
+            Some(drives) => {
+                let mut expanded = [0.0; 6 * MAX_JOINTS];
+                let expanded = &mut expanded[..6 * self.segments.len()];
+                let pose = forward(
+                    &self.segments,
+                    |i| drives[i].multiplier * q[drives[i].source] + drives[i].offset,
+                    Some(expanded),
+                    self.tail(),
+                );
+                jacobian.fill(0.0);
+                for (i, drive) in drives.iter().enumerate() {
+                    for r in 0..6 {
+                        jacobian[6 * drive.source + r] += drive.multiplier * expanded[6 * i + r];
+                    }
+                }
+                pose
+            }
+        }
+    }
+
+    fn tail(&self) -> (&Matrix3<f64>, &Vector3<f64>) {
+        (&self.tail_rotation, &self.tail_translation)
+    }
+
+    /// A fixed-size copy for chains of exactly `N` joints without mimic joints: its forward
+    /// kinematics returns a stack-allocated `6 × N` Jacobian.
+    pub fn fixed<const N: usize>(&self) -> Result<FixedChain<N>, RobotError> {
+        let refuse = |reason: String| RobotError::NotFixedSize {
+            chain: self.name(),
+            requested: N,
+            reason,
+        };
+        if self.drives.is_some() {
+            return Err(refuse("it has mimic joints".into()));
+        }
+        if self.segments.len() != N {
+            return Err(refuse(format!("it has {} joints", self.segments.len())));
+        }
+        Ok(FixedChain {
+            segments: std::array::from_fn(|i| self.segments[i]),
+            tail_rotation: self.tail_rotation,
+            tail_translation: self.tail_translation,
+        })
+    }
+}
+
+/// A chain of exactly `N` independent joints with its data in fixed-size arrays.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FixedChain<const N: usize> {
+    segments: [Segment; N],
+    tail_rotation: Matrix3<f64>,
+    tail_translation: Vector3<f64>,
+}
+
+impl<const N: usize> FixedChain<N> {
+    /// The tip pose `base_from_tip` at `q`.
+    pub fn pose(&self, q: &[f64; N]) -> IsometryMatrix3<f64> {
+        forward(
+            &self.segments,
+            |i| q[i],
+            None,
+            (&self.tail_rotation, &self.tail_translation),
+        )
+    }
+
+    /// The tip pose and the geometric Jacobian (rows `[v; ω]`, base frame) at `q`.
+    pub fn pose_and_jacobian(&self, q: &[f64; N]) -> (IsometryMatrix3<f64>, SMatrix<f64, 6, N>) {
+        let mut jacobian = SMatrix::<f64, 6, N>::zeros();
+        let pose = forward(
+            &self.segments,
+            |i| q[i],
+            Some(jacobian.as_mut_slice()),
+            (&self.tail_rotation, &self.tail_translation),
+        );
+        (pose, jacobian)
+    }
+}
+
+/// The forward pass. Writes the Jacobian (column-major, 6 per segment) when asked.
+#[inline(always)]
+fn forward(
+    segments: &[Segment],
+    joint_value: impl Fn(usize) -> f64,
+    jacobian: Option<&mut [f64]>,
+    (tail_rotation, tail_translation): (&Matrix3<f64>, &Vector3<f64>),
+) -> IsometryMatrix3<f64> {
+    let mut rotation = Matrix3::<f64>::identity();
+    let mut position = Vector3::<f64>::zeros();
+    let mut jacobian = jacobian;
+    for (i, segment) in segments.iter().enumerate() {
+        position += rotation * segment.translation;
+        let turned = rotation * segment.rotation;
+        let axis = turned.column(2).into_owned();
+        let value = joint_value(i);
+        match segment.kind {
+            MotionKind::Revolute => {
+                let (s, c) = value.sin_cos();
+                let x = turned.column(0);
+                let y = turned.column(1);
+                rotation = Matrix3::from_columns(&[x * c + y * s, y * c - x * s, axis]);
+                if let Some(j) = jacobian.as_deref_mut() {
+                    // v = z × (p_tip − p); store p × z now, add z × p_tip at the end.
+                    let partial = position.cross(&axis);
+                    j[6 * i..6 * i + 6].copy_from_slice(&[
+                        partial.x, partial.y, partial.z, axis.x, axis.y, axis.z,
+                    ]);
+                }
+            }
+            MotionKind::Prismatic => {
+                rotation = turned;
+                position += axis * value;
+                if let Some(j) = jacobian.as_deref_mut() {
+                    j[6 * i..6 * i + 6].copy_from_slice(&[axis.x, axis.y, axis.z, 0.0, 0.0, 0.0]);
+                }
+            }
+        }
+    }
+    let tip_position = position + rotation * tail_translation;
+    let tip_rotation = rotation * tail_rotation;
+    if let Some(j) = jacobian {
+        for (i, segment) in segments.iter().enumerate() {
+            if segment.kind == MotionKind::Revolute {
+                let column = &mut j[6 * i..6 * i + 6];
+                let axis = Vector3::new(column[3], column[4], column[5]);
+                let lever = axis.cross(&tip_position);
+                column[0] += lever.x;
+                column[1] += lever.y;
+                column[2] += lever.z;
+            }
+        }
+    }
+    IsometryMatrix3::from_parts(
+        Translation3::from(tip_position),
+        Rotation3::from_matrix_unchecked(tip_rotation),
+    )
+}
+
+/// A unit vector from a possibly unnormalised axis, or `None` when it is (nearly) zero or
+/// not finite.
+pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Option<Vector3<f64>> {
+    if axis.iter().any(|c| !c.is_finite()) {
+        return None;
+    }
+    Unit::try_new(*axis, 1e-9).map(|u| u.into_inner())
+}

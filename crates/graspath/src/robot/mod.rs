@@ -1,0 +1,18 @@
+//! Robot kinematics: serial chains loaded from URDF or built in, forward kinematics, the
+//! geometric Jacobian, and (in [`ik`]) inverse kinematics.
+//!
+//! Every pose and Jacobian is expressed in the **chain base frame** (the base link's frame).
+//! The Jacobian has rows `[v; ω]`: `v` is the linear velocity (m/s) of the tip origin and `ω`
+//! the angular velocity (rad/s) of the tip, both along base-frame axes (Siciliano's `J₀`,
+//! Pinocchio's `LOCAL_WORLD_ALIGNED`). Column `j` belongs to the chain's `j`-th active joint.
+
+pub mod builtin;
+mod chain;
+mod error;
+mod spec;
+mod urdf;
+
+pub use chain::{Chain, FixedChain, MotionKind};
+pub use error::RobotError;
+pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
+pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};

@@ -387,7 +387,7 @@ fn forward(
         let value = joint_value(i);
         match segment.kind {
             MotionKind::Revolute => {
-                let (s, c) = value.sin_cos();
+                let (s, c) = super::trig::sin_cos(value);
                 let x = turned.column(0);
                 let y = turned.column(1);
                 rotation = Matrix3::from_columns(&[x * c + y * s, y * c - x * s, axis]);

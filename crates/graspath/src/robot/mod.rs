@@ -10,6 +10,7 @@ pub mod builtin;
 mod chain;
 mod error;
 mod spec;
+mod trig;
 mod urdf;
 
 pub use chain::{Chain, FixedChain, MotionKind};

@@ -1,0 +1,75 @@
+//! FK + geometric Jacobian per call: Baxter's arm (built in, dynamic and fixed-size), Panda and
+//! UR5 from `../shared/robots` when present.
+//!
+//! `cargo bench -p graspath --bench kinematics`
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use graspath::robot::builtin::{baxter, Arm};
+use graspath::robot::{load_urdf_chain, Chain};
+use nalgebra::Matrix6xX;
+use std::hint::black_box;
+use std::path::PathBuf;
+
+fn configurations(chain: &Chain) -> Vec<Vec<f64>> {
+    // A fixed spread of configurations inside the limits (no RNG needed).
+    (0..64)
+        .map(|k| {
+            chain
+                .lower()
+                .iter()
+                .zip(chain.upper())
+                .enumerate()
+                .map(|(j, (&lo, &hi))| {
+                    let (lo, hi) = (lo.max(-3.0), hi.min(3.0));
+                    let t = ((k * 7 + j * 13) % 64) as f64 / 63.0;
+                    lo + t * (hi - lo)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn bench_dynamic(c: &mut Criterion, name: &str, chain: &Chain) {
+    let qs = configurations(chain);
+    let mut jacobian = Matrix6xX::zeros(chain.dof());
+    let mut k = 0;
+    c.bench_function(&format!("fk_jacobian/{name}"), |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            let pose = chain
+                .pose_and_jacobian_into(black_box(&qs[k]), &mut jacobian)
+                .expect("valid configuration");
+            black_box((pose, &jacobian));
+        })
+    });
+}
+
+fn kinematics(c: &mut Criterion) {
+    let left = baxter(Arm::Left);
+    bench_dynamic(c, "baxter_left", &left);
+    let fixed = left.fixed::<7>().expect("7 joints");
+    let qs: Vec<[f64; 7]> = configurations(&left)
+        .into_iter()
+        .map(|q| std::array::from_fn(|i| q[i]))
+        .collect();
+    let mut k = 0;
+    c.bench_function("fk_jacobian/baxter_left_fixed7", |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            black_box(fixed.pose_and_jacobian(black_box(&qs[k])))
+        })
+    });
+    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/robots");
+    for (name, file, base, tip) in [
+        ("panda", "panda.urdf", "panda_link0", "panda_hand_tcp"),
+        ("ur5", "ur5_robot.urdf", "base_link", "tool0"),
+    ] {
+        match load_urdf_chain(&shared.join(file), base, tip, None) {
+            Ok(chain) => bench_dynamic(c, name, &chain),
+            Err(e) => eprintln!("skipping {name}: {e}"),
+        }
+    }
+}
+
+criterion_group!(benches, kinematics);
+criterion_main!(benches);

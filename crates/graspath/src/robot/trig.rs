@@ -2,9 +2,10 @@
 //! polynomials on `[−π/4, π/4]`. Agrees with the standard library to about one unit in the
 //! last place for `|x| ≤ 1e5`; larger or non-finite arguments fall back to the standard library.
 
-/// π/2 split so that `k · PIO2_HI` is exact for `|k| < 2²⁰` (fdlibm's `pio2_1`, `pio2_1t`).
-const PIO2_HI: f64 = 1.570_796_326_734_125_614_17;
-const PIO2_LO: f64 = 6.077_100_506_506_192_249_32e-11;
+/// π/2 split so that `k · PIO2_HI` is exact for `|k| < 2²⁰` (fdlibm's `pio2_1`, `pio2_1t`:
+/// the leading 33 bits of π/2 and the next 53).
+const PIO2_HI: f64 = f64::from_bits(0x3FF9_21FB_5440_0000);
+const PIO2_LO: f64 = f64::from_bits(0x3DD0_B461_1A62_6331);
 const TWO_OVER_PI: f64 = std::f64::consts::FRAC_2_PI;
 
 /// Taylor coefficients `(−1)^k / (2k+1)!` and `(−1)^k / (2k)!`; on `|r| ≤ π/4` the first omitted
@@ -33,7 +34,7 @@ const COS_COEFFS: [f64; 8] = [
 /// `(sin x, cos x)`.
 #[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
-    if !(x.abs() <= 1e5) {
+    if x.is_nan() || x.abs() > 1e5 {
         return x.sin_cos();
     }
     let k = (x * TWO_OVER_PI).round();

@@ -13,5 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod geometry;
+pub mod grasp;
 pub mod manipulability;
 pub mod robot;
+pub mod task;

@@ -1,0 +1,439 @@
+//! Grasp candidates and their import from JSON and CSV, so that any external generator (GPD,
+//! Contact-GraspNet, GraspIt!, the learned model) can feed the selection.
+//!
+//! JSON: `{"format":"graspath-candidates","version":1,"frame":"object","candidates":[...]}` or a
+//! bare list; each candidate has `object_from_wrist` (4×4 row-major) or `xyz` + `quaternion`
+//! (`[x, y, z, w]`), and optionally `id`, `label`, `likelihood` or `log_likelihood`, `contact`
+//! (`[x, y, z]` or null) and `hand_joints`. CSV: a header with `x,y,z,qx,qy,qz,qw` and
+//! optionally `id,label,likelihood|log_likelihood,contact_x,contact_y,contact_z`.
+
+use crate::geometry::{pose_from_rows, quaternion_xyzw};
+use nalgebra::{Isometry3, Point3, Translation3};
+use serde::Deserialize;
+use std::path::Path;
+
+/// One grasp candidate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Identifier, unique within its set.
+    pub id: usize,
+    /// A human-readable label.
+    pub label: String,
+    /// The wrist (tool) pose in the object frame, `object_from_wrist` (m).
+    pub object_from_wrist: Isometry3<f64>,
+    /// Natural log of the grasp likelihood (0 when all candidates are equally likely).
+    pub log_likelihood: f64,
+    /// The contact point on the object, object frame (m), when known.
+    pub contact: Option<Point3<f64>>,
+    /// Hand joint values of the grasp (rad or m), when the generator gives them.
+    pub hand_joints: Vec<f64>,
+}
+
+/// A candidate file that cannot be used: the file, where in it, and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}: {location}: {message}")]
+pub struct CandidateError {
+    /// The file.
+    pub file: String,
+    /// Where: `candidates[3].object_from_wrist`, `line 7`, or `file`.
+    pub location: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum Document {
+    Wrapped(Wrapped),
+    Bare(Vec<serde_json::Value>),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Wrapped {
+    #[serde(default)]
+    format: Option<String>,
+    #[serde(default)]
+    version: Option<u32>,
+    #[serde(default)]
+    frame: Option<String>,
+    candidates: Vec<serde_json::Value>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Entry {
+    #[serde(default)]
+    id: Option<usize>,
+    #[serde(default)]
+    label: Option<String>,
+    #[serde(default)]
+    object_from_wrist: Option<[[f64; 4]; 4]>,
+    #[serde(default)]
+    xyz: Option<[f64; 3]>,
+    #[serde(default)]
+    quaternion: Option<[f64; 4]>,
+    #[serde(default)]
+    likelihood: Option<f64>,
+    #[serde(default)]
+    log_likelihood: Option<f64>,
+    #[serde(default)]
+    contact: Option<[f64; 3]>,
+    #[serde(default)]
+    hand_joints: Vec<f64>,
+}
+
+/// The fields of one candidate before validation.
+struct Raw {
+    id: Option<usize>,
+    label: Option<String>,
+    matrix: Option<[[f64; 4]; 4]>,
+    xyz: Option<[f64; 3]>,
+    quaternion: Option<[f64; 4]>,
+    likelihood: Option<f64>,
+    log_likelihood: Option<f64>,
+    contact: Option<[f64; 3]>,
+    hand_joints: Vec<f64>,
+}
+
+impl Raw {
+    fn into_candidate(self, index: usize) -> Result<Candidate, (String, String)> {
+        let pose = match (self.matrix, self.xyz, self.quaternion) {
+            (Some(rows), None, None) => pose_from_rows(&rows)
+                .map_err(|e| ("object_from_wrist".to_string(), e.to_string()))?,
+            (None, Some(xyz), Some(q)) => {
+                if xyz.iter().any(|v| !v.is_finite()) {
+                    return Err(("xyz".into(), "not finite".into()));
+                }
+                let rotation = quaternion_xyzw(q).ok_or_else(|| {
+                    (
+                        "quaternion".to_string(),
+                        "must be a finite non-zero [x, y, z, w]".to_string(),
+                    )
+                })?;
+                Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation)
+            }
+            _ => {
+                return Err((
+                    "object_from_wrist".into(),
+                    "give either object_from_wrist (4×4) or xyz and quaternion".into(),
+                ))
+            }
+        };
+        let log_likelihood = match (self.likelihood, self.log_likelihood) {
+            (Some(_), Some(_)) => {
+                return Err((
+                    "likelihood".into(),
+                    "give likelihood or log_likelihood, not both".into(),
+                ))
+            }
+            (Some(l), None) => {
+                if !(l.is_finite() && l > 0.0) {
+                    return Err((
+                        "likelihood".into(),
+                        format!("must be a positive number, got {l}"),
+                    ));
+                }
+                l.ln()
+            }
+            (None, Some(l)) => {
+                if !l.is_finite() {
+                    return Err(("log_likelihood".into(), "must be finite".into()));
+                }
+                l
+            }
+            (None, None) => 0.0,
+        };
+        let contact = match self.contact {
+            Some(c) if c.iter().any(|v| !v.is_finite()) => {
+                return Err(("contact".into(), "not finite".into()))
+            }
+            Some(c) => Some(Point3::new(c[0], c[1], c[2])),
+            None => None,
+        };
+        let id = self.id.unwrap_or(index);
+        Ok(Candidate {
+            id,
+            label: self.label.unwrap_or_else(|| format!("candidate {id}")),
+            object_from_wrist: pose,
+            log_likelihood,
+            contact,
+            hand_joints: self.hand_joints,
+        })
+    }
+}
+
+/// Reads candidates from a `.json` or `.csv` file (by extension; others are tried as JSON).
+/// Refuses an empty set and duplicate ids.
+pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
+    let file = path.display().to_string();
+    let error = |location: String, message: String| CandidateError {
+        file: file.clone(),
+        location,
+        message,
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| error("file".into(), format!("cannot read: {e}")))?;
+    let is_csv = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let candidates = if is_csv {
+        parse_csv(&text).map_err(|(l, m)| error(l, m))?
+    } else {
+        parse_json(&text).map_err(|(l, m)| error(l, m))?
+    };
+    if candidates.is_empty() {
+        return Err(error("file".into(), "contains no candidates".into()));
+    }
+    let mut ids: Vec<usize> = candidates.iter().map(|c| c.id).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(error("id".into(), format!("id {} is used twice", w[0])));
+    }
+    Ok(candidates)
+}
+
+fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
+    let document: Document = serde_json::from_str(text)
+        .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
+    let entries = match document {
+        Document::Wrapped(w) => {
+            if let Some(format) = &w.format {
+                if format != "graspath-candidates" {
+                    return Err((
+                        "format".into(),
+                        format!("expected 'graspath-candidates', got '{format}'"),
+                    ));
+                }
+            }
+            if let Some(version) = w.version {
+                if version != 1 {
+                    return Err((
+                        "version".into(),
+                        format!("version {version} is not supported (this reads version 1)"),
+                    ));
+                }
+            }
+            if let Some(frame) = &w.frame {
+                if frame != "object" {
+                    return Err((
+                        "frame".into(),
+                        format!("poses must be in the object frame, got '{frame}'"),
+                    ));
+                }
+            }
+            w.candidates
+        }
+        Document::Bare(list) => list,
+    };
+    entries
+        .into_iter()
+        .enumerate()
+        .map(|(i, value)| {
+            let entry: Entry = serde_json::from_value(value)
+                .map_err(|e| (format!("candidates[{i}]"), e.to_string()))?;
+            Raw {
+                id: entry.id,
+                label: entry.label,
+                matrix: entry.object_from_wrist,
+                xyz: entry.xyz,
+                quaternion: entry.quaternion,
+                likelihood: entry.likelihood,
+                log_likelihood: entry.log_likelihood,
+                contact: entry.contact,
+                hand_joints: entry.hand_joints,
+            }
+            .into_candidate(i)
+            .map_err(|(field, message)| (format!("candidates[{i}].{field}"), message))
+        })
+        .collect()
+}
+
+fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
+    const KNOWN: [&str; 16] = [
+        "id",
+        "label",
+        "x",
+        "y",
+        "z",
+        "qx",
+        "qy",
+        "qz",
+        "qw",
+        "likelihood",
+        "log_likelihood",
+        "contact_x",
+        "contact_y",
+        "contact_z",
+        "hand_joints",
+        "",
+    ];
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let headers = reader
+        .headers()
+        .map_err(|e| ("line 1".to_string(), e.to_string()))?
+        .clone();
+    if let Some(unknown) = headers.iter().find(|h| !KNOWN.contains(h)) {
+        return Err(("line 1".into(), format!("unknown column '{unknown}'")));
+    }
+    let column = |name: &str| headers.iter().position(|h| h == name);
+    for required in ["x", "y", "z", "qx", "qy", "qz", "qw"] {
+        if column(required).is_none() {
+            return Err(("line 1".into(), format!("missing column '{required}'")));
+        }
+    }
+    let mut candidates = Vec::new();
+    for (i, record) in reader.records().enumerate() {
+        let line = format!("line {}", i + 2);
+        let record = record.map_err(|e| (line.clone(), e.to_string()))?;
+        let number = |name: &str| -> Result<Option<f64>, (String, String)> {
+            match column(name).and_then(|c| record.get(c)) {
+                None | Some("") => Ok(None),
+                Some(text) => text.parse::<f64>().map(Some).map_err(|_| {
+                    (
+                        line.clone(),
+                        format!("column '{name}': '{text}' is not a number"),
+                    )
+                }),
+            }
+        };
+        let need = |name: &str| -> Result<f64, (String, String)> {
+            number(name)?.ok_or_else(|| (line.clone(), format!("column '{name}' is empty")))
+        };
+        let id = match column("id").and_then(|c| record.get(c)) {
+            None | Some("") => None,
+            Some(text) => Some(text.parse::<usize>().map_err(|_| {
+                (
+                    line.clone(),
+                    format!("column 'id': '{text}' is not a whole number"),
+                )
+            })?),
+        };
+        let contact = match (
+            number("contact_x")?,
+            number("contact_y")?,
+            number("contact_z")?,
+        ) {
+            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+            (None, None, None) => None,
+            _ => {
+                return Err((
+                    line,
+                    "contact_x, contact_y and contact_z go together".into(),
+                ))
+            }
+        };
+        let raw = Raw {
+            id,
+            label: column("label")
+                .and_then(|c| record.get(c))
+                .filter(|s| !s.is_empty())
+                .map(str::to_string),
+            matrix: None,
+            xyz: Some([need("x")?, need("y")?, need("z")?]),
+            quaternion: Some([need("qx")?, need("qy")?, need("qz")?, need("qw")?]),
+            likelihood: number("likelihood")?,
+            log_likelihood: number("log_likelihood")?,
+            contact,
+            hand_joints: Vec::new(),
+        };
+        candidates.push(
+            raw.into_candidate(i)
+                .map_err(|(field, message)| (line.clone(), format!("{field}: {message}")))?,
+        );
+    }
+    Ok(candidates)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> std::path::PathBuf {
+        let path = dir.path().join(name);
+        std::fs::File::create(&path)
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+        path
+    }
+
+    #[test]
+    fn json_and_csv_give_the_same_candidates() {
+        let dir = tempfile::tempdir().unwrap();
+        let json = write(
+            &dir,
+            "c.json",
+            r#"{"format":"graspath-candidates","version":1,"frame":"object","candidates":[
+                {"id":3,"label":"top","xyz":[0.0,0.1,0.05],"quaternion":[1,0,0,0],"likelihood":0.5,"contact":[0,0.1,0.03]},
+                {"id":4,"object_from_wrist":[[1,0,0,0.01],[0,1,0,0],[0,0,1,0],[0,0,0,1]],"log_likelihood":-2}]}"#,
+        );
+        let csv = write(
+            &dir,
+            "c.csv",
+            "id,label,x,y,z,qx,qy,qz,qw,log_likelihood,contact_x,contact_y,contact_z\n\
+             3,top,0.0,0.1,0.05,1,0,0,0,-0.6931471805599453,0,0.1,0.03\n\
+             4,,0.01,0,0,0,0,0,1,-2,,,\n",
+        );
+        let a = read_candidates(&json).unwrap();
+        let b = read_candidates(&csv).unwrap();
+        assert_eq!(a.len(), 2);
+        assert_eq!(a[0].id, b[0].id);
+        assert!((a[0].log_likelihood - b[0].log_likelihood).abs() < 1e-15);
+        assert_eq!(a[0].object_from_wrist, b[0].object_from_wrist);
+        assert_eq!(a[1].object_from_wrist, b[1].object_from_wrist);
+        assert_eq!(a[0].contact, Some(Point3::new(0.0, 0.1, 0.03)));
+        assert_eq!(b[1].contact, None);
+        assert_eq!(b[1].label, "candidate 4");
+    }
+
+    #[test]
+    fn bad_files_name_the_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let empty = write(&dir, "e.json", r#"{"candidates":[]}"#);
+        assert!(read_candidates(&empty)
+            .unwrap_err()
+            .to_string()
+            .contains("contains no candidates"));
+        let nan = write(
+            &dir,
+            "n.json",
+            r#"[{"xyz":[0,0,0],"quaternion":[0,0,0,0]}]"#,
+        );
+        let err = read_candidates(&nan).unwrap_err();
+        assert_eq!(err.location, "candidates[0].quaternion");
+        let unknown = write(
+            &dir,
+            "u.json",
+            r#"[{"xyz":[0,0,0],"quaternion":[0,0,0,1],"score":1}]"#,
+        );
+        assert!(read_candidates(&unknown)
+            .unwrap_err()
+            .message
+            .contains("unknown field `score`"));
+        let bad_number = write(&dir, "b.csv", "x,y,z,qx,qy,qz,qw\n0,zero,0,0,0,0,1\n");
+        let err = read_candidates(&bad_number).unwrap_err();
+        assert_eq!(err.location, "line 2");
+        let dup = write(
+            &dir,
+            "d.json",
+            r#"[{"id":1,"xyz":[0,0,0],"quaternion":[0,0,0,1]},{"id":1,"xyz":[0,0,0],"quaternion":[0,0,0,1]}]"#,
+        );
+        assert!(read_candidates(&dup)
+            .unwrap_err()
+            .to_string()
+            .contains("id 1 is used twice"));
+        let skew = write(
+            &dir,
+            "s.json",
+            r#"[{"object_from_wrist":[[1,0.5,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]"#,
+        );
+        assert!(read_candidates(&skew)
+            .unwrap_err()
+            .message
+            .contains("not orthonormal"));
+    }
+}

@@ -1,0 +1,301 @@
+//! Parametric candidate families on primitive shapes (the paper's experiments use the first two).
+//!
+//! Wrist (tool) frame convention, as Baxter's `left_gripper` / `right_gripper` frames: `z` is the
+//! approach direction (out of the palm, towards the object) and the fingers close along `y`.
+//! The tool point sits `depth` inside the surface it approaches.
+
+use super::candidates::Candidate;
+use crate::task::ObjectShape;
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+
+/// Widest object the built-in Baxter electric gripper closes on (m).
+pub const GRIPPER_MAX_OPENING: f64 = 0.1;
+
+/// The wrist orientation with approach `approach` and closing direction `closing` (unit,
+/// orthogonal), as `object_from_wrist` rotation.
+fn wrist_rotation(approach: Vector3<f64>, closing: Vector3<f64>) -> UnitQuaternion<f64> {
+    let x = closing.cross(&approach);
+    let m = Matrix3::from_columns(&[x, closing, approach]);
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
+}
+
+fn candidate(
+    id: usize,
+    label: String,
+    position: Point3<f64>,
+    rotation: UnitQuaternion<f64>,
+) -> Candidate {
+    Candidate {
+        id,
+        label,
+        object_from_wrist: Isometry3::from_parts(Translation3::from(position.coords), rotation),
+        log_likelihood: 0.0,
+        contact: Some(position),
+        hand_joints: Vec::new(),
+    }
+}
+
+/// Top grasps along a box's top edge in the object's `y` direction, from the left-most
+/// (`+y`) to the right-most (`−y`) contact, approaching from above (`−z`) with the fingers
+/// closing across `x`; `margin` (m) kept from each end.
+pub fn edge_family(
+    shape: &ObjectShape,
+    count: usize,
+    depth: f64,
+    margin: f64,
+) -> Result<Vec<Candidate>, String> {
+    let ObjectShape::Box { size } = *shape else {
+        return Err("the edge family needs a box shape".into());
+    };
+    if count == 0 {
+        return Err("count must be at least 1".into());
+    }
+    let half = size[1] / 2.0 - margin;
+    if half < 0.0 {
+        return Err(format!(
+            "margin {margin} m leaves no edge on a {} m box side",
+            size[1]
+        ));
+    }
+    let rotation = wrist_rotation(-Vector3::z(), Vector3::x());
+    Ok((0..count)
+        .map(|k| {
+            let y = if count == 1 {
+                0.0
+            } else {
+                half - 2.0 * half * k as f64 / (count - 1) as f64
+            };
+            candidate(
+                k,
+                format!("edge y={y:+.3}"),
+                Point3::new(0.0, y, size[2] / 2.0 - depth),
+                rotation,
+            )
+        })
+        .collect())
+}
+
+/// A top grasp on the shape's highest part (box top, cylinder top, T-shape handle) turned about
+/// the object's `z` axis: candidate `k` at yaw `start + k · step` (rad).
+pub fn yaw_family(
+    shape: &ObjectShape,
+    count: usize,
+    start: f64,
+    step: f64,
+    depth: f64,
+) -> Result<Vec<Candidate>, String> {
+    if count == 0 {
+        return Err("count must be at least 1".into());
+    }
+    let top = shape.bounds().1.z;
+    let base = wrist_rotation(-Vector3::z(), Vector3::x());
+    Ok((0..count)
+        .map(|k| {
+            let yaw = start + step * k as f64;
+            let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw) * base;
+            candidate(
+                k,
+                format!("yaw {:+.0} deg", yaw.to_degrees()),
+                Point3::new(0.0, 0.0, top - depth),
+                rotation,
+            )
+        })
+        .collect())
+}
+
+/// The faces of a box, by name: outward normal and the two in-plane axes.
+const FACES: [(&str, usize, f64); 6] = [
+    ("top", 2, 1.0),
+    ("bottom", 2, -1.0),
+    ("left", 1, 1.0),
+    ("right", 1, -1.0),
+    ("back", 0, 1.0),
+    ("front", 0, -1.0),
+];
+
+/// Approaches over a box's faces (those not in `exclude`): on each face, for each in-plane axis
+/// the gripper can close across (extent ≤ [`GRIPPER_MAX_OPENING`]) and both finger orders, tool
+/// points on the face's centre line along the other axis, `depth` inside the face. `count` is
+/// shared among these lines by length.
+pub fn face_family(
+    shape: &ObjectShape,
+    count: usize,
+    exclude: &[String],
+    depth: f64,
+) -> Result<Vec<Candidate>, String> {
+    let ObjectShape::Box { size } = *shape else {
+        return Err("the faces family needs a box shape".into());
+    };
+    if let Some(unknown) = exclude
+        .iter()
+        .find(|e| !FACES.iter().any(|f| f.0 == e.as_str()))
+    {
+        return Err(format!(
+            "unknown face '{unknown}' (faces: top, bottom, left, right, front, back)"
+        ));
+    }
+    // Lines: (face name, normal axis, sign, closing axis, closing sign, line axis).
+    let mut lines = Vec::new();
+    for &(name, normal_axis, sign) in FACES.iter().filter(|f| !exclude.iter().any(|e| e == f.0)) {
+        for closing_axis in (0..3).filter(|&a| a != normal_axis) {
+            if size[closing_axis] > GRIPPER_MAX_OPENING {
+                continue;
+            }
+            let line_axis = 3 - normal_axis - closing_axis;
+            for closing_sign in [1.0, -1.0] {
+                lines.push((
+                    name,
+                    normal_axis,
+                    sign,
+                    closing_axis,
+                    closing_sign,
+                    line_axis,
+                ));
+            }
+        }
+    }
+    if lines.is_empty() {
+        return Err(format!(
+            "no face of a {size:?} m box fits a {GRIPPER_MAX_OPENING} m gripper opening"
+        ));
+    }
+    let margin = 0.01;
+    let lengths: Vec<f64> = lines
+        .iter()
+        .map(|l| (size[l.5] - 2.0 * margin).max(0.0))
+        .collect();
+    let total: f64 = lengths.iter().sum();
+    // Largest-remainder apportionment of `count` over the lines.
+    let shares: Vec<f64> = lengths
+        .iter()
+        .map(|&l| {
+            if total > 0.0 {
+                count as f64 * l / total
+            } else {
+                count as f64 / lines.len() as f64
+            }
+        })
+        .collect();
+    let mut counts: Vec<usize> = shares.iter().map(|s| s.floor() as usize).collect();
+    let mut order: Vec<usize> = (0..lines.len()).collect();
+    order.sort_by(|&a, &b| {
+        (shares[b] - shares[b].floor())
+            .total_cmp(&(shares[a] - shares[a].floor()))
+            .then(a.cmp(&b))
+    });
+    let mut left = count - counts.iter().sum::<usize>();
+    for &k in order.iter().cycle() {
+        if left == 0 {
+            break;
+        }
+        counts[k] += 1;
+        left -= 1;
+    }
+    let mut out = Vec::with_capacity(count);
+    for (line, &n) in lines.iter().zip(&counts) {
+        let &(name, normal_axis, sign, closing_axis, closing_sign, line_axis) = line;
+        let mut normal = Vector3::zeros();
+        normal[normal_axis] = sign;
+        let mut closing = Vector3::zeros();
+        closing[closing_axis] = closing_sign;
+        let rotation = wrist_rotation(-normal, closing);
+        let half = (size[line_axis] / 2.0 - margin).max(0.0);
+        for k in 0..n {
+            let along = if n == 1 {
+                0.0
+            } else {
+                -half + 2.0 * half * k as f64 / (n - 1) as f64
+            };
+            let mut p = Vector3::zeros();
+            p[normal_axis] = sign * (size[normal_axis] / 2.0 - depth);
+            p[line_axis] = along;
+            let axis_name = ["x", "y", "z"][closing_axis];
+            let id = out.len();
+            out.push(candidate(
+                id,
+                format!(
+                    "{name} close {}{axis_name} at {along:+.3}",
+                    if closing_sign > 0.0 { "+" } else { "-" }
+                ),
+                Point3::from(p),
+                rotation,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn approach(c: &Candidate) -> Vector3<f64> {
+        c.object_from_wrist.rotation * Vector3::z()
+    }
+    fn closing(c: &Candidate) -> Vector3<f64> {
+        c.object_from_wrist.rotation * Vector3::y()
+    }
+
+    #[test]
+    fn edge_runs_left_to_right_from_above() {
+        let shape = ObjectShape::Box {
+            size: [0.06, 0.3, 0.1],
+        };
+        let c = edge_family(&shape, 5, 0.02, 0.02).unwrap();
+        assert_eq!(c.len(), 5);
+        let ys: Vec<f64> = c
+            .iter()
+            .map(|c| c.object_from_wrist.translation.y)
+            .collect();
+        assert!((ys[0] - 0.13).abs() < 1e-15 && (ys[4] + 0.13).abs() < 1e-15);
+        assert!(ys.windows(2).all(|w| w[1] < w[0]));
+        for k in &c {
+            assert!((approach(k) + Vector3::z()).norm() < 1e-12);
+            assert!((closing(k) - Vector3::x()).norm() < 1e-12);
+            assert!((k.object_from_wrist.translation.z - 0.03).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn yaw_steps_are_exact() {
+        let shape = ObjectShape::TShape {
+            bar: [0.1, 0.3, 0.04],
+            handle_radius: 0.02,
+            handle_length: 0.12,
+        };
+        let c = yaw_family(&shape, 16, 0.0, 10f64.to_radians(), 0.02).unwrap();
+        for (k, pair) in c.windows(2).enumerate() {
+            let angle = pair[0]
+                .object_from_wrist
+                .rotation
+                .angle_to(&pair[1].object_from_wrist.rotation);
+            assert!((angle - 10f64.to_radians()).abs() < 1e-12, "step {k}");
+        }
+        assert!((c[0].object_from_wrist.translation.z - (0.02 + 0.12 - 0.02)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn faces_cover_the_requested_count_and_respect_the_opening() {
+        let shape = ObjectShape::Box {
+            size: [0.06, 0.06, 0.2],
+        };
+        let c = face_family(&shape, 1000, &["bottom".to_string()], 0.02).unwrap();
+        assert_eq!(c.len(), 1000);
+        for k in &c {
+            let a = approach(k);
+            assert!(a.z < 0.5, "nothing approaches from below: {a}");
+            // The closing direction spans at most the gripper opening.
+            let extent = closing(k).abs().dot(&Vector3::from(match shape {
+                ObjectShape::Box { size } => size,
+                _ => unreachable!(),
+            }));
+            assert!(extent <= GRIPPER_MAX_OPENING + 1e-12);
+            // The tool point lies inside, `depth` behind the face it approaches.
+            let p = Point3::from(k.object_from_wrist.translation.vector);
+            assert!(shape.signed_distance(&p) < 0.0, "{}", k.label);
+            let on_face = p - a * 0.02;
+            assert!(shape.signed_distance(&on_face).abs() < 1e-12, "{}", k.label);
+        }
+        assert!(face_family(&shape, 10, &["side".to_string()], 0.02).is_err());
+    }
+}

@@ -1,0 +1,473 @@
+//! The task-file schema (YAML or JSON; one schema, documented in `docs/task-file.md`).
+//!
+//! Every struct rejects unknown fields; errors name the file and the field's path
+//! (`trajectory.steps[2].rotate.angle_deg`). Paths inside a task file are relative to it.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// An error in a task file: the file, the field's path (empty for the whole document) and what
+/// is wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}: {}{message}", field_prefix(.field))]
+pub struct TaskError {
+    /// The task file.
+    pub file: String,
+    /// The field's path, e.g. `object.pose.xyz`.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+fn field_prefix(field: &str) -> String {
+    if field.is_empty() || field == "." {
+        String::new()
+    } else {
+        format!("field '{field}': ")
+    }
+}
+
+impl TaskError {
+    /// An error about `field` of `file`.
+    pub fn new(
+        file: impl Into<String>,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// A whole task file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaskFile {
+    /// The robot and its arm chains.
+    pub robot: RobotFile,
+    /// Which arms to use: one name, a list, or `both` (every arm the robot defines).
+    #[serde(default)]
+    pub arms: Option<ArmsFile>,
+    /// The object's initial pose and shape.
+    pub object: ObjectFile,
+    /// Where the grasp candidates come from.
+    pub candidates: CandidatesFile,
+    /// The object trajectory after the grasp.
+    pub trajectory: TrajectoryFile,
+    /// How the task-relevant index is computed.
+    #[serde(default)]
+    pub index: IndexFile,
+    /// How candidates are ranked.
+    #[serde(default)]
+    pub selection: SelectionFile,
+    /// Trajectory IK settings.
+    #[serde(default)]
+    pub ik: IkFile,
+}
+
+/// One arm name, a list of names, or `both`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ArmsFile {
+    /// A single arm name, or `both`.
+    One(String),
+    /// Several arm names.
+    Many(Vec<String>),
+}
+
+/// The robot: `builtin: baxter`, or `urdf:` with one chain per arm.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotFile {
+    /// A built-in robot (`baxter`, arms `left` and `right`).
+    #[serde(default)]
+    pub builtin: Option<String>,
+    /// A URDF file (relative to the task file).
+    #[serde(default)]
+    pub urdf: Option<PathBuf>,
+    /// Arm chains by name (required with `urdf`; with `builtin` they may add a tool or base pose).
+    #[serde(default)]
+    pub chains: BTreeMap<String, ArmFile>,
+    /// A tool offset `tip_from_tool` applied to every arm that does not set its own.
+    #[serde(default)]
+    pub tool: Option<PoseFile>,
+}
+
+/// One arm chain.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArmFile {
+    /// The chain's base link (required for URDF robots).
+    #[serde(default)]
+    pub base: Option<String>,
+    /// The chain's tip link (required for URDF robots).
+    #[serde(default)]
+    pub tip: Option<String>,
+    /// A tool offset `tip_from_tool`.
+    #[serde(default)]
+    pub tool: Option<PoseFile>,
+    /// Where the chain's base is in the task's world frame, `world_from_base` (default identity).
+    #[serde(default)]
+    pub base_pose: Option<PoseFile>,
+}
+
+/// A pose: `xyz` (m) and at most one of `rpy` (rad, URDF roll-pitch-yaw), `rpy_deg` (degrees),
+/// `quaternion` (`[x, y, z, w]`); or a 4×4 row-major `matrix` alone.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseFile {
+    /// Translation (m).
+    #[serde(default)]
+    pub xyz: Option<[f64; 3]>,
+    /// Roll, pitch, yaw (rad) about fixed x, y, z.
+    #[serde(default)]
+    pub rpy: Option<[f64; 3]>,
+    /// Roll, pitch, yaw in degrees.
+    #[serde(default)]
+    pub rpy_deg: Option<[f64; 3]>,
+    /// Unit quaternion `[x, y, z, w]` (normalised on reading).
+    #[serde(default)]
+    pub quaternion: Option<[f64; 4]>,
+    /// A 4×4 homogeneous matrix, row-major.
+    #[serde(default)]
+    pub matrix: Option<[[f64; 4]; 4]>,
+}
+
+/// The object.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectFile {
+    /// The initial pose `world_from_object`.
+    pub pose: PoseFile,
+    /// A primitive shape (for candidate families, views and demos).
+    #[serde(default)]
+    pub shape: Option<ShapeFile>,
+}
+
+/// A primitive shape.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeFile {
+    /// A box with edge lengths `size` (m) along the object axes.
+    Box {
+        /// Edge lengths (m).
+        size: [f64; 3],
+    },
+    /// A cylinder along the object's z.
+    Cylinder {
+        /// Radius (m).
+        radius: f64,
+        /// Length (m).
+        length: f64,
+    },
+    /// A bar with a cylindrical handle on top.
+    TShape {
+        /// Bar edge lengths (m).
+        bar: [f64; 3],
+        /// Handle radius (m).
+        handle_radius: f64,
+        /// Handle length (m).
+        handle_length: f64,
+    },
+}
+
+/// Where candidates come from: exactly one of `file` or `family`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CandidatesFile {
+    /// A candidate file (JSON or CSV), relative to the task file.
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+    /// A parametric family on the object's shape.
+    #[serde(default)]
+    pub family: Option<FamilyFile>,
+}
+
+/// Parametric candidate families.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum FamilyFile {
+    /// Top grasps along the box's top edge, from the left-most (+y) to the right-most (−y)
+    /// contact, the gripper approaching from above (the paper's §IV-A).
+    Edge {
+        /// Number of candidates (≥ 1).
+        count: usize,
+        /// How far below the top face the tool point sits (m, default 0.02).
+        #[serde(default)]
+        depth: Option<f64>,
+        /// Distance kept from each end of the edge (m, default 0.02).
+        #[serde(default)]
+        margin: Option<f64>,
+    },
+    /// One top grasp rotated about the object's z axis in fixed steps (the paper's §IV-B:
+    /// 16 candidates 10° apart).
+    Yaw {
+        /// Number of candidates.
+        count: usize,
+        /// Step between candidates (degrees).
+        step_deg: f64,
+        /// Yaw of the first candidate (degrees, default 0).
+        #[serde(default)]
+        start_deg: Option<f64>,
+        /// How far below the top the tool point sits (m, default 0.02).
+        #[serde(default)]
+        depth: Option<f64>,
+    },
+    /// Approaches over the box's faces: a grid on each face, approach along the inward normal,
+    /// fingers closing across the narrower side.
+    Faces {
+        /// Total number of candidates (shared among the faces by area).
+        count: usize,
+        /// Faces to leave out: any of `top`, `bottom`, `left`, `right`, `front`, `back`.
+        #[serde(default)]
+        exclude: Vec<String>,
+        /// How far inside the face the tool point sits (m, default 0.02).
+        #[serde(default)]
+        depth: Option<f64>,
+    },
+}
+
+/// The object trajectory.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrajectoryFile {
+    /// The steps after the grasp, in order.
+    pub steps: Vec<StepFile>,
+    /// Samples per step (default 10 when no other sampling is given).
+    #[serde(default)]
+    pub samples_per_step: Option<usize>,
+    /// Total samples over the path (initial pose included), shared by step length.
+    #[serde(default)]
+    pub samples: Option<usize>,
+    /// Maximum spacing between samples.
+    #[serde(default)]
+    pub spacing: Option<SpacingFile>,
+}
+
+/// Sample spacing.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpacingFile {
+    /// Largest translation between samples (m).
+    pub translation: f64,
+    /// Largest rotation between samples (degrees).
+    pub rotation_deg: f64,
+}
+
+/// One step: relative motions (`lift`, `place`, `move`, `rotate`, combinable) or an absolute
+/// `pose`, with an optional duration (s, default 1) and label.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepFile {
+    /// Raise along world +z (m).
+    #[serde(default)]
+    pub lift: Option<f64>,
+    /// Lower along world −z (m).
+    #[serde(default)]
+    pub place: Option<f64>,
+    /// Translate by a world-frame vector (m).
+    #[serde(default, rename = "move")]
+    pub translate: Option<[f64; 3]>,
+    /// Rotate about a world-frame axis through the object's origin.
+    #[serde(default)]
+    pub rotate: Option<RotateFile>,
+    /// Go to an absolute object pose `world_from_object`.
+    #[serde(default)]
+    pub pose: Option<PoseFile>,
+    /// Duration (s).
+    #[serde(default)]
+    pub duration: Option<f64>,
+    /// A name for reports.
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+/// A rotation about a world-frame axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotateFile {
+    /// The axis (normalised on reading; default `[0, 0, 1]`).
+    #[serde(default)]
+    pub axis: Option<[f64; 3]>,
+    /// The angle (degrees, right-handed).
+    pub angle_deg: f64,
+}
+
+/// How the task-relevant index is computed.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IndexFile {
+    /// `twist` (default), `translation` or `rotation`.
+    #[serde(default)]
+    pub mode: Option<String>,
+    /// The characteristic length L (m) of `twist` mode (default 1, the paper's raw J).
+    #[serde(default)]
+    pub length_scale: Option<f64>,
+}
+
+/// Which norm ranks candidates.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NormFile {
+    /// `μ_l2` (the paper's choice).
+    #[default]
+    L2,
+    /// `μ_l1`, the time integral.
+    L1,
+}
+
+/// How the grasp likelihood enters the ranking.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum LikelihoodFile {
+    /// Score = norm × likelihood (likelihoods scaled so the best is 1). With equal likelihoods
+    /// this is the paper's rule.
+    #[default]
+    Product,
+    /// Ignore the likelihood.
+    Ignore,
+    /// Score = ln(norm) + weight · ln(likelihood).
+    Weighted {
+        /// The likelihood's weight (≥ 0).
+        weight: f64,
+    },
+}
+
+/// How candidates are ranked.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SelectionFile {
+    /// The norm to maximise.
+    #[serde(default)]
+    pub norm: Option<NormFile>,
+    /// Reject candidates whose `μ_l∞` exceeds this (default: no limit).
+    #[serde(default)]
+    pub mu0: Option<f64>,
+    /// How the likelihood combines with the norm.
+    #[serde(default)]
+    pub likelihood: Option<LikelihoodFile>,
+    /// How many best arm pairs to keep (default 10).
+    #[serde(default)]
+    pub pairs: Option<usize>,
+    /// Two grasps closer than this (m) overlap (default 0.08, Baxter's gripper width).
+    #[serde(default)]
+    pub min_separation: Option<f64>,
+}
+
+/// Trajectory IK settings.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IkFile {
+    /// Largest joint motion between consecutive samples (rad or m; default 0.5).
+    #[serde(default)]
+    pub max_joint_step: Option<f64>,
+    /// Distinct IK branches tracked from the grasp pose (default 4).
+    #[serde(default)]
+    pub branches: Option<usize>,
+    /// Random seed for IK restarts (default 0).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// Position and rotation tolerance (m, rad; default 1e-5).
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+}
+
+impl TaskFile {
+    /// Reads a task file: YAML for `.yaml`/`.yml`, JSON for `.json` (others: JSON, then YAML).
+    pub fn load(path: &Path) -> Result<Self, TaskError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| TaskError::new(&name, "", format!("cannot read: {e}")))?;
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        Self::parse(&text, &name, extension)
+    }
+
+    /// Parses task text; `format` is `yaml`, `yml` or `json` (anything else: JSON, then YAML).
+    pub fn parse(text: &str, file: &str, format: &str) -> Result<Self, TaskError> {
+        let value: serde_json::Value = match format {
+            "yaml" | "yml" => yaml_value(text, file)?,
+            "json" => serde_json::from_str(text)
+                .map_err(|e| TaskError::new(file, "", format!("not valid JSON: {e}")))?,
+            _ => match serde_json::from_str(text) {
+                Ok(v) => v,
+                Err(_) => yaml_value(text, file)?,
+            },
+        };
+        serde_path_to_error::deserialize(value).map_err(|e| {
+            let field = e.path().to_string();
+            TaskError::new(file, field, e.into_inner().to_string())
+        })
+    }
+}
+
+fn yaml_value(text: &str, file: &str) -> Result<serde_json::Value, TaskError> {
+    serde_saphyr::from_str(text)
+        .map_err(|e| TaskError::new(file, "", format!("not valid YAML: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+robot: { builtin: baxter }
+object: { pose: { xyz: [0.7, 0.25, -0.05] }, shape: { box: { size: [0.06, 0.2, 0.06] } } }
+candidates: { family: { edge: { count: 11 } } }
+trajectory:
+  samples: 20
+  steps:
+    - { lift: 0.2 }
+    - { move: [0, 0.3, 0], rotate: { angle_deg: 90 } }
+    - { place: 0.2, duration: 2 }
+"#;
+
+    #[test]
+    fn minimal_yaml_parses() {
+        let task = TaskFile::parse(MINIMAL, "t.yaml", "yaml").unwrap();
+        assert_eq!(task.trajectory.steps.len(), 3);
+        assert_eq!(
+            task.trajectory.steps[1].rotate.as_ref().unwrap().angle_deg,
+            90.0
+        );
+        assert_eq!(
+            task.candidates.family,
+            Some(FamilyFile::Edge {
+                count: 11,
+                depth: None,
+                margin: None
+            })
+        );
+    }
+
+    #[test]
+    fn unknown_field_is_named_with_its_path() {
+        let text = MINIMAL.replace("{ lift: 0.2 }", "{ lift: 0.2, lfit: 1 }");
+        let err = TaskFile::parse(&text, "t.yaml", "yaml").unwrap_err();
+        assert_eq!(err.field, "trajectory.steps[0].lfit");
+        assert!(err.message.contains("unknown field `lfit`"), "{err}");
+        assert!(
+            err.to_string()
+                .starts_with("t.yaml: field 'trajectory.steps[0].lfit'"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn wrong_shape_of_a_value_is_named() {
+        let text = MINIMAL.replace("xyz: [0.7, 0.25, -0.05]", "xyz: [0.7, 0.25]");
+        let err = TaskFile::parse(&text, "t.yaml", "yaml").unwrap_err();
+        assert_eq!(err.field, "object.pose.xyz");
+    }
+
+    #[test]
+    fn json_and_yaml_agree() {
+        let yaml = TaskFile::parse(MINIMAL, "t.yaml", "yaml").unwrap();
+        let json = serde_json::to_string(&yaml).unwrap();
+        let back = TaskFile::parse(&json, "t.json", "json").unwrap();
+        assert_eq!(yaml, back);
+    }
+}

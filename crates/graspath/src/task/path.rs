@@ -1,0 +1,351 @@
+//! The desired object trajectory: waypoints and their sampling in SE(3).
+
+use crate::geometry::interpolate_decoupled;
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+
+/// One step of an object trajectory, starting from where the previous step ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Step {
+    /// Go to an absolute pose `world_from_object` (straight line and slerp).
+    Pose(Isometry3<f64>),
+    /// Translate by a world-frame vector (m) while turning by `angle` (rad) about a world-frame
+    /// `axis` through the object's origin (`lift`, `move`, `place` and `rotate` are special
+    /// cases). Angles beyond π are followed the long way, as given.
+    Relative {
+        /// World-frame translation (m).
+        translation: Vector3<f64>,
+        /// World-frame unit rotation axis.
+        axis: Unit<Vector3<f64>>,
+        /// Rotation angle (rad), right-handed about `axis`.
+        angle: f64,
+    },
+}
+
+/// How densely each step is sampled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sampling {
+    /// The same number of samples in every step (≥ 1).
+    PerStep(usize),
+    /// At most this spacing between samples: metres of translation and radians of rotation.
+    Spacing {
+        /// Largest translation between samples (m).
+        translation: f64,
+        /// Largest rotation between samples (rad).
+        rotation: f64,
+    },
+    /// This many samples over the whole path (initial pose included), shared among the steps in
+    /// proportion to their length (translation in m plus rotation in rad × 0.1 m), at least one
+    /// per step.
+    Total(usize),
+}
+
+/// One sample of the object trajectory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathSample {
+    /// Time (s) from the start of the task.
+    pub time: f64,
+    /// The object pose `world_from_object`.
+    pub world_from_object: Isometry3<f64>,
+    /// Index of the step this sample ends in (0 for the initial pose, which belongs to no step).
+    pub step: usize,
+}
+
+/// A sampled object trajectory: the initial pose, then each step's samples in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectPath {
+    /// Samples in time order; the first is the initial (grasp) pose at `t = 0`.
+    pub samples: Vec<PathSample>,
+    /// The steps' labels (`lift`, `move`, ...), in order.
+    pub step_labels: Vec<String>,
+}
+
+/// A labelled step with its duration (s).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimedStep {
+    /// A name for reports (`lift`, `rotate`, ...).
+    pub label: String,
+    /// The motion.
+    pub step: Step,
+    /// Duration (s), > 0.
+    pub duration: f64,
+}
+
+struct Segment {
+    start: Isometry3<f64>,
+    step: Step,
+    end: Isometry3<f64>,
+    length: f64,
+    rotation: f64,
+    translation: f64,
+}
+
+impl Segment {
+    fn new(start: Isometry3<f64>, step: &Step) -> Self {
+        let end = match step {
+            Step::Pose(pose) => *pose,
+            Step::Relative {
+                translation,
+                axis,
+                angle,
+            } => Isometry3::from_parts(
+                Translation3::from(start.translation.vector + translation),
+                UnitQuaternion::from_axis_angle(axis, *angle) * start.rotation,
+            ),
+        };
+        let (translation, rotation) = match step {
+            Step::Pose(pose) => (
+                (pose.translation.vector - start.translation.vector).norm(),
+                start.rotation.angle_to(&pose.rotation),
+            ),
+            Step::Relative {
+                translation, angle, ..
+            } => (translation.norm(), angle.abs()),
+        };
+        Self {
+            start,
+            step: step.clone(),
+            end,
+            length: translation + 0.1 * rotation,
+            rotation,
+            translation,
+        }
+    }
+
+    fn at(&self, s: f64) -> Isometry3<f64> {
+        match &self.step {
+            Step::Pose(pose) => interpolate_decoupled(&self.start, pose, s),
+            Step::Relative {
+                translation,
+                axis,
+                angle,
+            } => Isometry3::from_parts(
+                Translation3::from(self.start.translation.vector + translation * s),
+                UnitQuaternion::from_axis_angle(axis, angle * s) * self.start.rotation,
+            ),
+        }
+    }
+}
+
+impl ObjectPath {
+    /// Samples the trajectory that starts at `world_from_object` and performs `steps` in order.
+    ///
+    /// Errors (as text naming the step) on a non-positive duration, a zero sample count or
+    /// spacing.
+    pub fn sample(
+        world_from_object: Isometry3<f64>,
+        steps: &[TimedStep],
+        sampling: Sampling,
+    ) -> Result<Self, String> {
+        let mut segments = Vec::with_capacity(steps.len());
+        let mut pose = world_from_object;
+        for (k, timed) in steps.iter().enumerate() {
+            if !(timed.duration.is_finite() && timed.duration > 0.0) {
+                return Err(format!(
+                    "step {k} ({}): duration must be a positive number of seconds",
+                    timed.label
+                ));
+            }
+            let segment = Segment::new(pose, &timed.step);
+            pose = segment.end;
+            segments.push(segment);
+        }
+        let counts = sample_counts(&segments, sampling)?;
+        let mut samples = vec![PathSample {
+            time: 0.0,
+            world_from_object,
+            step: 0,
+        }];
+        let mut t0 = 0.0;
+        for (k, (segment, timed)) in segments.iter().zip(steps).enumerate() {
+            let n = counts[k];
+            for j in 1..=n {
+                let s = j as f64 / n as f64;
+                samples.push(PathSample {
+                    time: t0 + s * timed.duration,
+                    world_from_object: if j == n { segment.end } else { segment.at(s) },
+                    step: k,
+                });
+            }
+            t0 += timed.duration;
+        }
+        Ok(Self {
+            samples,
+            step_labels: steps.iter().map(|s| s.label.clone()).collect(),
+        })
+    }
+
+    /// The object poses in time order.
+    pub fn poses(&self) -> impl Iterator<Item = &Isometry3<f64>> {
+        self.samples.iter().map(|s| &s.world_from_object)
+    }
+
+    /// The sample times (s).
+    pub fn times(&self) -> Vec<f64> {
+        self.samples.iter().map(|s| s.time).collect()
+    }
+
+    /// The same path seen from another world frame: every pose premultiplied by
+    /// `new_world_from_world`.
+    pub fn transformed(&self, new_world_from_world: &Isometry3<f64>) -> Self {
+        let mut moved = self.clone();
+        for s in &mut moved.samples {
+            s.world_from_object = new_world_from_world * s.world_from_object;
+        }
+        moved
+    }
+}
+
+fn sample_counts(segments: &[Segment], sampling: Sampling) -> Result<Vec<usize>, String> {
+    match sampling {
+        Sampling::PerStep(0) => Err("samples per step must be at least 1".into()),
+        Sampling::PerStep(n) => Ok(vec![n; segments.len()]),
+        Sampling::Spacing {
+            translation,
+            rotation,
+        } => {
+            if !(translation > 0.0 && rotation > 0.0) {
+                return Err("spacing must be positive (translation in m, rotation in rad)".into());
+            }
+            Ok(segments
+                .iter()
+                .map(|s| {
+                    let n = (s.translation / translation)
+                        .max(s.rotation / rotation)
+                        .ceil();
+                    (n as usize).max(1)
+                })
+                .collect())
+        }
+        Sampling::Total(total) => {
+            if total < segments.len() + 1 {
+                return Err(format!(
+                    "{total} samples cannot cover {} steps (need at least {})",
+                    segments.len(),
+                    segments.len() + 1
+                ));
+            }
+            let available = total - 1 - segments.len();
+            let total_length: f64 = segments.iter().map(|s| s.length).sum();
+            let mut counts: Vec<usize> = vec![1; segments.len()];
+            if total_length > 0.0 {
+                // Largest-remainder apportionment of the samples beyond the first per step.
+                let shares: Vec<f64> = segments
+                    .iter()
+                    .map(|s| available as f64 * s.length / total_length)
+                    .collect();
+                for (c, share) in counts.iter_mut().zip(&shares) {
+                    *c += share.floor() as usize;
+                }
+                let mut left = total - 1 - counts.iter().sum::<usize>();
+                let mut order: Vec<usize> = (0..segments.len()).collect();
+                order.sort_by(|&a, &b| {
+                    (shares[b] - shares[b].floor())
+                        .total_cmp(&(shares[a] - shares[a].floor()))
+                        .then(a.cmp(&b))
+                });
+                for &k in order.iter().cycle() {
+                    if left == 0 {
+                        break;
+                    }
+                    counts[k] += 1;
+                    left -= 1;
+                }
+            } else {
+                counts[0] += available;
+            }
+            Ok(counts)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn lift_move_place() -> Vec<TimedStep> {
+        let relative = |label: &str, t: Vector3<f64>| TimedStep {
+            label: label.into(),
+            step: Step::Relative {
+                translation: t,
+                axis: Vector3::z_axis(),
+                angle: 0.0,
+            },
+            duration: 1.0,
+        };
+        vec![
+            relative("lift", Vector3::new(0.0, 0.0, 0.2)),
+            relative("move", Vector3::new(0.0, 0.3, 0.0)),
+            relative("place", Vector3::new(0.0, 0.0, -0.2)),
+        ]
+    }
+
+    #[test]
+    fn total_sampling_gives_the_requested_count_and_ends_at_the_goal() {
+        let start = Isometry3::translation(0.7, 0.25, -0.05);
+        let path = ObjectPath::sample(start, &lift_move_place(), Sampling::Total(50)).unwrap();
+        assert_eq!(path.samples.len(), 50);
+        let end = path.samples.last().unwrap();
+        assert_relative_eq!(
+            end.world_from_object.translation.vector,
+            Vector3::new(0.7, 0.55, -0.05),
+            epsilon = 1e-15
+        );
+        assert_relative_eq!(end.time, 3.0);
+        // Times increase strictly.
+        assert!(path.samples.windows(2).all(|w| w[1].time > w[0].time));
+        // The longer middle step gets more samples than each vertical one.
+        let count = |k| path.samples.iter().skip(1).filter(|s| s.step == k).count();
+        assert!(count(1) > count(0) && count(1) > count(2));
+        assert_eq!(count(0) + count(1) + count(2), 49);
+    }
+
+    #[test]
+    fn rotation_beyond_half_a_turn_goes_the_long_way() {
+        let steps = vec![TimedStep {
+            label: "rotate".into(),
+            step: Step::Relative {
+                translation: Vector3::zeros(),
+                axis: Vector3::z_axis(),
+                angle: 270f64.to_radians(),
+            },
+            duration: 2.0,
+        }];
+        let path = ObjectPath::sample(Isometry3::identity(), &steps, Sampling::PerStep(3)).unwrap();
+        let yaw = |k: usize| path.samples[k].world_from_object.rotation.euler_angles().2;
+        assert_relative_eq!(yaw(1), 90f64.to_radians(), epsilon = 1e-12);
+        assert_relative_eq!(yaw(2), 180f64.to_radians().abs(), epsilon = 1e-9);
+        assert_relative_eq!(yaw(3), -90f64.to_radians(), epsilon = 1e-12);
+    }
+
+    #[test]
+    fn spacing_and_bad_inputs() {
+        let path = ObjectPath::sample(
+            Isometry3::identity(),
+            &lift_move_place(),
+            Sampling::Spacing {
+                translation: 0.05,
+                rotation: 0.1,
+            },
+        )
+        .unwrap();
+        assert_eq!(path.samples.len(), 1 + 4 + 6 + 4);
+        assert!(ObjectPath::sample(
+            Isometry3::identity(),
+            &lift_move_place(),
+            Sampling::PerStep(0)
+        )
+        .is_err());
+        assert!(ObjectPath::sample(
+            Isometry3::identity(),
+            &lift_move_place(),
+            Sampling::Total(3)
+        )
+        .is_err());
+        let mut steps = lift_move_place();
+        steps[1].duration = 0.0;
+        let err =
+            ObjectPath::sample(Isometry3::identity(), &steps, Sampling::PerStep(2)).unwrap_err();
+        assert!(err.contains("step 1 (move)"), "{err}");
+    }
+}

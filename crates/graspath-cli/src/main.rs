@@ -3,6 +3,7 @@
 
 mod commands;
 mod jsonl;
+mod output;
 mod robot_args;
 
 use clap::{Parser, Subcommand};
@@ -20,12 +21,18 @@ struct Cli {
 enum Command {
     /// Forward kinematics, Jacobian and manipulability for joint configurations (JSON Lines).
     Kinematics(commands::kinematics::KinematicsArgs),
+    /// Score every grasp candidate along a task and rank them (one arm or arm pairs).
+    Select(commands::select::SelectArgs),
+    /// Reproduce the paper's experiments on the built-in Baxter (no files needed).
+    Demo(commands::demo::DemoArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Kinematics(args) => commands::kinematics::run(&args),
+        Command::Select(args) => commands::select::run(&args),
+        Command::Demo(args) => commands::demo::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -15,5 +15,7 @@
 pub mod geometry;
 pub mod grasp;
 pub mod manipulability;
+pub mod report;
 pub mod robot;
+pub mod select;
 pub mod task;

@@ -1,8 +1,8 @@
 //! The unit tangent of a wrist path at a sample, in the base frame, for the task-relevant index.
 
-use super::indices::Direction;
+use super::indices::{task_relevant, Direction};
 use crate::geometry::se3_log;
-use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
+use nalgebra::{Dim, Isometry3, Matrix, Storage, Vector3, Vector6, U6};
 
 /// Twists (m or rad per step) below this norm count as "the object is still": the sample is
 /// skipped rather than divided by.
@@ -80,12 +80,27 @@ pub fn wrist_tangent(
     }
 }
 
-/// The Jacobian the index uses in `mode`: in `Twist` mode the angular rows are multiplied by L;
-/// otherwise `J` unchanged (the direction selects the rows).
-pub fn scaled_jacobian(jacobian: &Matrix6xX<f64>, mode: IndexMode) -> Matrix6xX<f64> {
-    let mut scaled = jacobian.clone();
-    if let IndexMode::Twist { length_scale } = mode {
-        scaled.rows_mut(3, 3).scale_mut(length_scale);
+impl IndexMode {
+    /// `M_T` in this mode for the unit `direction` from [`wrist_tangent`]: `‖J'ᵀ u‖²` where
+    /// `J'` is `J` with its angular rows multiplied by L in `Twist` mode, else `J` itself.
+    pub fn task_relevant<C: Dim, S: Storage<f64, U6, C>>(
+        &self,
+        jacobian: &Matrix<f64, U6, C, S>,
+        direction: &Direction,
+    ) -> f64 {
+        match (*self, direction) {
+            (IndexMode::Twist { length_scale }, Direction::Full(u)) => {
+                let weighted = Vector6::new(
+                    u[0],
+                    u[1],
+                    u[2],
+                    length_scale * u[3],
+                    length_scale * u[4],
+                    length_scale * u[5],
+                );
+                task_relevant(jacobian, &Direction::Full(weighted))
+            }
+            _ => task_relevant(jacobian, direction),
+        }
     }
-    scaled
 }

@@ -1,0 +1,170 @@
+//! `graspath demo [--out DIR]`: the paper's experiments on the built-in Baxter, from task files
+//! compiled into the binary (the same files as `examples/`), so no input is needed.
+
+use super::select::run_task;
+use crate::output::OutputArgs;
+use anyhow::{Context, Result};
+use clap::Args;
+use graspath::report::write_files_atomically;
+use graspath::select::{Selection, Task};
+use graspath::task::TaskFile;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Options of `graspath demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Where to write the experiments' results (one folder each).
+    #[arg(long, value_name = "DIR", default_value = "graspath-demo")]
+    out: PathBuf,
+    #[command(flatten)]
+    output: OutputArgs,
+}
+
+/// One experiment of the paper.
+struct Experiment {
+    name: &'static str,
+    figure: &'static str,
+    task_yaml: &'static str,
+    paper_finding: &'static str,
+}
+
+const EXPERIMENTS: [Experiment; 6] = [
+    Experiment {
+        name: "pick_and_place_left",
+        figure: "Fig. 5, 6, 8",
+        task_yaml: include_str!("../../../../examples/pick_and_place_left.yaml"),
+        paper_finding: "left arm, object moved left: the best contact is the left-most; the classical indices at the grasp pick a different contact",
+    },
+    Experiment {
+        name: "pick_and_place_both",
+        figure: "Fig. 7",
+        task_yaml: include_str!("../../../../examples/pick_and_place_both.yaml"),
+        paper_finding: "both arms: left hand on the left-most part, right hand at a mid-right contact; extreme right contacts unreachable",
+    },
+    Experiment {
+        name: "pick_rotate_place_both",
+        figure: "Fig. 9",
+        task_yaml: include_str!("../../../../examples/pick_rotate_place_both.yaml"),
+        paper_finding: "both arms, rotation: still left hand on the left side and right hand on the right side",
+    },
+    Experiment {
+        name: "t_shape_rotate",
+        figure: "Fig. 10 c, d",
+        task_yaml: include_str!("../../../../examples/t_shape_rotate.yaml"),
+        paper_finding: "T-shape Pick-Rotate-Place: the best of 16 yaw candidates differs from the other tasks' best",
+    },
+    Experiment {
+        name: "t_shape_move",
+        figure: "Fig. 10 e, f",
+        task_yaml: include_str!("../../../../examples/t_shape_move.yaml"),
+        paper_finding: "T-shape Pick-Move-Place: a different best yaw than for rotation",
+    },
+    Experiment {
+        name: "t_shape_move_rotate",
+        figure: "Fig. 10 g, h",
+        task_yaml: include_str!("../../../../examples/t_shape_move_rotate.yaml"),
+        paper_finding: "T-shape Pick-Move/Rotate-Place: the Pick-Rotate-Place grasp may not be able to do this task",
+    },
+];
+
+fn label_of(task: &Task, selection: &Selection, arm: usize, index: usize) -> String {
+    task.candidates[selection.arms[arm].scores[index].candidate].label.clone()
+}
+
+/// What our run found, in the terms the paper uses.
+fn our_finding(task: &Task, selection: &Selection) -> Value {
+    let arms: Vec<Value> = selection
+        .arms
+        .iter()
+        .enumerate()
+        .map(|(k, arm)| {
+            let best = arm.best().map(|i| label_of(task, selection, k, i));
+            let by_yoshikawa = arm
+                .scores
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.feasible())
+                .filter_map(|(i, s)| s.yoshikawa_at_grasp.map(|y| (i, y)))
+                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map(|(i, _)| label_of(task, selection, k, i));
+            let by_inverse_condition = arm
+                .scores
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.feasible())
+                .filter_map(|(i, s)| s.inverse_condition_at_grasp.map(|y| (i, y)))
+                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map(|(i, _)| label_of(task, selection, k, i));
+            json!({
+                "arm": arm.arm,
+                "feasible": arm.feasible_count(),
+                "candidates": arm.scores.len(),
+                "best_task_relevant": best,
+                "best_yoshikawa_at_grasp": by_yoshikawa,
+                "best_inverse_condition_at_grasp": by_inverse_condition,
+            })
+        })
+        .collect();
+    let pair = selection.pairs.first().map(|p| {
+        json!({
+            selection.arms[0].arm.clone(): label_of(task, selection, 0, p.first),
+            selection.arms[1].arm.clone(): label_of(task, selection, 1, p.second),
+            "score": p.score,
+        })
+    });
+    json!({ "arms": arms, "best_pair": pair })
+}
+
+/// Runs the subcommand.
+pub fn run(args: &DemoArgs) -> Result<()> {
+    let mut findings = Vec::new();
+    for experiment in &EXPERIMENTS {
+        let source = format!("examples/{}.yaml", experiment.name);
+        let file = TaskFile::parse(experiment.task_yaml, &source, "yaml")?;
+        let task = Task::from_file(&file, &source, Path::new("."))?;
+        let out = args.out.join(experiment.name);
+        let title = format!("{} ({})", experiment.name, experiment.figure);
+        let selection = run_task(&task, &out, &args.output, &title)
+            .with_context(|| format!("experiment {}", experiment.name))?;
+        let ours = our_finding(&task, &selection);
+        if !args.output.quiet && !args.output.json {
+            println!("  paper: {}", experiment.paper_finding);
+            println!("  ours:  {}\n", summarise(&ours));
+        }
+        findings.push(json!({
+            "experiment": experiment.name,
+            "figure": experiment.figure,
+            "paper": experiment.paper_finding,
+            "ours": ours,
+        }));
+    }
+    let mut bytes = serde_json::to_vec_pretty(&Value::Array(findings))?;
+    bytes.push(b'\n');
+    write_files_atomically(&args.out, &[("findings.json".to_string(), bytes)])?;
+    Ok(())
+}
+
+fn summarise(ours: &Value) -> String {
+    let mut parts = Vec::new();
+    for arm in ours["arms"].as_array().into_iter().flatten() {
+        parts.push(format!(
+            "{} arm: {}/{} feasible, best {} (Yoshikawa at grasp: {}, inverse condition: {})",
+            arm["arm"].as_str().unwrap_or("?"),
+            arm["feasible"],
+            arm["candidates"],
+            arm["best_task_relevant"].as_str().unwrap_or("none"),
+            arm["best_yoshikawa_at_grasp"].as_str().unwrap_or("none"),
+            arm["best_inverse_condition_at_grasp"].as_str().unwrap_or("none"),
+        ));
+    }
+    if let Some(pair) = ours["best_pair"].as_object() {
+        let text: Vec<String> = pair
+            .iter()
+            .filter(|(k, _)| *k != "score")
+            .map(|(k, v)| format!("{k} {}", v.as_str().unwrap_or("?")))
+            .collect();
+        parts.push(format!("best pair: {}", text.join(" + ")));
+    }
+    parts.join("; ")
+}

@@ -1,0 +1,99 @@
+//! Terminal output: progress bars, the one-screen summary table, `--quiet` and `--json`.
+
+use clap::Args;
+use graspath::select::{Selection, Task};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::Path;
+use std::time::Duration;
+
+/// Output switches shared by the long-running subcommands.
+#[derive(Debug, Clone, Args)]
+pub struct OutputArgs {
+    /// Print nothing but errors.
+    #[arg(long, conflicts_with = "json")]
+    pub quiet: bool,
+    /// Print the summary as JSON on stdout (for scripts) instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// A progress bar on a terminal (stderr), hidden otherwise or with `--quiet`/`--json`.
+pub fn progress_bar(output: &OutputArgs, total: u64, title: &str) -> ProgressBar {
+    if output.quiet || output.json || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} candidates ({eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(title.to_string());
+    bar
+}
+
+fn number(v: Option<f64>) -> String {
+    match v {
+        Some(x) if x.is_finite() => format!("{x:.4}"),
+        Some(_) => "inf".into(),
+        None => "-".into(),
+    }
+}
+
+/// The one-screen summary: per arm the best five candidates and the failures by reason.
+pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elapsed: Duration, out: &Path) {
+    println!(
+        "{title}: {} candidates x {} arm(s), {} samples, {:.3} s",
+        task.candidates.len(),
+        task.arms.len(),
+        task.path.samples.len(),
+        elapsed.as_secs_f64()
+    );
+    for arm in &selection.arms {
+        let mut reasons: std::collections::BTreeMap<&str, usize> = Default::default();
+        for s in &arm.scores {
+            if let Some(f) = &s.failure {
+                *reasons.entry(f.reason.as_str()).or_default() += 1;
+            }
+        }
+        let rejected = arm.rankings.iter().filter(|r| r.rejected.is_some()).count();
+        let reasons: Vec<String> = reasons.iter().map(|(r, n)| format!("{n} {r}")).collect();
+        println!(
+            "  arm {}: {} feasible, {} rejected by mu0{}",
+            arm.arm,
+            arm.feasible_count(),
+            rejected,
+            if reasons.is_empty() { String::new() } else { format!(", infeasible: {}", reasons.join(", ")) }
+        );
+        println!("    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}", "rank", "id", "label", "score", "mu_l2", "mu_linf", "yoshikawa");
+        let mut ranked: Vec<usize> = (0..arm.rankings.len()).filter(|&i| arm.rankings[i].rank.is_some()).collect();
+        ranked.sort_by_key(|&i| arm.rankings[i].rank);
+        for &i in ranked.iter().take(5) {
+            let s = &arm.scores[i];
+            let c = &task.candidates[s.candidate];
+            println!(
+                "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
+                arm.rankings[i].rank.unwrap_or(0),
+                c.id,
+                c.label.chars().take(28).collect::<String>(),
+                number(arm.rankings[i].score),
+                number(s.norms.map(|n| n.l2)),
+                number(s.norms.map(|n| n.linf)),
+                number(s.yoshikawa_at_grasp),
+            );
+        }
+    }
+    if let Some(best) = selection.pairs.first() {
+        let (a, b) = (&selection.arms[0], &selection.arms[1]);
+        println!(
+            "  best pair: {} {} + {} {} (sum {:.4})",
+            a.arm,
+            task.candidates[a.scores[best.first].candidate].label,
+            b.arm,
+            task.candidates[b.scores[best.second].candidate].label,
+            best.score
+        );
+    }
+    println!("  wrote {}", out.display());
+}

@@ -1,0 +1,177 @@
+//! The JSON documents of a selection (`candidates.json`, `pairs.json`, `summary.json`).
+//!
+//! Numbers that are infinite (a `μ_l∞` on a singular path) are written as `null` with a flag
+//! beside them, since JSON has no infinity. Output is byte-identical for the same input.
+
+use crate::geometry::pose_to_rows;
+use crate::manipulability::IndexMode;
+use crate::select::{Norm, Selection, Task};
+use serde::Serialize;
+use serde_json::{json, Map, Value};
+
+#[derive(Serialize)]
+struct FailureRecord<'a> {
+    reason: &'a str,
+    sample: usize,
+    detail: &'a str,
+}
+
+#[derive(Serialize)]
+struct CandidateRecord<'a> {
+    id: usize,
+    arm: &'a str,
+    label: &'a str,
+    object_from_wrist: [[f64; 4]; 4],
+    contact: Option<[f64; 3]>,
+    likelihood: f64,
+    log_likelihood: f64,
+    feasible: bool,
+    failure: Option<FailureRecord<'a>>,
+    rejected: Option<&'a str>,
+    rank: Option<usize>,
+    score: Option<f64>,
+    pareto: bool,
+    mu_l2: Option<f64>,
+    mu_linf: Option<f64>,
+    mu_linf_infinite: bool,
+    mu_l1: Option<f64>,
+    skipped_samples: Option<usize>,
+    m_t: &'a [Option<f64>],
+    yoshikawa_at_grasp: Option<f64>,
+    inverse_condition_at_grasp: Option<f64>,
+    inverse_condition_squared_at_grasp: Option<f64>,
+    feasible_branches: usize,
+    joint_trajectory: &'a [Vec<f64>],
+}
+
+fn finite(v: f64) -> Option<f64> {
+    v.is_finite().then_some(v)
+}
+
+/// `candidates.json`: one record per candidate and arm, in candidate order, arm by arm.
+pub fn candidates_json(task: &Task, selection: &Selection) -> Value {
+    let mut records = Vec::new();
+    for arm in &selection.arms {
+        for (score, ranking) in arm.scores.iter().zip(&arm.rankings) {
+            let c = &task.candidates[score.candidate];
+            let record = CandidateRecord {
+                id: c.id,
+                arm: &arm.arm,
+                label: &c.label,
+                object_from_wrist: pose_to_rows(&c.object_from_wrist),
+                contact: c.contact.map(|p| [p.x, p.y, p.z]),
+                likelihood: c.log_likelihood.exp(),
+                log_likelihood: c.log_likelihood,
+                feasible: score.feasible(),
+                failure: score.failure.as_ref().map(|f| FailureRecord {
+                    reason: &f.reason,
+                    sample: f.sample,
+                    detail: &f.detail,
+                }),
+                rejected: ranking.rejected.as_deref(),
+                rank: ranking.rank,
+                score: ranking.score.and_then(finite),
+                pareto: ranking.pareto,
+                mu_l2: score.norms.map(|n| n.l2),
+                mu_linf: score.norms.and_then(|n| finite(n.linf)),
+                mu_linf_infinite: score.norms.is_some_and(|n| n.linf.is_infinite()),
+                mu_l1: score.norms.map(|n| n.l1),
+                skipped_samples: score.norms.map(|n| n.skipped),
+                m_t: &score.m_t,
+                yoshikawa_at_grasp: score.yoshikawa_at_grasp,
+                inverse_condition_at_grasp: score.inverse_condition_at_grasp,
+                inverse_condition_squared_at_grasp: score.inverse_condition_squared_at_grasp,
+                feasible_branches: score.feasible_branches,
+                joint_trajectory: &score.joint_trajectory,
+            };
+            records.push(serde_json::to_value(record).expect("records serialise"));
+        }
+    }
+    Value::Array(records)
+}
+
+/// `pairs.json`: the best pairs, keyed by the two arms' names (`left`, `right` on Baxter).
+pub fn pairs_json(task: &Task, selection: &Selection) -> Value {
+    if selection.arms.len() != 2 {
+        return Value::Array(Vec::new());
+    }
+    let (a, b) = (&selection.arms[0], &selection.arms[1]);
+    Value::Array(
+        selection
+            .pairs
+            .iter()
+            .map(|p| {
+                let ca = &task.candidates[a.scores[p.first].candidate];
+                let cb = &task.candidates[b.scores[p.second].candidate];
+                let mut m = Map::new();
+                m.insert(a.arm.clone(), json!(ca.id));
+                m.insert(b.arm.clone(), json!(cb.id));
+                m.insert(format!("{}_label", a.arm), json!(ca.label));
+                m.insert(format!("{}_label", b.arm), json!(cb.label));
+                m.insert("score".into(), json!(p.score));
+                m.insert("rank".into(), json!(p.rank));
+                Value::Object(m)
+            })
+            .collect(),
+    )
+}
+
+fn mode_json(mode: IndexMode) -> Value {
+    match mode {
+        IndexMode::Twist { length_scale } => json!({"mode": "twist", "length_scale": length_scale}),
+        IndexMode::Translation => json!({"mode": "translation"}),
+        IndexMode::Rotation => json!({"mode": "rotation"}),
+    }
+}
+
+/// `summary.json`: the task in brief and the selected grasp per arm (and pair).
+pub fn summary_json(task: &Task, selection: &Selection) -> Value {
+    let arms: Vec<Value> = selection
+        .arms
+        .iter()
+        .map(|arm| {
+            let selected = arm.best().map(|i| {
+                let s = &arm.scores[i];
+                let c = &task.candidates[s.candidate];
+                json!({
+                    "id": c.id,
+                    "label": c.label,
+                    "score": arm.rankings[i].score,
+                    "mu_l2": s.norms.map(|n| n.l2),
+                    "mu_linf": s.norms.and_then(|n| finite(n.linf)),
+                    "mu_l1": s.norms.map(|n| n.l1),
+                    "yoshikawa_at_grasp": s.yoshikawa_at_grasp,
+                })
+            });
+            let by_yoshikawa = arm
+                .scores
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.feasible())
+                .filter_map(|(i, s)| s.yoshikawa_at_grasp.map(|y| (i, y)))
+                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map(|(i, _)| task.candidates[arm.scores[i].candidate].id);
+            json!({
+                "arm": arm.arm,
+                "candidates": arm.scores.len(),
+                "feasible": arm.feasible_count(),
+                "eligible": arm.rankings.iter().filter(|r| r.rank.is_some()).count(),
+                "selected": selected,
+                "best_by_yoshikawa_at_grasp": by_yoshikawa,
+            })
+        })
+        .collect();
+    let pairs = pairs_json(task, selection);
+    json!({
+        "task": task.source_name,
+        "robot": task.robot_name,
+        "samples": task.path.samples.len(),
+        "steps": task.path.step_labels,
+        "duration_s": task.path.samples.last().map(|s| s.time),
+        "index": mode_json(task.mode),
+        "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
+        "mu0": task.selection.mu0,
+        "arms": arms,
+        "best_pair": pairs.as_array().and_then(|p| p.first().cloned()),
+    })
+}

@@ -1,0 +1,202 @@
+//! Ranking: the paper's rule (maximise the norm subject to `μ_l∞ ≤ μ0`) combined with the grasp
+//! likelihood, the Pareto front of (likelihood, norm), and dual-arm pairs.
+
+use super::score::CandidateScore;
+use crate::grasp::Candidate;
+
+/// The norm that is maximised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Norm {
+    /// `μ_l2` (the paper's choice).
+    L2,
+    /// `μ_l1`, the time integral.
+    L1,
+}
+
+/// How the grasp likelihood combines with the norm into a score.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LikelihoodRule {
+    /// `norm × ℓ/ℓ_max` — the default. With equal likelihoods it is the paper's rule.
+    Product,
+    /// The norm alone.
+    Ignore,
+    /// `ln(norm) + weight · ln(ℓ/ℓ_max)`: a weight above 1 favours likely grasps more than the
+    /// product does, below 1 less.
+    Weighted {
+        /// The likelihood's weight (≥ 0).
+        weight: f64,
+    },
+}
+
+/// Selection settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelectionOptions {
+    /// The norm to maximise.
+    pub norm: Norm,
+    /// Reject candidates with `μ_l∞ > μ0` (`None`: only singular paths, `μ_l∞ = ∞`, are rejected).
+    pub mu0: Option<f64>,
+    /// How the likelihood enters the score.
+    pub likelihood: LikelihoodRule,
+    /// How many best arm pairs to keep.
+    pub pairs: usize,
+    /// Two grasps closer than this (m, object frame) overlap.
+    pub min_separation: f64,
+}
+
+impl Default for SelectionOptions {
+    fn default() -> Self {
+        Self {
+            norm: Norm::L2,
+            mu0: None,
+            likelihood: LikelihoodRule::Product,
+            pairs: 10,
+            min_separation: 0.08,
+        }
+    }
+}
+
+/// A candidate's place in the ranking of one arm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ranking {
+    /// 1-based rank among eligible candidates (`None` when not eligible).
+    pub rank: Option<usize>,
+    /// The combined score (`None` when not eligible).
+    pub score: Option<f64>,
+    /// Why a feasible candidate is not eligible (the `μ0` constraint, a singular path).
+    pub rejected: Option<String>,
+    /// On the Pareto front of (likelihood, norm) among eligible candidates.
+    pub pareto: bool,
+}
+
+fn norm_value(score: &CandidateScore, norm: Norm) -> Option<f64> {
+    score.norms.map(|n| match norm {
+        Norm::L2 => n.l2,
+        Norm::L1 => n.l1,
+    })
+}
+
+/// Why a feasible candidate fails the constraint, if it does.
+fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> Option<String> {
+    let norms = score.norms?;
+    if !norms.linf.is_finite() {
+        return Some("singular along the path (mu_linf is infinite)".into());
+    }
+    if norms.evaluated == 0 {
+        return Some("the object never moves: no sample to evaluate".into());
+    }
+    match options.mu0 {
+        Some(mu0) if norms.linf > mu0 => Some(format!("mu_linf = {:.4} exceeds mu0 = {mu0}", norms.linf)),
+        _ => None,
+    }
+}
+
+/// Ranks one arm's candidates. Ties are broken by candidate order, so the ranking is
+/// deterministic.
+pub fn rank_candidates(candidates: &[Candidate], scores: &[CandidateScore], options: &SelectionOptions) -> Vec<Ranking> {
+    let max_log = candidates.iter().map(|c| c.log_likelihood).fold(f64::NEG_INFINITY, f64::max);
+    let mut rankings: Vec<Ranking> = scores
+        .iter()
+        .map(|s| {
+            let rejected = if s.feasible() { constraint_violation(s, options) } else { None };
+            let score = (s.feasible() && rejected.is_none())
+                .then(|| norm_value(s, options.norm))
+                .flatten()
+                .map(|norm| {
+                    let relative_log = candidates[s.candidate].log_likelihood - max_log;
+                    match options.likelihood {
+                        LikelihoodRule::Product => norm * relative_log.exp(),
+                        LikelihoodRule::Ignore => norm,
+                        LikelihoodRule::Weighted { weight } => norm.ln() + weight * relative_log,
+                    }
+                });
+            Ranking {
+                rank: None,
+                score,
+                rejected,
+                pareto: false,
+            }
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..rankings.len()).filter(|&i| rankings[i].score.is_some()).collect();
+    order.sort_by(|&a, &b| {
+        rankings[b].score.unwrap().total_cmp(&rankings[a].score.unwrap()).then(a.cmp(&b))
+    });
+    for (r, &i) in order.iter().enumerate() {
+        rankings[i].rank = Some(r + 1);
+    }
+    // Pareto front of (log-likelihood, norm) among the eligible.
+    for &i in &order {
+        let li = candidates[scores[i].candidate].log_likelihood;
+        let ni = norm_value(&scores[i], options.norm).unwrap_or(0.0);
+        let dominated = order.iter().any(|&j| {
+            let lj = candidates[scores[j].candidate].log_likelihood;
+            let nj = norm_value(&scores[j], options.norm).unwrap_or(0.0);
+            lj >= li && nj >= ni && (lj > li || nj > ni)
+        });
+        rankings[i].pareto = !dominated;
+    }
+    rankings
+}
+
+/// A pair of grasps, one per arm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmPair {
+    /// Index into the first arm's candidates.
+    pub first: usize,
+    /// Index into the second arm's candidates.
+    pub second: usize,
+    /// The sum of the two arms' norms.
+    pub score: f64,
+    /// 1-based rank.
+    pub rank: usize,
+}
+
+/// The grasp point used for overlap tests: the contact when known, else the wrist origin, in
+/// the object frame.
+fn grasp_point(candidate: &Candidate) -> nalgebra::Point3<f64> {
+    candidate
+        .contact
+        .unwrap_or_else(|| nalgebra::Point3::from(candidate.object_from_wrist.translation.vector))
+}
+
+/// Every pair of eligible candidates of two arms whose grasps do not overlap (closer than
+/// `min_separation`), scored by the sum of the arms' norms; the best `options.pairs`, best first.
+pub fn rank_pairs(
+    first: (&[Candidate], &[CandidateScore], &[Ranking]),
+    second: (&[Candidate], &[CandidateScore], &[Ranking]),
+    options: &SelectionOptions,
+) -> Vec<ArmPair> {
+    let eligible = |scores: &[CandidateScore], ranks: &[Ranking]| -> Vec<(usize, f64)> {
+        scores
+            .iter()
+            .zip(ranks)
+            .enumerate()
+            .filter(|(_, (_, r))| r.score.is_some())
+            .filter_map(|(i, (s, _))| norm_value(s, options.norm).map(|n| (i, n)))
+            .collect()
+    };
+    let a = eligible(first.1, first.2);
+    let b = eligible(second.1, second.2);
+    let mut pairs: Vec<ArmPair> = Vec::new();
+    for &(i, ni) in &a {
+        let pi = grasp_point(&first.0[first.1[i].candidate]);
+        for &(j, nj) in &b {
+            let pj = grasp_point(&second.0[second.1[j].candidate]);
+            if (pi - pj).norm() < options.min_separation {
+                continue;
+            }
+            pairs.push(ArmPair {
+                first: i,
+                second: j,
+                score: ni + nj,
+                rank: 0,
+            });
+        }
+    }
+    pairs.sort_by(|x, y| y.score.total_cmp(&x.score).then((x.first, x.second).cmp(&(y.first, y.second))));
+    pairs.truncate(options.pairs);
+    for (r, p) in pairs.iter_mut().enumerate() {
+        p.rank = r + 1;
+    }
+    pairs
+}

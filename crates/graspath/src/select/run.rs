@@ -1,0 +1,64 @@
+//! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
+
+use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
+use super::score::{score_candidates, CandidateScore};
+use super::setup::Task;
+
+/// One arm's results.
+#[derive(Debug, Clone)]
+pub struct ArmResult {
+    /// The arm's name.
+    pub arm: String,
+    /// One score per task candidate, in candidate order.
+    pub scores: Vec<CandidateScore>,
+    /// One ranking per task candidate, in candidate order.
+    pub rankings: Vec<Ranking>,
+}
+
+impl ArmResult {
+    /// The index of the best-ranked candidate, if any is eligible.
+    pub fn best(&self) -> Option<usize> {
+        self.rankings.iter().position(|r| r.rank == Some(1))
+    }
+
+    /// How many candidates are feasible along the whole path.
+    pub fn feasible_count(&self) -> usize {
+        self.scores.iter().filter(|s| s.feasible()).count()
+    }
+}
+
+/// The result of a task.
+#[derive(Debug, Clone)]
+pub struct Selection {
+    /// Per arm, in the task's order.
+    pub arms: Vec<ArmResult>,
+    /// With two arms: the best pairs (first arm × second arm).
+    pub pairs: Vec<ArmPair>,
+}
+
+/// Scores, ranks and pairs. `progress` is called once per scored candidate and arm.
+pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
+    let arms: Vec<ArmResult> = task
+        .arms
+        .iter()
+        .map(|arm| {
+            let scores = score_candidates(arm, &task.candidates, &task.path, task.mode, &task.ik, progress);
+            let rankings = rank_candidates(&task.candidates, &scores, &task.selection);
+            ArmResult {
+                arm: arm.name.clone(),
+                scores,
+                rankings,
+            }
+        })
+        .collect();
+    let pairs = if arms.len() == 2 {
+        rank_pairs(
+            (&task.candidates, &arms[0].scores, &arms[0].rankings),
+            (&task.candidates, &arms[1].scores, &arms[1].rankings),
+            &task.selection,
+        )
+    } else {
+        Vec::new()
+    };
+    Selection { arms, pairs }
+}

@@ -1,0 +1,329 @@
+//! Scoring candidates along a task (paper eq. 8–17): each candidate's wrist trajectory, its
+//! trajectory IK, `M_T` at every sample, the norms over the path, and the classical indices at
+//! the grasp for comparison.
+
+use super::setup::ArmSetup;
+use crate::geometry::se3_log;
+use crate::grasp::Candidate;
+use crate::manipulability::{
+    inverse_condition, inverse_condition_squared, yoshikawa, Direction, IndexMode, JacobianPart,
+    PathNorms, SampleIndex, STILL_TWIST_TOLERANCE,
+};
+use crate::robot::{solve_ik, solve_trajectory, Chain, TrajectoryIkOptions};
+use crate::task::ObjectPath;
+use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
+use rayon::prelude::*;
+
+/// Why a candidate cannot carry out the task, and where.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failure {
+    /// `unreachable`, `joint_limit` or `discontinuity`.
+    pub reason: String,
+    /// The first failing sample (0 = the grasp pose).
+    pub sample: usize,
+    /// A sentence for people.
+    pub detail: String,
+}
+
+/// A candidate's scores for one arm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CandidateScore {
+    /// Index of the candidate in the task's candidate list.
+    pub candidate: usize,
+    /// Set when the arm cannot follow the whole path from this grasp.
+    pub failure: Option<Failure>,
+    /// `M_T` at each sample (`None` where the object is still), along the chosen IK branch.
+    pub m_t: Vec<Option<f64>>,
+    /// The norms of `m_t` (when feasible).
+    pub norms: Option<PathNorms>,
+    /// Yoshikawa's index of the full `J` at the grasp configuration (when the grasp is reachable).
+    pub yoshikawa_at_grasp: Option<f64>,
+    /// `σmin/σmax` of `J` at the grasp configuration.
+    pub inverse_condition_at_grasp: Option<f64>,
+    /// `λmin/λmax` of `J Jᵀ` at the grasp configuration (the paper's eq. 12).
+    pub inverse_condition_squared_at_grasp: Option<f64>,
+    /// Joint configurations along the path (rad / m), one per sample, of the chosen branch.
+    pub joint_trajectory: Vec<Vec<f64>>,
+    /// How many distinct feasible IK branches were found.
+    pub feasible_branches: usize,
+}
+
+impl CandidateScore {
+    /// Whether IK succeeded along the whole path.
+    pub fn feasible(&self) -> bool {
+        self.failure.is_none()
+    }
+}
+
+/// The object's body twists between consecutive samples, `log(O_i⁻¹ O_{i+1})`, shared by every
+/// candidate: a wrist rigidly attached at `object_from_wrist = (R, p)` moves with the twist
+/// `Ad_{W⁻¹} ξ`, so its base-frame tangent is `R_base_object · (v + ω × p, ω)`.
+struct ObjectMotion {
+    /// Per sample: the object's body twist of the interval that defines its tangent.
+    twists: Vec<Vector6<f64>>,
+    /// Per sample: `base_from_object` rotation.
+    rotations: Vec<Rotation3<f64>>,
+}
+
+impl ObjectMotion {
+    fn new(path: &ObjectPath, base_from_world: &Isometry3<f64>) -> Self {
+        let poses: Vec<Isometry3<f64>> = path.poses().copied().collect();
+        let n = poses.len();
+        let twists = (0..n)
+            .map(|i| {
+                // Forward difference; the last sample takes the backward difference.
+                let (a, b) = if i + 1 < n { (i, i + 1) } else { (i.saturating_sub(1), i) };
+                if a == b {
+                    Vector6::zeros()
+                } else {
+                    se3_log(&(poses[a].inverse() * poses[b]))
+                }
+            })
+            .collect();
+        let rotations = poses
+            .iter()
+            .map(|p| (base_from_world * p).rotation.to_rotation_matrix())
+            .collect();
+        Self { twists, rotations }
+    }
+
+    /// The unit tangent direction at sample `i` for a wrist at `object_from_wrist`.
+    fn tangent(&self, i: usize, object_from_wrist: &Isometry3<f64>, mode: IndexMode) -> Option<Direction> {
+        let xi = &self.twists[i];
+        let v = Vector3::new(xi[0], xi[1], xi[2]);
+        let w = Vector3::new(xi[3], xi[4], xi[5]);
+        let p = object_from_wrist.translation.vector;
+        let r = &self.rotations[i];
+        let linear = r * (v + w.cross(&p));
+        let angular = r * w;
+        match mode {
+            IndexMode::Twist { length_scale } => {
+                if Vector6::new(linear.x, linear.y, linear.z, angular.x, angular.y, angular.z).norm()
+                    < STILL_TWIST_TOLERANCE
+                {
+                    return None;
+                }
+                let scaled = Vector6::new(
+                    linear.x,
+                    linear.y,
+                    linear.z,
+                    length_scale * angular.x,
+                    length_scale * angular.y,
+                    length_scale * angular.z,
+                );
+                Some(Direction::Full(scaled.normalize()))
+            }
+            IndexMode::Translation => {
+                let n = linear.norm();
+                (n >= STILL_TWIST_TOLERANCE).then(|| Direction::Translation(linear / n))
+            }
+            IndexMode::Rotation => {
+                let n = angular.norm();
+                (n >= STILL_TWIST_TOLERANCE).then(|| Direction::Rotation(angular / n))
+            }
+        }
+    }
+}
+
+/// The wrist poses `base_from_wrist` along the path for one candidate and arm.
+pub fn wrist_trajectory(
+    path: &ObjectPath,
+    world_from_base: &Isometry3<f64>,
+    object_from_wrist: &Isometry3<f64>,
+) -> Vec<Isometry3<f64>> {
+    let base_from_world = world_from_base.inverse();
+    path.poses()
+        .map(|world_from_object| base_from_world * world_from_object * object_from_wrist)
+        .collect()
+}
+
+/// `M_T` at every sample along one joint path.
+fn index_along(
+    chain: &Chain,
+    motion: &ObjectMotion,
+    object_from_wrist: &Isometry3<f64>,
+    joints: &[Vec<f64>],
+    mode: IndexMode,
+    jacobian: &mut Matrix6xX<f64>,
+) -> Vec<Option<f64>> {
+    joints
+        .iter()
+        .enumerate()
+        .map(|(i, q)| {
+            let direction = motion.tangent(i, object_from_wrist, mode)?;
+            chain
+                .pose_and_jacobian_into(q, jacobian)
+                .ok()
+                .map(|_| mode.task_relevant(jacobian, &direction))
+        })
+        .collect()
+}
+
+/// Scores every candidate for one arm, in parallel (rayon), deterministically: the result does
+/// not depend on the thread count. `progress` is called once per finished candidate.
+pub fn score_candidates(
+    arm: &ArmSetup,
+    candidates: &[Candidate],
+    path: &ObjectPath,
+    mode: IndexMode,
+    ik: &TrajectoryIkOptions,
+    progress: &(dyn Fn() + Sync),
+) -> Vec<CandidateScore> {
+    let base_from_world = arm.world_from_base.inverse();
+    let motion = ObjectMotion::new(path, &base_from_world);
+    let times = path.times();
+    candidates
+        .par_iter()
+        .enumerate()
+        .map(|(index, candidate)| {
+            let score = score_one(arm, index, candidate, path, &motion, &times, mode, ik);
+            progress();
+            score
+        })
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn score_one(
+    arm: &ArmSetup,
+    index: usize,
+    candidate: &Candidate,
+    path: &ObjectPath,
+    motion: &ObjectMotion,
+    times: &[f64],
+    mode: IndexMode,
+    ik: &TrajectoryIkOptions,
+) -> CandidateScore {
+    let chain = &arm.chain;
+    let targets = wrist_trajectory(path, &arm.world_from_base, &candidate.object_from_wrist);
+    let seed = chain.mid_configuration();
+    let mut jacobian = Matrix6xX::zeros(chain.dof());
+    let mut score = CandidateScore {
+        candidate: index,
+        failure: None,
+        m_t: Vec::new(),
+        norms: None,
+        yoshikawa_at_grasp: None,
+        inverse_condition_at_grasp: None,
+        inverse_condition_squared_at_grasp: None,
+        joint_trajectory: Vec::new(),
+        feasible_branches: 0,
+    };
+    let result = match solve_trajectory(chain, &targets, &seed, ik) {
+        Ok(r) => r,
+        Err(e) => {
+            score.failure = Some(Failure {
+                reason: "unreachable".into(),
+                sample: 0,
+                detail: e.to_string(),
+            });
+            return score;
+        }
+    };
+    score.feasible_branches = result.branches.len();
+    // Keep the branch with the best norm, preferring branches free of singular samples.
+    let mut best: Option<(Vec<Option<f64>>, PathNorms, usize)> = None;
+    for (b, branch) in result.branches.iter().enumerate() {
+        let m_t = index_along(chain, motion, &candidate.object_from_wrist, &branch.q, mode, &mut jacobian);
+        let samples: Vec<SampleIndex> = m_t
+            .iter()
+            .zip(times)
+            .map(|(&value, &time)| SampleIndex { time, value })
+            .collect();
+        let norms = PathNorms::of(&samples);
+        let better = match &best {
+            None => true,
+            Some((_, n, _)) => (norms.linf.is_finite(), norms.l2) > (n.linf.is_finite(), n.l2),
+        };
+        if better {
+            best = Some((m_t, norms, b));
+        }
+    }
+    let grasp_q = match best {
+        Some((m_t, norms, b)) => {
+            score.m_t = m_t;
+            score.norms = Some(norms);
+            score.joint_trajectory = result.branches[b].q.clone();
+            score.joint_trajectory.first().cloned()
+        }
+        None => {
+            let failure = result.failure.unwrap_or_else(|| crate::robot::TrajectoryFailure {
+                sample: 0,
+                reason: crate::robot::TrajectoryFailureReason::Unreachable,
+                detail: "no IK branch was found".into(),
+            });
+            score.failure = Some(Failure {
+                reason: failure.reason.as_str().to_string(),
+                sample: failure.sample,
+                detail: failure.detail,
+            });
+            // The classical indices at the grasp need only the grasp pose to be reachable.
+            solve_ik(chain, &targets[0], &seed, &ik.ik).ok().and_then(|s| s.q)
+        }
+    };
+    if let Some(q) = grasp_q {
+        if chain.pose_and_jacobian_into(&q, &mut jacobian).is_ok() {
+            score.yoshikawa_at_grasp = Some(yoshikawa(&jacobian, JacobianPart::Full));
+            score.inverse_condition_at_grasp = Some(inverse_condition(&jacobian, JacobianPart::Full));
+            score.inverse_condition_squared_at_grasp =
+                Some(inverse_condition_squared(&jacobian, JacobianPart::Full));
+        }
+    }
+    score
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manipulability::wrist_tangent;
+    use crate::task::{Sampling, Step, TimedStep};
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    #[test]
+    fn shared_object_twists_give_the_wrist_tangent_by_definition() {
+        // Oracle: `wrist_tangent` on the explicit wrist poses (log of wrist_i⁻¹ wrist_{i+1}).
+        let steps = vec![
+            TimedStep {
+                label: "lift+rotate".into(),
+                step: Step::Relative {
+                    translation: Vector3::new(0.0, 0.1, 0.2),
+                    axis: nalgebra::Unit::new_normalize(Vector3::new(0.2, 0.3, 1.0)),
+                    angle: 1.2,
+                },
+                duration: 1.0,
+            },
+            TimedStep {
+                label: "move".into(),
+                step: Step::Relative {
+                    translation: Vector3::new(0.0, 0.3, 0.0),
+                    axis: Vector3::z_axis(),
+                    angle: 0.0,
+                },
+                duration: 1.0,
+            },
+        ];
+        let start = Isometry3::from_parts(
+            Translation3::new(0.7, 0.2, -0.05),
+            UnitQuaternion::from_euler_angles(0.1, -0.2, 0.7),
+        );
+        let path = ObjectPath::sample(start, &steps, Sampling::PerStep(5)).unwrap();
+        let world_from_base = Isometry3::from_parts(
+            Translation3::new(0.1, -0.3, 0.9),
+            UnitQuaternion::from_euler_angles(0.0, 0.1, -0.4),
+        );
+        let object_from_wrist = Isometry3::from_parts(
+            Translation3::new(0.03, -0.08, 0.05),
+            UnitQuaternion::from_euler_angles(3.0, 0.2, 1.0),
+        );
+        let motion = ObjectMotion::new(&path, &world_from_base.inverse());
+        let wrists = wrist_trajectory(&path, &world_from_base, &object_from_wrist);
+        for mode in [IndexMode::Twist { length_scale: 0.3 }, IndexMode::Translation, IndexMode::Rotation] {
+            for i in 0..wrists.len() {
+                let (a, b) = if i + 1 < wrists.len() { (i, i + 1) } else { (i - 1, i) };
+                let expected = wrist_tangent(&wrists[a], &wrists[b], mode).unwrap().as_full();
+                let got = motion.tangent(i, &object_from_wrist, mode).unwrap().as_full();
+                assert!((expected - got).norm() < 1e-9, "{mode:?} sample {i}: {expected} vs {got}");
+            }
+        }
+    }
+}

@@ -311,6 +311,31 @@ impl Chain {
         }
     }
 
+    /// A sphere holding every reachable tip position, `(centre, radius)` in the base frame (m):
+    /// the first joint's origin does not move, and every later offset, the tool offset and each
+    /// prismatic travel add at most their length. The radius is `+∞` with an unbounded
+    /// prismatic joint.
+    pub(crate) fn reach_sphere(&self) -> (Vector3<f64>, f64) {
+        let Some(first) = self.segments.first() else {
+            return (self.tail_translation, 0.0);
+        };
+        let mut radius = self.tail_translation.norm();
+        for (i, segment) in self.segments.iter().enumerate() {
+            if i > 0 {
+                radius += segment.translation.norm();
+            }
+            if segment.kind == MotionKind::Prismatic {
+                let (source, multiplier, offset) = match &self.drives {
+                    None => (i, 1.0, 0.0),
+                    Some(drives) => (drives[i].source, drives[i].multiplier, drives[i].offset),
+                };
+                let travel = self.lower[source].abs().max(self.upper[source].abs());
+                radius += multiplier.abs() * travel + offset.abs();
+            }
+        }
+        (first.translation, radius)
+    }
+
     fn tail(&self) -> (&Matrix3<f64>, &Vector3<f64>) {
         (&self.tail_rotation, &self.tail_translation)
     }

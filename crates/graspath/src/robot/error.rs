@@ -78,6 +78,22 @@ pub enum RobotError {
         /// Index into q.
         index: usize,
     },
+    /// A target pose has a NaN or infinite entry, or a rotation that is not unit.
+    #[error("{what}: not a valid pose ({message})")]
+    BadPose {
+        /// Which pose, e.g. `target` or `targets[3]`.
+        what: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A solver option is out of range.
+    #[error("option '{name}': {message}")]
+    BadOption {
+        /// The option's field name.
+        name: &'static str,
+        /// What is wrong.
+        message: String,
+    },
     /// A fixed-size view was requested with the wrong joint count or a chain with mimic joints.
     #[error(
         "chain '{chain}' cannot be used as a fixed-size chain of {requested} joints: {reason}"

@@ -1,5 +1,6 @@
 //! Robot kinematics: serial chains loaded from URDF or built in, forward kinematics, the
-//! geometric Jacobian, and (in [`ik`]) inverse kinematics.
+//! geometric Jacobian, inverse kinematics of single poses ([`solve_ik`]) and of whole
+//! trajectories ([`solve_trajectory`]).
 //!
 //! Every pose and Jacobian is expressed in the **chain base frame** (the base link's frame).
 //! The Jacobian has rows `[v; ω]`: `v` is the linear velocity (m/s) of the tip origin and `ω`
@@ -9,11 +10,18 @@
 pub mod builtin;
 mod chain;
 mod error;
+mod ik;
 mod spec;
+mod trajectory_ik;
 mod trig;
 mod urdf;
 
 pub use chain::{Chain, FixedChain, MotionKind};
 pub use error::RobotError;
+pub use ik::{solve_ik, IkFailure, IkFailureReason, IkOptions, IkSolution};
 pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
+pub use trajectory_ik::{
+    solve_trajectory, JointPath, TrajectoryFailure, TrajectoryFailureReason, TrajectoryIkOptions,
+    TrajectoryIkResult,
+};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};

@@ -1,0 +1,608 @@
+//! Inverse kinematics along a whole trajectory of tip poses: continuous joint paths inside the
+//! joint limits, one per distinct initial solution (redundancy branch, elbow or wrist flip).
+//!
+//! Sample 0 is solved from the seed and from seeded random restarts; every solution that
+//! differs from the ones already kept by more than [`TrajectoryIkOptions::max_joint_step`] in
+//! some joint starts a branch (up to [`TrajectoryIkOptions::branches`]). Each branch is then
+//! tracked sample by sample, each solve warm-started from the previous sample's solution and
+//! its Jacobian. A sample is accepted only when its solution is within tolerance, inside the
+//! limits and no joint moves more than `max_joint_step` from the previous sample, so a branch
+//! flip hidden inside a "continuous" path is a failure, never a silent jump.
+//!
+//! When a warm-started solve does not give an acceptable solution, the tracker retries with
+//! intermediate poses (the step from the previous pose split in four) and with a few seeded
+//! restarts near the previous solution. If those fail too, it classifies the failure:
+//!
+//! * `joint_limit`: an unconstrained solve from the previous solution converges, but outside
+//!   the limits (the path would have to leave them);
+//! * `discontinuity`: solutions inside the limits exist, but only farther than
+//!   `max_joint_step` from the previous sample;
+//! * `unreachable`: no solution near the target was found (or the target lies outside the
+//!   chain's reach).
+//!
+//! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
+//! so results are identical at any thread count and on any machine.
+
+use super::chain::{Chain, MAX_JOINTS};
+use super::error::RobotError;
+use super::ik::kernel::{Budget, Kernel, RunEnd, Strategy, Target, Workspace};
+use super::ik::{
+    check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
+    IkOptions,
+};
+use crate::geometry::interpolate_decoupled;
+use nalgebra::Isometry3;
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Options of a trajectory solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrajectoryIkOptions {
+    /// Tolerances, the iteration budget of the first sample (the search for initial
+    /// solutions, over all restarts) and the random seed. `max_time` is ignored: only
+    /// iteration budgets are used so that results are reproducible.
+    pub ik: IkOptions,
+    /// Largest change of any joint between consecutive samples (rad for revolute, m for
+    /// prismatic joints). Also the separation that makes two initial solutions distinct.
+    pub max_joint_step: f64,
+    /// How many distinct initial solutions (branches) to look for and track.
+    pub branches: usize,
+    /// Iteration budget of the warm-started solve of one sample (recoveries and failure
+    /// classification use a small multiple of it).
+    pub per_sample_iterations: usize,
+}
+
+impl Default for TrajectoryIkOptions {
+    /// 1e-5 m / 1e-5 rad, 2000 iterations for the first sample, 0.5 rad steps, 4 branches,
+    /// 30 iterations per sample, seed 0.
+    fn default() -> Self {
+        Self {
+            ik: IkOptions {
+                max_time: None,
+                max_iterations: 2000,
+                ..IkOptions::default()
+            },
+            max_joint_step: 0.5,
+            branches: 4,
+            per_sample_iterations: 30,
+        }
+    }
+}
+
+/// A feasible joint path: one configuration per trajectory sample (rad / m), inside the
+/// limits, each within tolerance of its target and within `max_joint_step` of the previous.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JointPath {
+    /// `q[i]` is the configuration at sample `i`.
+    pub q: Vec<Vec<f64>>,
+}
+
+/// Why a trajectory cannot be followed from a given sample on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TrajectoryFailureReason {
+    /// No solution near the target pose was found.
+    Unreachable,
+    /// A solution exists only outside the joint limits.
+    JointLimit,
+    /// Solutions exist only farther than `max_joint_step` from the previous sample.
+    Discontinuity,
+}
+
+impl TrajectoryFailureReason {
+    /// `unreachable`, `joint_limit` or `discontinuity`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Unreachable => "unreachable",
+            Self::JointLimit => "joint_limit",
+            Self::Discontinuity => "discontinuity",
+        }
+    }
+}
+
+impl fmt::Display for TrajectoryFailureReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The first sample a branch could not follow, and why.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryFailure {
+    /// Index of the first failing sample (0-based).
+    pub sample: usize,
+    /// Why it failed.
+    pub reason: TrajectoryFailureReason,
+    /// A sentence with the numbers: the joint and value at fault, the jump, or the residual.
+    pub detail: String,
+}
+
+impl fmt::Display for TrajectoryFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "sample {}: {}: {}",
+            self.sample, self.reason, self.detail
+        )
+    }
+}
+
+/// The result of a trajectory solve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryIkResult {
+    /// Every feasible branch, sorted by the distance (largest joint difference) of its first
+    /// configuration from the seed, then lexicographically.
+    pub branches: Vec<JointPath>,
+    /// Set when no branch follows the whole trajectory: the first failing sample of the branch
+    /// that got furthest (the earliest branch among equals).
+    pub failure: Option<TrajectoryFailure>,
+}
+
+impl TrajectoryIkResult {
+    /// Whether at least one branch follows the whole trajectory.
+    pub fn feasible(&self) -> bool {
+        !self.branches.is_empty()
+    }
+}
+
+/// Joint paths that take the tip of `chain` through `base_from_targets` (tip poses in the
+/// chain base frame, m, in order), starting near `seed` (rad / m).
+///
+/// Returns `Err` only for bad input: an empty trajectory, a non-finite pose, a seed of the
+/// wrong length or non-finite, or out-of-range options.
+pub fn solve_trajectory(
+    chain: &Chain,
+    base_from_targets: &[Isometry3<f64>],
+    seed: &[f64],
+    options: &TrajectoryIkOptions,
+) -> Result<TrajectoryIkResult, RobotError> {
+    check_options(&options.ik)?;
+    if !(options.max_joint_step.is_finite() && options.max_joint_step > 0.0) {
+        return Err(RobotError::BadOption {
+            name: "max_joint_step",
+            message: format!(
+                "must be a positive finite number, got {}",
+                options.max_joint_step
+            ),
+        });
+    }
+    for (name, value) in [
+        ("branches", options.branches),
+        ("per_sample_iterations", options.per_sample_iterations),
+    ] {
+        if value == 0 {
+            return Err(RobotError::BadOption {
+                name,
+                message: "must be at least 1".into(),
+            });
+        }
+    }
+    chain.check_configuration(seed)?;
+    if base_from_targets.is_empty() {
+        return Err(RobotError::BadPose {
+            what: "trajectory".into(),
+            message: "it has no poses".into(),
+        });
+    }
+    for (i, pose) in base_from_targets.iter().enumerate() {
+        check_pose(pose, &format!("trajectory pose {i}"))?;
+    }
+    let tracker = Tracker {
+        kernel: Kernel::new(
+            chain,
+            options.ik.position_tolerance,
+            options.ik.rotation_tolerance,
+        ),
+        poses: base_from_targets,
+        options,
+    };
+    let starts = match tracker.initial_solutions(seed) {
+        Ok(starts) => starts,
+        Err(failure) => {
+            return Ok(TrajectoryIkResult {
+                branches: Vec::new(),
+                failure: Some(failure),
+            })
+        }
+    };
+    let mut branches = Vec::new();
+    let mut furthest: Option<TrajectoryFailure> = None;
+    for (b, start) in starts.iter().enumerate() {
+        match tracker.track(b, start) {
+            Ok(path) => branches.push(path),
+            Err(failure) => {
+                if furthest.as_ref().is_none_or(|f| failure.sample > f.sample) {
+                    furthest = Some(failure);
+                }
+            }
+        }
+    }
+    let mut seed_clamped = seed.to_vec();
+    tracker.kernel.clamp(&mut seed_clamped);
+    branches.sort_by(|a: &JointPath, b: &JointPath| {
+        max_difference(&a.q[0], &seed_clamped)
+            .total_cmp(&max_difference(&b.q[0], &seed_clamped))
+            .then_with(|| {
+                a.q[0]
+                    .iter()
+                    .zip(&b.q[0])
+                    .map(|(x, y)| x.total_cmp(y))
+                    .find(|o| o.is_ne())
+                    .unwrap_or(std::cmp::Ordering::Equal)
+            })
+    });
+    let failure = if branches.is_empty() { furthest } else { None };
+    Ok(TrajectoryIkResult { branches, failure })
+}
+
+/// Largest absolute difference between two configurations (rad / m).
+fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The joint with the largest change, and that change.
+fn largest_step(a: &[f64], b: &[f64]) -> (usize, f64) {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .enumerate()
+        .fold(
+            (0, 0.0),
+            |best, (j, d)| if d > best.1 { (j, d) } else { best },
+        )
+}
+
+/// A 64-bit mix (SplitMix64's finaliser) to derive independent seeds per branch and sample.
+fn mix(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// Restarts near the previous solution tried before a sample is declared failed.
+const LOCAL_RESTARTS: usize = 4;
+/// Random restarts of the classification's search for any in-limit solution.
+const CLASSIFY_RESTARTS: usize = 8;
+/// Intermediate poses used when a warm-started solve fails.
+const SUBSTEPS: usize = 4;
+
+struct Tracker<'a> {
+    kernel: Kernel<'a>,
+    poses: &'a [Isometry3<f64>],
+    options: &'a TrajectoryIkOptions,
+}
+
+impl Tracker<'_> {
+    fn n(&self) -> usize {
+        self.kernel.dof()
+    }
+
+    fn rng(&self, branch: usize, sample: usize) -> Xoshiro256PlusPlus {
+        let seed = mix(self.options.ik.random_seed ^ mix((branch as u64) << 32 | sample as u64));
+        Xoshiro256PlusPlus::seed_from_u64(seed)
+    }
+
+    /// Distinct solutions at sample 0, the one from the seed first.
+    fn initial_solutions(&self, seed: &[f64]) -> Result<Vec<Vec<f64>>, TrajectoryFailure> {
+        let n = self.n();
+        let kernel = &self.kernel;
+        let target = Target::new(&self.poses[0]);
+        let mut budget = Budget::new(self.options.ik.max_iterations, None);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.options.ik.random_seed);
+        let mut ws = Workspace::new();
+        let wanted = self.options.branches;
+        let mut found: Vec<Vec<f64>> = Vec::with_capacity(wanted);
+        let far = out_of_reach(kernel, &target);
+        let max_attempts = 6 * wanted + 2;
+        let mut best_cost = f64::INFINITY;
+        let mut best = (f64::INFINITY, f64::INFINITY);
+        let mut k = 0usize;
+        while !budget.exhausted() && found.len() < wanted && !far {
+            if !found.is_empty() && k >= max_attempts {
+                break;
+            }
+            if k == 1 && !found.is_empty() {
+                // The seed already converged with the first strategy.
+                k = 2;
+            }
+            let (strategy, cap) = prepare_attempt(kernel, k, seed, &mut rng, &mut ws.cur_mut().q);
+            k += 1;
+            let end = run_attempt(kernel, &target, &mut ws, strategy, cap, &mut budget);
+            let state = ws.cur();
+            if state.cost < best_cost {
+                best_cost = state.cost;
+                best = (state.position_error, state.rotation_error);
+            }
+            if end != RunEnd::Converged {
+                continue;
+            }
+            let mut q = state.q[..n].to_vec();
+            wrap_continuous(kernel.chain, seed, &mut q);
+            if found
+                .iter()
+                .all(|other| max_difference(other, &q) > self.options.max_joint_step)
+            {
+                found.push(q);
+            }
+        }
+        if !found.is_empty() {
+            return Ok(found);
+        }
+        // No solution in the limits: classify from the seed.
+        let mut start = [0.0; MAX_JOINTS];
+        start[..n].copy_from_slice(seed);
+        kernel.clamp(&mut start[..n]);
+        Err(self.classify_first(&target, &start[..n], far, best))
+    }
+
+    /// Why sample 0 has no solution in the limits.
+    fn classify_first(
+        &self,
+        target: &Target,
+        start: &[f64],
+        far: bool,
+        best: (f64, f64),
+    ) -> TrajectoryFailure {
+        let fail = |reason, detail| TrajectoryFailure {
+            sample: 0,
+            reason,
+            detail,
+        };
+        if far {
+            return fail(
+                TrajectoryFailureReason::Unreachable,
+                self.reach_detail(target),
+            );
+        }
+        let free = self.kernel.unconstrained();
+        let mut rng = self.rng(usize::MAX, 0);
+        let mut ws = Workspace::new();
+        let cap = 4 * self.options.per_sample_iterations.max(20);
+        for k in 0..CLASSIFY_RESTARTS {
+            let mut budget = Budget::new(cap, None);
+            if k == 0 {
+                ws.cur_mut().q[..start.len()].copy_from_slice(start);
+            } else {
+                self.kernel
+                    .random_configuration(&mut rng, &mut ws.cur_mut().q[..start.len()]);
+            }
+            let end = run_attempt(&free, target, &mut ws, Strategy::Clamped, cap, &mut budget);
+            if end == RunEnd::Converged {
+                return fail(
+                    TrajectoryFailureReason::JointLimit,
+                    self.limit_detail(&ws.cur().q[..start.len()]),
+                );
+            }
+        }
+        fail(
+            TrajectoryFailureReason::Unreachable,
+            format!(
+                "no solution found within the iteration budget; best residual {:.3e} m, {:.3e} rad",
+                best.0, best.1
+            ),
+        )
+    }
+
+    fn reach_detail(&self, target: &Target) -> String {
+        let (centre, radius) = self.kernel.chain.reach_sphere();
+        format!(
+            "the target is {:.4} m from the first joint, beyond the chain's reach of {:.4} m",
+            (target.position - centre).norm(),
+            radius
+        )
+    }
+
+    /// Names the joint farthest outside its limits in `q`.
+    fn limit_detail(&self, q: &[f64]) -> String {
+        let chain = self.kernel.chain;
+        let (mut worst, mut excess) = (0usize, 0.0f64);
+        for (j, &v) in q.iter().enumerate() {
+            let e = (chain.lower()[j] - v).max(v - chain.upper()[j]);
+            if e > excess {
+                worst = j;
+                excess = e;
+            }
+        }
+        format!(
+            "the nearest solution needs joint '{}' at {:.4}, outside its limits [{:.4}, {:.4}]",
+            chain.joint_names()[worst],
+            q[worst],
+            chain.lower()[worst],
+            chain.upper()[worst]
+        )
+    }
+
+    /// Follows the trajectory from `start` (a solution at sample 0).
+    fn track(&self, branch: usize, start: &[f64]) -> Result<JointPath, TrajectoryFailure> {
+        let n = self.n();
+        let kernel = &self.kernel;
+        let step = self.options.max_joint_step;
+        let per_sample = self.options.per_sample_iterations;
+        let mut path = Vec::with_capacity(self.poses.len());
+        path.push(start.to_vec());
+        let mut ws = Workspace::new();
+        ws.cur_mut().q[..n].copy_from_slice(start);
+        kernel.evaluate(&Target::new(&self.poses[0]), ws.cur_mut());
+        let mut previous = [0.0f64; MAX_JOINTS];
+        for i in 1..self.poses.len() {
+            previous[..n].copy_from_slice(&ws.cur().q[..n]);
+            let target = Target::new(&self.poses[i]);
+            kernel.retarget(&target, ws.cur_mut());
+            let mut budget = Budget::new(per_sample, None);
+            let end = kernel.run(&target, &mut ws, Strategy::Clamped, per_sample, &mut budget);
+            let accepted = (end == RunEnd::Converged
+                && max_difference(&ws.cur().q[..n], &previous[..n]) <= step)
+                || self.recover(branch, i, &previous[..n], &target, &mut ws);
+            if !accepted {
+                // The classification's wider search may still find an acceptable solution.
+                let q = self.classify(branch, i, &previous[..n], &target)?;
+                ws.cur_mut().q[..n].copy_from_slice(&q);
+                kernel.evaluate(&target, ws.cur_mut());
+            }
+            path.push(ws.cur().q[..n].to_vec());
+        }
+        Ok(JointPath { q: path })
+    }
+
+    /// Retries a sample from `previous` (the solution at sample `i − 1`); on success the
+    /// workspace holds the accepted solution.
+    fn recover(
+        &self,
+        branch: usize,
+        i: usize,
+        previous: &[f64],
+        target: &Target,
+        ws: &mut Workspace,
+    ) -> bool {
+        let n = previous.len();
+        let kernel = &self.kernel;
+        let step = self.options.max_joint_step;
+        let per_sample = self.options.per_sample_iterations;
+        let accept = |ws: &Workspace, end: RunEnd| {
+            end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
+        };
+        // 1. The other limit strategy, then the pose step split into substeps.
+        for strategy in [Strategy::LimitWeighted, Strategy::Clamped] {
+            ws.cur_mut().q[..n].copy_from_slice(previous);
+            let mut budget = Budget::new(SUBSTEPS * per_sample + SUBSTEPS, None);
+            let end = if strategy == Strategy::LimitWeighted {
+                run_attempt(kernel, target, ws, strategy, per_sample, &mut budget)
+            } else {
+                let mut end = RunEnd::Stalled;
+                for s in 1..=SUBSTEPS {
+                    let fraction = s as f64 / SUBSTEPS as f64;
+                    let pose = interpolate_decoupled(&self.poses[i - 1], &self.poses[i], fraction);
+                    let sub = Target::new(&pose);
+                    end = run_attempt(kernel, &sub, ws, strategy, per_sample, &mut budget);
+                    if end != RunEnd::Converged {
+                        break;
+                    }
+                }
+                end
+            };
+            if accept(ws, end) {
+                return true;
+            }
+        }
+        // 2. Restarts near the previous solution.
+        let mut rng = self.rng(branch, i);
+        let radius = 0.5 * step;
+        for k in 0..LOCAL_RESTARTS {
+            {
+                let q = &mut ws.cur_mut().q[..n];
+                for (v, &p) in q.iter_mut().zip(previous) {
+                    *v = p + rng.random_range(-radius..=radius);
+                }
+                kernel.clamp(q);
+            }
+            let strategy = if k.is_multiple_of(2) {
+                Strategy::Clamped
+            } else {
+                Strategy::LimitWeighted
+            };
+            let mut budget = Budget::new(per_sample + 1, None);
+            let end = run_attempt(kernel, target, ws, strategy, per_sample, &mut budget);
+            if accept(ws, end) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Why sample `i` cannot follow `previous`; `Ok` with a solution when the wider search
+    /// finds an acceptable one after all.
+    fn classify(
+        &self,
+        branch: usize,
+        i: usize,
+        previous: &[f64],
+        target: &Target,
+    ) -> Result<Vec<f64>, TrajectoryFailure> {
+        let n = previous.len();
+        let chain = self.kernel.chain;
+        let step = self.options.max_joint_step;
+        let per_sample = self.options.per_sample_iterations;
+        let fail = |reason, detail| {
+            Err(TrajectoryFailure {
+                sample: i,
+                reason,
+                detail,
+            })
+        };
+        if out_of_reach(&self.kernel, target) {
+            return fail(
+                TrajectoryFailureReason::Unreachable,
+                self.reach_detail(target),
+            );
+        }
+        let mut ws = Workspace::new();
+        // 1. Without limits, from the previous solution.
+        let free = self.kernel.unconstrained();
+        ws.cur_mut().q[..n].copy_from_slice(previous);
+        let cap = 4 * per_sample;
+        let mut budget = Budget::new(cap + 1, None);
+        let free_end = run_attempt(&free, target, &mut ws, Strategy::Clamped, cap, &mut budget);
+        let free_q: Option<Vec<f64>> =
+            (free_end == RunEnd::Converged).then(|| ws.cur().q[..n].to_vec());
+        if let Some(q) = &free_q {
+            if max_difference(q, previous) <= step {
+                if chain.within_limits(q) {
+                    return Ok(q.clone());
+                }
+                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+            }
+        }
+        // 2. Any solution inside the limits.
+        let mut rng = self.rng(branch ^ (1 << 20), i);
+        let mut nearest: Option<(usize, f64)> = None;
+        if let Some(q) = &free_q {
+            if chain.within_limits(q) {
+                nearest = Some(largest_step(q, previous));
+            }
+        }
+        let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        for k in 2..2 + CLASSIFY_RESTARTS {
+            if nearest.is_some() {
+                break;
+            }
+            let (strategy, cap) =
+                prepare_attempt(&self.kernel, k, previous, &mut rng, &mut ws.cur_mut().q);
+            let mut budget = Budget::new(cap + 1, None);
+            let end = run_attempt(&self.kernel, target, &mut ws, strategy, cap, &mut budget);
+            let state = ws.cur();
+            if state.cost < best.0 {
+                best = (state.cost, state.position_error, state.rotation_error);
+            }
+            if end == RunEnd::Converged {
+                nearest = Some(largest_step(&state.q[..n], previous));
+            }
+        }
+        if let Some((joint, jump)) = nearest {
+            return fail(
+                TrajectoryFailureReason::Discontinuity,
+                format!(
+                    "the solutions found inside the limits move joint '{}' by {:.4} (more than max_joint_step {})",
+                    chain.joint_names()[joint],
+                    jump,
+                    step
+                ),
+            );
+        }
+        if let Some(q) = &free_q {
+            return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+        }
+        fail(
+            TrajectoryFailureReason::Unreachable,
+            format!(
+                "no solution found near the target; best residual {:.3e} m, {:.3e} rad",
+                best.1, best.2
+            ),
+        )
+    }
+}

@@ -1,5 +1,14 @@
 //! Terminal output: progress bars, the one-screen summary table, `--quiet` and `--json`.
 
+/// `println!` that ignores a closed stdout (e.g. `graspath demo | head`) instead of panicking.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 use clap::Args;
 use graspath::select::{Selection, Task};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -42,8 +51,14 @@ fn number(v: Option<f64>) -> String {
 }
 
 /// The one-screen summary: per arm the best five candidates and the failures by reason.
-pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elapsed: Duration, out: &Path) {
-    println!(
+pub fn print_summary_table(
+    task: &Task,
+    selection: &Selection,
+    title: &str,
+    elapsed: Duration,
+    out: &Path,
+) {
+    say!(
         "{title}: {} candidates x {} arm(s), {} samples, {:.3} s",
         task.candidates.len(),
         task.arms.len(),
@@ -59,20 +74,35 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
         }
         let rejected = arm.rankings.iter().filter(|r| r.rejected.is_some()).count();
         let reasons: Vec<String> = reasons.iter().map(|(r, n)| format!("{n} {r}")).collect();
-        println!(
+        say!(
             "  arm {}: {} feasible, {} rejected by mu0{}",
             arm.arm,
             arm.feasible_count(),
             rejected,
-            if reasons.is_empty() { String::new() } else { format!(", infeasible: {}", reasons.join(", ")) }
+            if reasons.is_empty() {
+                String::new()
+            } else {
+                format!(", infeasible: {}", reasons.join(", "))
+            }
         );
-        println!("    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}", "rank", "id", "label", "score", "mu_l2", "mu_linf", "yoshikawa");
-        let mut ranked: Vec<usize> = (0..arm.rankings.len()).filter(|&i| arm.rankings[i].rank.is_some()).collect();
+        say!(
+            "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
+            "rank",
+            "id",
+            "label",
+            "score",
+            "mu_l2",
+            "mu_linf",
+            "yoshikawa"
+        );
+        let mut ranked: Vec<usize> = (0..arm.rankings.len())
+            .filter(|&i| arm.rankings[i].rank.is_some())
+            .collect();
         ranked.sort_by_key(|&i| arm.rankings[i].rank);
         for &i in ranked.iter().take(5) {
             let s = &arm.scores[i];
             let c = &task.candidates[s.candidate];
-            println!(
+            say!(
                 "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
                 arm.rankings[i].rank.unwrap_or(0),
                 c.id,
@@ -86,7 +116,7 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
     }
     if let Some(best) = selection.pairs.first() {
         let (a, b) = (&selection.arms[0], &selection.arms[1]);
-        println!(
+        say!(
             "  best pair: {} {} + {} {} (sum {:.4})",
             a.arm,
             task.candidates[a.scores[best.first].candidate].label,
@@ -95,5 +125,5 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             best.score
         );
     }
-    println!("  wrote {}", out.display());
+    say!("  wrote {}", out.display());
 }

@@ -69,7 +69,9 @@ const EXPERIMENTS: [Experiment; 6] = [
 ];
 
 fn label_of(task: &Task, selection: &Selection, arm: usize, index: usize) -> String {
-    task.candidates[selection.arms[arm].scores[index].candidate].label.clone()
+    task.candidates[selection.arms[arm].scores[index].candidate]
+        .label
+        .clone()
 }
 
 /// What our run found, in the terms the paper uses.
@@ -129,8 +131,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             .with_context(|| format!("experiment {}", experiment.name))?;
         let ours = our_finding(&task, &selection);
         if !args.output.quiet && !args.output.json {
-            println!("  paper: {}", experiment.paper_finding);
-            println!("  ours:  {}\n", summarise(&ours));
+            crate::say!("  paper: {}", experiment.paper_finding);
+            crate::say!("  ours:  {}\n", summarise(&ours));
         }
         findings.push(json!({
             "experiment": experiment.name,
@@ -155,7 +157,9 @@ fn summarise(ours: &Value) -> String {
             arm["candidates"],
             arm["best_task_relevant"].as_str().unwrap_or("none"),
             arm["best_yoshikawa_at_grasp"].as_str().unwrap_or("none"),
-            arm["best_inverse_condition_at_grasp"].as_str().unwrap_or("none"),
+            arm["best_inverse_condition_at_grasp"]
+                .as_str()
+                .unwrap_or("none"),
         ));
     }
     if let Some(pair) = ours["best_pair"].as_object() {

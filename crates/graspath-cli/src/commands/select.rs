@@ -35,15 +35,27 @@ pub fn run_task(task: &Task, out: &Path, output: &OutputArgs, title: &str) -> Re
         Ok(bytes)
     };
     let mut files = vec![
-        ("candidates.json".to_string(), pretty(candidates_json(task, &selection))?),
-        ("summary.json".to_string(), pretty(summary_json(task, &selection))?),
+        (
+            "candidates.json".to_string(),
+            pretty(candidates_json(task, &selection))?,
+        ),
+        (
+            "summary.json".to_string(),
+            pretty(summary_json(task, &selection))?,
+        ),
     ];
     if task.arms.len() == 2 {
-        files.push(("pairs.json".to_string(), pretty(pairs_json(task, &selection))?));
+        files.push((
+            "pairs.json".to_string(),
+            pretty(pairs_json(task, &selection))?,
+        ));
     }
     write_files_atomically(out, &files)?;
     if output.json {
-        println!("{}", serde_json::to_string_pretty(&summary_json(task, &selection))?);
+        crate::say!(
+            "{}",
+            serde_json::to_string_pretty(&summary_json(task, &selection))?
+        );
     } else if !output.quiet {
         print_summary_table(task, &selection, title, elapsed, out);
     }
@@ -53,6 +65,11 @@ pub fn run_task(task: &Task, out: &Path, output: &OutputArgs, title: &str) -> Re
 /// Runs the subcommand.
 pub fn run(args: &SelectArgs) -> Result<()> {
     let task = Task::load(&args.task).context("cannot use the task file")?;
-    run_task(&task, &args.out, &args.output, &args.task.display().to_string())?;
+    run_task(
+        &task,
+        &args.out,
+        &args.output,
+        &args.task.display().to_string(),
+    )?;
     Ok(())
 }

@@ -116,7 +116,7 @@ const FACES: [(&str, usize, f64); 6] = [
 /// Approaches over a box's faces (those not in `exclude`): on each face, for each in-plane axis
 /// the gripper can close across (extent ≤ [`GRIPPER_MAX_OPENING`]) and both finger orders, tool
 /// points on the face's centre line along the other axis, `depth` inside the face. `count` is
-/// shared among these lines by length.
+/// shared equally among the faces, then among each face's lines.
 pub fn face_family(
     shape: &ObjectShape,
     count: usize,
@@ -160,36 +160,20 @@ pub fn face_family(
         ));
     }
     let margin = 0.01;
-    let lengths: Vec<f64> = lines
+    // Share `count` equally among the faces, then equally among each face's lines; the
+    // remainders go to the earliest faces and lines.
+    let faces: Vec<&str> = FACES
         .iter()
-        .map(|l| (size[l.5] - 2.0 * margin).max(0.0))
+        .map(|f| f.0)
+        .filter(|f| lines.iter().any(|l| l.0 == *f))
         .collect();
-    let total: f64 = lengths.iter().sum();
-    // Largest-remainder apportionment of `count` over the lines.
-    let shares: Vec<f64> = lengths
-        .iter()
-        .map(|&l| {
-            if total > 0.0 {
-                count as f64 * l / total
-            } else {
-                count as f64 / lines.len() as f64
-            }
-        })
-        .collect();
-    let mut counts: Vec<usize> = shares.iter().map(|s| s.floor() as usize).collect();
-    let mut order: Vec<usize> = (0..lines.len()).collect();
-    order.sort_by(|&a, &b| {
-        (shares[b] - shares[b].floor())
-            .total_cmp(&(shares[a] - shares[a].floor()))
-            .then(a.cmp(&b))
-    });
-    let mut left = count - counts.iter().sum::<usize>();
-    for &k in order.iter().cycle() {
-        if left == 0 {
-            break;
+    let mut counts = vec![0usize; lines.len()];
+    for (k, face) in faces.iter().enumerate() {
+        let face_count = count / faces.len() + usize::from(k < count % faces.len());
+        let members: Vec<usize> = (0..lines.len()).filter(|&i| lines[i].0 == *face).collect();
+        for (m, &i) in members.iter().enumerate() {
+            counts[i] = face_count / members.len() + usize::from(m < face_count % members.len());
         }
-        counts[k] += 1;
-        left -= 1;
     }
     let mut out = Vec::with_capacity(count);
     for (line, &n) in lines.iter().zip(&counts) {

@@ -15,7 +15,10 @@ pub struct ReportError {
 
 /// Writes `(name, bytes)` files into `dir` (created if missing). Each file appears whole or not
 /// at all; on an error the temporary files are removed.
-pub fn write_files_atomically(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>, ReportError> {
+pub fn write_files_atomically(
+    dir: &Path,
+    files: &[(String, Vec<u8>)],
+) -> Result<Vec<PathBuf>, ReportError> {
     let fail = |path: &Path, e: std::io::Error| ReportError {
         path: path.display().to_string(),
         message: e.to_string(),

@@ -6,7 +6,9 @@ mod run;
 mod score;
 mod setup;
 
-pub use rank::{rank_candidates, rank_pairs, ArmPair, LikelihoodRule, Norm, Ranking, SelectionOptions};
+pub use rank::{
+    rank_candidates, rank_pairs, ArmPair, LikelihoodRule, Norm, Ranking, SelectionOptions,
+};
 pub use run::{select, ArmResult, Selection};
 pub use score::{score_candidates, wrist_trajectory, CandidateScore, Failure};
 pub use setup::{pose, ArmSetup, Task};

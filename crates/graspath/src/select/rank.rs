@@ -85,19 +85,32 @@ fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> O
         return Some("the object never moves: no sample to evaluate".into());
     }
     match options.mu0 {
-        Some(mu0) if norms.linf > mu0 => Some(format!("mu_linf = {:.4} exceeds mu0 = {mu0}", norms.linf)),
+        Some(mu0) if norms.linf > mu0 => {
+            Some(format!("mu_linf = {:.4} exceeds mu0 = {mu0}", norms.linf))
+        }
         _ => None,
     }
 }
 
 /// Ranks one arm's candidates. Ties are broken by candidate order, so the ranking is
 /// deterministic.
-pub fn rank_candidates(candidates: &[Candidate], scores: &[CandidateScore], options: &SelectionOptions) -> Vec<Ranking> {
-    let max_log = candidates.iter().map(|c| c.log_likelihood).fold(f64::NEG_INFINITY, f64::max);
+pub fn rank_candidates(
+    candidates: &[Candidate],
+    scores: &[CandidateScore],
+    options: &SelectionOptions,
+) -> Vec<Ranking> {
+    let max_log = candidates
+        .iter()
+        .map(|c| c.log_likelihood)
+        .fold(f64::NEG_INFINITY, f64::max);
     let mut rankings: Vec<Ranking> = scores
         .iter()
         .map(|s| {
-            let rejected = if s.feasible() { constraint_violation(s, options) } else { None };
+            let rejected = if s.feasible() {
+                constraint_violation(s, options)
+            } else {
+                None
+            };
             let score = (s.feasible() && rejected.is_none())
                 .then(|| norm_value(s, options.norm))
                 .flatten()
@@ -117,9 +130,15 @@ pub fn rank_candidates(candidates: &[Candidate], scores: &[CandidateScore], opti
             }
         })
         .collect();
-    let mut order: Vec<usize> = (0..rankings.len()).filter(|&i| rankings[i].score.is_some()).collect();
+    let mut order: Vec<usize> = (0..rankings.len())
+        .filter(|&i| rankings[i].score.is_some())
+        .collect();
     order.sort_by(|&a, &b| {
-        rankings[b].score.unwrap().total_cmp(&rankings[a].score.unwrap()).then(a.cmp(&b))
+        rankings[b]
+            .score
+            .unwrap()
+            .total_cmp(&rankings[a].score.unwrap())
+            .then(a.cmp(&b))
     });
     for (r, &i) in order.iter().enumerate() {
         rankings[i].rank = Some(r + 1);
@@ -193,7 +212,11 @@ pub fn rank_pairs(
             });
         }
     }
-    pairs.sort_by(|x, y| y.score.total_cmp(&x.score).then((x.first, x.second).cmp(&(y.first, y.second))));
+    pairs.sort_by(|x, y| {
+        y.score
+            .total_cmp(&x.score)
+            .then((x.first, x.second).cmp(&(y.first, y.second)))
+    });
     pairs.truncate(options.pairs);
     for (r, p) in pairs.iter_mut().enumerate() {
         p.rank = r + 1;

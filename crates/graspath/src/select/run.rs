@@ -42,7 +42,14 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
         .arms
         .iter()
         .map(|arm| {
-            let scores = score_candidates(arm, &task.candidates, &task.path, task.mode, &task.ik, progress);
+            let scores = score_candidates(
+                arm,
+                &task.candidates,
+                &task.path,
+                task.mode,
+                &task.ik,
+                progress,
+            );
             let rankings = rank_candidates(&task.candidates, &scores, &task.selection);
             ArmResult {
                 arm: arm.name.clone(),

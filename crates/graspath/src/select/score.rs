@@ -72,7 +72,11 @@ impl ObjectMotion {
         let twists = (0..n)
             .map(|i| {
                 // Forward difference; the last sample takes the backward difference.
-                let (a, b) = if i + 1 < n { (i, i + 1) } else { (i.saturating_sub(1), i) };
+                let (a, b) = if i + 1 < n {
+                    (i, i + 1)
+                } else {
+                    (i.saturating_sub(1), i)
+                };
                 if a == b {
                     Vector6::zeros()
                 } else {
@@ -88,7 +92,12 @@ impl ObjectMotion {
     }
 
     /// The unit tangent direction at sample `i` for a wrist at `object_from_wrist`.
-    fn tangent(&self, i: usize, object_from_wrist: &Isometry3<f64>, mode: IndexMode) -> Option<Direction> {
+    fn tangent(
+        &self,
+        i: usize,
+        object_from_wrist: &Isometry3<f64>,
+        mode: IndexMode,
+    ) -> Option<Direction> {
         let xi = &self.twists[i];
         let v = Vector3::new(xi[0], xi[1], xi[2]);
         let w = Vector3::new(xi[3], xi[4], xi[5]);
@@ -98,7 +107,10 @@ impl ObjectMotion {
         let angular = r * w;
         match mode {
             IndexMode::Twist { length_scale } => {
-                if Vector6::new(linear.x, linear.y, linear.z, angular.x, angular.y, angular.z).norm()
+                if Vector6::new(
+                    linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
+                )
+                .norm()
                     < STILL_TWIST_TOLERANCE
                 {
                     return None;
@@ -224,7 +236,14 @@ fn score_one(
     // Keep the branch with the best norm, preferring branches free of singular samples.
     let mut best: Option<(Vec<Option<f64>>, PathNorms, usize)> = None;
     for (b, branch) in result.branches.iter().enumerate() {
-        let m_t = index_along(chain, motion, &candidate.object_from_wrist, &branch.q, mode, &mut jacobian);
+        let m_t = index_along(
+            chain,
+            motion,
+            &candidate.object_from_wrist,
+            &branch.q,
+            mode,
+            &mut jacobian,
+        );
         let samples: Vec<SampleIndex> = m_t
             .iter()
             .zip(times)
@@ -247,24 +266,34 @@ fn score_one(
             score.joint_trajectory.first().cloned()
         }
         None => {
-            let failure = result.failure.unwrap_or_else(|| crate::robot::TrajectoryFailure {
-                sample: 0,
-                reason: crate::robot::TrajectoryFailureReason::Unreachable,
-                detail: "no IK branch was found".into(),
-            });
+            let failure = result
+                .failure
+                .unwrap_or_else(|| crate::robot::TrajectoryFailure {
+                    sample: 0,
+                    reason: crate::robot::TrajectoryFailureReason::Unreachable,
+                    detail: "no IK branch was found".into(),
+                });
             score.failure = Some(Failure {
                 reason: failure.reason.as_str().to_string(),
                 sample: failure.sample,
-                detail: failure.detail,
+                detail: failure.detail.clone(),
             });
-            // The classical indices at the grasp need only the grasp pose to be reachable.
-            solve_ik(chain, &targets[0], &seed, &ik.ik).ok().and_then(|s| s.q)
+            // The classical indices at the grasp need only the grasp pose to be reachable,
+            // which it is when the path fails later.
+            if failure.sample > 0 {
+                solve_ik(chain, &targets[0], &seed, &ik.ik)
+                    .ok()
+                    .and_then(|s| s.q)
+            } else {
+                None
+            }
         }
     };
     if let Some(q) = grasp_q {
         if chain.pose_and_jacobian_into(&q, &mut jacobian).is_ok() {
             score.yoshikawa_at_grasp = Some(yoshikawa(&jacobian, JacobianPart::Full));
-            score.inverse_condition_at_grasp = Some(inverse_condition(&jacobian, JacobianPart::Full));
+            score.inverse_condition_at_grasp =
+                Some(inverse_condition(&jacobian, JacobianPart::Full));
             score.inverse_condition_squared_at_grasp =
                 Some(inverse_condition_squared(&jacobian, JacobianPart::Full));
         }
@@ -317,12 +346,28 @@ mod tests {
         );
         let motion = ObjectMotion::new(&path, &world_from_base.inverse());
         let wrists = wrist_trajectory(&path, &world_from_base, &object_from_wrist);
-        for mode in [IndexMode::Twist { length_scale: 0.3 }, IndexMode::Translation, IndexMode::Rotation] {
+        for mode in [
+            IndexMode::Twist { length_scale: 0.3 },
+            IndexMode::Translation,
+            IndexMode::Rotation,
+        ] {
             for i in 0..wrists.len() {
-                let (a, b) = if i + 1 < wrists.len() { (i, i + 1) } else { (i - 1, i) };
-                let expected = wrist_tangent(&wrists[a], &wrists[b], mode).unwrap().as_full();
-                let got = motion.tangent(i, &object_from_wrist, mode).unwrap().as_full();
-                assert!((expected - got).norm() < 1e-9, "{mode:?} sample {i}: {expected} vs {got}");
+                let (a, b) = if i + 1 < wrists.len() {
+                    (i, i + 1)
+                } else {
+                    (i - 1, i)
+                };
+                let expected = wrist_tangent(&wrists[a], &wrists[b], mode)
+                    .unwrap()
+                    .as_full();
+                let got = motion
+                    .tangent(i, &object_from_wrist, mode)
+                    .unwrap()
+                    .as_full();
+                assert!(
+                    (expected - got).norm() < 1e-9,
+                    "{mode:?} sample {i}: {expected} vs {got}"
+                );
             }
         }
     }

@@ -15,6 +15,9 @@ use crate::task::{Step, TimedStep};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
 
+/// The default IK iteration budget of a candidate's grasp sample (over all restarts).
+pub const DEFAULT_GRASP_ITERATIONS: usize = 400;
+
 /// One arm taking part in the task.
 #[derive(Debug, Clone)]
 pub struct ArmSetup {
@@ -58,32 +61,53 @@ impl Task {
     }
 
     /// Builds a task from a parsed file; relative paths are resolved against `base_dir`.
-    pub fn from_file(file: &TaskFile, source_name: &str, base_dir: &Path) -> Result<Self, TaskError> {
+    pub fn from_file(
+        file: &TaskFile,
+        source_name: &str,
+        base_dir: &Path,
+    ) -> Result<Self, TaskError> {
         let err = |field: &str, message: String| TaskError::new(source_name, field, message);
         let (robot_name, arms) = setup_arms(file, source_name, base_dir)?;
         let world_from_object = pose(&file.object.pose, source_name, "object.pose")?;
-        let shape = file.object.shape.as_ref().map(shape_of).transpose().map_err(|m| err("object.shape", m))?;
+        let shape = file
+            .object
+            .shape
+            .as_ref()
+            .map(shape_of)
+            .transpose()
+            .map_err(|m| err("object.shape", m))?;
         let candidates = setup_candidates(file, source_name, base_dir, shape.as_ref())?;
         let path = setup_path(file, source_name, world_from_object)?;
         let mode = match file.index.mode.as_deref().unwrap_or("twist") {
             "twist" => {
                 let length_scale = file.index.length_scale.unwrap_or(1.0);
                 if !(length_scale.is_finite() && length_scale > 0.0) {
-                    return Err(err("index.length_scale", "must be a positive length in metres".into()));
+                    return Err(err(
+                        "index.length_scale",
+                        "must be a positive length in metres".into(),
+                    ));
                 }
                 IndexMode::Twist { length_scale }
             }
             "translation" => IndexMode::Translation,
             "rotation" => IndexMode::Rotation,
-            other => return Err(err("index.mode", format!("'{other}' is not one of twist, translation, rotation"))),
+            other => {
+                return Err(err(
+                    "index.mode",
+                    format!("'{other}' is not one of twist, translation, rotation"),
+                ))
+            }
         };
         if file.index.length_scale.is_some() && !matches!(mode, IndexMode::Twist { .. }) {
-            return Err(err("index.length_scale", "only applies to mode 'twist'".into()));
+            return Err(err(
+                "index.length_scale",
+                "only applies to mode 'twist'".into(),
+            ));
         }
         let s = &file.selection;
         let mu0 = s.mu0;
         if let Some(mu0) = mu0 {
-            if !(mu0 > 0.0) {
+            if mu0.is_nan() || mu0 <= 0.0 {
                 return Err(err("selection.mu0", "must be a positive number".into()));
             }
         }
@@ -92,14 +116,20 @@ impl Task {
             LikelihoodFile::Ignore => LikelihoodRule::Ignore,
             LikelihoodFile::Weighted { weight } => {
                 if !(weight.is_finite() && weight >= 0.0) {
-                    return Err(err("selection.likelihood.weighted.weight", "must be a number ≥ 0".into()));
+                    return Err(err(
+                        "selection.likelihood.weighted.weight",
+                        "must be a number ≥ 0".into(),
+                    ));
                 }
                 LikelihoodRule::Weighted { weight }
             }
         };
         let min_separation = s.min_separation.unwrap_or(0.08);
         if !(min_separation.is_finite() && min_separation >= 0.0) {
-            return Err(err("selection.min_separation", "must be a distance ≥ 0 in metres".into()));
+            return Err(err(
+                "selection.min_separation",
+                "must be a distance ≥ 0 in metres".into(),
+            ));
         }
         let selection = SelectionOptions {
             norm: match s.norm.unwrap_or_default() {
@@ -114,7 +144,10 @@ impl Task {
         let mut ik = TrajectoryIkOptions::default();
         if let Some(step) = file.ik.max_joint_step {
             if !(step.is_finite() && step > 0.0) {
-                return Err(err("ik.max_joint_step", "must be a positive angle in radians".into()));
+                return Err(err(
+                    "ik.max_joint_step",
+                    "must be a positive angle in radians".into(),
+                ));
             }
             ik.max_joint_step = step;
         }
@@ -123,6 +156,10 @@ impl Task {
                 return Err(err("ik.branches", "must be at least 1".into()));
             }
             ik.branches = branches;
+        }
+        ik.ik.max_iterations = file.ik.iterations.unwrap_or(DEFAULT_GRASP_ITERATIONS);
+        if ik.ik.max_iterations == 0 {
+            return Err(err("ik.iterations", "must be at least 1".into()));
         }
         if let Some(seed) = file.ik.seed {
             ik.ik.random_seed = seed;
@@ -164,7 +201,10 @@ pub fn pose(p: &PoseFile, file: &str, field: &str) -> Result<Isometry3<f64>, Tas
     let err = |sub: &str, message: String| TaskError::new(file, format!("{field}.{sub}"), message);
     if let Some(rows) = p.matrix {
         if p.xyz.is_some() || p.rpy.is_some() || p.rpy_deg.is_some() || p.quaternion.is_some() {
-            return Err(err("matrix", "give a matrix alone, or xyz with rpy / rpy_deg / quaternion".into()));
+            return Err(err(
+                "matrix",
+                "give a matrix alone, or xyz with rpy / rpy_deg / quaternion".into(),
+            ));
         }
         return pose_from_rows(&rows).map_err(|e| err("matrix", e.to_string()));
     }
@@ -174,7 +214,10 @@ pub fn pose(p: &PoseFile, file: &str, field: &str) -> Result<Isometry3<f64>, Tas
     }
     let rotations = [p.rpy.is_some(), p.rpy_deg.is_some(), p.quaternion.is_some()];
     if rotations.iter().filter(|&&b| b).count() > 1 {
-        return Err(err("rpy", "give at most one of rpy, rpy_deg, quaternion".into()));
+        return Err(err(
+            "rpy",
+            "give at most one of rpy, rpy_deg, quaternion".into(),
+        ));
     }
     let rotation = if let Some(rpy) = p.rpy {
         if rpy.iter().any(|v| !v.is_finite()) {
@@ -185,13 +228,25 @@ pub fn pose(p: &PoseFile, file: &str, field: &str) -> Result<Isometry3<f64>, Tas
         if deg.iter().any(|v| !v.is_finite()) {
             return Err(err("rpy_deg", format!("not finite: {deg:?}")));
         }
-        UnitQuaternion::from_euler_angles(deg[0].to_radians(), deg[1].to_radians(), deg[2].to_radians())
+        UnitQuaternion::from_euler_angles(
+            deg[0].to_radians(),
+            deg[1].to_radians(),
+            deg[2].to_radians(),
+        )
     } else if let Some(q) = p.quaternion {
-        quaternion_xyzw(q).ok_or_else(|| err("quaternion", "must be a finite, non-zero [x, y, z, w]".into()))?
+        quaternion_xyzw(q).ok_or_else(|| {
+            err(
+                "quaternion",
+                "must be a finite, non-zero [x, y, z, w]".into(),
+            )
+        })?
     } else {
         UnitQuaternion::identity()
     };
-    Ok(Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation))
+    Ok(Isometry3::from_parts(
+        Translation3::new(xyz[0], xyz[1], xyz[2]),
+        rotation,
+    ))
 }
 
 fn shape_of(s: &ShapeFile) -> Result<ObjectShape, String> {
@@ -215,19 +270,42 @@ fn shape_of(s: &ShapeFile) -> Result<ObjectShape, String> {
     }
 }
 
-fn setup_arms(file: &TaskFile, source: &str, base_dir: &Path) -> Result<(String, Vec<ArmSetup>), TaskError> {
+fn setup_arms(
+    file: &TaskFile,
+    source: &str,
+    base_dir: &Path,
+) -> Result<(String, Vec<ArmSetup>), TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     let robot = &file.robot;
-    let default_tool = robot.tool.as_ref().map(|t| pose(t, source, "robot.tool")).transpose()?;
+    let default_tool = robot
+        .tool
+        .as_ref()
+        .map(|t| pose(t, source, "robot.tool"))
+        .transpose()?;
     let available: Vec<String> = match (&robot.builtin, &robot.urdf) {
         (Some(name), None) if name == "baxter" => vec!["left".into(), "right".into()],
-        (Some(name), None) => return Err(err("robot.builtin", format!("unknown built-in robot '{name}' (built in: baxter)"))),
+        (Some(name), None) => {
+            return Err(err(
+                "robot.builtin",
+                format!("unknown built-in robot '{name}' (built in: baxter)"),
+            ))
+        }
         (None, Some(_)) => robot.chains.keys().cloned().collect(),
-        (Some(_), Some(_)) => return Err(err("robot", "give either builtin or urdf, not both".into())),
-        (None, None) => return Err(err("robot", "give builtin: baxter, or urdf: FILE with chains".into())),
+        (Some(_), Some(_)) => {
+            return Err(err("robot", "give either builtin or urdf, not both".into()))
+        }
+        (None, None) => {
+            return Err(err(
+                "robot",
+                "give builtin: baxter, or urdf: FILE with chains".into(),
+            ))
+        }
     };
     if available.is_empty() {
-        return Err(err("robot.chains", "a URDF robot needs at least one chain (name: {base, tip})".into()));
+        return Err(err(
+            "robot.chains",
+            "a URDF robot needs at least one chain (name: {base, tip})".into(),
+        ));
     }
     let names: Vec<String> = match &file.arms {
         None => vec![available[0].clone()],
@@ -240,7 +318,10 @@ fn setup_arms(file: &TaskFile, source: &str, base_dir: &Path) -> Result<(String,
     }
     for name in robot.chains.keys() {
         if !available.contains(name) {
-            return Err(err(&format!("robot.chains.{name}"), format!("unknown arm (arms: {})", available.join(", "))));
+            return Err(err(
+                &format!("robot.chains.{name}"),
+                format!("unknown arm (arms: {})", available.join(", ")),
+            ));
         }
     }
     let urdf = match &robot.urdf {
@@ -253,10 +334,16 @@ fn setup_arms(file: &TaskFile, source: &str, base_dir: &Path) -> Result<(String,
     let mut arms = Vec::new();
     for (k, name) in names.iter().enumerate() {
         if !available.contains(name) {
-            return Err(err(&format!("arms[{k}]"), format!("unknown arm '{name}' (arms: {})", available.join(", "))));
+            return Err(err(
+                &format!("arms[{k}]"),
+                format!("unknown arm '{name}' (arms: {})", available.join(", ")),
+            ));
         }
         if names[..k].contains(name) {
-            return Err(err(&format!("arms[{k}]"), format!("arm '{name}' is listed twice")));
+            return Err(err(
+                &format!("arms[{k}]"),
+                format!("arm '{name}' is listed twice"),
+            ));
         }
         let arm_file = robot.chains.get(name);
         let field = format!("robot.chains.{name}");
@@ -274,13 +361,21 @@ fn setup_arms(file: &TaskFile, source: &str, base_dir: &Path) -> Result<(String,
                 let (Some(base), Some(tip)) = (&a.base, &a.tip) else {
                     return Err(err(&field, "a URDF chain needs base and tip links".into()));
                 };
-                robot.chain(base, tip, tool).map_err(|e| err(&field, e.to_string()))?
+                robot
+                    .chain(base, tip, tool)
+                    .map_err(|e| err(&field, e.to_string()))?
             }
             None => {
                 if arm_file.is_some_and(|a| a.base.is_some() || a.tip.is_some()) {
-                    return Err(err(&field, "the built-in Baxter's chains are fixed; give only tool or base_pose".into()));
+                    return Err(err(
+                        &field,
+                        "the built-in Baxter's chains are fixed; give only tool or base_pose"
+                            .into(),
+                    ));
                 }
-                let arm: Arm = name.parse().map_err(|e: String| err(&format!("arms[{k}]"), e))?;
+                let arm: Arm = name
+                    .parse()
+                    .map_err(|e: String| err(&format!("arms[{k}]"), e))?;
                 let mut spec = baxter_spec(arm);
                 spec.tip_from_tool = tool;
                 Chain::from_spec(&spec).map_err(|e| err(&field, e.to_string()))?
@@ -292,7 +387,10 @@ fn setup_arms(file: &TaskFile, source: &str, base_dir: &Path) -> Result<(String,
             world_from_base,
         });
     }
-    let robot_name = urdf.as_ref().map(|u| u.name().to_string()).unwrap_or_else(|| "baxter".into());
+    let robot_name = urdf
+        .as_ref()
+        .map(|u| u.name().to_string())
+        .unwrap_or_else(|| "baxter".into());
     Ok((robot_name, arms))
 }
 
@@ -312,12 +410,23 @@ fn setup_candidates(
         }
     };
     match (&file.candidates.file, &file.candidates.family) {
-        (Some(path), None) => read_candidates(&base_dir.join(path)).map_err(|e| err("candidates.file", e.to_string())),
+        (Some(path), None) => {
+            read_candidates(&base_dir.join(path)).map_err(|e| err("candidates.file", e.to_string()))
+        }
         (None, Some(family)) => {
-            let shape = shape.ok_or_else(|| err("object.shape", "a candidate family needs the object's shape".into()))?;
+            let shape = shape.ok_or_else(|| {
+                err(
+                    "object.shape",
+                    "a candidate family needs the object's shape".into(),
+                )
+            })?;
             let field = "candidates.family";
             match family {
-                FamilyFile::Edge { count, depth, margin } => edge_family(
+                FamilyFile::Edge {
+                    count,
+                    depth,
+                    margin,
+                } => edge_family(
                     shape,
                     *count,
                     positive("candidates.family.edge.depth", *depth, 0.02)?,
@@ -330,7 +439,10 @@ fn setup_candidates(
                     depth,
                 } => {
                     if !step_deg.is_finite() || !start_deg.unwrap_or(0.0).is_finite() {
-                        return Err(err("candidates.family.yaw.step_deg", "must be finite".into()));
+                        return Err(err(
+                            "candidates.family.yaw.step_deg",
+                            "must be finite".into(),
+                        ));
                     }
                     yaw_family(
                         shape,
@@ -340,7 +452,11 @@ fn setup_candidates(
                         positive("candidates.family.yaw.depth", *depth, 0.02)?,
                     )
                 }
-                FamilyFile::Faces { count, exclude, depth } => face_family(
+                FamilyFile::Faces {
+                    count,
+                    exclude,
+                    depth,
+                } => face_family(
                     shape,
                     *count,
                     exclude,
@@ -349,7 +465,10 @@ fn setup_candidates(
             }
             .map_err(|m| err(field, m))
         }
-        (Some(_), Some(_)) => Err(err("candidates", "give either file or family, not both".into())),
+        (Some(_), Some(_)) => Err(err(
+            "candidates",
+            "give either file or family, not both".into(),
+        )),
         (None, None) => Err(err("candidates", "give file: PATH or family: {...}".into())),
     }
 }
@@ -357,7 +476,13 @@ fn setup_candidates(
 fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskError> {
     let field = format!("trajectory.steps[{k}]");
     let err = |sub: &str, message: String| TaskError::new(source, format!("{field}{sub}"), message);
-    let finite = |sub: &str, v: f64| if v.is_finite() { Ok(v) } else { Err(err(sub, "not finite".into())) };
+    let finite = |sub: &str, v: f64| {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(err(sub, "not finite".into()))
+        }
+    };
     let mut translation = Vector3::zeros();
     let mut parts = Vec::new();
     if let Some(h) = step.lift {
@@ -389,21 +514,34 @@ fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskErr
     let motion = match &step.pose {
         Some(p) => {
             if !parts.is_empty() {
-                return Err(err(".pose", "an absolute pose cannot be combined with lift/place/move/rotate".into()));
+                return Err(err(
+                    ".pose",
+                    "an absolute pose cannot be combined with lift/place/move/rotate".into(),
+                ));
             }
             parts.push("pose");
             Step::Pose(pose(p, source, &format!("{field}.pose"))?)
         }
         None => {
             if parts.is_empty() {
-                return Err(err("", "a step needs lift, place, move, rotate or pose".into()));
+                return Err(err(
+                    "",
+                    "a step needs lift, place, move, rotate or pose".into(),
+                ));
             }
-            Step::Relative { translation, axis, angle }
+            Step::Relative {
+                translation,
+                axis,
+                angle,
+            }
         }
     };
     let duration = step.duration.unwrap_or(1.0);
     if !(duration.is_finite() && duration > 0.0) {
-        return Err(err(".duration", "must be a positive number of seconds".into()));
+        return Err(err(
+            ".duration",
+            "must be a positive number of seconds".into(),
+        ));
     }
     Ok(TimedStep {
         label: step.label.clone().unwrap_or_else(|| parts.join("+")),
@@ -412,10 +550,18 @@ fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskErr
     })
 }
 
-fn setup_path(file: &TaskFile, source: &str, world_from_object: Isometry3<f64>) -> Result<ObjectPath, TaskError> {
+fn setup_path(
+    file: &TaskFile,
+    source: &str,
+    world_from_object: Isometry3<f64>,
+) -> Result<ObjectPath, TaskError> {
     let t = &file.trajectory;
     if t.steps.is_empty() {
-        return Err(TaskError::new(source, "trajectory.steps", "give at least one step"));
+        return Err(TaskError::new(
+            source,
+            "trajectory.steps",
+            "give at least one step",
+        ));
     }
     let steps = t
         .steps
@@ -439,5 +585,6 @@ fn setup_path(file: &TaskFile, source: &str, world_from_object: Isometry3<f64>) 
             ))
         }
     };
-    ObjectPath::sample(world_from_object, &steps, sampling).map_err(|m| TaskError::new(source, "trajectory", m))
+    ObjectPath::sample(world_from_object, &steps, sampling)
+        .map_err(|m| TaskError::new(source, "trajectory", m))
 }

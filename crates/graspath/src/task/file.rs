@@ -374,6 +374,10 @@ pub struct IkFile {
     /// Position and rotation tolerance (m, rad; default 1e-5).
     #[serde(default)]
     pub tolerance: Option<f64>,
+    /// Iteration budget for the grasp sample, over all restarts (default 400): what an
+    /// unreachable candidate costs before it is given up.
+    #[serde(default)]
+    pub iterations: Option<usize>,
 }
 
 impl TaskFile {

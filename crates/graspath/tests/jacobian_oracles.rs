@@ -209,3 +209,21 @@ fn prismatic_and_mimic_joints() {
         "mimic chains have no fixed-size form"
     );
 }
+
+#[test]
+fn joint_origins_end_at_the_tip_and_keep_link_lengths() {
+    let chain = baxter(Arm::Left);
+    for q in random_configurations(&chain, 20, 9) {
+        let points = chain.joint_origins(&q).unwrap();
+        assert_eq!(points.len(), chain.dof() + 2);
+        let tip = chain.pose(&q).unwrap().translation.vector;
+        assert!((points.last().unwrap().coords - tip).norm() < 1e-12);
+        // The distance between consecutive joint origins does not depend on q (rigid links).
+        let reference = chain.joint_origins(&[0.0; 7]).unwrap();
+        for k in 1..points.len() {
+            let a = (points[k] - points[k - 1]).norm();
+            let b = (reference[k] - reference[k - 1]).norm();
+            assert!((a - b).abs() < 1e-12);
+        }
+    }
+}

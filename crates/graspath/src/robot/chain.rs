@@ -336,6 +336,43 @@ impl Chain {
         (first.translation, radius)
     }
 
+    /// The base origin, every moving joint's origin and the tip origin at `q`, in the base
+    /// frame (m): the polyline a viewer draws as the arm's links.
+    pub fn joint_origins(&self, q: &[f64]) -> Result<Vec<nalgebra::Point3<f64>>, RobotError> {
+        self.check_configuration(q)?;
+        let value = |i: usize| match &self.drives {
+            None => q[i],
+            Some(d) => d[i].multiplier * q[d[i].source] + d[i].offset,
+        };
+        let mut points = vec![nalgebra::Point3::origin()];
+        let mut rotation = Matrix3::<f64>::identity();
+        let mut position = Vector3::<f64>::zeros();
+        for (i, segment) in self.segments.iter().enumerate() {
+            position += rotation * segment.translation;
+            points.push(nalgebra::Point3::from(position));
+            let turned = rotation * segment.rotation;
+            match segment.kind {
+                MotionKind::Revolute => {
+                    let (s, c) = value(i).sin_cos();
+                    let (x, y) = (turned.column(0), turned.column(1));
+                    rotation = Matrix3::from_columns(&[
+                        x * c + y * s,
+                        y * c - x * s,
+                        turned.column(2).into_owned(),
+                    ]);
+                }
+                MotionKind::Prismatic => {
+                    rotation = turned;
+                    position += turned.column(2) * value(i);
+                }
+            }
+        }
+        points.push(nalgebra::Point3::from(
+            position + rotation * self.tail_translation,
+        ));
+        Ok(points)
+    }
+
     fn tail(&self) -> (&Matrix3<f64>, &Vector3<f64>) {
         (&self.tail_rotation, &self.tail_translation)
     }

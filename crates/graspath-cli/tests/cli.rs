@@ -1,0 +1,314 @@
+//! The `graspath` binary end to end: outputs, determinism, and one clear error (no panic, no
+//! partial output) for each kind of bad input.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn graspath(args: &[&str], stdin: Option<&str>, threads: Option<usize>) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_graspath"));
+    command
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    if let Some(n) = threads {
+        command.env("RAYON_NUM_THREADS", n.to_string());
+    }
+    let mut child = command.spawn().expect("the binary runs");
+    if let Some(text) = stdin {
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+    }
+    drop(child.stdin.take());
+    child.wait_with_output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+fn assert_clean_failure(o: &Output, expected: &[&str]) {
+    assert!(!o.status.success(), "should fail");
+    let text = stderr(o);
+    assert!(!text.contains("panicked"), "panic: {text}");
+    for e in expected {
+        assert!(text.contains(e), "missing '{e}' in: {text}");
+    }
+}
+
+fn repo_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const SMALL_TASK: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 7 } } }
+trajectory:
+  samples_per_step: 4
+  steps: [ { lift: 0.2 }, { move: [0, 0.3, 0] }, { place: 0.2 } ]
+"#;
+
+#[test]
+fn kinematics_reports_the_line_at_fault() {
+    let o = graspath(
+        &["kinematics", "--robot", "baxter", "--arm", "right"],
+        Some("{\"q\":[0,0,0,0,0,0,0]}\n{\"q\":[0,\"x\"]}\n"),
+        None,
+    );
+    assert_clean_failure(&o, &["line 2", "not a valid input object"]);
+    let first: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().next().unwrap()).unwrap();
+    assert_eq!(first["within_limits"], true);
+    assert_eq!(first["jacobian"].as_array().unwrap().len(), 6);
+    let o = graspath(
+        &["kinematics", "--robot", "baxter"],
+        Some("{\"q\":[0,0,0]}\n"),
+        None,
+    );
+    assert_clean_failure(&o, &["line 1", "q has 3 values"]);
+    let o = graspath(
+        &["kinematics", "--robot", "baxter"],
+        Some("{\"q\":[0,0,0,0,0,0,0],\"extra\":1}\n"),
+        None,
+    );
+    assert_clean_failure(&o, &["line 1", "unknown field `extra`"]);
+    let o = graspath(&["kinematics", "--robot", "kuka"], Some(""), None);
+    assert_clean_failure(&o, &["unknown built-in robot 'kuka'"]);
+}
+
+#[test]
+fn select_is_byte_identical_at_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = write(dir.path(), "task.yaml", SMALL_TASK);
+    let mut outputs = Vec::new();
+    for threads in [1, 2] {
+        let out = dir.path().join(format!("out{threads}"));
+        let o = graspath(
+            &[
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ],
+            None,
+            Some(threads),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        outputs.push((
+            std::fs::read(out.join("candidates.json")).unwrap(),
+            std::fs::read(out.join("summary.json")).unwrap(),
+        ));
+    }
+    assert_eq!(outputs[0], outputs[1]);
+    let candidates: serde_json::Value = serde_json::from_slice(&outputs[0].0).unwrap();
+    let list = candidates.as_array().unwrap();
+    assert_eq!(list.len(), 7);
+    for c in list {
+        for key in [
+            "id",
+            "label",
+            "object_from_wrist",
+            "contact",
+            "likelihood",
+            "feasible",
+            "failure",
+            "mu_l2",
+            "mu_linf",
+            "mu_l1",
+            "m_t",
+            "yoshikawa_at_grasp",
+            "inverse_condition_at_grasp",
+            "joint_trajectory",
+            "rank",
+        ] {
+            assert!(c.get(key).is_some(), "missing {key}");
+        }
+    }
+}
+
+#[test]
+fn json_flag_prints_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = write(dir.path(), "task.yaml", SMALL_TASK);
+    let out = dir.path().join("out");
+    let o = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["arms"][0]["arm"], "left");
+    assert!(summary["arms"][0]["selected"]["id"].is_u64());
+}
+
+#[test]
+fn bad_task_files_fail_cleanly_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        (
+            "unknown.yaml",
+            SMALL_TASK.replace("arms: left", "arms: left\ncolour: red"),
+            vec!["unknown.yaml", "colour"],
+        ),
+        (
+            "units.yaml",
+            SMALL_TASK.replace("xyz: [0.75, 0.0, -0.10]", "xyz: [0.75, 0.0]"),
+            vec!["units.yaml", "object.pose.xyz"],
+        ),
+        (
+            "nan.yaml",
+            SMALL_TASK.replace("xyz: [0.75, 0.0, -0.10]", "xyz: [.nan, 0.0, -0.1]"),
+            vec!["nan.yaml", "line 4", "non-finite"],
+        ),
+        (
+            "empty.yaml",
+            SMALL_TASK.replace("{ family: { edge: { count: 7 } } }", "{ file: empty.json }"),
+            vec!["empty.yaml", "candidates.file", "contains no candidates"],
+        ),
+        (
+            "step.yaml",
+            SMALL_TASK.replace("{ lift: 0.2 }", "{ lift: 0.2, duration: -1 }"),
+            vec!["step.yaml", "trajectory.steps[0].duration"],
+        ),
+    ];
+    write(
+        dir.path(),
+        "empty.json",
+        r#"{"format":"graspath-candidates","version":1,"candidates":[]}"#,
+    );
+    for (name, text, expected) in cases {
+        let task = write(dir.path(), name, &text);
+        let out = dir.path().join(format!("out-{name}"));
+        let o = graspath(
+            &[
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+            None,
+        );
+        assert_clean_failure(&o, &expected);
+        assert!(!out.exists(), "{name}: no output may be written");
+    }
+}
+
+#[test]
+fn a_chain_whose_tip_is_not_below_its_base_is_named() {
+    let Some(urdf) = [
+        std::env::var_os("GRASPATH_SHARED").map(PathBuf::from),
+        Some(repo_root().join("../shared")),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|d| d.join("robots/baxter.urdf"))
+    .find(|p| p.is_file()) else {
+        eprintln!("skipped: ../shared is not present");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let text = SMALL_TASK.replace(
+        "robot: { builtin: baxter }\narms: left",
+        &format!("robot:\n  urdf: {}\n  chains: {{ left: {{ base: left_arm_mount, tip: right_gripper }} }}\narms: left", urdf.display()),
+    );
+    let task = write(dir.path(), "chain.yaml", &text);
+    let o = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            dir.path().join("o").to_str().unwrap(),
+        ],
+        None,
+        None,
+    );
+    assert_clean_failure(
+        &o,
+        &[
+            "chain.yaml",
+            "robot.chains.left",
+            "is not below base link 'left_arm_mount'",
+        ],
+    );
+}
+
+#[test]
+fn an_unreachable_task_is_a_result_not_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = write(
+        dir.path(),
+        "far.yaml",
+        &SMALL_TASK.replace("xyz: [0.75, 0.0, -0.10]", "xyz: [3.0, 0.0, -0.10]"),
+    );
+    let out = dir.path().join("out");
+    let o = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+        None,
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let candidates: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("candidates.json")).unwrap()).unwrap();
+    for c in candidates.as_array().unwrap() {
+        assert_eq!(c["feasible"], false);
+        assert_eq!(c["failure"]["reason"], "unreachable");
+        assert_eq!(c["failure"]["sample"], 0);
+    }
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert!(summary["arms"][0]["selected"].is_null());
+}
+
+#[test]
+fn every_example_task_loads_and_the_demo_runs() {
+    let examples = repo_root().join("examples");
+    for entry in std::fs::read_dir(&examples).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "yaml") {
+            graspath::select::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let o = graspath(&["demo", "--out", out.to_str().unwrap()], None, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let findings: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("findings.json")).unwrap()).unwrap();
+    assert_eq!(findings.as_array().unwrap().len(), 6);
+    assert!(out.join("pick_and_place_both/pairs.json").is_file());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("paper:") && stdout.contains("ours:"));
+}

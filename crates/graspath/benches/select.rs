@@ -10,13 +10,19 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 fn workload(c: &mut Criterion) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/workload_1000_faces.yaml");
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/workload_1000_faces.yaml");
     let task = Task::load(&path).expect("the workload task loads");
     let feasible = select(&task, &|| {}).arms[0].feasible_count();
-    eprintln!("workload: {} candidates, {feasible} feasible", task.candidates.len());
+    eprintln!(
+        "workload: {} candidates, {feasible} feasible",
+        task.candidates.len()
+    );
     let mut group = c.benchmark_group("select");
     group.sample_size(10);
-    group.bench_function("workload_1000_faces_left_arm", |b| b.iter(|| black_box(select(black_box(&task), &|| {}))));
+    group.bench_function("workload_1000_faces_left_arm", |b| {
+        b.iter(|| black_box(select(black_box(&task), &|| {})))
+    });
     group.finish();
 }
 

@@ -37,7 +37,9 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     if x.is_nan() || x.abs() > 1e5 {
         return x.sin_cos();
     }
-    let k = (x * TWO_OVER_PI).round();
+    // Round to nearest by adding and subtracting 1.5·2⁵² (exact for |x·2/π| < 2⁵¹; no libm call).
+    const SHIFTER: f64 = 6_755_399_441_055_744.0;
+    let k = (x * TWO_OVER_PI + SHIFTER) - SHIFTER;
     let r = (x - k * PIO2_HI) - k * PIO2_LO;
     let r2 = r * r;
     let mut s = SIN_COEFFS[7];

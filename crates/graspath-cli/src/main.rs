@@ -20,12 +20,15 @@ struct Cli {
 enum Command {
     /// Forward kinematics, Jacobian and manipulability for joint configurations (JSON Lines).
     Kinematics(commands::kinematics::KinematicsArgs),
+    /// Inverse kinematics of tip poses (JSON Lines) or of a whole trajectory (--trajectory).
+    Ik(commands::ik::IkArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Kinematics(args) => commands::kinematics::run(&args),
+        Command::Ik(args) => commands::ik::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

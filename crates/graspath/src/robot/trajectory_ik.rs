@@ -28,7 +28,7 @@ use super::error::RobotError;
 use super::ik::kernel::{Budget, Kernel, RunEnd, Strategy, Target, Workspace};
 use super::ik::{
     check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
-    IkOptions,
+    IkOptions, RESTART_ATTEMPT_CAP,
 };
 use crate::geometry::interpolate_decoupled;
 use nalgebra::Isometry3;
@@ -266,9 +266,9 @@ fn mix(mut x: u64) -> u64 {
 }
 
 /// Restarts near the previous solution tried before a sample is declared failed.
-const LOCAL_RESTARTS: usize = 4;
-/// Random restarts of the classification's search for any in-limit solution.
-const CLASSIFY_RESTARTS: usize = 8;
+const LOCAL_RESTARTS: usize = 2;
+/// Random restarts anywhere in the limits, to tell a discontinuity from unreachability.
+const CLASSIFY_RESTARTS: usize = 6;
 /// Intermediate poses used when a warm-started solve fails.
 const SUBSTEPS: usize = 4;
 
@@ -433,99 +433,33 @@ impl Tracker<'_> {
         for i in 1..self.poses.len() {
             previous[..n].copy_from_slice(&ws.cur().q[..n]);
             let target = Target::new(&self.poses[i]);
+            // The warm start: the previous solution's pose and Jacobian are already known.
             kernel.retarget(&target, ws.cur_mut());
             let mut budget = Budget::new(per_sample, None);
             let end = kernel.run(&target, &mut ws, Strategy::Clamped, per_sample, &mut budget);
-            let accepted = (end == RunEnd::Converged
-                && max_difference(&ws.cur().q[..n], &previous[..n]) <= step)
-                || self.recover(branch, i, &previous[..n], &target, &mut ws);
+            let accepted =
+                end == RunEnd::Converged && max_difference(&ws.cur().q[..n], &previous[..n]) <= step;
             if !accepted {
-                // The classification's wider search may still find an acceptable solution.
-                let q = self.classify(branch, i, &previous[..n], &target)?;
-                ws.cur_mut().q[..n].copy_from_slice(&q);
-                kernel.evaluate(&target, ws.cur_mut());
+                self.resolve(branch, i, &previous[..n], &target, &mut ws)?;
             }
             path.push(ws.cur().q[..n].to_vec());
         }
         Ok(JointPath { q: path })
     }
 
-    /// Retries a sample from `previous` (the solution at sample `i − 1`); on success the
-    /// workspace holds the accepted solution.
-    fn recover(
+    /// Retries sample `i` from `previous` (the solution at sample `i − 1`) with wider searches,
+    /// cheapest first; `Ok` leaves the accepted solution in `ws`, `Err` says why there is none.
+    fn resolve(
         &self,
         branch: usize,
         i: usize,
         previous: &[f64],
         target: &Target,
         ws: &mut Workspace,
-    ) -> bool {
+    ) -> Result<(), TrajectoryFailure> {
         let n = previous.len();
         let kernel = &self.kernel;
-        let step = self.options.max_joint_step;
-        let per_sample = self.options.per_sample_iterations;
-        let accept = |ws: &Workspace, end: RunEnd| {
-            end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
-        };
-        // 1. The other limit strategy, then the pose step split into substeps.
-        for strategy in [Strategy::LimitWeighted, Strategy::Clamped] {
-            ws.cur_mut().q[..n].copy_from_slice(previous);
-            let mut budget = Budget::new(SUBSTEPS * per_sample + SUBSTEPS, None);
-            let end = if strategy == Strategy::LimitWeighted {
-                run_attempt(kernel, target, ws, strategy, per_sample, &mut budget)
-            } else {
-                let mut end = RunEnd::Stalled;
-                for s in 1..=SUBSTEPS {
-                    let fraction = s as f64 / SUBSTEPS as f64;
-                    let pose = interpolate_decoupled(&self.poses[i - 1], &self.poses[i], fraction);
-                    let sub = Target::new(&pose);
-                    end = run_attempt(kernel, &sub, ws, strategy, per_sample, &mut budget);
-                    if end != RunEnd::Converged {
-                        break;
-                    }
-                }
-                end
-            };
-            if accept(ws, end) {
-                return true;
-            }
-        }
-        // 2. Restarts near the previous solution.
-        let mut rng = self.rng(branch, i);
-        let radius = 0.5 * step;
-        for k in 0..LOCAL_RESTARTS {
-            {
-                let q = &mut ws.cur_mut().q[..n];
-                for (v, &p) in q.iter_mut().zip(previous) {
-                    *v = p + rng.random_range(-radius..=radius);
-                }
-                kernel.clamp(q);
-            }
-            let strategy = if k.is_multiple_of(2) {
-                Strategy::Clamped
-            } else {
-                Strategy::LimitWeighted
-            };
-            let mut budget = Budget::new(per_sample + 1, None);
-            let end = run_attempt(kernel, target, ws, strategy, per_sample, &mut budget);
-            if accept(ws, end) {
-                return true;
-            }
-        }
-        false
-    }
-
-    /// Why sample `i` cannot follow `previous`; `Ok` with a solution when the wider search
-    /// finds an acceptable one after all.
-    fn classify(
-        &self,
-        branch: usize,
-        i: usize,
-        previous: &[f64],
-        target: &Target,
-    ) -> Result<Vec<f64>, TrajectoryFailure> {
-        let n = previous.len();
-        let chain = self.kernel.chain;
+        let chain = kernel.chain;
         let step = self.options.max_joint_step;
         let per_sample = self.options.per_sample_iterations;
         let fail = |reason, detail| {
@@ -535,52 +469,102 @@ impl Tracker<'_> {
                 detail,
             })
         };
-        if out_of_reach(&self.kernel, target) {
-            return fail(
-                TrajectoryFailureReason::Unreachable,
-                self.reach_detail(target),
-            );
+        let acceptable = |ws: &Workspace, end: RunEnd| {
+            end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
+        };
+        if out_of_reach(kernel, target) {
+            return fail(TrajectoryFailureReason::Unreachable, self.reach_detail(target));
         }
-        let mut ws = Workspace::new();
-        // 1. Without limits, from the previous solution.
-        let free = self.kernel.unconstrained();
+        // 1. The other limit strategy from the previous solution.
         ws.cur_mut().q[..n].copy_from_slice(previous);
-        let cap = 4 * per_sample;
+        let mut budget = Budget::new(per_sample + 1, None);
+        let end = run_attempt(kernel, target, ws, Strategy::LimitWeighted, per_sample, &mut budget);
+        if acceptable(ws, end) {
+            return Ok(());
+        }
+        // 2. The pose step split into substeps (large motions between samples).
+        ws.cur_mut().q[..n].copy_from_slice(previous);
+        let mut budget = Budget::new(SUBSTEPS * (per_sample + 1), None);
+        let mut end = RunEnd::Stalled;
+        for s in 1..=SUBSTEPS {
+            let fraction = s as f64 / SUBSTEPS as f64;
+            let pose = interpolate_decoupled(&self.poses[i - 1], &self.poses[i], fraction);
+            end = run_attempt(
+                kernel,
+                &Target::new(&pose),
+                ws,
+                Strategy::Clamped,
+                per_sample,
+                &mut budget,
+            );
+            if end != RunEnd::Converged {
+                break;
+            }
+        }
+        if acceptable(ws, end) {
+            return Ok(());
+        }
+        // 3. Without limits from the previous solution: a nearby solution outside the limits
+        //    means the path has to leave them.
+        let free = kernel.unconstrained();
+        ws.cur_mut().q[..n].copy_from_slice(previous);
+        let cap = 2 * per_sample;
         let mut budget = Budget::new(cap + 1, None);
-        let free_end = run_attempt(&free, target, &mut ws, Strategy::Clamped, cap, &mut budget);
+        let free_end = run_attempt(&free, target, ws, Strategy::Clamped, cap, &mut budget);
         let free_q: Option<Vec<f64>> =
             (free_end == RunEnd::Converged).then(|| ws.cur().q[..n].to_vec());
         if let Some(q) = &free_q {
             if max_difference(q, previous) <= step {
                 if chain.within_limits(q) {
-                    return Ok(q.clone());
+                    return Ok(());
                 }
                 return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
             }
         }
-        // 2. Any solution inside the limits.
-        let mut rng = self.rng(branch ^ (1 << 20), i);
+        // 4. Restarts near the previous solution, then anywhere in the limits.
+        let mut rng = self.rng(branch, i);
+        let radius = 0.5 * step;
         let mut nearest: Option<(usize, f64)> = None;
-        if let Some(q) = &free_q {
-            if chain.within_limits(q) {
-                nearest = Some(largest_step(q, previous));
-            }
-        }
         let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
-        for k in 2..2 + CLASSIFY_RESTARTS {
-            if nearest.is_some() {
-                break;
+        for k in 0..LOCAL_RESTARTS + CLASSIFY_RESTARTS {
+            let strategy = if k.is_multiple_of(2) {
+                Strategy::Clamped
+            } else {
+                Strategy::LimitWeighted
+            };
+            {
+                let q = &mut ws.cur_mut().q[..n];
+                if k < LOCAL_RESTARTS {
+                    for (v, &p) in q.iter_mut().zip(previous) {
+                        *v = p + rng.random_range(-radius..=radius);
+                    }
+                    kernel.clamp(q);
+                } else {
+                    kernel.random_configuration(&mut rng, q);
+                }
             }
-            let (strategy, cap) =
-                prepare_attempt(&self.kernel, k, previous, &mut rng, &mut ws.cur_mut().q);
+            let cap = if k < LOCAL_RESTARTS {
+                per_sample
+            } else {
+                RESTART_ATTEMPT_CAP
+            };
             let mut budget = Budget::new(cap + 1, None);
-            let end = run_attempt(&self.kernel, target, &mut ws, strategy, cap, &mut budget);
+            let end = run_attempt(kernel, target, ws, strategy, cap, &mut budget);
+            if acceptable(ws, end) {
+                return Ok(());
+            }
             let state = ws.cur();
             if state.cost < best.0 {
                 best = (state.cost, state.position_error, state.rotation_error);
             }
             if end == RunEnd::Converged {
-                nearest = Some(largest_step(&state.q[..n], previous));
+                let found = largest_step(&state.q[..n], previous);
+                if nearest.is_none_or(|(_, d)| found.1 < d) {
+                    nearest = Some(found);
+                }
+                if k >= LOCAL_RESTARTS {
+                    break;
+                }
             }
         }
         if let Some((joint, jump)) = nearest {
@@ -595,7 +579,9 @@ impl Tracker<'_> {
             );
         }
         if let Some(q) = &free_q {
-            return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+            if !chain.within_limits(q) {
+                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+            }
         }
         fail(
             TrajectoryFailureReason::Unreachable,

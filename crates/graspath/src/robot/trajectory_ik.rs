@@ -25,7 +25,7 @@
 
 use super::chain::{Chain, MAX_JOINTS};
 use super::error::RobotError;
-use super::ik::kernel::{Budget, Kernel, RunEnd, Strategy, Target, Workspace};
+use super::ik::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use super::ik::{
     check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
     IkOptions, RESTART_ATTEMPT_CAP,
@@ -313,7 +313,15 @@ impl Tracker<'_> {
             }
             let (strategy, cap) = prepare_attempt(kernel, k, seed, &mut rng, &mut ws.cur_mut().q);
             k += 1;
-            let end = run_attempt(kernel, &target, &mut ws, strategy, cap, &mut budget);
+            let end = run_attempt(
+                kernel,
+                &target,
+                &mut ws,
+                strategy,
+                cap,
+                Patience::SEARCH,
+                &mut budget,
+            );
             let state = ws.cur();
             if state.cost < best_cost {
                 best_cost = state.cost;
@@ -372,7 +380,15 @@ impl Tracker<'_> {
                 self.kernel
                     .random_configuration(&mut rng, &mut ws.cur_mut().q[..start.len()]);
             }
-            let end = run_attempt(&free, target, &mut ws, Strategy::Clamped, cap, &mut budget);
+            let end = run_attempt(
+                &free,
+                target,
+                &mut ws,
+                Strategy::Clamped,
+                cap,
+                Patience::SEARCH,
+                &mut budget,
+            );
             if end == RunEnd::Converged {
                 return fail(
                     TrajectoryFailureReason::JointLimit,
@@ -436,9 +452,16 @@ impl Tracker<'_> {
             // The warm start: the previous solution's pose and Jacobian are already known.
             kernel.retarget(&target, ws.cur_mut());
             let mut budget = Budget::new(per_sample, None);
-            let end = kernel.run(&target, &mut ws, Strategy::Clamped, per_sample, &mut budget);
-            let accepted =
-                end == RunEnd::Converged && max_difference(&ws.cur().q[..n], &previous[..n]) <= step;
+            let end = kernel.run(
+                &target,
+                &mut ws,
+                Strategy::Clamped,
+                per_sample,
+                Patience::TRACKING,
+                &mut budget,
+            );
+            let accepted = end == RunEnd::Converged
+                && max_difference(&ws.cur().q[..n], &previous[..n]) <= step;
             if !accepted {
                 self.resolve(branch, i, &previous[..n], &target, &mut ws)?;
             }
@@ -473,12 +496,23 @@ impl Tracker<'_> {
             end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
         };
         if out_of_reach(kernel, target) {
-            return fail(TrajectoryFailureReason::Unreachable, self.reach_detail(target));
+            return fail(
+                TrajectoryFailureReason::Unreachable,
+                self.reach_detail(target),
+            );
         }
         // 1. The other limit strategy from the previous solution.
         ws.cur_mut().q[..n].copy_from_slice(previous);
         let mut budget = Budget::new(per_sample + 1, None);
-        let end = run_attempt(kernel, target, ws, Strategy::LimitWeighted, per_sample, &mut budget);
+        let end = run_attempt(
+            kernel,
+            target,
+            ws,
+            Strategy::LimitWeighted,
+            per_sample,
+            Patience::TRACKING,
+            &mut budget,
+        );
         if acceptable(ws, end) {
             return Ok(());
         }
@@ -495,6 +529,7 @@ impl Tracker<'_> {
                 ws,
                 Strategy::Clamped,
                 per_sample,
+                Patience::TRACKING,
                 &mut budget,
             );
             if end != RunEnd::Converged {
@@ -510,7 +545,15 @@ impl Tracker<'_> {
         ws.cur_mut().q[..n].copy_from_slice(previous);
         let cap = 2 * per_sample;
         let mut budget = Budget::new(cap + 1, None);
-        let free_end = run_attempt(&free, target, ws, Strategy::Clamped, cap, &mut budget);
+        let free_end = run_attempt(
+            &free,
+            target,
+            ws,
+            Strategy::Clamped,
+            cap,
+            Patience::TRACKING,
+            &mut budget,
+        );
         let free_q: Option<Vec<f64>> =
             (free_end == RunEnd::Converged).then(|| ws.cur().q[..n].to_vec());
         if let Some(q) = &free_q {
@@ -549,7 +592,15 @@ impl Tracker<'_> {
                 RESTART_ATTEMPT_CAP
             };
             let mut budget = Budget::new(cap + 1, None);
-            let end = run_attempt(kernel, target, ws, strategy, cap, &mut budget);
+            let end = run_attempt(
+                kernel,
+                target,
+                ws,
+                strategy,
+                cap,
+                Patience::SEARCH,
+                &mut budget,
+            );
             if acceptable(ws, end) {
                 return Ok(());
             }

@@ -122,6 +122,27 @@ pub(crate) enum RunEnd {
     OutOfBudget,
 }
 
+/// When a run gives up: the cost must fall below `factor` times its value at the start of
+/// every window of `window` accepted steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Patience {
+    pub window: usize,
+    pub factor: f64,
+}
+
+impl Patience {
+    /// For searches with restarts: give up early on slow progress and restart elsewhere.
+    pub(crate) const SEARCH: Self = Self {
+        window: 4,
+        factor: 0.7,
+    };
+    /// For warm-started tracking, where giving up is costly.
+    pub(crate) const TRACKING: Self = Self {
+        window: 12,
+        factor: 0.5,
+    };
+}
+
 /// The shared budget of one solve: evaluations left and an optional deadline.
 #[derive(Debug, Clone)]
 pub(crate) struct Budget {
@@ -337,6 +358,7 @@ impl<'a> Kernel<'a> {
         ws: &mut Workspace,
         strategy: Strategy,
         max_evaluations: usize,
+        patience: Patience,
         budget: &mut Budget,
     ) -> RunEnd {
         let n = self.dof();
@@ -377,8 +399,8 @@ impl<'a> Kernel<'a> {
                 ws.accept();
                 mu = (mu * 0.5).max(1.0);
                 window_steps += 1;
-                if window_steps == 12 {
-                    if ws.cur().cost > 0.5 * window_cost {
+                if window_steps == patience.window {
+                    if ws.cur().cost > patience.factor * window_cost {
                         return RunEnd::Stalled;
                     }
                     window_cost = ws.cur().cost;

@@ -24,7 +24,7 @@ pub(crate) mod kernel;
 
 use super::chain::{Chain, MAX_JOINTS};
 use super::error::RobotError;
-use kernel::{Budget, Kernel, RunEnd, Strategy, Target, Workspace};
+use kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
@@ -246,13 +246,14 @@ pub(crate) fn run_attempt(
     ws: &mut Workspace,
     strategy: Strategy,
     cap: usize,
+    patience: Patience,
     budget: &mut Budget,
 ) -> RunEnd {
     if !budget.spend() {
         return RunEnd::OutOfBudget;
     }
     kernel.evaluate(target, ws.cur_mut());
-    kernel.run(target, ws, strategy, cap, budget)
+    kernel.run(target, ws, strategy, cap, patience, budget)
 }
 
 /// Attempts from the seed, then random restarts, until one converges or the budget is spent.
@@ -280,7 +281,7 @@ pub(crate) fn search<R: rand::Rng>(
     let mut k = 0;
     while !budget.exhausted() {
         let (strategy, cap) = prepare_attempt(kernel, k, seed, rng, &mut ws.cur_mut().q);
-        let end = run_attempt(kernel, target, ws, strategy, cap, budget);
+        let end = run_attempt(kernel, target, ws, strategy, cap, Patience::SEARCH, budget);
         if end == RunEnd::OutOfBudget && k > 0 && ws.cur().cost.is_infinite() {
             break;
         }

@@ -80,8 +80,17 @@ fn main() {
         ("ur5", "ur5_robot.urdf", "base_link", "tool0"),
     ];
     println!(
-        "{:<8} {:>4} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
-        "robot", "dof", "samples", "solved", "mean_us", "median_us", "p99_us", "max_us", "mean_it"
+        "{:<8} {:>4} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "robot",
+        "dof",
+        "samples",
+        "solved",
+        "mean_us",
+        "median_us",
+        "p99_us",
+        "p99.9_us",
+        "max_us",
+        "mean_it"
     );
     for (name, file, base, tip) in robots {
         if args.robot != "all" && args.robot != name {
@@ -150,7 +159,7 @@ fn run(name: &str, chain: &Chain, args: &Args) {
     times.sort_by(f64::total_cmp);
     let pct = |p: f64| times[((samples as f64 * p).ceil() as usize).clamp(1, samples) - 1];
     println!(
-        "{:<8} {:>4} {:>8} {:>9.3}% {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.1}",
+        "{:<8} {:>4} {:>8} {:>9.3}% {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.1}",
         name,
         chain.dof(),
         samples,
@@ -158,6 +167,7 @@ fn run(name: &str, chain: &Chain, args: &Args) {
         mean,
         pct(0.5),
         pct(0.99),
+        pct(0.999),
         times[samples - 1],
         iterations as f64 / samples as f64
     );

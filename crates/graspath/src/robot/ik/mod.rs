@@ -250,6 +250,10 @@ pub(crate) fn run_attempt(
     budget: &mut Budget,
 ) -> RunEnd {
     if !budget.spend() {
+        let state = ws.cur_mut();
+        state.cost = f64::INFINITY;
+        state.position_error = f64::INFINITY;
+        state.rotation_error = f64::INFINITY;
         return RunEnd::OutOfBudget;
     }
     kernel.evaluate(target, ws.cur_mut());
@@ -282,7 +286,7 @@ pub(crate) fn search<R: rand::Rng>(
     while !budget.exhausted() {
         let (strategy, cap) = prepare_attempt(kernel, k, seed, rng, &mut ws.cur_mut().q);
         let end = run_attempt(kernel, target, ws, strategy, cap, Patience::SEARCH, budget);
-        if end == RunEnd::OutOfBudget && k > 0 && ws.cur().cost.is_infinite() {
+        if end == RunEnd::OutOfBudget && ws.cur().cost.is_infinite() {
             break;
         }
         outcome.attempts += 1;

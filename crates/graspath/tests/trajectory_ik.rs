@@ -328,3 +328,23 @@ fn bad_input_is_an_error() {
         })
     ));
 }
+
+#[test]
+fn a_first_pose_outside_the_limits_is_a_joint_limit_failure_at_sample_zero() {
+    // Every joint limited to ±0.5 rad; the first pose needs the shoulder pan at 1.0 rad (every
+    // other inverse-kinematics branch of this 6-joint arm needs larger angles still).
+    let chain = ur5_like(0.5);
+    let q = [1.0, -0.2, 0.3, -0.2, 0.3, 0.1];
+    let poses = vec![fk(&chain, &q); 3];
+    let result =
+        solve_trajectory(&chain, &poses, &[0.0; 6], &TrajectoryIkOptions::default()).expect("ok");
+    assert!(result.branches.is_empty());
+    let failure = result.failure.expect("explained");
+    assert_eq!(failure.sample, 0, "{failure}");
+    assert_eq!(
+        failure.reason,
+        TrajectoryFailureReason::JointLimit,
+        "{failure}"
+    );
+    assert!(failure.detail.contains("shoulder_pan_joint"), "{failure}");
+}

@@ -9,19 +9,22 @@
 //! limits and no joint moves more than `max_joint_step` from the previous sample, so a branch
 //! flip hidden inside a "continuous" path is a failure, never a silent jump.
 //!
-//! When a warm-started solve does not give an acceptable solution, the tracker retries with
-//! intermediate poses (the step from the previous pose split in four) and with a few seeded
-//! restarts near the previous solution. If those fail too, it classifies the failure:
+//! When the warm-started solve gives no acceptable solution, wider searches follow, cheapest
+//! first: the other limit strategy from the previous solution; the pose step split into four
+//! intermediate poses; a solve without limits from the previous solution; two seeded restarts
+//! near the previous solution; six seeded restarts anywhere in the limits. The first acceptable
+//! solution is taken; otherwise the sample fails with the reason:
 //!
-//! * `joint_limit`: an unconstrained solve from the previous solution converges, but outside
-//!   the limits (the path would have to leave them);
+//! * `joint_limit`: the solve without limits converges within `max_joint_step` of the previous
+//!   solution but outside the limits (the path would have to leave them), or it converges
+//!   farther away and no solution inside the limits was found;
 //! * `discontinuity`: solutions inside the limits exist, but only farther than
-//!   `max_joint_step` from the previous sample;
-//! * `unreachable`: no solution near the target was found (or the target lies outside the
-//!   chain's reach).
+//!   `max_joint_step` from the previous sample (the detail names the joint and the jump);
+//! * `unreachable`: the target lies outside the chain's reach, or no solution near it was
+//!   found (the detail gives the best residual).
 //!
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
-//! so results are identical at any thread count and on any machine.
+//! so results are identical from run to run and at any thread count.
 
 use super::chain::{Chain, MAX_JOINTS};
 use super::error::RobotError;
@@ -346,21 +349,25 @@ impl Tracker<'_> {
         let mut start = [0.0; MAX_JOINTS];
         start[..n].copy_from_slice(seed);
         kernel.clamp(&mut start[..n]);
-        Err(self.classify_first(&target, &start[..n], far, best))
+        self.classify_first(&target, &start[..n], far, best)
+            .map(|q| vec![q])
     }
 
-    /// Why sample 0 has no solution in the limits.
+    /// Why sample 0 has no solution in the limits; `Ok` with a solution should the search
+    /// without limits find one inside them after all.
     fn classify_first(
         &self,
         target: &Target,
         start: &[f64],
         far: bool,
         best: (f64, f64),
-    ) -> TrajectoryFailure {
-        let fail = |reason, detail| TrajectoryFailure {
-            sample: 0,
-            reason,
-            detail,
+    ) -> Result<Vec<f64>, TrajectoryFailure> {
+        let fail = |reason, detail| {
+            Err(TrajectoryFailure {
+                sample: 0,
+                reason,
+                detail,
+            })
         };
         if far {
             return fail(
@@ -390,10 +397,11 @@ impl Tracker<'_> {
                 &mut budget,
             );
             if end == RunEnd::Converged {
-                return fail(
-                    TrajectoryFailureReason::JointLimit,
-                    self.limit_detail(&ws.cur().q[..start.len()]),
-                );
+                let q = &ws.cur().q[..start.len()];
+                if self.kernel.chain.within_limits(q) {
+                    return Ok(q.to_vec());
+                }
+                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
             }
         }
         fail(

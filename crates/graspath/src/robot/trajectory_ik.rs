@@ -12,7 +12,7 @@
 //! When the warm-started solve gives no acceptable solution, wider searches follow, cheapest
 //! first: the other limit strategy from the previous solution; the pose step split into four
 //! intermediate poses; a solve without limits from the previous solution; two seeded restarts
-//! near the previous solution; six seeded restarts anywhere in the limits. The first acceptable
+//! near the previous solution; three seeded restarts anywhere in the limits. The first acceptable
 //! solution is taken; otherwise the sample fails with the reason:
 //!
 //! * `joint_limit`: the solve without limits converges within `max_joint_step` of the previous
@@ -58,13 +58,13 @@ pub struct TrajectoryIkOptions {
 }
 
 impl Default for TrajectoryIkOptions {
-    /// 1e-5 m / 1e-5 rad, 2000 iterations for the first sample, 0.5 rad steps, 4 branches,
+    /// 1e-5 m / 1e-5 rad, 1000 iterations for the first sample, 0.5 rad steps, 4 branches,
     /// 30 iterations per sample, seed 0.
     fn default() -> Self {
         Self {
             ik: IkOptions {
                 max_time: None,
-                max_iterations: 2000,
+                max_iterations: 1000,
                 ..IkOptions::default()
             },
             max_joint_step: 0.5,
@@ -271,7 +271,7 @@ fn mix(mut x: u64) -> u64 {
 /// Restarts near the previous solution tried before a sample is declared failed.
 const LOCAL_RESTARTS: usize = 2;
 /// Random restarts anywhere in the limits, to tell a discontinuity from unreachability.
-const CLASSIFY_RESTARTS: usize = 6;
+const CLASSIFY_RESTARTS: usize = 3;
 /// Intermediate poses used when a warm-started solve fails.
 const SUBSTEPS: usize = 4;
 
@@ -378,7 +378,7 @@ impl Tracker<'_> {
         let free = self.kernel.unconstrained();
         let mut rng = self.rng(usize::MAX, 0);
         let mut ws = Workspace::new();
-        let cap = 4 * self.options.per_sample_iterations.max(20);
+        let cap = 2 * self.options.per_sample_iterations.max(30);
         for k in 0..CLASSIFY_RESTARTS {
             let mut budget = Budget::new(cap, None);
             if k == 0 {

@@ -209,6 +209,9 @@ fn bad_input_gives_a_clear_error() {
     let mut args = BAXTER.to_vec();
     args.extend(["--tolerance", "0"]);
     assert!(fails(&args, good).contains("--tolerance"));
+    let mut args = BAXTER.to_vec();
+    args.extend(["--timeout-ms", "1e300"]);
+    assert!(fails(&args, good).contains("--timeout-ms"));
 
     let mut args = BAXTER.to_vec();
     args.push("--trajectory");

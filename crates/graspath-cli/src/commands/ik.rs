@@ -106,7 +106,10 @@ pub fn run(args: &IkArgs) -> Result<()> {
     let options = IkOptions {
         position_tolerance: args.tolerance,
         rotation_tolerance: args.tolerance,
-        max_time: Some(Duration::from_secs_f64(args.timeout_ms * 1e-3)),
+        max_time: Some(
+            Duration::try_from_secs_f64(args.timeout_ms * 1e-3)
+                .map_err(|e| anyhow::anyhow!("--timeout-ms: {e}"))?,
+        ),
         random_seed: args.random_seed,
         ..IkOptions::default()
     };

@@ -300,9 +300,9 @@ impl Tracker<'_> {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.options.ik.random_seed);
         let mut ws = Workspace::new();
         let wanted = self.options.branches;
-        let mut found: Vec<Vec<f64>> = Vec::with_capacity(wanted);
+        let mut found: Vec<Vec<f64>> = Vec::with_capacity(wanted.min(16));
         let far = out_of_reach(kernel, &target);
-        let max_attempts = 6 * wanted + 2;
+        let max_attempts = wanted.saturating_mul(6).saturating_add(2);
         let mut best_cost = f64::INFINITY;
         let mut best = (f64::INFINITY, f64::INFINITY);
         let mut k = 0usize;
@@ -378,7 +378,7 @@ impl Tracker<'_> {
         let free = self.kernel.unconstrained();
         let mut rng = self.rng(usize::MAX, 0);
         let mut ws = Workspace::new();
-        let cap = 2 * self.options.per_sample_iterations.max(30);
+        let cap = self.options.per_sample_iterations.max(30).saturating_mul(2);
         for k in 0..CLASSIFY_RESTARTS {
             let mut budget = Budget::new(cap, None);
             if k == 0 {
@@ -511,7 +511,7 @@ impl Tracker<'_> {
         }
         // 1. The other limit strategy from the previous solution.
         ws.cur_mut().q[..n].copy_from_slice(previous);
-        let mut budget = Budget::new(per_sample + 1, None);
+        let mut budget = Budget::new(per_sample.saturating_add(1), None);
         let end = run_attempt(
             kernel,
             target,
@@ -526,7 +526,7 @@ impl Tracker<'_> {
         }
         // 2. The pose step split into substeps (large motions between samples).
         ws.cur_mut().q[..n].copy_from_slice(previous);
-        let mut budget = Budget::new(SUBSTEPS * (per_sample + 1), None);
+        let mut budget = Budget::new(per_sample.saturating_add(1).saturating_mul(SUBSTEPS), None);
         let mut end = RunEnd::Stalled;
         for s in 1..=SUBSTEPS {
             let fraction = s as f64 / SUBSTEPS as f64;
@@ -551,8 +551,8 @@ impl Tracker<'_> {
         //    means the path has to leave them.
         let free = kernel.unconstrained();
         ws.cur_mut().q[..n].copy_from_slice(previous);
-        let cap = 2 * per_sample;
-        let mut budget = Budget::new(cap + 1, None);
+        let cap = per_sample.saturating_mul(2);
+        let mut budget = Budget::new(cap.saturating_add(1), None);
         let free_end = run_attempt(
             &free,
             target,
@@ -599,7 +599,7 @@ impl Tracker<'_> {
             } else {
                 RESTART_ATTEMPT_CAP
             };
-            let mut budget = Budget::new(cap + 1, None);
+            let mut budget = Budget::new(cap.saturating_add(1), None);
             let end = run_attempt(
                 kernel,
                 target,

@@ -302,7 +302,8 @@ pub(crate) fn search<R: rand::Rng>(
             break;
         }
         k += 1;
-        if far {
+        if far || n == 0 {
+            // Out of reach, or nothing to move: more attempts cannot help.
             break;
         }
     }

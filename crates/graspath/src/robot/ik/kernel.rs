@@ -571,6 +571,76 @@ mod tests {
         }
     }
 
+    /// The 6 × 6 task-space step equals the joint-space Levenberg–Marquardt step
+    /// `(JᵀWJ + λI)⁻¹ JᵀW e` (with `W = diag(1, 1, 1, ρ², ρ², ρ²)`), solved densely by nalgebra.
+    #[test]
+    fn task_space_step_equals_the_joint_space_step() {
+        use crate::robot::builtin::{baxter, Arm};
+        use nalgebra::{DMatrix, DVector};
+        let chain = baxter(Arm::Left);
+        let kernel = Kernel::new(&chain, 1e-5, 1e-5);
+        let target = Target::new(&Isometry3::from_parts(
+            nalgebra::Translation3::new(0.7, 0.3, 0.1),
+            UnitQuaternion::from_euler_angles(0.3, 1.2, -0.4),
+        ));
+        let mut state = State::new();
+        state.q[..7].copy_from_slice(&[0.1, -0.2, 0.3, 1.0, -0.4, 0.6, 0.2]);
+        kernel.evaluate(&target, &mut state);
+        let lambda = 0.01;
+        let mut dq = [0.0; MAX_JOINTS];
+        assert!(kernel.step(&state, lambda, Strategy::Clamped, &mut dq));
+        let rho2 = ROTATION_LENGTH * ROTATION_LENGTH;
+        let w = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 1.0, 1.0, rho2, rho2, rho2]));
+        let j = DMatrix::from_column_slice(6, 7, &state.jacobian[..42]);
+        let e = DVector::from_column_slice(state.error.as_slice());
+        let normal = j.transpose() * &w * &j + DMatrix::identity(7, 7) * lambda;
+        let expected = normal
+            .lu()
+            .solve(&(j.transpose() * &w * e))
+            .expect("invertible");
+        for k in 0..7 {
+            assert!(
+                (dq[k] - expected[k]).abs() < 1e-10,
+                "{k}: {} vs {}",
+                dq[k],
+                expected[k]
+            );
+        }
+    }
+
+    /// The error moves as `−J·dq` near the target: finite differences of the error against
+    /// the Jacobian (the linearisation every step relies on).
+    #[test]
+    fn error_changes_by_minus_jacobian_times_step() {
+        use crate::robot::builtin::{baxter, Arm};
+        let chain = baxter(Arm::Left);
+        let kernel = Kernel::new(&chain, 1e-5, 1e-5);
+        let q = [0.1, -0.2, 0.3, 1.0, -0.4, 0.6, 0.2];
+        let at_q: Isometry3<f64> = nalgebra::convert(chain.pose(&q).expect("fk"));
+        let target = Target::new(&at_q);
+        let mut state = State::new();
+        state.q[..7].copy_from_slice(&q);
+        kernel.evaluate(&target, &mut state);
+        assert!(state.error.norm() < 1e-12);
+        let direction = [0.3, -0.1, 0.5, 0.2, -0.7, 0.4, 0.9];
+        let h = 1e-6;
+        let mut moved = State::new();
+        for k in 0..7 {
+            moved.q[k] = q[k] + h * direction[k];
+        }
+        kernel.evaluate(&target, &mut moved);
+        for r in 0..6 {
+            let predicted: f64 = (0..7)
+                .map(|k| -state.jacobian[6 * k + r] * direction[k])
+                .sum();
+            let measured = moved.error[r] / h;
+            assert!(
+                (measured - predicted).abs() < 1e-5,
+                "row {r}: {measured} vs {predicted}"
+            );
+        }
+    }
+
     #[test]
     fn limit_weight_blocks_outward_motion_on_a_limit() {
         assert_eq!(limit_weight(1.0, -1.0, 1.0, 0.5), 0.0);

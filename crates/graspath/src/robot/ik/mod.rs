@@ -49,7 +49,8 @@ pub struct IkOptions {
 }
 
 impl Default for IkOptions {
-    /// TRAC-IK's defaults: 1e-5 m and 1e-5 rad, 5 ms; 100,000 iterations; seed 0.
+    /// TRAC-IK's tolerances and time budget (1e-5 m, 1e-5 rad, 5 ms), a cap of 100,000
+    /// iterations, seed 0.
     fn default() -> Self {
         Self {
             position_tolerance: 1e-5,

@@ -348,3 +348,44 @@ fn a_first_pose_outside_the_limits_is_a_joint_limit_failure_at_sample_zero() {
     );
     assert!(failure.detail.contains("shoulder_pan_joint"), "{failure}");
 }
+
+#[test]
+fn results_do_not_depend_on_threads() {
+    use rayon::prelude::*;
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Chain>();
+    send_sync::<TrajectoryIkOptions>();
+    send_sync::<TrajectoryIkResult>();
+    send_sync::<IkOptions>();
+    send_sync::<graspath::robot::IkSolution>();
+
+    let chain = baxter(Arm::Left);
+    let base = baxter_poses(&chain, 20);
+    // Twelve trajectories: the same path shifted by a few centimetres each.
+    let trajectories: Vec<Vec<Isometry3<f64>>> = (0..12)
+        .map(|k| {
+            let shift = Translation3::new(0.01 * k as f64, -0.005 * k as f64, 0.0);
+            base.iter().map(|pose| shift * pose).collect()
+        })
+        .collect();
+    let options = TrajectoryIkOptions {
+        branches: 2,
+        ..TrajectoryIkOptions::default()
+    };
+    let mid = chain.mid_configuration();
+    let sequential: Vec<_> = trajectories
+        .iter()
+        .map(|poses| solve_trajectory(&chain, poses, &mid, &options).expect("ok"))
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(4)
+        .build()
+        .expect("a thread pool");
+    let parallel: Vec<_> = pool.install(|| {
+        trajectories
+            .par_iter()
+            .map(|poses| solve_trajectory(&chain, poses, &mid, &options).expect("ok"))
+            .collect()
+    });
+    assert_eq!(sequential, parallel);
+}

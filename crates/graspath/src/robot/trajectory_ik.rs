@@ -529,11 +529,20 @@ impl Tracker<'_> {
         let mut budget = Budget::new(per_sample.saturating_add(1).saturating_mul(SUBSTEPS), None);
         let mut end = RunEnd::Stalled;
         for s in 1..=SUBSTEPS {
-            let fraction = s as f64 / SUBSTEPS as f64;
-            let pose = interpolate_decoupled(&self.poses[i - 1], &self.poses[i], fraction);
+            // The last substep is the sample's own target, exactly.
+            let sub = if s == SUBSTEPS {
+                *target
+            } else {
+                let fraction = s as f64 / SUBSTEPS as f64;
+                Target::new(&interpolate_decoupled(
+                    &self.poses[i - 1],
+                    &self.poses[i],
+                    fraction,
+                ))
+            };
             end = run_attempt(
                 kernel,
-                &Target::new(&pose),
+                &sub,
                 ws,
                 Strategy::Clamped,
                 per_sample,

@@ -389,3 +389,52 @@ fn results_do_not_depend_on_threads() {
     });
     assert_eq!(sequential, parallel);
 }
+
+#[test]
+fn random_joint_sweeps_give_valid_branches_or_a_located_failure() {
+    use rand::rngs::Xoshiro256PlusPlus;
+    use rand::{RngExt, SeedableRng};
+    let chain = baxter(Arm::Left);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(21);
+    let options = TrajectoryIkOptions {
+        branches: 2,
+        ..TrajectoryIkOptions::default()
+    };
+    let mut feasible = 0;
+    for _ in 0..40 {
+        // A straight joint-space sweep from a random in-limit configuration; some sweeps leave
+        // the limits, so their poses may need other branches or be infeasible.
+        let q0: Vec<f64> = chain
+            .lower()
+            .iter()
+            .zip(chain.upper())
+            .map(|(&lo, &hi)| rng.random_range(lo..=hi))
+            .collect();
+        let direction: Vec<f64> = (0..7).map(|_| rng.random_range(-0.02..=0.02)).collect();
+        let poses: Vec<_> = (0..30)
+            .map(|i| {
+                let q: Vec<f64> = q0
+                    .iter()
+                    .zip(&direction)
+                    .map(|(a, d)| a + d * i as f64)
+                    .collect();
+                fk(&chain, &q)
+            })
+            .collect();
+        let result =
+            solve_trajectory(&chain, &poses, &chain.mid_configuration(), &options).expect("ok");
+        check_branches(&chain, &poses, &result, options.max_joint_step);
+        match &result.failure {
+            None => {
+                assert!(result.feasible());
+                feasible += 1;
+            }
+            Some(failure) => {
+                assert!(result.branches.is_empty());
+                assert!(failure.sample < poses.len());
+                assert!(!failure.detail.is_empty());
+            }
+        }
+    }
+    assert!(feasible >= 20, "{feasible} of 40 sweeps feasible");
+}

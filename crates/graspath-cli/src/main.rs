@@ -25,6 +25,8 @@ enum Command {
     Select(commands::select::SelectArgs),
     /// Reproduce the paper's experiments on the built-in Baxter (no files needed).
     Demo(commands::demo::DemoArgs),
+    /// Inverse kinematics of tip poses (JSON Lines) or of a whole trajectory (--trajectory).
+    Ik(commands::ik::IkArgs),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +35,7 @@ fn main() -> ExitCode {
         Command::Kinematics(args) => commands::kinematics::run(&args),
         Command::Select(args) => commands::select::run(&args),
         Command::Demo(args) => commands::demo::run(&args),
+        Command::Ik(args) => commands::ik::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

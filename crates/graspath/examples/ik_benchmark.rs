@@ -10,7 +10,8 @@
 //! ```
 //!
 //! Options: `--samples N` (default 10000), `--robot baxter|panda|ur5|all` (default all),
-//! `--seed S` (default 42), `--shared DIR` (default `$GRASPATH_SHARED` or `../shared`).
+//! `--seed S` (default 42), `--shared DIR` (default `$GRASPATH_SHARED` or `../shared`),
+//! `--max-time-ms T` (default 5; 0 for none), `--max-iterations K` (default 100000).
 
 use graspath::robot::{load_urdf_chain, solve_ik, Chain, IkOptions};
 use nalgebra::Isometry3;
@@ -24,6 +25,8 @@ struct Args {
     robot: String,
     seed: u64,
     shared: PathBuf,
+    max_time_ms: f64,
+    max_iterations: usize,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -31,6 +34,8 @@ fn parse_args() -> Result<Args, String> {
         samples: 10_000,
         robot: "all".into(),
         seed: 42,
+        max_time_ms: 5.0,
+        max_iterations: IkOptions::default().max_iterations,
         shared: std::env::var_os("GRASPATH_SHARED")
             .map(PathBuf::from)
             .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared")),
@@ -45,6 +50,16 @@ fn parse_args() -> Result<Args, String> {
             "--robot" => args.robot = value()?,
             "--seed" => args.seed = value()?.parse().map_err(|e| format!("--seed: {e}"))?,
             "--shared" => args.shared = PathBuf::from(value()?),
+            "--max-time-ms" => {
+                args.max_time_ms = value()?
+                    .parse()
+                    .map_err(|e| format!("--max-time-ms: {e}"))?
+            }
+            "--max-iterations" => {
+                args.max_iterations = value()?
+                    .parse()
+                    .map_err(|e| format!("--max-iterations: {e}"))?
+            }
             other => return Err(format!("unknown option {other}")),
         }
     }
@@ -65,8 +80,17 @@ fn main() {
         ("ur5", "ur5_robot.urdf", "base_link", "tool0"),
     ];
     println!(
-        "{:<8} {:>4} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
-        "robot", "dof", "samples", "solved", "mean_us", "median_us", "p99_us", "max_us", "mean_it"
+        "{:<8} {:>4} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "robot",
+        "dof",
+        "samples",
+        "solved",
+        "mean_us",
+        "median_us",
+        "p99_us",
+        "p99.9_us",
+        "max_us",
+        "mean_it"
     );
     for (name, file, base, tip) in robots {
         if args.robot != "all" && args.robot != name {
@@ -80,12 +104,13 @@ fn main() {
                 std::process::exit(1);
             }
         };
-        run(name, &chain, args.samples, args.seed);
+        run(name, &chain, &args);
     }
 }
 
-fn run(name: &str, chain: &Chain, samples: usize, seed: u64) {
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+fn run(name: &str, chain: &Chain, args: &Args) {
+    let samples = args.samples;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(args.seed);
     let targets: Vec<Isometry3<f64>> = (0..samples)
         .map(|_| {
             let q: Vec<f64> = chain
@@ -101,7 +126,10 @@ fn run(name: &str, chain: &Chain, samples: usize, seed: u64) {
     let options = IkOptions {
         position_tolerance: 1e-5,
         rotation_tolerance: 1e-5,
-        max_time: Some(Duration::from_millis(5)),
+        // 0 turns the time budget off (iterations only: reproducible).
+        max_time: (args.max_time_ms > 0.0)
+            .then(|| Duration::from_secs_f64(args.max_time_ms * 1e-3)),
+        max_iterations: args.max_iterations,
         ..IkOptions::default()
     };
     let mut times = Vec::with_capacity(samples);
@@ -131,7 +159,7 @@ fn run(name: &str, chain: &Chain, samples: usize, seed: u64) {
     times.sort_by(f64::total_cmp);
     let pct = |p: f64| times[((samples as f64 * p).ceil() as usize).clamp(1, samples) - 1];
     println!(
-        "{:<8} {:>4} {:>8} {:>9.3}% {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.1}",
+        "{:<8} {:>4} {:>8} {:>9.3}% {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.1}",
         name,
         chain.dof(),
         samples,
@@ -139,6 +167,7 @@ fn run(name: &str, chain: &Chain, samples: usize, seed: u64) {
         mean,
         pct(0.5),
         pct(0.99),
+        pct(0.999),
         times[samples - 1],
         iterations as f64 / samples as f64
     );

@@ -9,26 +9,29 @@
 //! limits and no joint moves more than `max_joint_step` from the previous sample, so a branch
 //! flip hidden inside a "continuous" path is a failure, never a silent jump.
 //!
-//! When a warm-started solve does not give an acceptable solution, the tracker retries with
-//! intermediate poses (the step from the previous pose split in four) and with a few seeded
-//! restarts near the previous solution. If those fail too, it classifies the failure:
+//! When the warm-started solve gives no acceptable solution, wider searches follow, cheapest
+//! first: the other limit strategy from the previous solution; the pose step split into four
+//! intermediate poses; a solve without limits from the previous solution; two seeded restarts
+//! near the previous solution; three seeded restarts anywhere in the limits. The first acceptable
+//! solution is taken; otherwise the sample fails with the reason:
 //!
-//! * `joint_limit`: an unconstrained solve from the previous solution converges, but outside
-//!   the limits (the path would have to leave them);
+//! * `joint_limit`: the solve without limits converges within `max_joint_step` of the previous
+//!   solution but outside the limits (the path would have to leave them), or it converges
+//!   farther away and no solution inside the limits was found;
 //! * `discontinuity`: solutions inside the limits exist, but only farther than
-//!   `max_joint_step` from the previous sample;
-//! * `unreachable`: no solution near the target was found (or the target lies outside the
-//!   chain's reach).
+//!   `max_joint_step` from the previous sample (the detail names the joint and the jump);
+//! * `unreachable`: the target lies outside the chain's reach, or no solution near it was
+//!   found (the detail gives the best residual).
 //!
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
-//! so results are identical at any thread count and on any machine.
+//! so results are identical from run to run and at any thread count.
 
 use super::chain::{Chain, MAX_JOINTS};
 use super::error::RobotError;
-use super::ik::kernel::{Budget, Kernel, RunEnd, Strategy, Target, Workspace};
+use super::ik::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use super::ik::{
     check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
-    IkOptions,
+    IkOptions, RESTART_ATTEMPT_CAP,
 };
 use crate::geometry::interpolate_decoupled;
 use nalgebra::Isometry3;
@@ -55,13 +58,13 @@ pub struct TrajectoryIkOptions {
 }
 
 impl Default for TrajectoryIkOptions {
-    /// 1e-5 m / 1e-5 rad, 2000 iterations for the first sample, 0.5 rad steps, 4 branches,
+    /// 1e-5 m / 1e-5 rad, 1000 iterations for the first sample, 0.5 rad steps, 4 branches,
     /// 30 iterations per sample, seed 0.
     fn default() -> Self {
         Self {
             ik: IkOptions {
                 max_time: None,
-                max_iterations: 2000,
+                max_iterations: 1000,
                 ..IkOptions::default()
             },
             max_joint_step: 0.5,
@@ -266,9 +269,9 @@ fn mix(mut x: u64) -> u64 {
 }
 
 /// Restarts near the previous solution tried before a sample is declared failed.
-const LOCAL_RESTARTS: usize = 4;
-/// Random restarts of the classification's search for any in-limit solution.
-const CLASSIFY_RESTARTS: usize = 8;
+const LOCAL_RESTARTS: usize = 2;
+/// Random restarts anywhere in the limits, to tell a discontinuity from unreachability.
+const CLASSIFY_RESTARTS: usize = 3;
 /// Intermediate poses used when a warm-started solve fails.
 const SUBSTEPS: usize = 4;
 
@@ -297,9 +300,9 @@ impl Tracker<'_> {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.options.ik.random_seed);
         let mut ws = Workspace::new();
         let wanted = self.options.branches;
-        let mut found: Vec<Vec<f64>> = Vec::with_capacity(wanted);
+        let mut found: Vec<Vec<f64>> = Vec::with_capacity(wanted.min(16));
         let far = out_of_reach(kernel, &target);
-        let max_attempts = 6 * wanted + 2;
+        let max_attempts = wanted.saturating_mul(6).saturating_add(2);
         let mut best_cost = f64::INFINITY;
         let mut best = (f64::INFINITY, f64::INFINITY);
         let mut k = 0usize;
@@ -313,7 +316,15 @@ impl Tracker<'_> {
             }
             let (strategy, cap) = prepare_attempt(kernel, k, seed, &mut rng, &mut ws.cur_mut().q);
             k += 1;
-            let end = run_attempt(kernel, &target, &mut ws, strategy, cap, &mut budget);
+            let end = run_attempt(
+                kernel,
+                &target,
+                &mut ws,
+                strategy,
+                cap,
+                Patience::SEARCH,
+                &mut budget,
+            );
             let state = ws.cur();
             if state.cost < best_cost {
                 best_cost = state.cost;
@@ -338,21 +349,25 @@ impl Tracker<'_> {
         let mut start = [0.0; MAX_JOINTS];
         start[..n].copy_from_slice(seed);
         kernel.clamp(&mut start[..n]);
-        Err(self.classify_first(&target, &start[..n], far, best))
+        self.classify_first(&target, &start[..n], far, best)
+            .map(|q| vec![q])
     }
 
-    /// Why sample 0 has no solution in the limits.
+    /// Why sample 0 has no solution in the limits; `Ok` with a solution should the search
+    /// without limits find one inside them after all.
     fn classify_first(
         &self,
         target: &Target,
         start: &[f64],
         far: bool,
         best: (f64, f64),
-    ) -> TrajectoryFailure {
-        let fail = |reason, detail| TrajectoryFailure {
-            sample: 0,
-            reason,
-            detail,
+    ) -> Result<Vec<f64>, TrajectoryFailure> {
+        let fail = |reason, detail| {
+            Err(TrajectoryFailure {
+                sample: 0,
+                reason,
+                detail,
+            })
         };
         if far {
             return fail(
@@ -363,7 +378,7 @@ impl Tracker<'_> {
         let free = self.kernel.unconstrained();
         let mut rng = self.rng(usize::MAX, 0);
         let mut ws = Workspace::new();
-        let cap = 4 * self.options.per_sample_iterations.max(20);
+        let cap = self.options.per_sample_iterations.max(30).saturating_mul(2);
         for k in 0..CLASSIFY_RESTARTS {
             let mut budget = Budget::new(cap, None);
             if k == 0 {
@@ -372,12 +387,21 @@ impl Tracker<'_> {
                 self.kernel
                     .random_configuration(&mut rng, &mut ws.cur_mut().q[..start.len()]);
             }
-            let end = run_attempt(&free, target, &mut ws, Strategy::Clamped, cap, &mut budget);
+            let end = run_attempt(
+                &free,
+                target,
+                &mut ws,
+                Strategy::Clamped,
+                cap,
+                Patience::SEARCH,
+                &mut budget,
+            );
             if end == RunEnd::Converged {
-                return fail(
-                    TrajectoryFailureReason::JointLimit,
-                    self.limit_detail(&ws.cur().q[..start.len()]),
-                );
+                let q = &ws.cur().q[..start.len()];
+                if self.kernel.chain.within_limits(q) {
+                    return Ok(q.to_vec());
+                }
+                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
             }
         }
         fail(
@@ -433,99 +457,40 @@ impl Tracker<'_> {
         for i in 1..self.poses.len() {
             previous[..n].copy_from_slice(&ws.cur().q[..n]);
             let target = Target::new(&self.poses[i]);
+            // The warm start: the previous solution's pose and Jacobian are already known.
             kernel.retarget(&target, ws.cur_mut());
             let mut budget = Budget::new(per_sample, None);
-            let end = kernel.run(&target, &mut ws, Strategy::Clamped, per_sample, &mut budget);
-            let accepted = (end == RunEnd::Converged
-                && max_difference(&ws.cur().q[..n], &previous[..n]) <= step)
-                || self.recover(branch, i, &previous[..n], &target, &mut ws);
+            let end = kernel.run(
+                &target,
+                &mut ws,
+                Strategy::Clamped,
+                per_sample,
+                Patience::TRACKING,
+                &mut budget,
+            );
+            let accepted = end == RunEnd::Converged
+                && max_difference(&ws.cur().q[..n], &previous[..n]) <= step;
             if !accepted {
-                // The classification's wider search may still find an acceptable solution.
-                let q = self.classify(branch, i, &previous[..n], &target)?;
-                ws.cur_mut().q[..n].copy_from_slice(&q);
-                kernel.evaluate(&target, ws.cur_mut());
+                self.resolve(branch, i, &previous[..n], &target, &mut ws)?;
             }
             path.push(ws.cur().q[..n].to_vec());
         }
         Ok(JointPath { q: path })
     }
 
-    /// Retries a sample from `previous` (the solution at sample `i − 1`); on success the
-    /// workspace holds the accepted solution.
-    fn recover(
+    /// Retries sample `i` from `previous` (the solution at sample `i − 1`) with wider searches,
+    /// cheapest first; `Ok` leaves the accepted solution in `ws`, `Err` says why there is none.
+    fn resolve(
         &self,
         branch: usize,
         i: usize,
         previous: &[f64],
         target: &Target,
         ws: &mut Workspace,
-    ) -> bool {
+    ) -> Result<(), TrajectoryFailure> {
         let n = previous.len();
         let kernel = &self.kernel;
-        let step = self.options.max_joint_step;
-        let per_sample = self.options.per_sample_iterations;
-        let accept = |ws: &Workspace, end: RunEnd| {
-            end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
-        };
-        // 1. The other limit strategy, then the pose step split into substeps.
-        for strategy in [Strategy::LimitWeighted, Strategy::Clamped] {
-            ws.cur_mut().q[..n].copy_from_slice(previous);
-            let mut budget = Budget::new(SUBSTEPS * per_sample + SUBSTEPS, None);
-            let end = if strategy == Strategy::LimitWeighted {
-                run_attempt(kernel, target, ws, strategy, per_sample, &mut budget)
-            } else {
-                let mut end = RunEnd::Stalled;
-                for s in 1..=SUBSTEPS {
-                    let fraction = s as f64 / SUBSTEPS as f64;
-                    let pose = interpolate_decoupled(&self.poses[i - 1], &self.poses[i], fraction);
-                    let sub = Target::new(&pose);
-                    end = run_attempt(kernel, &sub, ws, strategy, per_sample, &mut budget);
-                    if end != RunEnd::Converged {
-                        break;
-                    }
-                }
-                end
-            };
-            if accept(ws, end) {
-                return true;
-            }
-        }
-        // 2. Restarts near the previous solution.
-        let mut rng = self.rng(branch, i);
-        let radius = 0.5 * step;
-        for k in 0..LOCAL_RESTARTS {
-            {
-                let q = &mut ws.cur_mut().q[..n];
-                for (v, &p) in q.iter_mut().zip(previous) {
-                    *v = p + rng.random_range(-radius..=radius);
-                }
-                kernel.clamp(q);
-            }
-            let strategy = if k.is_multiple_of(2) {
-                Strategy::Clamped
-            } else {
-                Strategy::LimitWeighted
-            };
-            let mut budget = Budget::new(per_sample + 1, None);
-            let end = run_attempt(kernel, target, ws, strategy, per_sample, &mut budget);
-            if accept(ws, end) {
-                return true;
-            }
-        }
-        false
-    }
-
-    /// Why sample `i` cannot follow `previous`; `Ok` with a solution when the wider search
-    /// finds an acceptable one after all.
-    fn classify(
-        &self,
-        branch: usize,
-        i: usize,
-        previous: &[f64],
-        target: &Target,
-    ) -> Result<Vec<f64>, TrajectoryFailure> {
-        let n = previous.len();
-        let chain = self.kernel.chain;
+        let chain = kernel.chain;
         let step = self.options.max_joint_step;
         let per_sample = self.options.per_sample_iterations;
         let fail = |reason, detail| {
@@ -535,52 +500,139 @@ impl Tracker<'_> {
                 detail,
             })
         };
-        if out_of_reach(&self.kernel, target) {
+        let acceptable = |ws: &Workspace, end: RunEnd| {
+            end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
+        };
+        if out_of_reach(kernel, target) {
             return fail(
                 TrajectoryFailureReason::Unreachable,
                 self.reach_detail(target),
             );
         }
-        let mut ws = Workspace::new();
-        // 1. Without limits, from the previous solution.
-        let free = self.kernel.unconstrained();
+        // 1. The other limit strategy from the previous solution.
         ws.cur_mut().q[..n].copy_from_slice(previous);
-        let cap = 4 * per_sample;
-        let mut budget = Budget::new(cap + 1, None);
-        let free_end = run_attempt(&free, target, &mut ws, Strategy::Clamped, cap, &mut budget);
+        let mut budget = Budget::new(per_sample.saturating_add(1), None);
+        let end = run_attempt(
+            kernel,
+            target,
+            ws,
+            Strategy::LimitWeighted,
+            per_sample,
+            Patience::TRACKING,
+            &mut budget,
+        );
+        if acceptable(ws, end) {
+            return Ok(());
+        }
+        // 2. The pose step split into substeps (large motions between samples).
+        ws.cur_mut().q[..n].copy_from_slice(previous);
+        let mut budget = Budget::new(per_sample.saturating_add(1).saturating_mul(SUBSTEPS), None);
+        let mut end = RunEnd::Stalled;
+        for s in 1..=SUBSTEPS {
+            // The last substep is the sample's own target, exactly.
+            let sub = if s == SUBSTEPS {
+                *target
+            } else {
+                let fraction = s as f64 / SUBSTEPS as f64;
+                Target::new(&interpolate_decoupled(
+                    &self.poses[i - 1],
+                    &self.poses[i],
+                    fraction,
+                ))
+            };
+            end = run_attempt(
+                kernel,
+                &sub,
+                ws,
+                Strategy::Clamped,
+                per_sample,
+                Patience::TRACKING,
+                &mut budget,
+            );
+            if end != RunEnd::Converged {
+                break;
+            }
+        }
+        if acceptable(ws, end) {
+            return Ok(());
+        }
+        // 3. Without limits from the previous solution: a nearby solution outside the limits
+        //    means the path has to leave them.
+        let free = kernel.unconstrained();
+        ws.cur_mut().q[..n].copy_from_slice(previous);
+        let cap = per_sample.saturating_mul(2);
+        let mut budget = Budget::new(cap.saturating_add(1), None);
+        let free_end = run_attempt(
+            &free,
+            target,
+            ws,
+            Strategy::Clamped,
+            cap,
+            Patience::TRACKING,
+            &mut budget,
+        );
         let free_q: Option<Vec<f64>> =
             (free_end == RunEnd::Converged).then(|| ws.cur().q[..n].to_vec());
         if let Some(q) = &free_q {
             if max_difference(q, previous) <= step {
                 if chain.within_limits(q) {
-                    return Ok(q.clone());
+                    return Ok(());
                 }
                 return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
             }
         }
-        // 2. Any solution inside the limits.
-        let mut rng = self.rng(branch ^ (1 << 20), i);
+        // 4. Restarts near the previous solution, then anywhere in the limits.
+        let mut rng = self.rng(branch, i);
+        let radius = 0.5 * step;
         let mut nearest: Option<(usize, f64)> = None;
-        if let Some(q) = &free_q {
-            if chain.within_limits(q) {
-                nearest = Some(largest_step(q, previous));
-            }
-        }
         let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
-        for k in 2..2 + CLASSIFY_RESTARTS {
-            if nearest.is_some() {
-                break;
+        for k in 0..LOCAL_RESTARTS + CLASSIFY_RESTARTS {
+            let strategy = if k.is_multiple_of(2) {
+                Strategy::Clamped
+            } else {
+                Strategy::LimitWeighted
+            };
+            {
+                let q = &mut ws.cur_mut().q[..n];
+                if k < LOCAL_RESTARTS {
+                    for (v, &p) in q.iter_mut().zip(previous) {
+                        *v = p + rng.random_range(-radius..=radius);
+                    }
+                    kernel.clamp(q);
+                } else {
+                    kernel.random_configuration(&mut rng, q);
+                }
             }
-            let (strategy, cap) =
-                prepare_attempt(&self.kernel, k, previous, &mut rng, &mut ws.cur_mut().q);
-            let mut budget = Budget::new(cap + 1, None);
-            let end = run_attempt(&self.kernel, target, &mut ws, strategy, cap, &mut budget);
+            let cap = if k < LOCAL_RESTARTS {
+                per_sample
+            } else {
+                RESTART_ATTEMPT_CAP
+            };
+            let mut budget = Budget::new(cap.saturating_add(1), None);
+            let end = run_attempt(
+                kernel,
+                target,
+                ws,
+                strategy,
+                cap,
+                Patience::SEARCH,
+                &mut budget,
+            );
+            if acceptable(ws, end) {
+                return Ok(());
+            }
             let state = ws.cur();
             if state.cost < best.0 {
                 best = (state.cost, state.position_error, state.rotation_error);
             }
             if end == RunEnd::Converged {
-                nearest = Some(largest_step(&state.q[..n], previous));
+                let found = largest_step(&state.q[..n], previous);
+                if nearest.is_none_or(|(_, d)| found.1 < d) {
+                    nearest = Some(found);
+                }
+                if k >= LOCAL_RESTARTS {
+                    break;
+                }
             }
         }
         if let Some((joint, jump)) = nearest {
@@ -595,7 +647,9 @@ impl Tracker<'_> {
             );
         }
         if let Some(q) = &free_q {
-            return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+            if !chain.within_limits(q) {
+                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+            }
         }
         fail(
             TrajectoryFailureReason::Unreachable,

@@ -27,3 +27,64 @@ pub fn shared_file(relative: &str) -> Option<PathBuf> {
         }
     }
 }
+
+use graspath::robot::{Chain, ChainSpec, JointKind, JointSpec};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+/// The UR5 arm (`base_link` → `tool0`) from Universal Robots' published joint origins (the
+/// values of `ur_description`), with every joint limited to `±limit` (rad). Built in the test
+/// so that the suite does not need `../shared`.
+pub fn ur5_like(limit: f64) -> Chain {
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let joint = |name: &str, xyz: [f64; 3], rpy: [f64; 3], axis: Vector3<f64>| JointSpec {
+        name: name.into(),
+        kind: JointKind::Revolute,
+        parent_from_joint: Isometry3::from_parts(
+            Translation3::new(xyz[0], xyz[1], xyz[2]),
+            UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+        ),
+        axis,
+        lower: -limit,
+        upper: limit,
+        mimic: None,
+    };
+    let y = Vector3::y();
+    let z = Vector3::z();
+    let joints = vec![
+        joint("shoulder_pan_joint", [0.0, 0.0, 0.089159], [0.0; 3], z),
+        joint(
+            "shoulder_lift_joint",
+            [0.0, 0.13585, 0.0],
+            [0.0, half_pi, 0.0],
+            y,
+        ),
+        joint("elbow_joint", [0.0, -0.1197, 0.425], [0.0; 3], y),
+        joint("wrist_1_joint", [0.0, 0.0, 0.39225], [0.0, half_pi, 0.0], y),
+        joint("wrist_2_joint", [0.0, 0.093, 0.0], [0.0; 3], z),
+        joint("wrist_3_joint", [0.0, 0.0, 0.09465], [0.0; 3], y),
+    ];
+    Chain::from_spec(&ChainSpec {
+        source_name: "test ur5".into(),
+        base_link: "base_link".into(),
+        tip_link: "tool0".into(),
+        joints,
+        tip_from_tool: Some(Isometry3::from_parts(
+            Translation3::new(0.0, 0.0823, 0.0),
+            UnitQuaternion::from_euler_angles(-half_pi, 0.0, 0.0),
+        )),
+    })
+    .expect("a valid chain")
+}
+
+/// The tip pose at `q` as an `Isometry3`.
+pub fn fk(chain: &Chain, q: &[f64]) -> Isometry3<f64> {
+    nalgebra::convert(chain.pose(q).expect("q has the chain's length"))
+}
+
+/// Position (m) and rotation (rad) distance between two poses.
+pub fn pose_distance(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
+    (
+        (a.translation.vector - b.translation.vector).norm(),
+        a.rotation.angle_to(&b.rotation),
+    )
+}

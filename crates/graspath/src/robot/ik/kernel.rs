@@ -122,6 +122,27 @@ pub(crate) enum RunEnd {
     OutOfBudget,
 }
 
+/// When a run gives up: the cost must fall below `factor` times its value at the start of
+/// every window of `window` accepted steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Patience {
+    pub window: usize,
+    pub factor: f64,
+}
+
+impl Patience {
+    /// For searches with restarts: give up early on slow progress and restart elsewhere.
+    pub(crate) const SEARCH: Self = Self {
+        window: 4,
+        factor: 0.7,
+    };
+    /// For warm-started tracking, where giving up is costly.
+    pub(crate) const TRACKING: Self = Self {
+        window: 12,
+        factor: 0.5,
+    };
+}
+
 /// The shared budget of one solve: evaluations left and an optional deadline.
 #[derive(Debug, Clone)]
 pub(crate) struct Budget {
@@ -337,6 +358,7 @@ impl<'a> Kernel<'a> {
         ws: &mut Workspace,
         strategy: Strategy,
         max_evaluations: usize,
+        patience: Patience,
         budget: &mut Budget,
     ) -> RunEnd {
         let n = self.dof();
@@ -377,8 +399,8 @@ impl<'a> Kernel<'a> {
                 ws.accept();
                 mu = (mu * 0.5).max(1.0);
                 window_steps += 1;
-                if window_steps == 12 {
-                    if ws.cur().cost > 0.5 * window_cost {
+                if window_steps == patience.window {
+                    if ws.cur().cost > patience.factor * window_cost {
                         return RunEnd::Stalled;
                     }
                     window_cost = ws.cur().cost;
@@ -545,6 +567,76 @@ mod tests {
             assert!(
                 (fast - reference).norm() < 1e-9,
                 "angle {angle}: {fast} vs {reference}"
+            );
+        }
+    }
+
+    /// The 6 × 6 task-space step equals the joint-space Levenberg–Marquardt step
+    /// `(JᵀWJ + λI)⁻¹ JᵀW e` (with `W = diag(1, 1, 1, ρ², ρ², ρ²)`), solved densely by nalgebra.
+    #[test]
+    fn task_space_step_equals_the_joint_space_step() {
+        use crate::robot::builtin::{baxter, Arm};
+        use nalgebra::{DMatrix, DVector};
+        let chain = baxter(Arm::Left);
+        let kernel = Kernel::new(&chain, 1e-5, 1e-5);
+        let target = Target::new(&Isometry3::from_parts(
+            nalgebra::Translation3::new(0.7, 0.3, 0.1),
+            UnitQuaternion::from_euler_angles(0.3, 1.2, -0.4),
+        ));
+        let mut state = State::new();
+        state.q[..7].copy_from_slice(&[0.1, -0.2, 0.3, 1.0, -0.4, 0.6, 0.2]);
+        kernel.evaluate(&target, &mut state);
+        let lambda = 0.01;
+        let mut dq = [0.0; MAX_JOINTS];
+        assert!(kernel.step(&state, lambda, Strategy::Clamped, &mut dq));
+        let rho2 = ROTATION_LENGTH * ROTATION_LENGTH;
+        let w = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 1.0, 1.0, rho2, rho2, rho2]));
+        let j = DMatrix::from_column_slice(6, 7, &state.jacobian[..42]);
+        let e = DVector::from_column_slice(state.error.as_slice());
+        let normal = j.transpose() * &w * &j + DMatrix::identity(7, 7) * lambda;
+        let expected = normal
+            .lu()
+            .solve(&(j.transpose() * &w * e))
+            .expect("invertible");
+        for k in 0..7 {
+            assert!(
+                (dq[k] - expected[k]).abs() < 1e-10,
+                "{k}: {} vs {}",
+                dq[k],
+                expected[k]
+            );
+        }
+    }
+
+    /// The error moves as `−J·dq` near the target: finite differences of the error against
+    /// the Jacobian (the linearisation every step relies on).
+    #[test]
+    fn error_changes_by_minus_jacobian_times_step() {
+        use crate::robot::builtin::{baxter, Arm};
+        let chain = baxter(Arm::Left);
+        let kernel = Kernel::new(&chain, 1e-5, 1e-5);
+        let q = [0.1, -0.2, 0.3, 1.0, -0.4, 0.6, 0.2];
+        let at_q: Isometry3<f64> = nalgebra::convert(chain.pose(&q).expect("fk"));
+        let target = Target::new(&at_q);
+        let mut state = State::new();
+        state.q[..7].copy_from_slice(&q);
+        kernel.evaluate(&target, &mut state);
+        assert!(state.error.norm() < 1e-12);
+        let direction = [0.3, -0.1, 0.5, 0.2, -0.7, 0.4, 0.9];
+        let h = 1e-6;
+        let mut moved = State::new();
+        for k in 0..7 {
+            moved.q[k] = q[k] + h * direction[k];
+        }
+        kernel.evaluate(&target, &mut moved);
+        for r in 0..6 {
+            let predicted: f64 = (0..7)
+                .map(|k| -state.jacobian[6 * k + r] * direction[k])
+                .sum();
+            let measured = moved.error[r] / h;
+            assert!(
+                (measured - predicted).abs() < 1e-5,
+                "row {r}: {measured} vs {predicted}"
             );
         }
     }

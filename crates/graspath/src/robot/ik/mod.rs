@@ -24,7 +24,7 @@ pub(crate) mod kernel;
 
 use super::chain::{Chain, MAX_JOINTS};
 use super::error::RobotError;
-use kernel::{Budget, Kernel, RunEnd, Strategy, Target, Workspace};
+use kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
@@ -49,7 +49,8 @@ pub struct IkOptions {
 }
 
 impl Default for IkOptions {
-    /// TRAC-IK's defaults: 1e-5 m and 1e-5 rad, 5 ms; 100,000 iterations; seed 0.
+    /// TRAC-IK's tolerances and time budget (1e-5 m, 1e-5 rad, 5 ms), a cap of 100,000
+    /// iterations, seed 0.
     fn default() -> Self {
         Self {
             position_tolerance: 1e-5,
@@ -246,13 +247,18 @@ pub(crate) fn run_attempt(
     ws: &mut Workspace,
     strategy: Strategy,
     cap: usize,
+    patience: Patience,
     budget: &mut Budget,
 ) -> RunEnd {
     if !budget.spend() {
+        let state = ws.cur_mut();
+        state.cost = f64::INFINITY;
+        state.position_error = f64::INFINITY;
+        state.rotation_error = f64::INFINITY;
         return RunEnd::OutOfBudget;
     }
     kernel.evaluate(target, ws.cur_mut());
-    kernel.run(target, ws, strategy, cap, budget)
+    kernel.run(target, ws, strategy, cap, patience, budget)
 }
 
 /// Attempts from the seed, then random restarts, until one converges or the budget is spent.
@@ -280,8 +286,8 @@ pub(crate) fn search<R: rand::Rng>(
     let mut k = 0;
     while !budget.exhausted() {
         let (strategy, cap) = prepare_attempt(kernel, k, seed, rng, &mut ws.cur_mut().q);
-        let end = run_attempt(kernel, target, ws, strategy, cap, budget);
-        if end == RunEnd::OutOfBudget && k > 0 && ws.cur().cost.is_infinite() {
+        let end = run_attempt(kernel, target, ws, strategy, cap, Patience::SEARCH, budget);
+        if end == RunEnd::OutOfBudget && ws.cur().cost.is_infinite() {
             break;
         }
         outcome.attempts += 1;
@@ -297,7 +303,8 @@ pub(crate) fn search<R: rand::Rng>(
             break;
         }
         k += 1;
-        if far {
+        if far || n == 0 {
+            // Out of reach, or nothing to move: more attempts cannot help.
             break;
         }
     }

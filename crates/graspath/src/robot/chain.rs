@@ -431,7 +431,28 @@ impl<const N: usize> FixedChain<N> {
     }
 }
 
+/// `a·x + b·y + c·z` for 3-vectors.
+#[inline(always)]
+fn combine(x: &[f64; 3], a: f64, y: &[f64; 3], b: f64, z: &[f64; 3], c: f64) -> [f64; 3] {
+    [
+        x[0] * a + y[0] * b + z[0] * c,
+        x[1] * a + y[1] * b + z[1] * c,
+        x[2] * a + y[2] * b + z[2] * c,
+    ]
+}
+
+#[inline(always)]
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
 /// The forward pass. Writes the Jacobian (column-major, 6 per segment) when asked.
+///
+/// The rotation is kept as three column arrays so the compiler sees plain scalar arithmetic.
 #[inline(always)]
 fn forward(
     segments: &[Segment],
@@ -439,54 +460,82 @@ fn forward(
     jacobian: Option<&mut [f64]>,
     (tail_rotation, tail_translation): (&Matrix3<f64>, &Vector3<f64>),
 ) -> IsometryMatrix3<f64> {
-    let mut rotation = Matrix3::<f64>::identity();
-    let mut position = Vector3::<f64>::zeros();
+    // Columns of the current frame's rotation and its origin, base frame.
+    let mut c = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let mut p = [0.0; 3];
     let mut jacobian = jacobian;
+    if let Some(j) = jacobian.as_deref() {
+        debug_assert_eq!(j.len(), 6 * segments.len());
+    }
     for (i, segment) in segments.iter().enumerate() {
-        position += rotation * segment.translation;
-        let turned = rotation * segment.rotation;
-        let axis = turned.column(2).into_owned();
+        let s = &segment.rotation;
+        let t = &segment.translation;
+        let offset = combine(&c[0], t[0], &c[1], t[1], &c[2], t[2]);
+        p = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
+        let x = combine(&c[0], s[(0, 0)], &c[1], s[(1, 0)], &c[2], s[(2, 0)]);
+        let y = combine(&c[0], s[(0, 1)], &c[1], s[(1, 1)], &c[2], s[(2, 1)]);
+        let z = combine(&c[0], s[(0, 2)], &c[1], s[(1, 2)], &c[2], s[(2, 2)]);
         let value = joint_value(i);
         match segment.kind {
             MotionKind::Revolute => {
-                let (s, c) = super::trig::sin_cos(value);
-                let x = turned.column(0);
-                let y = turned.column(1);
-                rotation = Matrix3::from_columns(&[x * c + y * s, y * c - x * s, axis]);
+                let (sin, cos) = super::trig::sin_cos(value);
+                c = [
+                    [
+                        x[0] * cos + y[0] * sin,
+                        x[1] * cos + y[1] * sin,
+                        x[2] * cos + y[2] * sin,
+                    ],
+                    [
+                        y[0] * cos - x[0] * sin,
+                        y[1] * cos - x[1] * sin,
+                        y[2] * cos - x[2] * sin,
+                    ],
+                    z,
+                ];
                 if let Some(j) = jacobian.as_deref_mut() {
                     // v = z × (p_tip − p); store p × z now, add z × p_tip at the end.
-                    let partial = position.cross(&axis);
-                    j[6 * i..6 * i + 6].copy_from_slice(&[
-                        partial.x, partial.y, partial.z, axis.x, axis.y, axis.z,
-                    ]);
+                    let partial = cross(&p, &z);
+                    if let Some(column) = j.get_mut(6 * i..6 * i + 6) {
+                        column.copy_from_slice(&[
+                            partial[0], partial[1], partial[2], z[0], z[1], z[2],
+                        ]);
+                    }
                 }
             }
             MotionKind::Prismatic => {
-                rotation = turned;
-                position += axis * value;
+                c = [x, y, z];
+                p = [
+                    p[0] + z[0] * value,
+                    p[1] + z[1] * value,
+                    p[2] + z[2] * value,
+                ];
                 if let Some(j) = jacobian.as_deref_mut() {
-                    j[6 * i..6 * i + 6].copy_from_slice(&[axis.x, axis.y, axis.z, 0.0, 0.0, 0.0]);
+                    if let Some(column) = j.get_mut(6 * i..6 * i + 6) {
+                        column.copy_from_slice(&[z[0], z[1], z[2], 0.0, 0.0, 0.0]);
+                    }
                 }
             }
         }
     }
-    let tip_position = position + rotation * tail_translation;
-    let tip_rotation = rotation * tail_rotation;
+    let tt = tail_translation;
+    let offset = combine(&c[0], tt[0], &c[1], tt[1], &c[2], tt[2]);
+    let tip = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
+    let rotation = Matrix3::new(
+        c[0][0], c[1][0], c[2][0], c[0][1], c[1][1], c[2][1], c[0][2], c[1][2], c[2][2],
+    ) * tail_rotation;
     if let Some(j) = jacobian {
-        for (i, segment) in segments.iter().enumerate() {
+        for (segment, column) in segments.iter().zip(j.chunks_exact_mut(6)) {
             if segment.kind == MotionKind::Revolute {
-                let column = &mut j[6 * i..6 * i + 6];
-                let axis = Vector3::new(column[3], column[4], column[5]);
-                let lever = axis.cross(&tip_position);
-                column[0] += lever.x;
-                column[1] += lever.y;
-                column[2] += lever.z;
+                let lever = cross(&[column[3], column[4], column[5]], &tip);
+                column[0] += lever[0];
+                column[1] += lever[1];
+                column[2] += lever[2];
             }
         }
     }
     IsometryMatrix3::from_parts(
-        Translation3::from(tip_position),
-        Rotation3::from_matrix_unchecked(tip_rotation),
+        Translation3::new(tip[0], tip[1], tip[2]),
+        Rotation3::from_matrix_unchecked(rotation),
     )
 }
 

@@ -94,6 +94,7 @@ fn planar_task(start_x: f64, end_x: f64, samples: usize) -> Task {
         mode: IndexMode::Translation,
         selection: SelectionOptions::default(),
         ik: TrajectoryIkOptions::default(),
+        compare_branches: true,
     }
 }
 

@@ -48,6 +48,7 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
                 &task.path,
                 task.mode,
                 &task.ik,
+                task.compare_branches,
                 progress,
             );
             let rankings = rank_candidates(&task.candidates, &scores, &task.selection);

@@ -173,12 +173,18 @@ fn index_along(
 
 /// Scores every candidate for one arm, in parallel (rayon), deterministically: the result does
 /// not depend on the thread count. `progress` is called once per finished candidate.
+///
+/// IK tracks one branch from the grasp pose; only when it fails are up to `ik.branches`
+/// distinct initial solutions searched and tracked. With `compare_branches`, every branch is
+/// tracked and the one with the best norm is kept (slower, and the ranking then reflects the
+/// best redundancy resolution rather than the first one found).
 pub fn score_candidates(
     arm: &ArmSetup,
     candidates: &[Candidate],
     path: &ObjectPath,
     mode: IndexMode,
     ik: &TrajectoryIkOptions,
+    compare_branches: bool,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<CandidateScore> {
     let base_from_world = arm.world_from_base.inverse();
@@ -188,7 +194,17 @@ pub fn score_candidates(
         .par_iter()
         .enumerate()
         .map(|(index, candidate)| {
-            let score = score_one(arm, index, candidate, path, &motion, &times, mode, ik);
+            let score = score_one(
+                arm,
+                index,
+                candidate,
+                path,
+                &motion,
+                &times,
+                mode,
+                ik,
+                compare_branches,
+            );
             progress();
             score
         })
@@ -205,6 +221,7 @@ fn score_one(
     times: &[f64],
     mode: IndexMode,
     ik: &TrajectoryIkOptions,
+    compare_branches: bool,
 ) -> CandidateScore {
     let chain = &arm.chain;
     let targets = wrist_trajectory(path, &arm.world_from_base, &candidate.object_from_wrist);
@@ -221,7 +238,20 @@ fn score_one(
         joint_trajectory: Vec::new(),
         feasible_branches: 0,
     };
-    let result = match solve_trajectory(chain, &targets, &seed, ik) {
+    // Track one branch first; search for more only when it fails, or when every branch is
+    // to be compared.
+    let first_try = TrajectoryIkOptions {
+        branches: if compare_branches { ik.branches } else { 1 },
+        ..ik.clone()
+    };
+    let mut result = solve_trajectory(chain, &targets, &seed, &first_try);
+    // Another branch can only help when the grasp pose itself was solved.
+    let grasp_solved = matches!(&result, Ok(r) if r.branches.is_empty()
+        && r.failure.as_ref().is_some_and(|f| f.sample > 0));
+    if !compare_branches && ik.branches > 1 && grasp_solved {
+        result = solve_trajectory(chain, &targets, &seed, ik);
+    }
+    let result = match result {
         Ok(r) => r,
         Err(e) => {
             score.failure = Some(Failure {

@@ -16,7 +16,7 @@ use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
 
 /// The default IK iteration budget of a candidate's grasp sample (over all restarts).
-pub const DEFAULT_GRASP_ITERATIONS: usize = 400;
+pub const DEFAULT_GRASP_ITERATIONS: usize = 200;
 
 /// One arm taking part in the task.
 #[derive(Debug, Clone)]
@@ -50,6 +50,8 @@ pub struct Task {
     pub selection: SelectionOptions,
     /// Trajectory IK settings.
     pub ik: TrajectoryIkOptions,
+    /// Track every IK branch and keep the best (else the first feasible branch is scored).
+    pub compare_branches: bool,
 }
 
 impl Task {
@@ -181,6 +183,7 @@ impl Task {
             mode,
             selection,
             ik,
+            compare_branches: file.ik.compare_branches.unwrap_or(false),
         })
     }
 

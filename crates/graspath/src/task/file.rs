@@ -374,10 +374,14 @@ pub struct IkFile {
     /// Position and rotation tolerance (m, rad; default 1e-5).
     #[serde(default)]
     pub tolerance: Option<f64>,
-    /// Iteration budget for the grasp sample, over all restarts (default 400): what an
+    /// Iteration budget for the grasp sample, over all restarts (default 200): what an
     /// unreachable candidate costs before it is given up.
     #[serde(default)]
     pub iterations: Option<usize>,
+    /// Track every branch and keep the one with the best norm (default false: the first
+    /// feasible branch is scored; other branches are searched only when it fails).
+    #[serde(default)]
+    pub compare_branches: Option<bool>,
 }
 
 impl TaskFile {

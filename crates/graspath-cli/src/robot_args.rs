@@ -26,10 +26,10 @@ pub struct RobotArgs {
     #[arg(long, value_name = "ARM", default_value = "left")]
     pub arm: String,
     /// A tool offset after the tip, `x,y,z` in metres in the tip frame.
-    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', num_args = 3)]
+    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',')]
     pub tool_xyz: Option<Vec<f64>>,
     /// The tool offset's rotation, `roll,pitch,yaw` in radians (URDF convention).
-    #[arg(long, value_name = "R,P,Y", value_delimiter = ',', num_args = 3)]
+    #[arg(long, value_name = "R,P,Y", value_delimiter = ',')]
     pub tool_rpy: Option<Vec<f64>>,
 }
 
@@ -40,6 +40,9 @@ impl RobotArgs {
         }
         let xyz = self.tool_xyz.clone().unwrap_or_else(|| vec![0.0; 3]);
         let rpy = self.tool_rpy.clone().unwrap_or_else(|| vec![0.0; 3]);
+        if xyz.len() != 3 || rpy.len() != 3 {
+            bail!("--tool-xyz / --tool-rpy: give three comma-separated numbers, e.g. 0,0,0.1");
+        }
         if xyz.iter().chain(&rpy).any(|v| !v.is_finite()) {
             bail!("--tool-xyz / --tool-rpy: values must be finite numbers");
         }

@@ -44,8 +44,8 @@ pub fn run(args: &KinematicsArgs) -> Result<()> {
     let chain = args.robot.load()?;
     let source = source_name(args.input.as_deref());
     let input = open_input(args.input.as_deref())?;
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
+    // Everything is computed before anything is printed: an error leaves no partial output.
+    let mut out: Vec<u8> = Vec::new();
     let mut jacobian = nalgebra::Matrix6xX::zeros(chain.dof());
     for_each_line(input, &source, |_, line: Input| {
         let pose = chain.pose_and_jacobian_into(&line.q, &mut jacobian)?;
@@ -63,6 +63,6 @@ pub fn run(args: &KinematicsArgs) -> Result<()> {
         out.write_all(b"\n")?;
         Ok(())
     })?;
-    out.flush()?;
+    std::io::stdout().lock().write_all(&out)?;
     Ok(())
 }

@@ -1,0 +1,1 @@
+//! The one-shot grasp model.

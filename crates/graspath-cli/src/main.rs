@@ -20,12 +20,18 @@ struct Cli {
 enum Command {
     /// Forward kinematics, Jacobian and manipulability for joint configurations (JSON Lines).
     Kinematics(commands::kinematics::KinematicsArgs),
+    /// Learn a one-shot grasp model from one demonstration (hand, object cloud, waypoints).
+    Train(commands::train::TrainArgs),
+    /// Generate grasp candidates with log-likelihoods on an object cloud from a trained model.
+    Generate(commands::generate::GenerateArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Kinematics(args) => commands::kinematics::run(&args),
+        Command::Train(args) => commands::train::run(&args),
+        Command::Generate(args) => commands::generate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -401,3 +401,56 @@ pub fn density_distance(
     }
     total / model_points.len() as f64
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grasp::model::kernel::{item_rng, unit_vector};
+
+    /// The grid evaluation against the defining sum over every kernel.
+    #[test]
+    fn grid_evaluation_matches_brute_force() {
+        let params = ModelParams::default();
+        let mut rng = item_rng(5, 0, 0);
+        let kernels: Vec<Kernel> = (0..3000)
+            .map(|_| {
+                let p = unit_vector(&mut rng) * 0.05 + Vector3::new(0.01, -0.02, 0.3);
+                let r = UnitQuaternion::from_scaled_axis(unit_vector(&mut rng) * 0.4);
+                Kernel {
+                    pose: Isometry3::from_parts(p.into(), r),
+                    weight: rng.random::<f64>(),
+                }
+            })
+            .collect();
+        let reference: Vec<(Isometry3<f64>, f64)> =
+            kernels.iter().map(|k| (k.pose, k.weight)).collect();
+        let density = QueryDensity::from_kernels(0, 0.0, kernels, &params);
+        let s2 = params.query_sigma_position.powi(2);
+        for i in 0..300 {
+            let base = reference[i * 7 % reference.len()].0;
+            let jitter = Isometry3::from_parts(
+                (unit_vector(&mut rng) * 0.01 * rng.random::<f64>()).into(),
+                UnitQuaternion::from_scaled_axis(unit_vector(&mut rng) * 0.2 * rng.random::<f64>()),
+            );
+            let q = jitter * base;
+            let brute: f64 = reference
+                .iter()
+                .map(|(k, w)| {
+                    let d2 = (q.translation.vector - k.translation.vector).norm_squared();
+                    let dq = quaternion_distance(&q.rotation, &k.rotation);
+                    let e = d2 / s2 + params.query_kappa * dq;
+                    if d2 < 25.0 * s2 && dq < 25.0 / params.query_kappa && e < 25.0 {
+                        w * (-e).exp()
+                    } else {
+                        0.0
+                    }
+                })
+                .sum();
+            let got = density.evaluate(&q);
+            assert!(
+                (got - brute).abs() <= 1e-12 * brute.max(1.0),
+                "{got} vs {brute}"
+            );
+        }
+    }
+}

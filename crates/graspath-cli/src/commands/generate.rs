@@ -46,6 +46,18 @@ pub fn run(args: &GenerateArgs) -> Result<()> {
     let model = GraspModel::read(&args.model)?;
     let cloud = load_cloud_argument(&args.cloud)?;
     let source = args.cloud.display().to_string();
+    if cloud.normals.is_none() && !args.quiet {
+        eprintln!(
+            "note: {source} has no normals; estimating them by PCA within {:.0} mm, oriented {}",
+            model.features.normal_radius * 1000.0,
+            match model.features.orientation {
+                graspath::cloud::NormalOrientation::Viewpoint(v) =>
+                    format!("towards the viewpoint {v:?}"),
+                graspath::cloud::NormalOrientation::AwayFromCentroid =>
+                    "away from the cloud's centroid".to_string(),
+            }
+        );
+    }
     let options = GenerateOptions {
         seeds: args.seeds,
         steps: args.steps,

@@ -138,7 +138,15 @@ impl GraspModel {
                 "no contact model",
             ));
         }
+        self.parameters.check(source_name)?;
         for (k, c) in self.contacts.iter().enumerate() {
+            if c.sigma_r.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+                return Err(ModelError::field(
+                    source_name,
+                    format!("contacts[{k}].sigma_r"),
+                    "must be positive",
+                ));
+            }
             if c.link_index >= self.hand.links.len() || c.samples.is_empty() {
                 return Err(ModelError::field(
                     source_name,

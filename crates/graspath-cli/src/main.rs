@@ -27,6 +27,10 @@ enum Command {
     Demo(commands::demo::DemoArgs),
     /// Inverse kinematics of tip poses (JSON Lines) or of a whole trajectory (--trajectory).
     Ik(commands::ik::IkArgs),
+    /// Learn a one-shot grasp model from one demonstration (hand, object cloud, waypoints).
+    Train(commands::train::TrainArgs),
+    /// Generate grasp candidates with log-likelihoods on an object cloud from a trained model.
+    Generate(commands::generate::GenerateArgs),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +40,8 @@ fn main() -> ExitCode {
         Command::Select(args) => commands::select::run(&args),
         Command::Demo(args) => commands::demo::run(&args),
         Command::Ik(args) => commands::ik::run(&args),
+        Command::Train(args) => commands::train::run(&args),
+        Command::Generate(args) => commands::generate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

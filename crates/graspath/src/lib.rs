@@ -6,12 +6,16 @@
 //! IROS 2016).
 //!
 //! The modules follow the pipeline: [`geometry`] (poses), [`robot`] (chains, forward and
-//! inverse kinematics), [`manipulability`] (indices and their norms along a path).
+//! inverse kinematics), [`cloud`] (point clouds and their surface features), [`grasp`] (hand
+//! models and the learned one-shot grasp model), [`manipulability`] (indices and their norms
+//! along a path).
 //!
 //! Units are metres, radians and seconds. A transform is named `a_from_b`: it maps coordinates
 //! in frame `b` to frame `a`.
 #![warn(missing_docs)]
 
+pub mod cloud;
+pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
 pub mod manipulability;

@@ -1,8 +1,11 @@
-//! Grasp candidates: wrist poses in the object frame with likelihoods, from files or from
-//! parametric families on primitive shapes.
+//! Grasping: candidates (wrist poses in the object frame with likelihoods) from files or from
+//! parametric families on primitive shapes, hand models, and the learned one-shot grasp model
+//! (Kopicki et al.).
 
 mod candidates;
 mod families;
+pub mod hand;
+pub mod model;
 
 pub use candidates::{read_candidates, Candidate, CandidateError};
 pub use families::{edge_family, face_family, yaw_family, GRIPPER_MAX_OPENING};

@@ -1,0 +1,234 @@
+//! PLY files (ascii, binary little endian, binary big endian) through `ply-rs-bw`.
+//!
+//! The `vertex` element must have scalar properties `x`, `y`, `z`; `nx`, `ny`, `nz` are read
+//! as normals when all three are present. Any scalar type is accepted.
+
+use super::{finish_read, CloudError, PointCloud};
+use nalgebra::{Point3, Vector3};
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{
+    Addable, DefaultElement, ElementDef, Encoding, Ply, Property, PropertyDef, PropertyType,
+    ScalarType,
+};
+use std::path::Path;
+
+/// How a PLY file is written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlyEncoding {
+    /// Text, one vertex per line.
+    Ascii,
+    /// Binary, little-endian.
+    BinaryLittleEndian,
+    /// Binary, big-endian.
+    BinaryBigEndian,
+}
+
+fn scalar(p: &Property) -> Option<f64> {
+    Some(match p {
+        Property::Char(v) => f64::from(*v),
+        Property::UChar(v) => f64::from(*v),
+        Property::Short(v) => f64::from(*v),
+        Property::UShort(v) => f64::from(*v),
+        Property::Int(v) => f64::from(*v),
+        Property::UInt(v) => f64::from(*v),
+        Property::Float(v) => f64::from(*v),
+        Property::Double(v) => *v,
+        _ => return None,
+    })
+}
+
+/// Reads a PLY point cloud from bytes; `source_name` names it in errors.
+pub fn read_ply_bytes(bytes: &[u8], source_name: &str) -> Result<PointCloud, CloudError> {
+    let parser = Parser::<DefaultElement>::new();
+    let mut cursor = std::io::Cursor::new(bytes);
+    let ply = parser.read_ply(&mut cursor).map_err(|e| {
+        let location = match e.line() {
+            Some(line) => format!("line {line}"),
+            None => "payload".to_string(),
+        };
+        let message = e.to_string();
+        let message = message
+            .strip_prefix(&format!("Line {}: ", e.line().unwrap_or(0)))
+            .unwrap_or(&message)
+            .lines()
+            .next()
+            .unwrap_or("")
+            .to_string();
+        CloudError::parse(source_name, location, message)
+    })?;
+    let Some(def) = ply.header.elements.get("vertex") else {
+        return Err(CloudError::parse(
+            source_name,
+            "header",
+            "no 'vertex' element",
+        ));
+    };
+    let present = def
+        .properties
+        .keys()
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(", ");
+    for field in ["x", "y", "z"] {
+        if !def.properties.contains_key(field) {
+            return Err(CloudError::MissingField {
+                source_name: source_name.to_string(),
+                field: format!("vertex.{field}"),
+                present,
+            });
+        }
+    }
+    let has_normals = ["nx", "ny", "nz"]
+        .iter()
+        .all(|f| def.properties.contains_key(*f));
+    let vertices = ply.payload.get("vertex").map(Vec::as_slice).unwrap_or(&[]);
+    let mut points = Vec::with_capacity(vertices.len());
+    let mut normals = Vec::with_capacity(if has_normals { vertices.len() } else { 0 });
+    for (index, v) in vertices.iter().enumerate() {
+        let get = |field: &str| -> Result<f64, CloudError> {
+            v.get(field).and_then(scalar).ok_or_else(|| {
+                CloudError::parse(
+                    source_name,
+                    format!("vertex {index}, field '{field}'"),
+                    "not a scalar number",
+                )
+            })
+        };
+        points.push(Point3::new(get("x")?, get("y")?, get("z")?));
+        if has_normals {
+            normals.push(Vector3::new(get("nx")?, get("ny")?, get("nz")?));
+        }
+    }
+    let cloud = PointCloud {
+        points,
+        normals: has_normals.then_some(normals),
+    };
+    finish_read(cloud, source_name)
+}
+
+/// Reads a PLY point cloud file.
+pub fn read_ply(path: &Path) -> Result<PointCloud, CloudError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| CloudError::io(&name, e))?;
+    read_ply_bytes(&bytes, &name)
+}
+
+/// The bytes of a PLY file holding `cloud` (`double` properties; normals when present).
+pub fn ply_bytes(cloud: &PointCloud, encoding: PlyEncoding) -> Result<Vec<u8>, CloudError> {
+    let mut ply = Ply::<DefaultElement>::new();
+    ply.header.encoding = match encoding {
+        PlyEncoding::Ascii => Encoding::Ascii,
+        PlyEncoding::BinaryLittleEndian => Encoding::BinaryLittleEndian,
+        PlyEncoding::BinaryBigEndian => Encoding::BinaryBigEndian,
+    };
+    let mut element = ElementDef::new("vertex".to_string());
+    let names: &[&str] = if cloud.normals.is_some() {
+        &["x", "y", "z", "nx", "ny", "nz"]
+    } else {
+        &["x", "y", "z"]
+    };
+    for name in names {
+        element.properties.add(PropertyDef::new(
+            name.to_string(),
+            PropertyType::Scalar(ScalarType::Double),
+        ));
+    }
+    ply.header.elements.add(element);
+    let mut vertices = Vec::with_capacity(cloud.len());
+    for (i, p) in cloud.points.iter().enumerate() {
+        let mut v = DefaultElement::new();
+        v.insert("x".into(), Property::Double(p.x));
+        v.insert("y".into(), Property::Double(p.y));
+        v.insert("z".into(), Property::Double(p.z));
+        if let Some(n) = cloud.normals.as_ref().map(|ns| ns[i]) {
+            v.insert("nx".into(), Property::Double(n.x));
+            v.insert("ny".into(), Property::Double(n.y));
+            v.insert("nz".into(), Property::Double(n.z));
+        }
+        vertices.push(v);
+    }
+    ply.payload.insert("vertex".into(), vertices);
+    let mut out = Vec::new();
+    ply_rs_bw::writer::Writer::new()
+        .write_ply(&mut out, &mut ply)
+        .map_err(|e| CloudError::io("<ply writer>", e))?;
+    Ok(out)
+}
+
+/// Writes `cloud` to a PLY file (through a temporary file in the same directory, renamed at
+/// the end, so no partial file is left behind).
+pub fn write_ply(path: &Path, cloud: &PointCloud, encoding: PlyEncoding) -> Result<(), CloudError> {
+    let bytes = ply_bytes(cloud, encoding)?;
+    crate::fsutil::write_atomic(path, &bytes)
+        .map_err(|e| CloudError::io(&path.display().to_string(), e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> PointCloud {
+        PointCloud {
+            points: vec![Point3::new(0.1, -0.2, 0.3), Point3::new(1e-3, 2.5, -7.0)],
+            normals: Some(vec![Vector3::x(), Vector3::new(0.0, 0.6, 0.8)]),
+        }
+    }
+
+    #[test]
+    fn round_trips_in_every_encoding() {
+        for encoding in [
+            PlyEncoding::Ascii,
+            PlyEncoding::BinaryLittleEndian,
+            PlyEncoding::BinaryBigEndian,
+        ] {
+            let bytes = ply_bytes(&sample(), encoding).expect("write");
+            let back = read_ply_bytes(&bytes, "t.ply").expect("read");
+            assert_eq!(back, sample(), "{encoding:?}");
+        }
+    }
+
+    #[test]
+    fn reads_float_ascii_without_normals() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 2 3\n";
+        let cloud = read_ply_bytes(text.as_bytes(), "a.ply").expect("read");
+        assert_eq!(cloud.len(), 2);
+        assert!(cloud.normals.is_none());
+        assert_eq!(cloud.points[1], Point3::new(1.0, 2.0, 3.0));
+    }
+
+    #[test]
+    fn binary_nan_points_are_dropped() {
+        let mut cloud = sample();
+        cloud.points[0].y = f64::NAN;
+        let bytes = ply_bytes(&cloud, PlyEncoding::BinaryLittleEndian).expect("write");
+        let back = read_ply_bytes(&bytes, "n.ply").expect("read");
+        assert_eq!(back.points, vec![sample().points[1]]);
+    }
+
+    #[test]
+    fn hand_written_big_endian_float_file() {
+        let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n".to_vec();
+        for v in [1.5f32, -2.0, 0.25] {
+            bytes.extend_from_slice(&v.to_be_bytes());
+        }
+        let cloud = read_ply_bytes(&bytes, "b.ply").expect("read");
+        assert_eq!(cloud.points, vec![Point3::new(1.5, -2.0, 0.25)]);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_the_field_or_line() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n";
+        let err = read_ply_bytes(text.as_bytes(), "m.ply")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("m.ply") && err.contains("vertex.z"), "{err}");
+        let text = "ply\nformat ascii 1.0\nelement vertex 1\nproperty flaot x\nend_header\n";
+        let err = read_ply_bytes(text.as_bytes(), "h.ply")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("h.ply") && err.contains("line 4"), "{err}");
+        let text = "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+        let err = read_ply_bytes(text.as_bytes(), "e.ply").unwrap_err();
+        assert!(matches!(err, CloudError::Empty { .. }), "{err}");
+    }
+}

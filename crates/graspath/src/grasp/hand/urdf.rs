@@ -1,0 +1,267 @@
+//! Hands from URDF: every link below a chosen root link (the wrist frame), with its collision
+//! boxes, spheres, cylinders or convex meshes (OBJ / STL), and the joints that move them.
+
+use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape, Shape};
+use crate::cloud::read_mesh;
+use crate::robot::{RobotError, UrdfRobot};
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Default kernel width of a revolute hand joint (rad; ≈ 0.9°).
+pub const REVOLUTE_SIGMA: f64 = 0.0157;
+/// Default kernel width of a prismatic hand joint (m).
+pub const PRISMATIC_SIGMA: f64 = 0.001;
+
+/// An error from building a hand out of a URDF file.
+#[derive(Debug, thiserror::Error)]
+pub enum HandError {
+    /// The URDF could not be loaded.
+    #[error(transparent)]
+    Robot(#[from] RobotError),
+    /// The root link does not exist.
+    #[error("{source_name}: no link named '{link}' to use as the hand root (links: {links})")]
+    UnknownRoot {
+        /// The file.
+        source_name: String,
+        /// The requested root.
+        link: String,
+        /// The links present.
+        links: String,
+    },
+    /// A link's collision geometry cannot be used.
+    #[error("{source_name}: link '{link}', collision geometry: {message}")]
+    BadGeometry {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A joint below the root cannot be used.
+    #[error("{source_name}: joint '{joint}', field '{field}': {message}")]
+    BadJoint {
+        /// The file.
+        source_name: String,
+        /// The joint.
+        joint: String,
+        /// The URDF field.
+        field: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+fn pose(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(xyz[0], xyz[1], xyz[2]),
+        UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    )
+}
+
+/// Builds a hand from a parsed URDF: `root_link`'s frame becomes the wrist frame and every link
+/// below it a hand link. Non-fixed joints without `<mimic>` become hand joints (continuous
+/// joints get limits ±π); mimic joints follow their leader. Mesh files are resolved relative to
+/// `base_dir` (`package://` URLs are refused with the path to give instead).
+pub fn hand_from_urdf(
+    robot: &UrdfRobot,
+    root_link: &str,
+    base_dir: &Path,
+) -> Result<Hand, HandError> {
+    let doc = robot.document();
+    let source_name = format!("URDF robot '{}'", robot.name());
+    if !doc.links.iter().any(|l| l.name == root_link) {
+        return Err(HandError::UnknownRoot {
+            source_name,
+            link: root_link.to_string(),
+            links: robot.link_names().join(", "),
+        });
+    }
+    // Breadth-first from the root: parents before children.
+    let mut order: Vec<(String, Option<(usize, &urdf_rs::Joint)>)> =
+        vec![(root_link.to_string(), None)];
+    let mut k = 0;
+    while k < order.len() {
+        let name = order[k].0.clone();
+        for joint in doc.joints.iter().filter(|j| j.parent.link == name) {
+            if order.iter().any(|(n, _)| *n == joint.child.link) {
+                return Err(HandError::BadJoint {
+                    source_name,
+                    joint: joint.name.clone(),
+                    field: "child",
+                    message: "the links below the root form a loop".into(),
+                });
+            }
+            order.push((joint.child.link.clone(), Some((k, joint))));
+        }
+        k += 1;
+    }
+    let bad = |joint: &urdf_rs::Joint, field: &'static str, message: String| HandError::BadJoint {
+        source_name: source_name.clone(),
+        joint: joint.name.clone(),
+        field,
+        message,
+    };
+    let mut joints = Vec::new();
+    let mut joint_index = HashMap::new();
+    for (_, parent) in &order {
+        let Some((_, joint)) = parent else { continue };
+        let (lower, upper, sigma) = match joint.joint_type {
+            urdf_rs::JointType::Revolute => (joint.limit.lower, joint.limit.upper, REVOLUTE_SIGMA),
+            urdf_rs::JointType::Continuous => {
+                (-std::f64::consts::PI, std::f64::consts::PI, REVOLUTE_SIGMA)
+            }
+            urdf_rs::JointType::Prismatic => {
+                (joint.limit.lower, joint.limit.upper, PRISMATIC_SIGMA)
+            }
+            urdf_rs::JointType::Fixed => continue,
+            ref other => {
+                return Err(bad(
+                    joint,
+                    "@type",
+                    format!("{other:?} joints are not supported in a hand"),
+                ))
+            }
+        };
+        if joint.mimic.is_some() {
+            continue;
+        }
+        if !(lower.is_finite() && upper.is_finite() && lower <= upper) {
+            return Err(bad(
+                joint,
+                "limit",
+                format!("lower {lower} and upper {upper} are not an interval"),
+            ));
+        }
+        joint_index.insert(joint.name.clone(), joints.len());
+        joints.push(HandJoint {
+            name: joint.name.clone(),
+            lower,
+            upper,
+            sigma,
+        });
+    }
+    let mut links = Vec::with_capacity(order.len());
+    for (name, parent) in &order {
+        let link_joint = match parent {
+            None => LinkJoint::root(),
+            Some((_, joint)) => {
+                let origin = pose(joint.origin.xyz.0, joint.origin.rpy.0);
+                if origin.translation.vector.iter().any(|v| !v.is_finite()) {
+                    return Err(bad(joint, "origin", "not finite".into()));
+                }
+                let kind = match joint.joint_type {
+                    urdf_rs::JointType::Fixed => HandJointKind::Fixed,
+                    urdf_rs::JointType::Prismatic => HandJointKind::Prismatic,
+                    _ => HandJointKind::Revolute,
+                };
+                let (driver, multiplier, offset) = match &joint.mimic {
+                    Some(m) => (
+                        m.joint.clone(),
+                        m.multiplier.unwrap_or(1.0),
+                        m.offset.unwrap_or(0.0),
+                    ),
+                    None => (joint.name.clone(), 1.0, 0.0),
+                };
+                let index = if kind == HandJointKind::Fixed {
+                    0
+                } else {
+                    *joint_index.get(&driver).ok_or_else(|| {
+                        bad(joint, "mimic/@joint", format!("mimics '{driver}', which is not an independent joint below the root"))
+                    })?
+                };
+                let axis = Vector3::from(joint.axis.xyz.0);
+                let axis = if kind == HandJointKind::Fixed {
+                    Vector3::x()
+                } else if axis.norm() > 1e-9 && axis.iter().all(|v| v.is_finite()) {
+                    axis.normalize()
+                } else {
+                    return Err(bad(
+                        joint,
+                        "axis/@xyz",
+                        "must be a non-zero finite vector".into(),
+                    ));
+                };
+                LinkJoint {
+                    kind,
+                    parent_from_joint: origin,
+                    axis,
+                    joint: index,
+                    multiplier,
+                    offset,
+                }
+            }
+        };
+        let link =
+            doc.links
+                .iter()
+                .find(|l| l.name == *name)
+                .ok_or_else(|| HandError::BadGeometry {
+                    source_name: source_name.clone(),
+                    link: name.clone(),
+                    message: "the link is named by a joint but not defined".into(),
+                })?;
+        let mut shapes = Vec::new();
+        for collision in &link.collision {
+            let geometry_error = |message: String| HandError::BadGeometry {
+                source_name: source_name.clone(),
+                link: name.clone(),
+                message,
+            };
+            let positive = |what: &str, v: f64| {
+                if v.is_finite() && v > 0.0 {
+                    Ok(v)
+                } else {
+                    Err(geometry_error(format!("{what} must be positive, got {v}")))
+                }
+            };
+            let shape = match &collision.geometry {
+                urdf_rs::Geometry::Box { size } => Shape::Box {
+                    half: [
+                        positive("box size", size[0])? / 2.0,
+                        positive("box size", size[1])? / 2.0,
+                        positive("box size", size[2])? / 2.0,
+                    ],
+                },
+                urdf_rs::Geometry::Sphere { radius } => Shape::Sphere {
+                    radius: positive("sphere radius", *radius)?,
+                },
+                urdf_rs::Geometry::Cylinder { radius, length }
+                | urdf_rs::Geometry::Capsule { radius, length } => Shape::Cylinder {
+                    radius: positive("cylinder radius", *radius)?,
+                    half_length: positive("cylinder length", *length)? / 2.0,
+                },
+                urdf_rs::Geometry::Mesh { filename, scale } => {
+                    if filename.contains("://") {
+                        return Err(geometry_error(format!(
+                            "mesh '{filename}' is a URL; give a path relative to the URDF file instead"
+                        )));
+                    }
+                    let mut mesh = read_mesh(&base_dir.join(filename))
+                        .map_err(|e| geometry_error(e.to_string()))?;
+                    let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
+                    for v in &mut mesh.vertices {
+                        *v = Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]);
+                    }
+                    Shape::convex_mesh(mesh)
+                }
+            };
+            shapes.push(LinkShape {
+                link_from_shape: pose(collision.origin.xyz.0, collision.origin.rpy.0),
+                shape,
+            });
+        }
+        links.push(HandLink {
+            name: name.clone(),
+            parent: parent.map(|(p, _)| p),
+            joint: link_joint,
+            shapes,
+        });
+    }
+    Ok(Hand {
+        name: robot.name().to_string(),
+        joints,
+        links,
+    })
+}

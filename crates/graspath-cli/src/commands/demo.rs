@@ -1,5 +1,6 @@
 //! `graspath demo [--out DIR]`: the paper's experiments on the built-in Baxter, from task files
-//! compiled into the binary (the same files as `examples/`), so no input is needed.
+//! compiled into the binary (the same files as `examples/`), so no input is needed. Every
+//! experiment's folder gets the JSON results, the figures and `report.html`.
 
 use super::select::run_task;
 use crate::output::OutputArgs;
@@ -127,7 +128,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         let task = Task::from_file(&file, &source, Path::new("."))?;
         let out = args.out.join(experiment.name);
         let title = format!("{} ({})", experiment.name, experiment.figure);
-        let selection = run_task(&task, &out, &args.output, &title)
+        let selection = run_task(&task, &out, &args.output, &title, true)
             .with_context(|| format!("experiment {}", experiment.name))?;
         let ours = our_finding(&task, &selection);
         if !args.output.quiet && !args.output.json {

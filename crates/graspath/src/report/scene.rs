@@ -168,6 +168,10 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
             .filter(|&i| arm.rankings[i].rank.is_none() && arm.scores[i].feasible()),
     );
     with_motion.truncate(MAX_MOTIONS_PER_ARM);
+    let mut has_motion = vec![false; arm.scores.len()];
+    for &i in &with_motion {
+        has_motion[i] = true;
+    }
     let results: Vec<Value> = arm
         .scores
         .iter()
@@ -175,7 +179,7 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
         .enumerate()
         .map(|(i, (s, r))| {
             let c = &task.candidates[s.candidate];
-            let moving = with_motion.contains(&i) && !s.joint_trajectory.is_empty();
+            let moving = has_motion[i] && !s.joint_trajectory.is_empty();
             let motion = moving
                 .then(|| motion(chain, &setup.world_from_base, &s.joint_trajectory))
                 .flatten()

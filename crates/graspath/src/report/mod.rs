@@ -11,7 +11,7 @@ mod scene;
 mod write;
 
 pub use figures::{figures, Figure};
-pub use html::{render_report, report_html};
+pub use html::{render_report, report_html, Inline, INLINE_SVG_MAX_CELLS};
 pub use json::{candidates_json, pairs_json, summary_json};
 pub use plots::{
     render_png, render_svg, viridis, Cell, Heatmap, Line, LinePlot, Plot, PlotError, HEATMAP_SIZE,

@@ -1,5 +1,6 @@
 //! `graspath demo [--out DIR]`: the paper's experiments on the built-in Baxter, from task files
-//! compiled into the binary (the same files as `examples/`), so no input is needed.
+//! compiled into the binary (the same files as `examples/`), so no input is needed. Every
+//! experiment's folder gets the JSON results, the figures and `report.html`.
 
 use super::select::run_task;
 use crate::output::OutputArgs;
@@ -127,7 +128,17 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         let task = Task::from_file(&file, &source, Path::new("."))?;
         let out = args.out.join(experiment.name);
         let title = format!("{} ({})", experiment.name, experiment.figure);
-        let selection = run_task(&task, &out, &args.output, &title)
+        // With --json the demo prints one document (the findings) at the end, not one summary
+        // per experiment.
+        let per_run = if args.output.json {
+            OutputArgs {
+                quiet: true,
+                json: false,
+            }
+        } else {
+            args.output.clone()
+        };
+        let selection = run_task(&task, &out, &per_run, &title, true)
             .with_context(|| format!("experiment {}", experiment.name))?;
         let ours = our_finding(&task, &selection);
         if !args.output.quiet && !args.output.json {
@@ -141,9 +152,13 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             "ours": ours,
         }));
     }
-    let mut bytes = serde_json::to_vec_pretty(&Value::Array(findings))?;
+    let findings = Value::Array(findings);
+    let mut bytes = serde_json::to_vec_pretty(&findings)?;
     bytes.push(b'\n');
     write_files_atomically(&args.out, &[("findings.json".to_string(), bytes)])?;
+    if args.output.json {
+        crate::say!("{}", serde_json::to_string_pretty(&findings)?);
+    }
     Ok(())
 }
 

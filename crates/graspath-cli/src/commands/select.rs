@@ -1,10 +1,13 @@
-//! `graspath select --task FILE [--out DIR]`: score every candidate along the task, rank them,
-//! and write `candidates.json`, `pairs.json` (two arms) and `summary.json`.
+//! `graspath select --task FILE [--out DIR] [--report]`: score every candidate along the task,
+//! rank them, and write `candidates.json`, `pairs.json` (two arms) and `summary.json`; with
+//! `--report` also the figures (SVG and PNG) and `report.html`.
 
 use crate::output::{print_summary_table, progress_bar, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::report::{candidates_json, pairs_json, summary_json, write_files_atomically};
+use graspath::report::{
+    candidates_json, pairs_json, render_report, summary_json, write_files_atomically,
+};
 use graspath::select::{select, Selection, Task};
 use std::path::{Path, PathBuf};
 
@@ -17,12 +20,22 @@ pub struct SelectArgs {
     /// Where to write the results.
     #[arg(long, value_name = "DIR", default_value = "graspath-out")]
     out: PathBuf,
+    /// Also write the figures (SVG, PNG) and a self-contained `report.html` with a 3D view.
+    #[arg(long)]
+    report: bool,
     #[command(flatten)]
     output: OutputArgs,
 }
 
-/// Runs a loaded task and writes its files into `out`; returns the selection.
-pub fn run_task(task: &Task, out: &Path, output: &OutputArgs, title: &str) -> Result<Selection> {
+/// Runs a loaded task and writes its files into `out` (with the figures and `report.html` when
+/// `report` is set); returns the selection.
+pub fn run_task(
+    task: &Task,
+    out: &Path,
+    output: &OutputArgs,
+    title: &str,
+    report: bool,
+) -> Result<Selection> {
     let total = task.candidates.len() * task.arms.len();
     let bar = progress_bar(output, total as u64, title);
     let started = std::time::Instant::now();
@@ -50,6 +63,9 @@ pub fn run_task(task: &Task, out: &Path, output: &OutputArgs, title: &str) -> Re
             pretty(pairs_json(task, &selection))?,
         ));
     }
+    if report {
+        files.extend(render_report(task, &selection)?);
+    }
     write_files_atomically(out, &files)?;
     if output.json {
         crate::say!(
@@ -70,6 +86,7 @@ pub fn run(args: &SelectArgs) -> Result<()> {
         &args.out,
         &args.output,
         &args.task.display().to_string(),
+        args.report,
     )?;
     Ok(())
 }

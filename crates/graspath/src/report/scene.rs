@@ -1,0 +1,266 @@
+//! The data of the report's 3D view, as JSON: the object's shape and its poses along the path,
+//! every candidate's wrist pose, and per arm and candidate the arm's links along its IK solution
+//! with the manipulability ellipsoid and the path tangent at each sample.
+//!
+//! Frames: everything the viewer draws is in the task's **world frame** (m); arm chains are
+//! computed in their base frames and mapped with `ArmSetup::world_from_base`. Candidate wrist
+//! poses stay in the **object frame** (`object_from_wrist`), so the viewer attaches them to the
+//! object. Poses are `[x, y, z, qx, qy, qz, qw]`. Coordinates are rounded to 0.1 mm.
+
+use crate::robot::Chain;
+use crate::select::{ArmResult, ArmSetup, Norm, Selection, Task};
+use crate::task::ObjectShape;
+use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
+use serde_json::{json, Value};
+
+/// At most this many candidates per arm carry their arm motion (best ranked first, then the
+/// other feasible ones in candidate order), which bounds the report's size on large sets.
+pub const MAX_MOTIONS_PER_ARM: usize = 400;
+
+fn round(v: f64) -> f64 {
+    if v.is_finite() {
+        (v * 1e4).round() / 1e4
+    } else {
+        0.0
+    }
+}
+
+fn round6(v: f64) -> f64 {
+    if v.is_finite() {
+        (v * 1e6).round() / 1e6
+    } else {
+        0.0
+    }
+}
+
+fn point(p: &Point3<f64>) -> Value {
+    json!([round(p.x), round(p.y), round(p.z)])
+}
+
+fn vector(v: &Vector3<f64>) -> Value {
+    json!([round(v.x), round(v.y), round(v.z)])
+}
+
+fn pose(p: &Isometry3<f64>) -> Value {
+    let t = &p.translation.vector;
+    let q = p.rotation.coords;
+    json!([
+        round(t.x),
+        round(t.y),
+        round(t.z),
+        round6(q.x),
+        round6(q.y),
+        round6(q.z),
+        round6(q.w)
+    ])
+}
+
+fn shape_json(shape: &ObjectShape) -> Value {
+    match *shape {
+        ObjectShape::Box { size } => json!({"type": "box", "size": size}),
+        ObjectShape::Cylinder { radius, length } => {
+            json!({"type": "cylinder", "radius": radius, "length": length})
+        }
+        ObjectShape::TShape {
+            bar,
+            handle_radius,
+            handle_length,
+        } => json!({
+            "type": "t_shape",
+            "bar": bar,
+            "handle_radius": handle_radius,
+            "handle_length": handle_length,
+        }),
+    }
+}
+
+/// The principal axes of the translational manipulability ellipsoid `Jv Jvᵀ` (base frame),
+/// longest first, each an eigenvector scaled by the square root of its eigenvalue (m/rad).
+pub(crate) fn ellipsoid_axes(jv_jvt: &Matrix3<f64>) -> [Vector3<f64>; 3] {
+    let eigen = SymmetricEigen::new(*jv_jvt);
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| {
+        eigen.eigenvalues[b]
+            .total_cmp(&eigen.eigenvalues[a])
+            .then(a.cmp(&b))
+    });
+    order.map(|k| eigen.eigenvectors.column(k) * eigen.eigenvalues[k].max(0.0).sqrt())
+}
+
+/// The arm along one joint trajectory: links (world), ellipsoid (world) and `None` where a
+/// configuration is rejected by the chain.
+fn motion(
+    chain: &Chain,
+    world_from_base: &Isometry3<f64>,
+    joints: &[Vec<f64>],
+) -> Option<(Vec<Value>, Vec<Value>)> {
+    let mut links = Vec::with_capacity(joints.len());
+    let mut ellipsoids = Vec::with_capacity(joints.len());
+    for q in joints {
+        let origins = chain.joint_origins(q).ok()?;
+        links.push(Value::Array(
+            origins
+                .iter()
+                .map(|p| point(&(world_from_base * p)))
+                .collect(),
+        ));
+        let (base_from_tip, jacobian) = chain.pose_and_jacobian(q).ok()?;
+        let jv = jacobian.fixed_rows::<3>(0);
+        let axes = ellipsoid_axes(&(jv * jv.transpose()));
+        let centre = world_from_base * Point3::from(base_from_tip.translation.vector);
+        let mut e = vec![round(centre.x), round(centre.y), round(centre.z)];
+        for a in axes {
+            let w = world_from_base.rotation * a;
+            e.extend([round(w.x), round(w.y), round(w.z)]);
+        }
+        ellipsoids.push(json!(e));
+    }
+    Some((links, ellipsoids))
+}
+
+/// The unit direction of the wrist origin's motion at each sample (world frame; forward
+/// difference, backward at the last sample), `null` where the wrist origin does not move.
+fn wrist_tangents(task: &Task, object_from_wrist: &Isometry3<f64>) -> Vec<Value> {
+    let positions: Vec<Vector3<f64>> = task
+        .path
+        .poses()
+        .map(|world_from_object| (world_from_object * object_from_wrist).translation.vector)
+        .collect();
+    let n = positions.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = if i + 1 < n {
+                (i, i + 1)
+            } else {
+                (i.saturating_sub(1), i)
+            };
+            let d = positions[b] - positions[a];
+            if d.norm() < 1e-9 {
+                Value::Null
+            } else {
+                vector(&d.normalize())
+            }
+        })
+        .collect()
+}
+
+fn finite(v: Option<f64>) -> Option<f64> {
+    v.filter(|v| v.is_finite())
+}
+
+fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
+    let chain = &setup.chain;
+    let rest: Vec<Value> = chain
+        .joint_origins(&chain.mid_configuration())
+        .map(|o| {
+            o.iter()
+                .map(|p| point(&(setup.world_from_base * p)))
+                .collect()
+        })
+        .unwrap_or_default();
+    // Which candidates carry their motion: the ranked ones best first, then other feasible.
+    let mut with_motion: Vec<usize> = (0..arm.scores.len())
+        .filter(|&i| arm.rankings[i].rank.is_some())
+        .collect();
+    with_motion.sort_by_key(|&i| arm.rankings[i].rank);
+    with_motion.extend(
+        (0..arm.scores.len())
+            .filter(|&i| arm.rankings[i].rank.is_none() && arm.scores[i].feasible()),
+    );
+    with_motion.truncate(MAX_MOTIONS_PER_ARM);
+    let mut has_motion = vec![false; arm.scores.len()];
+    for &i in &with_motion {
+        has_motion[i] = true;
+    }
+    let results: Vec<Value> = arm
+        .scores
+        .iter()
+        .zip(&arm.rankings)
+        .enumerate()
+        .map(|(i, (s, r))| {
+            let c = &task.candidates[s.candidate];
+            let moving = has_motion[i] && !s.joint_trajectory.is_empty();
+            let motion = moving
+                .then(|| motion(chain, &setup.world_from_base, &s.joint_trajectory))
+                .flatten()
+                .map(|(links, ellipsoid)| {
+                    json!({
+                        "links": links,
+                        "ellipsoid": ellipsoid,
+                        "tangent": wrist_tangents(task, &c.object_from_wrist),
+                        "m_t": s.m_t.iter().map(|v| finite(*v)).collect::<Vec<_>>(),
+                    })
+                });
+            let status = match (&s.failure, &r.rejected) {
+                (Some(f), _) => format!("{} at sample {}: {}", f.reason, f.sample, f.detail),
+                (None, Some(why)) => format!("rejected: {why}"),
+                (None, None) => "feasible".into(),
+            };
+            json!({
+                "candidate": s.candidate,
+                "rank": r.rank,
+                "score": finite(r.score),
+                "mu_l2": s.norms.map(|n| n.l2),
+                "mu_linf": s.norms.and_then(|n| finite(Some(n.linf))),
+                "mu_l1": s.norms.map(|n| n.l1),
+                "yoshikawa": finite(s.yoshikawa_at_grasp),
+                "inverse_condition": finite(s.inverse_condition_squared_at_grasp),
+                "feasible": s.feasible(),
+                "status": status,
+                "motion": motion,
+            })
+        })
+        .collect();
+    json!({
+        "name": arm.arm,
+        "world_from_base": pose(&setup.world_from_base),
+        "rest": rest,
+        "selected": arm.best(),
+        "results": results,
+    })
+}
+
+/// The 3D view's data (see the module documentation for frames and units).
+pub fn scene_json(task: &Task, selection: &Selection) -> Value {
+    let arms: Vec<Value> = task
+        .arms
+        .iter()
+        .zip(&selection.arms)
+        .map(|(setup, arm)| arm_json(task, setup, arm))
+        .collect();
+    let candidates: Vec<Value> = task
+        .candidates
+        .iter()
+        .map(|c| json!({"id": c.id, "label": c.label, "wrist": pose(&c.object_from_wrist)}))
+        .collect();
+    json!({
+        "task": task.source_name,
+        "robot": task.robot_name,
+        "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
+        "times": task.path.samples.iter().map(|s| round6(s.time)).collect::<Vec<_>>(),
+        "steps": task.path.step_labels,
+        "sample_step": task.path.samples.iter().map(|s| s.step).collect::<Vec<_>>(),
+        "object": {
+            "shape": task.shape.as_ref().map(shape_json),
+            "poses": task.path.poses().map(pose).collect::<Vec<_>>(),
+        },
+        "candidates": candidates,
+        "arms": arms,
+        "pair": selection.pairs.first().map(|p| json!([p.first, p.second])),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ellipsoid_axes_rebuild_the_matrix() {
+        // Oracle: Σ a_k a_kᵀ = V Λ Vᵀ = the matrix itself.
+        let m = Matrix3::new(2.0, 0.3, -0.1, 0.3, 1.0, 0.2, -0.1, 0.2, 0.5);
+        let axes = ellipsoid_axes(&m);
+        let rebuilt: Matrix3<f64> = axes.iter().map(|a| a * a.transpose()).sum();
+        assert!((rebuilt - m).norm() < 1e-12, "{rebuilt} vs {m}");
+        assert!(axes[0].norm() >= axes[1].norm() && axes[1].norm() >= axes[2].norm());
+    }
+}

@@ -99,10 +99,7 @@ pub fn pose_from_slice(values: &[f64], what: &str) -> PyResult<Isometry3<f64>> {
 }
 
 /// Poses from shape `(4, 4)` (`None` batch) or `(n, 4, 4)` (`Some(n)`).
-pub fn poses(
-    array: &FloatArray<'_>,
-    what: &str,
-) -> PyResult<(Vec<Isometry3<f64>>, Option<usize>)> {
+pub fn poses(array: &FloatArray<'_>, what: &str) -> PyResult<(Vec<Isometry3<f64>>, Option<usize>)> {
     let buffer = Buffer::from_array(array);
     match buffer.shape.as_slice() {
         [4, 4] => Ok((vec![pose_from_slice(&buffer.data, what)?], None)),
@@ -197,10 +194,7 @@ pub fn json_to_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<B
             } else if let Some(i) = n.as_i64() {
                 i.into_pyobject(py)?.into_any()
             } else {
-                n.as_f64()
-                    .unwrap_or(f64::NAN)
-                    .into_pyobject(py)?
-                    .into_any()
+                n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any()
             }
         }
         Value::String(s) => PyString::new(py, s).into_any(),

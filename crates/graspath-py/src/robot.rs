@@ -6,8 +6,7 @@
 //! metres and radians; the Jacobian has rows `[v; ω]` (Pinocchio's `LOCAL_WORLD_ALIGNED`).
 
 use crate::convert::{
-    array, check_finite, error, poses, rows, shape_text, single_pose, write_matrix_pose,
-    FloatArray,
+    array, check_finite, error, poses, rows, shape_text, single_pose, write_matrix_pose, FloatArray,
 };
 use graspath::manipulability::{
     inverse_condition, inverse_condition_squared, singular_values, task_relevant,
@@ -372,7 +371,11 @@ impl PyRobot {
             .into_iter()
             .unzip();
         let dict = PyDict::new(py);
-        let names = ["yoshikawa", "inverse_condition", "inverse_condition_squared"];
+        let names = [
+            "yoshikawa",
+            "inverse_condition",
+            "inverse_condition_squared",
+        ];
         let rows_count = singular.first().map_or(0, Vec::len);
         match batch {
             None => {
@@ -564,8 +567,7 @@ impl PyRobot {
                     "rotation_error",
                     PyArray1::from_vec(py, column(&|s| s.rotation_error)),
                 )?;
-                let iterations: Vec<i64> =
-                    solutions.iter().map(|s| s.iterations as i64).collect();
+                let iterations: Vec<i64> = solutions.iter().map(|s| s.iterations as i64).collect();
                 dict.set_item("iterations", PyArray1::from_vec(py, iterations))?;
                 let reasons: Vec<Option<&str>> = solutions.iter().map(failure_reason).collect();
                 dict.set_item("failure_reason", PyList::new(py, reasons)?)?;
@@ -692,9 +694,7 @@ impl PyRobot {
         for (k, d) in directions.chunks(width).enumerate() {
             let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
             if !(norm.is_finite() && norm > 0.0) {
-                return Err(error(format!(
-                    "u[{k}] must be a finite non-zero direction"
-                )));
+                return Err(error(format!("u[{k}] must be a finite non-zero direction")));
             }
             units.extend(d.iter().map(|v| v / norm));
         }
@@ -729,4 +729,3 @@ impl PyRobot {
         })
     }
 }
-

@@ -239,10 +239,7 @@ impl PySelection {
             .find(|a| a.arm == arm)
             .ok_or_else(|| {
                 let names: Vec<&str> = self.selection.arms.iter().map(|a| a.arm.as_str()).collect();
-                error(format!(
-                    "unknown arm '{arm}' (arms: {})",
-                    names.join(", ")
-                ))
+                error(format!("unknown arm '{arm}' (arms: {})", names.join(", ")))
             })
     }
 }

@@ -8,9 +8,7 @@ use crate::robot::PyRobot;
 use graspath::grasp::Candidate;
 use graspath::manipulability::IndexMode;
 use graspath::robot::TrajectoryIkOptions;
-use graspath::select::{
-    wrist_trajectory, ArmSetup, LikelihoodRule, Norm, SelectionOptions, Task,
-};
+use graspath::select::{wrist_trajectory, ArmSetup, LikelihoodRule, Norm, SelectionOptions, Task};
 use graspath::task::{ObjectPath, PathSample, TaskFile};
 use nalgebra::{Isometry3, Point3};
 use numpy::PyArray1;
@@ -75,9 +73,9 @@ fn likelihood_rule(value: &Bound<'_, PyAny>) -> PyResult<LikelihoodRule> {
             ))),
         };
     }
-    let weight: f64 = value.extract().map_err(|_| {
-        error("likelihood must be 'product', 'ignore' or a weight (float >= 0)")
-    })?;
+    let weight: f64 = value
+        .extract()
+        .map_err(|_| error("likelihood must be 'product', 'ignore' or a weight (float >= 0)"))?;
     if !(weight.is_finite() && weight >= 0.0) {
         return Err(error("the likelihood weight must be a number >= 0"));
     }
@@ -96,7 +94,9 @@ fn arm_setup(name: String, value: &Bound<'_, PyAny>) -> PyResult<ArmSetup> {
         }
         let robot = pair.get_item(0)?;
         let robot = robot.cast::<PyRobot>().map_err(|_| {
-            error(format!("arm '{name}': the first item must be a graspath.Robot"))
+            error(format!(
+                "arm '{name}': the first item must be a graspath.Robot"
+            ))
         })?;
         let pose: FloatArray<'_> = pair.get_item(1)?.extract()?;
         (

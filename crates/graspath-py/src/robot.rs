@@ -14,8 +14,8 @@ use graspath::manipulability::{
 };
 use graspath::robot::builtin::{baxter_spec, Arm};
 use graspath::robot::{
-    solve_ik, solve_trajectory, Chain, IkOptions, IkSolution, RobotError, TrajectoryIkOptions,
-    UrdfRobot,
+    solve_ik, solve_trajectory, Chain, FixedChain, IkOptions, IkSolution, RobotError,
+    TrajectoryIkOptions, UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
 use numpy::{PyArray1, PyUntypedArrayMethods};
@@ -83,7 +83,11 @@ fn tool_pose(tool: Option<FloatArray<'_>>) -> PyResult<Option<Isometry3<f64>>> {
 }
 
 /// Computes poses and Jacobians of every configuration, in parallel, into row-major buffers:
-/// `(n, 4, 4)` poses and `(n, 6, dof)` Jacobians. The output does not depend on the thread count.
+/// `(n, 4, 4)` poses and `(n, 6, dof)` Jacobians. Configurations must have been checked (length
+/// and finiteness). The output does not depend on the thread count.
+///
+/// Chains of 6 or 7 joints without mimic joints use the library's fixed-size chain (stack
+/// Jacobian, no per-call checks); others the general chain. Both run the same forward pass.
 fn batch_pose_and_jacobian(
     chain: &Chain,
     q: &[f64],
@@ -93,6 +97,64 @@ fn batch_pose_and_jacobian(
     let n = q.len() / dof.max(1);
     let mut pose_out = vec![0.0; 16 * n];
     let mut jacobian_out = vec![0.0; if want_jacobian { 6 * dof * n } else { 0 }];
+    let jacobian_slot = want_jacobian.then_some(jacobian_out.as_mut_slice());
+    let done = match dof {
+        7 => chain
+            .fixed::<7>()
+            .map(|fixed| batch_fixed(&fixed, q, &mut pose_out, jacobian_slot))
+            .is_ok(),
+        6 => chain
+            .fixed::<6>()
+            .map(|fixed| batch_fixed(&fixed, q, &mut pose_out, jacobian_slot))
+            .is_ok(),
+        _ => false,
+    };
+    if !done {
+        batch_dynamic(chain, q, &mut pose_out, want_jacobian, &mut jacobian_out)?;
+    }
+    Ok((pose_out, jacobian_out))
+}
+
+/// The batch on a fixed-size chain of `N` joints.
+fn batch_fixed<const N: usize>(
+    chain: &FixedChain<N>,
+    q: &[f64],
+    pose_out: &mut [f64],
+    jacobian_out: Option<&mut [f64]>,
+) {
+    let rows = |qi: &[f64]| -> [f64; N] { std::array::from_fn(|j| qi[j]) };
+    match jacobian_out {
+        Some(jacobian_out) => pose_out
+            .par_chunks_mut(16)
+            .zip(jacobian_out.par_chunks_mut(6 * N))
+            .zip(q.par_chunks(N))
+            .with_min_len(MIN_BATCH_CHUNK)
+            .for_each(|((pose_row, jacobian_row), qi)| {
+                let (pose, jacobian) = chain.pose_and_jacobian(&rows(qi));
+                write_matrix_pose(pose_row, &pose);
+                for r in 0..6 {
+                    for c in 0..N {
+                        jacobian_row[r * N + c] = jacobian[(r, c)];
+                    }
+                }
+            }),
+        None => pose_out
+            .par_chunks_mut(16)
+            .zip(q.par_chunks(N))
+            .with_min_len(MIN_BATCH_CHUNK)
+            .for_each(|(pose_row, qi)| write_matrix_pose(pose_row, &chain.pose(&rows(qi)))),
+    }
+}
+
+/// The batch on a general chain.
+fn batch_dynamic(
+    chain: &Chain,
+    q: &[f64],
+    pose_out: &mut [f64],
+    want_jacobian: bool,
+    jacobian_out: &mut [f64],
+) -> Result<(), RobotError> {
+    let dof = chain.dof();
     if want_jacobian {
         pose_out
             .par_chunks_mut(16)
@@ -111,7 +173,7 @@ fn batch_pose_and_jacobian(
                     }
                     Ok(())
                 },
-            )?;
+            )
     } else {
         pose_out
             .par_chunks_mut(16)
@@ -120,9 +182,8 @@ fn batch_pose_and_jacobian(
             .try_for_each(|(pose_row, qi)| {
                 write_matrix_pose(pose_row, &chain.pose(qi)?);
                 Ok::<(), RobotError>(())
-            })?;
+            })
     }
-    Ok((pose_out, jacobian_out))
 }
 
 /// The IK settings shared by `ik` and `ik_trajectory`.
@@ -409,7 +470,7 @@ impl PyRobot {
         u: FloatArray<'py>,
         part: &str,
     ) -> PyResult<Py<PyAny>> {
-        self.directional(py, q, u, part, |j, d| task_relevant(j, d))
+        self.directional(py, q, u, part, task_relevant)
     }
 
     /// The velocity transmission ratio ``1 / sqrt(uᵀ (J Jᵀ)⁻¹ u)`` along the unit direction
@@ -422,7 +483,7 @@ impl PyRobot {
         u: FloatArray<'py>,
         part: &str,
     ) -> PyResult<Py<PyAny>> {
-        self.directional(py, q, u, part, |j, d| velocity_transmission_ratio(j, d))
+        self.directional(py, q, u, part, velocity_transmission_ratio)
     }
 
     /// The positions of the base origin, every moving joint's origin and the tip, shape

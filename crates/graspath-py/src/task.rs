@@ -312,13 +312,19 @@ impl PyTask {
             None => LikelihoodRule::Product,
             Some(value) => likelihood_rule(value)?,
         };
-        let mut ik = TrajectoryIkOptions::default();
-        ik.max_joint_step = max_joint_step;
-        ik.branches = branches;
-        ik.ik.random_seed = ik_seed;
-        ik.ik.position_tolerance = ik_tolerance;
-        ik.ik.rotation_tolerance = ik_tolerance;
-        ik.ik.max_iterations = ik_iterations;
+        let defaults = TrajectoryIkOptions::default();
+        let ik = TrajectoryIkOptions {
+            ik: graspath::robot::IkOptions {
+                random_seed: ik_seed,
+                position_tolerance: ik_tolerance,
+                rotation_tolerance: ik_tolerance,
+                max_iterations: ik_iterations,
+                ..defaults.ik.clone()
+            },
+            max_joint_step,
+            branches,
+            ..defaults
+        };
         if !(max_joint_step.is_finite() && max_joint_step > 0.0) {
             return Err(error("max_joint_step must be a positive angle in radians"));
         }

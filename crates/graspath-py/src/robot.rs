@@ -18,7 +18,7 @@ use graspath::robot::{
     TrajectoryIkOptions, UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
-use numpy::{PyArray1, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
@@ -83,36 +83,33 @@ fn tool_pose(tool: Option<FloatArray<'_>>) -> PyResult<Option<Isometry3<f64>>> {
 }
 
 /// Computes poses and Jacobians of every configuration, in parallel, into row-major buffers:
-/// `(n, 4, 4)` poses and `(n, 6, dof)` Jacobians. Configurations must have been checked (length
-/// and finiteness). The output does not depend on the thread count.
+/// `pose_out` `(n, 4, 4)` and, when given, `jacobian_out` `(n, 6, dof)`. Configurations must
+/// have been checked (length and finiteness). The output does not depend on the thread count.
 ///
 /// Chains of 6 or 7 joints without mimic joints use the library's fixed-size chain (stack
 /// Jacobian, no per-call checks); others the general chain. Both run the same forward pass.
-fn batch_pose_and_jacobian(
+fn batch_into(
     chain: &Chain,
     q: &[f64],
-    want_jacobian: bool,
-) -> Result<(Vec<f64>, Vec<f64>), RobotError> {
-    let dof = chain.dof();
-    let n = q.len() / dof.max(1);
-    let mut pose_out = vec![0.0; 16 * n];
-    let mut jacobian_out = vec![0.0; if want_jacobian { 6 * dof * n } else { 0 }];
-    let jacobian_slot = want_jacobian.then_some(jacobian_out.as_mut_slice());
-    let done = match dof {
-        7 => chain
-            .fixed::<7>()
-            .map(|fixed| batch_fixed(&fixed, q, &mut pose_out, jacobian_slot))
-            .is_ok(),
-        6 => chain
-            .fixed::<6>()
-            .map(|fixed| batch_fixed(&fixed, q, &mut pose_out, jacobian_slot))
-            .is_ok(),
-        _ => false,
-    };
-    if !done {
-        batch_dynamic(chain, q, &mut pose_out, want_jacobian, &mut jacobian_out)?;
+    pose_out: &mut [f64],
+    jacobian_out: Option<&mut [f64]>,
+) -> Result<(), RobotError> {
+    match chain.dof() {
+        7 => {
+            if let Ok(fixed) = chain.fixed::<7>() {
+                batch_fixed(&fixed, q, pose_out, jacobian_out);
+                return Ok(());
+            }
+        }
+        6 => {
+            if let Ok(fixed) = chain.fixed::<6>() {
+                batch_fixed(&fixed, q, pose_out, jacobian_out);
+                return Ok(());
+            }
+        }
+        _ => {}
     }
-    Ok((pose_out, jacobian_out))
+    batch_dynamic(chain, q, pose_out, jacobian_out)
 }
 
 /// The batch on a fixed-size chain of `N` joints.
@@ -151,11 +148,10 @@ fn batch_dynamic(
     chain: &Chain,
     q: &[f64],
     pose_out: &mut [f64],
-    want_jacobian: bool,
-    jacobian_out: &mut [f64],
+    jacobian_out: Option<&mut [f64]>,
 ) -> Result<(), RobotError> {
     let dof = chain.dof();
-    if want_jacobian {
+    if let Some(jacobian_out) = jacobian_out {
         pose_out
             .par_chunks_mut(16)
             .zip(jacobian_out.par_chunks_mut(6 * dof.max(1)))
@@ -344,50 +340,54 @@ impl PyRobot {
     }
 
     /// The tip pose ``base_from_tip``: ``(4, 4)`` for ``q`` of shape ``(dof,)``, ``(n, 4, 4)``
-    /// for ``(n, dof)``. Batches run in parallel without the GIL.
-    fn fk<'py>(&self, py: Python<'py>, q: FloatArray<'py>) -> PyResult<Py<PyAny>> {
-        let (data, batch) = self.configurations(&q)?;
-        let chain = &self.chain;
-        let (pose_out, _) = py
-            .detach(|| batch_pose_and_jacobian(chain, &data, false))
-            .map_err(error)?;
-        let shape = match batch {
-            None => vec![4, 4],
-            Some(n) => vec![n, 4, 4],
-        };
-        Ok(array(py, pose_out, &shape)?.into_any().unbind())
+    /// for ``(n, dof)``. Batches run in parallel without the GIL. ``out``: an existing
+    /// C-contiguous float64 array of that shape to write into (and return), so that repeated
+    /// calls allocate nothing.
+    #[pyo3(signature = (q, out = None))]
+    fn fk<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        let (poses, _) = self.evaluate(py, q, out.map(|o| (o, None)), false)?;
+        Ok(poses)
     }
 
     /// The geometric Jacobian of the tip in the base frame, rows ``[v; ω]``: ``(6, dof)`` for
-    /// ``q`` of shape ``(dof,)``, ``(n, 6, dof)`` for ``(n, dof)``.
-    fn jacobian<'py>(&self, py: Python<'py>, q: FloatArray<'py>) -> PyResult<Py<PyAny>> {
-        let (_, jacobians) = self.fk_jacobian(py, q)?;
-        Ok(jacobians)
+    /// ``q`` of shape ``(dof,)``, ``(n, 6, dof)`` for ``(n, dof)``; ``out``: an existing float64
+    /// array of that shape to copy the result into (and return).
+    #[pyo3(signature = (q, out = None))]
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        let (_, jacobians) = self.evaluate(py, q, None, true)?;
+        match (out, jacobians) {
+            (None, Some(j)) => Ok(j),
+            (Some(out), Some(j)) => {
+                out.call_method1("__setitem__", (pyo3::types::PyEllipsis::get(py), j))?;
+                Ok(out.unbind())
+            }
+            (_, None) => Err(error("no Jacobian was computed")),
+        }
     }
 
     /// Both the tip pose and the Jacobian, in one pass: ``(poses, jacobians)`` with shapes
-    /// ``(4, 4)`` and ``(6, dof)``, or ``(n, 4, 4)`` and ``(n, 6, dof)``.
+    /// ``(4, 4)`` and ``(6, dof)``, or ``(n, 4, 4)`` and ``(n, 6, dof)``. ``out``: a pair of
+    /// existing C-contiguous float64 arrays of those shapes to write into (and return).
+    #[pyo3(signature = (q, out = None))]
     fn fk_jacobian<'py>(
         &self,
         py: Python<'py>,
         q: FloatArray<'py>,
+        out: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>,
     ) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
-        let dof = self.chain.dof();
-        let (data, batch) = self.configurations(&q)?;
-        let chain = &self.chain;
-        let (pose_out, jacobian_out) = py
-            .detach(|| batch_pose_and_jacobian(chain, &data, true))
-            .map_err(error)?;
-        let (pose_shape, jacobian_shape) = match batch {
-            None => (vec![4, 4], vec![6, dof]),
-            Some(n) => (vec![n, 4, 4], vec![n, 6, dof]),
-        };
-        Ok((
-            array(py, pose_out, &pose_shape)?.into_any().unbind(),
-            array(py, jacobian_out, &jacobian_shape)?
-                .into_any()
-                .unbind(),
-        ))
+        let (poses, jacobians) = self.evaluate(py, q, out.map(|(p, j)| (p, Some(j))), true)?;
+        let jacobians = jacobians.ok_or_else(|| error("no Jacobian was computed"))?;
+        Ok((poses, jacobians))
     }
 
     /// The classical indices of the rows ``part`` (``"full"``, ``"translation"`` = ``Jv``,
@@ -727,7 +727,91 @@ impl PyRobot {
     }
 }
 
+/// Borrows a caller's output array for writing: float64, C-contiguous, writeable, of `shape`.
+fn output<'py>(
+    array: &Bound<'py, PyAny>,
+    shape: &[usize],
+    what: &str,
+) -> PyResult<PyReadwriteArrayDyn<'py, f64>> {
+    let array = array
+        .cast::<PyArrayDyn<f64>>()
+        .map_err(|_| error(format!("{what} must be a numpy float64 array")))?;
+    if array.shape() != shape {
+        return Err(error(format!(
+            "{what} has shape {} but {} is expected",
+            shape_text(array.shape()),
+            shape_text(shape)
+        )));
+    }
+    if !array.is_c_contiguous() {
+        return Err(error(format!("{what} must be C-contiguous")));
+    }
+    array
+        .try_readwrite()
+        .map_err(|e| error(format!("{what} cannot be written: {e}")))
+}
+
 impl PyRobot {
+    /// Poses (and Jacobians) of `q`, into new arrays or into the caller's `out` arrays.
+    #[allow(clippy::type_complexity)]
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)>,
+        want_jacobian: bool,
+    ) -> PyResult<(Py<PyAny>, Option<Py<PyAny>>)> {
+        let dof = self.chain.dof();
+        let (data, batch) = self.configurations(&q)?;
+        let n = data.len() / dof.max(1);
+        let (pose_shape, jacobian_shape) = match batch {
+            None => (vec![4, 4], vec![6, dof]),
+            Some(n) => (vec![n, 4, 4], vec![n, 6, dof]),
+        };
+        let chain = &self.chain;
+        match out {
+            None => {
+                let mut poses = vec![0.0; 16 * n];
+                let mut jacobians = vec![0.0; if want_jacobian { 6 * dof * n } else { 0 }];
+                py.detach(|| {
+                    batch_into(
+                        chain,
+                        &data,
+                        &mut poses,
+                        want_jacobian.then_some(jacobians.as_mut_slice()),
+                    )
+                })
+                .map_err(error)?;
+                let jacobians = if want_jacobian {
+                    Some(array(py, jacobians, &jacobian_shape)?.into_any().unbind())
+                } else {
+                    None
+                };
+                Ok((
+                    array(py, poses, &pose_shape)?.into_any().unbind(),
+                    jacobians,
+                ))
+            }
+            Some((pose_array, jacobian_array)) => {
+                let mut pose_guard = output(&pose_array, &pose_shape, "out (poses)")?;
+                let mut jacobian_guard = match (&jacobian_array, want_jacobian) {
+                    (Some(j), true) => Some(output(j, &jacobian_shape, "out (jacobians)")?),
+                    _ => None,
+                };
+                let pose_slice = pose_guard.as_slice_mut().map_err(error)?;
+                let jacobian_slice = match jacobian_guard.as_mut() {
+                    Some(guard) => Some(guard.as_slice_mut().map_err(error)?),
+                    None => None,
+                };
+                py.detach(|| batch_into(chain, &data, pose_slice, jacobian_slice))
+                    .map_err(error)?;
+                drop(pose_guard);
+                drop(jacobian_guard);
+                Ok((pose_array.unbind(), jacobian_array.map(Bound::unbind)))
+            }
+        }
+    }
+
     /// Evaluates a per-configuration directional index in parallel.
     fn directional<'py>(
         &self,

@@ -210,3 +210,25 @@ class TestErrors:
 
     def test_error_is_a_value_error(self):
         assert issubclass(graspath.GraspathError, ValueError)
+
+
+def test_out_arrays_are_filled_and_returned(left):
+    q = random_configurations(left, 300)
+    poses, jacs = left.fk_jacobian(q)
+    p_out, j_out = np.full((300, 4, 4), np.nan), np.full((300, 6, 7), np.nan)
+    p_ret, j_ret = left.fk_jacobian(q, out=(p_out, j_out))
+    assert p_ret is p_out and j_ret is j_out
+    np.testing.assert_array_equal(p_out, poses)
+    np.testing.assert_array_equal(j_out, jacs)
+    f_out = np.empty((300, 4, 4))
+    assert left.fk(q, out=f_out) is f_out
+    np.testing.assert_array_equal(f_out, poses)
+    one = np.empty((6, 7))
+    assert left.jacobian(q[0], out=one) is one
+    np.testing.assert_array_equal(one, jacs[0])
+    with pytest.raises(graspath.GraspathError, match=r"out \(poses\) has shape \(2, 4, 4\) but \(300, 4, 4\)"):
+        left.fk(q, out=np.empty((2, 4, 4)))
+    with pytest.raises(graspath.GraspathError, match="float64"):
+        left.fk(q, out=np.empty((300, 4, 4), dtype=np.float32))
+    with pytest.raises(graspath.GraspathError, match="C-contiguous"):
+        left.fk(q, out=np.empty((300, 4, 8))[:, :, ::2])

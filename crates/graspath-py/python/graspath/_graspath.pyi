@@ -70,11 +70,13 @@ class Robot:
     def within_limits(self, q: Sequence[float]) -> bool: ...
     @overload
     def within_limits(self, q: ArrayLike) -> Union[bool, BoolArray]: ...
-    def fk(self, q: ArrayLike) -> FloatArray:
+    def fk(self, q: ArrayLike, out: Optional[FloatArray] = None) -> FloatArray:
         """``base_from_tip``: ``(4, 4)`` for ``(dof,)``, ``(n, 4, 4)`` for ``(n, dof)``."""
-    def jacobian(self, q: ArrayLike) -> FloatArray:
+    def jacobian(self, q: ArrayLike, out: Optional[FloatArray] = None) -> FloatArray:
         """Geometric Jacobian ``[v; ω]``: ``(6, dof)`` or ``(n, 6, dof)``."""
-    def fk_jacobian(self, q: ArrayLike) -> Tuple[FloatArray, FloatArray]:
+    def fk_jacobian(
+        self, q: ArrayLike, out: Optional[Tuple[FloatArray, FloatArray]] = None
+    ) -> Tuple[FloatArray, FloatArray]:
         """``(poses, jacobians)`` in one pass."""
     def indices(self, q: ArrayLike, part: Part = "full") -> Dict[str, Any]:
         """``yoshikawa``, ``inverse_condition``, ``inverse_condition_squared`` (floats or

@@ -16,8 +16,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use std::path::PathBuf;
 
-/// The IK iteration budget of a candidate's grasp sample when a task file gives none (the
-/// library's `DEFAULT_GRASP_ITERATIONS`; a test checks that both defaults agree).
+/// The IK iteration budget of a candidate's grasp sample when none is given: the value of the
+/// library's `select::setup::DEFAULT_GRASP_ITERATIONS`, which `graspath::select` does not
+/// re-export (keep the two equal).
 const DEFAULT_GRASP_ITERATIONS: usize = 400;
 
 /// A task ready for :func:`graspath.select`.

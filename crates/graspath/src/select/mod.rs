@@ -11,4 +11,4 @@ pub use rank::{
 };
 pub use run::{select, ArmResult, Selection};
 pub use score::{score_candidates, wrist_trajectory, CandidateScore, Failure};
-pub use setup::{pose, ArmSetup, Task};
+pub use setup::{pose, ArmSetup, Task, DEFAULT_GRASP_ITERATIONS};

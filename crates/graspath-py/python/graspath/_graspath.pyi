@@ -1,0 +1,229 @@
+"""Type stubs of the native module ``graspath._graspath`` (re-exported by ``graspath``).
+
+Frames and units: metres and radians; poses are 4×4 homogeneous matrices named ``a_from_b``;
+every robot pose and Jacobian is in the chain base frame, Jacobian rows ``[v; ω]``.
+"""
+
+from os import PathLike
+from pathlib import Path
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
+IntArray = npt.NDArray[np.int64]
+Part = Literal["full", "translation", "rotation"]
+StrPath = Union[str, "PathLike[str]"]
+
+class GraspathError(ValueError):
+    """Bad input (a file, a field, an array's shape or values), with the library's message."""
+
+class Robot:
+    """A serial kinematic chain from a base link to a tip link (plus an optional tool)."""
+
+    @staticmethod
+    def baxter(arm: Literal["left", "right"] = "left", tool: Optional[ArrayLike] = None) -> Robot:
+        """One arm of the built-in Baxter (``base`` → ``{arm}_gripper``); ``tool`` = ``tip_from_tool``."""
+    @staticmethod
+    def from_urdf(
+        path: StrPath, base_link: str, tip_link: str, tool: Optional[ArrayLike] = None
+    ) -> Robot:
+        """The chain ``base_link`` → ``tip_link`` of a URDF file."""
+    @staticmethod
+    def from_urdf_string(
+        xml: str,
+        base_link: str,
+        tip_link: str,
+        tool: Optional[ArrayLike] = None,
+        source_name: str = "<urdf string>",
+    ) -> Robot:
+        """The chain ``base_link`` → ``tip_link`` of URDF text."""
+    @property
+    def dof(self) -> int:
+        """The number of independent joints."""
+    @property
+    def name(self) -> str:
+        """``base->tip``."""
+    @property
+    def source(self) -> str:
+        """The file or built-in model the chain came from."""
+    @property
+    def base_link(self) -> str: ...
+    @property
+    def tip_link(self) -> str: ...
+    @property
+    def joint_names(self) -> List[str]: ...
+    @property
+    def lower(self) -> FloatArray:
+        """Lower joint limits ``(dof,)`` (``-inf`` for continuous joints)."""
+    @property
+    def upper(self) -> FloatArray:
+        """Upper joint limits ``(dof,)`` (``+inf`` for continuous joints)."""
+    def mid_configuration(self) -> FloatArray:
+        """The middle of the joint limits ``(dof,)``."""
+    @overload
+    def within_limits(self, q: Sequence[float]) -> bool: ...
+    @overload
+    def within_limits(self, q: ArrayLike) -> Union[bool, BoolArray]: ...
+    def fk(self, q: ArrayLike, out: Optional[FloatArray] = None) -> FloatArray:
+        """``base_from_tip``: ``(4, 4)`` for ``(dof,)``, ``(n, 4, 4)`` for ``(n, dof)``."""
+    def jacobian(self, q: ArrayLike, out: Optional[FloatArray] = None) -> FloatArray:
+        """Geometric Jacobian ``[v; ω]``: ``(6, dof)`` or ``(n, 6, dof)``."""
+    def fk_jacobian(
+        self, q: ArrayLike, out: Optional[Tuple[FloatArray, FloatArray]] = None
+    ) -> Tuple[FloatArray, FloatArray]:
+        """``(poses, jacobians)`` in one pass."""
+    def indices(self, q: ArrayLike, part: Part = "full") -> Dict[str, Any]:
+        """``yoshikawa``, ``inverse_condition``, ``inverse_condition_squared`` (floats or
+        ``(n,)`` arrays) and ``singular_values`` (``(rows,)`` or ``(n, rows)``)."""
+    def task_relevant(self, q: ArrayLike, u: ArrayLike, part: Part = "full") -> Union[float, FloatArray]:
+        """``M_T = ‖Jᵀ u‖²`` along the (normalised) direction ``u`` (6-D for ``full``, else 3-D)."""
+    def velocity_transmission_ratio(
+        self, q: ArrayLike, u: ArrayLike, part: Part = "full"
+    ) -> Union[float, FloatArray]:
+        """``1 / sqrt(uᵀ (J Jᵀ)⁻¹ u)`` along ``u`` (0 along a singular direction)."""
+    def joint_origins(self, q: ArrayLike) -> FloatArray:
+        """Base origin, joint origins and tip, ``(dof + 2, 3)``."""
+    def ik(
+        self,
+        target: ArrayLike,
+        seed: Optional[ArrayLike] = None,
+        *,
+        position_tolerance: float = 1e-5,
+        rotation_tolerance: float = 1e-5,
+        max_iterations: int = 100_000,
+        max_time: Optional[float] = 0.005,
+        random_seed: int = 0,
+    ) -> Dict[str, Any]:
+        """IK of one pose ``(4, 4)`` (dict with ``q`` or ``None``, ``converged``, errors,
+        ``iterations``, ``failure``) or many ``(n, 4, 4)`` (dict of arrays ``q`` with NaN rows,
+        ``best_q``, ``converged``, ``position_error``, ``rotation_error``, ``iterations``,
+        ``failure_reason``). ``max_time=None`` for reproducible results."""
+    def ik_trajectory(
+        self,
+        targets: ArrayLike,
+        seed: Optional[ArrayLike] = None,
+        *,
+        max_joint_step: float = 0.5,
+        branches: int = 4,
+        per_sample_iterations: int = 30,
+        max_iterations: int = 2000,
+        position_tolerance: float = 1e-5,
+        rotation_tolerance: float = 1e-5,
+        random_seed: int = 0,
+    ) -> Dict[str, Any]:
+        """Continuous joint paths through ``targets`` ``(n, 4, 4)``: ``feasible``,
+        ``branches`` (list of ``(n, dof)``), ``failure`` (``None`` or ``sample``, ``reason``,
+        ``detail``)."""
+
+class Task:
+    """A selection task: arms, object path, grasp candidates and settings."""
+
+    @staticmethod
+    def load(path: StrPath) -> Task:
+        """Reads a task file (YAML or JSON)."""
+    @staticmethod
+    def parse(
+        text: str,
+        format: Literal["yaml", "yml", "json"] = "yaml",
+        base_dir: Optional[StrPath] = None,
+        name: str = "<task>",
+    ) -> Task:
+        """Parses task text; relative paths resolve against ``base_dir``."""
+    @staticmethod
+    def from_dict(
+        data: Mapping[str, Any], base_dir: Optional[StrPath] = None, name: str = "<dict>"
+    ) -> Task:
+        """A task from a dict with the task file's schema."""
+    @staticmethod
+    def from_arrays(
+        arms: Mapping[str, Union[Robot, Tuple[Robot, ArrayLike]]],
+        object_poses: ArrayLike,
+        candidates: ArrayLike,
+        *,
+        times: Optional[ArrayLike] = None,
+        likelihoods: Optional[ArrayLike] = None,
+        labels: Optional[Sequence[str]] = None,
+        contacts: Optional[ArrayLike] = None,
+        mode: Literal["twist", "translation", "rotation"] = "twist",
+        length_scale: float = 1.0,
+        norm: Literal["l2", "l1"] = "l2",
+        mu0: Optional[float] = None,
+        likelihood: Union[Literal["product", "ignore"], float, None] = None,
+        pairs: int = 10,
+        min_separation: float = 0.08,
+        max_joint_step: float = 0.5,
+        branches: int = 4,
+        ik_seed: int = 0,
+        ik_tolerance: float = 1e-5,
+        ik_iterations: int = 200,
+        name: str = "<arrays>",
+        robot_name: str = "robot",
+    ) -> Task:
+        """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
+        ``(k, 4, 4)`` (object_from_wrist)."""
+    def with_arms(self, arms: Sequence[str]) -> Task:
+        """The same task with only the named arms, in that order."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def robot_name(self) -> str: ...
+    @property
+    def arms(self) -> List[str]: ...
+    @property
+    def object_poses(self) -> FloatArray:
+        """``world_from_object`` along the task, ``(n, 4, 4)``."""
+    @property
+    def times(self) -> FloatArray:
+        """Sample times (s), ``(n,)``."""
+    @property
+    def sample_steps(self) -> List[int]: ...
+    @property
+    def step_labels(self) -> List[str]: ...
+    @property
+    def candidate_poses(self) -> FloatArray:
+        """``object_from_wrist`` of every candidate, ``(k, 4, 4)``."""
+    @property
+    def candidates(self) -> List[Dict[str, Any]]:
+        """``id``, ``label``, ``object_from_wrist``, ``likelihood``, ``log_likelihood``, ``contact``."""
+    def robot(self, arm: str) -> Robot: ...
+    def world_from_base(self, arm: str) -> FloatArray: ...
+    def wrist_trajectory(self, candidate: int, arm: str) -> FloatArray:
+        """``base_from_wrist`` along the task for one candidate, ``(n, 4, 4)``."""
+    def __len__(self) -> int: ...
+
+class Selection:
+    """The result of :func:`select`."""
+
+    @property
+    def candidates(self) -> List[Dict[str, Any]]:
+        """The records of ``candidates.json``."""
+    @property
+    def pairs(self) -> List[Dict[str, Any]]:
+        """The records of ``pairs.json``."""
+    @property
+    def summary(self) -> Dict[str, Any]:
+        """The document ``summary.json``."""
+    @property
+    def arms(self) -> List[str]: ...
+    @property
+    def norm(self) -> Literal["l2", "l1"]: ...
+    def best(self, arm: str) -> Optional[int]:
+        """The id of the best-ranked candidate of ``arm``."""
+    def arrays(self, arm: str) -> Dict[str, npt.NDArray[Any]]:
+        """Per-candidate numpy arrays: ``id``, ``feasible``, ``rank``, ``score``, ``mu_l2``,
+        ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
+        ``inverse_condition_squared_at_grasp``, ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)``,
+        ``failure_sample``."""
+    def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
+        """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
+    def write(self, out_dir: StrPath) -> List[Path]:
+        """Writes the CLI's JSON files into ``out_dir``."""
+
+def select(task: Task) -> Selection:
+    """Scores and ranks every candidate of ``task`` (single arm, or pairs with two arms)."""

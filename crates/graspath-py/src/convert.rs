@@ -1,0 +1,216 @@
+//! Conversions between numpy arrays / Python objects and the library's types, and the mapping
+//! of library errors to `graspath.GraspathError`.
+//!
+//! Arrays come in as anything numpy can turn into `float64` (lists, int arrays, views); they are
+//! copied once into contiguous row-major buffers so that the heavy work can run without the GIL.
+
+use crate::GraspathError;
+use graspath::geometry::{pose_from_rows, pose_to_rows};
+use nalgebra::{Isometry3, IsometryMatrix3};
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyList, PyString};
+use std::fmt::Display;
+
+/// Any array-like that numpy can convert to `float64`.
+pub type FloatArray<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+/// A library error as a `graspath.GraspathError` carrying the library's message.
+pub fn error(e: impl Display) -> PyErr {
+    GraspathError::new_err(e.to_string())
+}
+
+/// A contiguous row-major copy of an array and its shape.
+pub struct Buffer {
+    /// The values, row-major.
+    pub data: Vec<f64>,
+    /// The array's shape.
+    pub shape: Vec<usize>,
+}
+
+impl Buffer {
+    /// Copies `array` (any layout) into a row-major buffer.
+    pub fn from_array(array: &FloatArray<'_>) -> Self {
+        let view = array.as_array();
+        Self {
+            shape: view.shape().to_vec(),
+            data: view.iter().copied().collect(),
+        }
+    }
+
+    /// The shape as Python prints it, e.g. `(3, 7)`.
+    pub fn shape_text(&self) -> String {
+        shape_text(&self.shape)
+    }
+}
+
+/// A shape as Python prints it.
+pub fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [one] => format!("({one},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// Rows of a fixed width: one row from shape `(width,)`, or `n` rows from `(n, width)`.
+/// Returns the buffer and `Some(n)` for the batch form, `None` for a single row.
+pub fn rows(
+    array: &FloatArray<'_>,
+    width: usize,
+    what: &str,
+) -> PyResult<(Vec<f64>, Option<usize>)> {
+    let buffer = Buffer::from_array(array);
+    match buffer.shape.as_slice() {
+        [w] if *w == width => Ok((buffer.data, None)),
+        [n, w] if *w == width => Ok((buffer.data, Some(*n))),
+        _ => Err(error(format!(
+            "{what} has shape {} but ({width},) or (n, {width}) is expected",
+            buffer.shape_text()
+        ))),
+    }
+}
+
+/// Checks that every value is finite; names the first offending entry.
+pub fn check_finite(data: &[f64], width: usize, what: &str, batch: bool) -> PyResult<()> {
+    if let Some(k) = data.iter().position(|v| !v.is_finite()) {
+        let (row, col) = (k / width.max(1), k % width.max(1));
+        let place = if batch {
+            format!("{what}[{row}, {col}]")
+        } else {
+            format!("{what}[{col}]")
+        };
+        return Err(error(format!("{place} is not a finite number")));
+    }
+    Ok(())
+}
+
+/// A pose from 16 row-major values of a 4×4 homogeneous matrix.
+pub fn pose_from_slice(values: &[f64], what: &str) -> PyResult<Isometry3<f64>> {
+    let rows: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|j| values[4 * i + j]));
+    pose_from_rows(&rows).map_err(|e| error(format!("{what}: {e}")))
+}
+
+/// Poses from shape `(4, 4)` (`None` batch) or `(n, 4, 4)` (`Some(n)`).
+pub fn poses(array: &FloatArray<'_>, what: &str) -> PyResult<(Vec<Isometry3<f64>>, Option<usize>)> {
+    let buffer = Buffer::from_array(array);
+    match buffer.shape.as_slice() {
+        [4, 4] => Ok((vec![pose_from_slice(&buffer.data, what)?], None)),
+        [n, 4, 4] => {
+            let poses = buffer
+                .data
+                .chunks_exact(16)
+                .enumerate()
+                .map(|(i, m)| pose_from_slice(m, &format!("{what}[{i}]")))
+                .collect::<PyResult<Vec<_>>>()?;
+            Ok((poses, Some(*n)))
+        }
+        _ => Err(error(format!(
+            "{what} has shape {} but (4, 4) or (n, 4, 4) is expected",
+            buffer.shape_text()
+        ))),
+    }
+}
+
+/// One pose from shape `(4, 4)`.
+pub fn single_pose(array: &FloatArray<'_>, what: &str) -> PyResult<Isometry3<f64>> {
+    match poses(array, what)? {
+        (mut one, None) => Ok(one.remove(0)),
+        (_, Some(n)) => Err(error(format!(
+            "{what} has shape ({n}, 4, 4) but one (4, 4) pose is expected"
+        ))),
+    }
+}
+
+/// The 16 row-major values of a pose.
+pub fn push_isometry(out: &mut Vec<f64>, pose: &Isometry3<f64>) {
+    for row in pose_to_rows(pose) {
+        out.extend_from_slice(&row);
+    }
+}
+
+/// Writes the 16 row-major values of a rotation-matrix pose into `out`.
+pub fn write_matrix_pose(out: &mut [f64], pose: &IsometryMatrix3<f64>) {
+    let m = pose.to_homogeneous();
+    for i in 0..4 {
+        for j in 0..4 {
+            out[4 * i + j] = m[(i, j)];
+        }
+    }
+}
+
+/// A new float64 array of the given shape from row-major data (no copy).
+pub fn array<'py>(
+    py: Python<'py>,
+    data: Vec<f64>,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let array = ArrayD::from_shape_vec(IxDyn(shape), data).map_err(error)?;
+    Ok(array.into_pyarray(py))
+}
+
+/// Checks the dimensions of an array argument against an expected shape pattern (`None` = any).
+pub fn check_shape(array: &FloatArray<'_>, expected: &[Option<usize>], what: &str) -> PyResult<()> {
+    let shape = array.shape();
+    let fits = shape.len() == expected.len()
+        && shape
+            .iter()
+            .zip(expected)
+            .all(|(s, e)| e.is_none_or(|e| e == *s));
+    if fits {
+        return Ok(());
+    }
+    let pattern: Vec<String> = expected
+        .iter()
+        .map(|e| e.map_or("n".to_string(), |v| v.to_string()))
+        .collect();
+    let pattern = if pattern.len() == 1 {
+        format!("({},)", pattern[0])
+    } else {
+        format!("({})", pattern.join(", "))
+    };
+    Err(error(format!(
+        "{what} has shape {} but {pattern} is expected",
+        shape_text(shape)
+    )))
+}
+
+/// A JSON value as the equal Python object (`json.loads` of its text gives the same object).
+pub fn json_to_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match value {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => {
+            if let Some(u) = n.as_u64() {
+                u.into_pyobject(py)?.into_any()
+            } else if let Some(i) = n.as_i64() {
+                i.into_pyobject(py)?.into_any()
+            } else {
+                n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any()
+            }
+        }
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(json_to_py(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Object(map) => {
+            let dict = PyDict::new(py);
+            for (k, v) in map {
+                dict.set_item(k, json_to_py(py, v)?)?;
+            }
+            dict.into_any()
+        }
+    })
+}

@@ -1,0 +1,53 @@
+//! Python bindings of graspath: the native module `graspath._graspath`, re-exported by the
+//! Python package `graspath` (see `python/graspath/__init__.py` and the type stubs beside it).
+//!
+//! * [`robot::PyRobot`] (`graspath.Robot`): URDF chains and the built-in Baxter arms; forward
+//!   kinematics, Jacobians, indices and IK for one configuration or a batch (numpy in and out,
+//!   batches in parallel with rayon, the GIL released).
+//! * [`task::PyTask`] (`graspath.Task`): tasks from files, text, dicts or arrays.
+//! * [`selection::select`] / [`selection::PySelection`] (`graspath.select`,
+//!   `graspath.Selection`): scoring and ranking, with the records the CLI writes.
+//!
+//! Every library error becomes a `graspath.GraspathError` (a subclass of `ValueError`) with
+//! the library's message.
+//!
+//! ## Extension point: grasp generation from point clouds
+//!
+//! The learned one-shot grasp model (`graspath::grasp` model: training from one demonstration,
+//! generating candidates over a cloud) is not part of the library this crate builds against,
+//! so the bindings do not offer it. When the library gains it, bind it in a new module
+//! `src/grasp_model.rs` (a `GraspModel` class: `train(cloud (n, 3|6), demo_grasp (4, 4))`,
+//! `generate(cloud, count, seed) -> (k, 4, 4) poses + likelihoods`), register it in
+//! [`_graspath`] below, add it to `python/graspath/__init__.py` and the stubs, and feed its
+//! output to `Task.from_arrays(candidates=..., likelihoods=...)`, which already takes
+//! candidates with likelihoods.
+#![warn(missing_docs)]
+
+mod convert;
+mod robot;
+mod selection;
+mod task;
+
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    graspath,
+    GraspathError,
+    pyo3::exceptions::PyValueError,
+    "An error reported by graspath: bad input (a file, a field, an array's shape or values) \
+     with the library's message. A subclass of ValueError."
+);
+
+/// The native module. Python code imports `graspath`, which re-exports everything here.
+#[pymodule]
+#[pyo3(name = "_graspath")]
+fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = module.py();
+    module.add("GraspathError", py.get_type::<GraspathError>())?;
+    module.add_class::<robot::PyRobot>()?;
+    module.add_class::<task::PyTask>()?;
+    module.add_class::<selection::PySelection>()?;
+    module.add_function(wrap_pyfunction!(selection::select, module)?)?;
+    module.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

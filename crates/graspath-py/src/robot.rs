@@ -1,0 +1,876 @@
+//! `graspath.Robot`: one serial chain (a URDF chain or a built-in Baxter arm) with forward
+//! kinematics, the geometric Jacobian, manipulability indices and inverse kinematics, for one
+//! configuration or for many at once.
+//!
+//! Frames and units as in the library: every pose and Jacobian is in the chain **base frame**;
+//! metres and radians; the Jacobian has rows `[v; ω]` (Pinocchio's `LOCAL_WORLD_ALIGNED`).
+
+use crate::convert::{
+    array, check_finite, error, poses, rows, shape_text, single_pose, write_matrix_pose, FloatArray,
+};
+use graspath::manipulability::{
+    inverse_condition, inverse_condition_squared, singular_values, task_relevant,
+    velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
+};
+use graspath::robot::builtin::{baxter_spec, Arm};
+use graspath::robot::{
+    solve_ik, solve_trajectory, Chain, FixedChain, IkOptions, IkSolution, RobotError,
+    TrajectoryIkOptions, UrdfRobot,
+};
+use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Smallest number of configurations handed to one rayon task in batch calls.
+const MIN_BATCH_CHUNK: usize = 256;
+
+/// A serial kinematic chain from a base link to a tip link.
+#[pyclass(module = "graspath", name = "Robot", frozen)]
+pub struct PyRobot {
+    pub(crate) chain: Chain,
+}
+
+impl PyRobot {
+    /// Wraps a chain.
+    pub fn new(chain: Chain) -> Self {
+        Self { chain }
+    }
+
+    /// Configurations from `(dof,)` or `(n, dof)`, checked finite.
+    fn configurations(&self, q: &FloatArray<'_>) -> PyResult<(Vec<f64>, Option<usize>)> {
+        let dof = self.chain.dof();
+        let shape = q.shape();
+        let fits = matches!(shape, [w] if *w == dof) || matches!(shape, [_, w] if *w == dof);
+        if !fits {
+            return Err(error(format!(
+                "q has shape {} but the chain '{}' has {dof} joints: expected ({dof},) or (n, {dof})",
+                shape_text(shape),
+                self.chain.name()
+            )));
+        }
+        let (data, batch) = rows(q, dof, "q")?;
+        check_finite(&data, dof, "q", batch.is_some())?;
+        Ok((data, batch))
+    }
+}
+
+fn part_of(part: &str) -> PyResult<JacobianPart> {
+    match part {
+        "full" => Ok(JacobianPart::Full),
+        "translation" => Ok(JacobianPart::Translation),
+        "rotation" => Ok(JacobianPart::Rotation),
+        other => Err(error(format!(
+            "part '{other}' is not one of 'full', 'translation', 'rotation'"
+        ))),
+    }
+}
+
+fn direction_of(part: JacobianPart, u: &[f64]) -> Direction {
+    match part {
+        JacobianPart::Full => Direction::Full(Vector6::from_column_slice(u)),
+        JacobianPart::Translation => Direction::Translation(Vector3::from_column_slice(u)),
+        JacobianPart::Rotation => Direction::Rotation(Vector3::from_column_slice(u)),
+    }
+}
+
+/// A tool offset `tip_from_tool` from an optional `(4, 4)` array.
+fn tool_pose(tool: Option<FloatArray<'_>>) -> PyResult<Option<Isometry3<f64>>> {
+    tool.map(|t| single_pose(&t, "tool")).transpose()
+}
+
+/// Computes poses and Jacobians of every configuration, in parallel, into row-major buffers:
+/// `pose_out` `(n, 4, 4)` and, when given, `jacobian_out` `(n, 6, dof)`. Configurations must
+/// have been checked (length and finiteness). The output does not depend on the thread count.
+///
+/// Chains of 6 or 7 joints without mimic joints use the library's fixed-size chain (stack
+/// Jacobian, no per-call checks); others the general chain. Both run the same forward pass.
+fn batch_into(
+    chain: &Chain,
+    q: &[f64],
+    pose_out: &mut [f64],
+    jacobian_out: Option<&mut [f64]>,
+) -> Result<(), RobotError> {
+    match chain.dof() {
+        7 => {
+            if let Ok(fixed) = chain.fixed::<7>() {
+                batch_fixed(&fixed, q, pose_out, jacobian_out);
+                return Ok(());
+            }
+        }
+        6 => {
+            if let Ok(fixed) = chain.fixed::<6>() {
+                batch_fixed(&fixed, q, pose_out, jacobian_out);
+                return Ok(());
+            }
+        }
+        _ => {}
+    }
+    batch_dynamic(chain, q, pose_out, jacobian_out)
+}
+
+/// The batch on a fixed-size chain of `N` joints.
+fn batch_fixed<const N: usize>(
+    chain: &FixedChain<N>,
+    q: &[f64],
+    pose_out: &mut [f64],
+    jacobian_out: Option<&mut [f64]>,
+) {
+    let rows = |qi: &[f64]| -> [f64; N] { std::array::from_fn(|j| qi[j]) };
+    match jacobian_out {
+        Some(jacobian_out) => pose_out
+            .par_chunks_mut(16)
+            .zip(jacobian_out.par_chunks_mut(6 * N))
+            .zip(q.par_chunks(N))
+            .with_min_len(MIN_BATCH_CHUNK)
+            .for_each(|((pose_row, jacobian_row), qi)| {
+                let (pose, jacobian) = chain.pose_and_jacobian(&rows(qi));
+                write_matrix_pose(pose_row, &pose);
+                for r in 0..6 {
+                    for c in 0..N {
+                        jacobian_row[r * N + c] = jacobian[(r, c)];
+                    }
+                }
+            }),
+        None => pose_out
+            .par_chunks_mut(16)
+            .zip(q.par_chunks(N))
+            .with_min_len(MIN_BATCH_CHUNK)
+            .for_each(|(pose_row, qi)| write_matrix_pose(pose_row, &chain.pose(&rows(qi)))),
+    }
+}
+
+/// The batch on a general chain.
+fn batch_dynamic(
+    chain: &Chain,
+    q: &[f64],
+    pose_out: &mut [f64],
+    jacobian_out: Option<&mut [f64]>,
+) -> Result<(), RobotError> {
+    let dof = chain.dof();
+    if let Some(jacobian_out) = jacobian_out {
+        pose_out
+            .par_chunks_mut(16)
+            .zip(jacobian_out.par_chunks_mut(6 * dof.max(1)))
+            .zip(q.par_chunks(dof.max(1)))
+            .with_min_len(MIN_BATCH_CHUNK)
+            .try_for_each_init(
+                || Matrix6xX::zeros(dof),
+                |jacobian, ((pose_row, jacobian_row), qi)| {
+                    let pose = chain.pose_and_jacobian_into(qi, jacobian)?;
+                    write_matrix_pose(pose_row, &pose);
+                    for r in 0..6 {
+                        for c in 0..dof {
+                            jacobian_row[r * dof + c] = jacobian[(r, c)];
+                        }
+                    }
+                    Ok(())
+                },
+            )
+    } else {
+        pose_out
+            .par_chunks_mut(16)
+            .zip(q.par_chunks(dof.max(1)))
+            .with_min_len(MIN_BATCH_CHUNK)
+            .try_for_each(|(pose_row, qi)| {
+                write_matrix_pose(pose_row, &chain.pose(qi)?);
+                Ok::<(), RobotError>(())
+            })
+    }
+}
+
+/// The IK settings shared by `ik` and `ik_trajectory`.
+fn ik_options(
+    position_tolerance: f64,
+    rotation_tolerance: f64,
+    max_iterations: usize,
+    max_time: Option<f64>,
+    random_seed: u64,
+) -> PyResult<IkOptions> {
+    let max_time = match max_time {
+        None => None,
+        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
+        Some(t) => {
+            return Err(error(format!(
+                "option 'max_time': must be a positive number of seconds or None, got {t}"
+            )))
+        }
+    };
+    Ok(IkOptions {
+        position_tolerance,
+        rotation_tolerance,
+        max_time,
+        max_iterations,
+        random_seed,
+    })
+}
+
+fn failure_reason(solution: &IkSolution) -> Option<&'static str> {
+    solution.failure.as_ref().map(|f| match f.reason {
+        graspath::robot::IkFailureReason::OutOfReach => "out_of_reach",
+        graspath::robot::IkFailureReason::TimeLimit => "time_limit",
+        graspath::robot::IkFailureReason::IterationLimit => "iteration_limit",
+    })
+}
+
+#[pymethods]
+impl PyRobot {
+    /// One arm of the built-in Baxter model (``base`` → ``{arm}_gripper``), optionally with a
+    /// tool offset ``tool`` = ``tip_from_tool`` (4×4, metres).
+    #[staticmethod]
+    #[pyo3(signature = (arm = "left", tool = None))]
+    fn baxter(arm: &str, tool: Option<FloatArray<'_>>) -> PyResult<Self> {
+        let arm: Arm = arm.parse().map_err(error)?;
+        let mut spec = baxter_spec(arm);
+        spec.tip_from_tool = tool_pose(tool)?;
+        Ok(Self::new(Chain::from_spec(&spec).map_err(error)?))
+    }
+
+    /// The chain ``base_link`` → ``tip_link`` of a URDF file, optionally with a tool offset
+    /// ``tool`` = ``tip_from_tool`` (4×4, metres). Link geometry is ignored.
+    #[staticmethod]
+    #[pyo3(signature = (path, base_link, tip_link, tool = None))]
+    fn from_urdf(
+        path: PathBuf,
+        base_link: &str,
+        tip_link: &str,
+        tool: Option<FloatArray<'_>>,
+    ) -> PyResult<Self> {
+        let tool = tool_pose(tool)?;
+        let robot = UrdfRobot::from_file(&path).map_err(error)?;
+        Ok(Self::new(
+            robot.chain(base_link, tip_link, tool).map_err(error)?,
+        ))
+    }
+
+    /// The chain ``base_link`` → ``tip_link`` of URDF text; ``source_name`` names it in errors.
+    #[staticmethod]
+    #[pyo3(signature = (xml, base_link, tip_link, tool = None, source_name = "<urdf string>"))]
+    fn from_urdf_string(
+        xml: &str,
+        base_link: &str,
+        tip_link: &str,
+        tool: Option<FloatArray<'_>>,
+        source_name: &str,
+    ) -> PyResult<Self> {
+        let tool = tool_pose(tool)?;
+        let robot = UrdfRobot::from_xml(xml, source_name).map_err(error)?;
+        Ok(Self::new(
+            robot.chain(base_link, tip_link, tool).map_err(error)?,
+        ))
+    }
+
+    /// The number of independent joints (the length of a configuration).
+    #[getter]
+    fn dof(&self) -> usize {
+        self.chain.dof()
+    }
+
+    /// ``base->tip``.
+    #[getter]
+    fn name(&self) -> String {
+        self.chain.name()
+    }
+
+    /// The file or built-in model the chain came from.
+    #[getter]
+    fn source(&self) -> String {
+        self.chain.source_name().to_string()
+    }
+
+    /// The base link: the frame of every pose and Jacobian.
+    #[getter]
+    fn base_link(&self) -> String {
+        self.chain.base_link().to_string()
+    }
+
+    /// The tip link.
+    #[getter]
+    fn tip_link(&self) -> String {
+        self.chain.tip_link().to_string()
+    }
+
+    /// The names of the independent joints, in the order of a configuration.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.chain.joint_names().to_vec()
+    }
+
+    /// Lower joint limits, shape ``(dof,)`` (rad or m; ``-inf`` for continuous joints).
+    #[getter]
+    fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.chain.lower())
+    }
+
+    /// Upper joint limits, shape ``(dof,)`` (rad or m; ``+inf`` for continuous joints).
+    #[getter]
+    fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.chain.upper())
+    }
+
+    /// The middle of the joint limits, shape ``(dof,)`` (0 for an unbounded joint): the seed
+    /// the selection uses.
+    fn mid_configuration<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_vec(py, self.chain.mid_configuration())
+    }
+
+    /// Whether each configuration lies within the joint limits (bounds included): a ``bool``
+    /// for ``(dof,)``, a ``bool`` array ``(n,)`` for ``(n, dof)``.
+    fn within_limits<'py>(&self, py: Python<'py>, q: FloatArray<'py>) -> PyResult<Py<PyAny>> {
+        let dof = self.chain.dof();
+        let (data, batch) = self.configurations(&q)?;
+        let flags: Vec<bool> = data
+            .chunks(dof.max(1))
+            .map(|qi| self.chain.within_limits(qi))
+            .collect();
+        Ok(match batch {
+            None => flags
+                .first()
+                .copied()
+                .unwrap_or(true)
+                .into_pyobject(py)?
+                .to_owned()
+                .into_any()
+                .unbind(),
+            Some(_) => PyArray1::from_vec(py, flags).into_any().unbind(),
+        })
+    }
+
+    /// The tip pose ``base_from_tip``: ``(4, 4)`` for ``q`` of shape ``(dof,)``, ``(n, 4, 4)``
+    /// for ``(n, dof)``. Batches run in parallel without the GIL. ``out``: an existing
+    /// C-contiguous float64 array of that shape to write into (and return), so that repeated
+    /// calls allocate nothing.
+    #[pyo3(signature = (q, out = None))]
+    fn fk<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        let (poses, _) = self.evaluate(py, q, out.map(|o| (o, None)), false)?;
+        Ok(poses)
+    }
+
+    /// The geometric Jacobian of the tip in the base frame, rows ``[v; ω]``: ``(6, dof)`` for
+    /// ``q`` of shape ``(dof,)``, ``(n, 6, dof)`` for ``(n, dof)``; ``out``: an existing float64
+    /// array of that shape to copy the result into (and return).
+    #[pyo3(signature = (q, out = None))]
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        let (_, jacobians) = self.evaluate(py, q, None, true)?;
+        match (out, jacobians) {
+            (None, Some(j)) => Ok(j),
+            (Some(out), Some(j)) => {
+                out.call_method1("__setitem__", (pyo3::types::PyEllipsis::get(py), j))?;
+                Ok(out.unbind())
+            }
+            (_, None) => Err(error("no Jacobian was computed")),
+        }
+    }
+
+    /// Both the tip pose and the Jacobian, in one pass: ``(poses, jacobians)`` with shapes
+    /// ``(4, 4)`` and ``(6, dof)``, or ``(n, 4, 4)`` and ``(n, 6, dof)``. ``out``: a pair of
+    /// existing C-contiguous float64 arrays of those shapes to write into (and return).
+    #[pyo3(signature = (q, out = None))]
+    fn fk_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>,
+    ) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
+        let (poses, jacobians) = self.evaluate(py, q, out.map(|(p, j)| (p, Some(j))), true)?;
+        let jacobians = jacobians.ok_or_else(|| error("no Jacobian was computed"))?;
+        Ok((poses, jacobians))
+    }
+
+    /// The classical indices of the rows ``part`` (``"full"``, ``"translation"`` = ``Jv``,
+    /// ``"rotation"`` = ``Jω``) of the Jacobian, as a dict of arrays (scalars for one
+    /// configuration): ``yoshikawa`` = sqrt(det(J Jᵀ)), ``inverse_condition`` = σmin/σmax of J,
+    /// ``inverse_condition_squared`` = λmin/λmax of J Jᵀ (the paper's eq. 12) and
+    /// ``singular_values`` (descending, shape ``(rows,)`` or ``(n, rows)``).
+    #[pyo3(signature = (q, part = "full"))]
+    fn indices<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        part: &str,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let part = part_of(part)?;
+        let dof = self.chain.dof();
+        let (data, batch) = self.configurations(&q)?;
+        let chain = &self.chain;
+        let per_config: Vec<[f64; 3]>;
+        let singular: Vec<Vec<f64>>;
+        (per_config, singular) = py
+            .detach(|| {
+                data.par_chunks(dof.max(1))
+                    .with_min_len(32)
+                    .map_init(
+                        || Matrix6xX::zeros(dof),
+                        |jacobian, qi| {
+                            chain.pose_and_jacobian_into(qi, jacobian)?;
+                            Ok((
+                                [
+                                    yoshikawa(jacobian, part),
+                                    inverse_condition(jacobian, part),
+                                    inverse_condition_squared(jacobian, part),
+                                ],
+                                singular_values(jacobian, part),
+                            ))
+                        },
+                    )
+                    .collect::<Result<Vec<_>, RobotError>>()
+            })
+            .map_err(error)?
+            .into_iter()
+            .unzip();
+        let dict = PyDict::new(py);
+        let names = [
+            "yoshikawa",
+            "inverse_condition",
+            "inverse_condition_squared",
+        ];
+        let rows_count = singular.first().map_or(0, Vec::len);
+        match batch {
+            None => {
+                for (k, name) in names.iter().enumerate() {
+                    dict.set_item(name, per_config.first().map_or(f64::NAN, |v| v[k]))?;
+                }
+                let values = singular.into_iter().next().unwrap_or_default();
+                dict.set_item("singular_values", PyArray1::from_vec(py, values))?;
+            }
+            Some(n) => {
+                for (k, name) in names.iter().enumerate() {
+                    let column: Vec<f64> = per_config.iter().map(|v| v[k]).collect();
+                    dict.set_item(name, PyArray1::from_vec(py, column))?;
+                }
+                let flat: Vec<f64> = singular.into_iter().flatten().collect();
+                dict.set_item("singular_values", array(py, flat, &[n, rows_count])?)?;
+            }
+        }
+        Ok(dict)
+    }
+
+    /// The task-relevant manipulability ``M_T = uᵀ J Jᵀ u = ‖Jᵀ u‖²`` (paper eq. 13) of the rows
+    /// ``part`` along the unit direction ``u``: 6-D ``[v; ω]`` for ``"full"`` (the paper's raw
+    /// J), 3-D for ``"translation"`` and ``"rotation"``. ``u`` is normalised; it may be one
+    /// direction for every configuration or one per configuration, shape ``(n, k)``.
+    #[pyo3(signature = (q, u, part = "full"))]
+    fn task_relevant<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        u: FloatArray<'py>,
+        part: &str,
+    ) -> PyResult<Py<PyAny>> {
+        self.directional(py, q, u, part, task_relevant)
+    }
+
+    /// The velocity transmission ratio ``1 / sqrt(uᵀ (J Jᵀ)⁻¹ u)`` along the unit direction
+    /// ``u`` (0 along a singular direction); arguments as for :meth:`task_relevant`.
+    #[pyo3(signature = (q, u, part = "full"))]
+    fn velocity_transmission_ratio<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        u: FloatArray<'py>,
+        part: &str,
+    ) -> PyResult<Py<PyAny>> {
+        self.directional(py, q, u, part, velocity_transmission_ratio)
+    }
+
+    /// The positions of the base origin, every moving joint's origin and the tip, shape
+    /// ``(dof + 2, 3)`` in the base frame (m): the polyline of the arm's links.
+    fn joint_origins<'py>(&self, py: Python<'py>, q: FloatArray<'py>) -> PyResult<Py<PyAny>> {
+        let (data, batch) = self.configurations(&q)?;
+        if batch.is_some() {
+            return Err(error("joint_origins takes one configuration, shape (dof,)"));
+        }
+        let points = self.chain.joint_origins(&data).map_err(error)?;
+        let count = points.len();
+        let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+        Ok(array(py, flat, &[count, 3])?.into_any().unbind())
+    }
+
+    /// Inverse kinematics of one target pose ``(4, 4)`` or of many ``(n, 4, 4)`` (each solved
+    /// independently, in parallel): the configuration, inside the limits, at which the tip
+    /// reaches ``base_from_target``. ``seed`` is ``(dof,)`` (shared) or ``(n, dof)``; default
+    /// the middle of the limits.
+    ///
+    /// One pose gives a dict ``q`` (array, or ``None`` when not converged), ``converged``,
+    /// ``position_error`` (m), ``rotation_error`` (rad), ``iterations``, ``failure`` (``None``
+    /// or a dict ``reason`` in ``out_of_reach``/``time_limit``/``iteration_limit``,
+    /// ``best_q``, ``attempts``). Many poses give a dict of arrays: ``q`` ``(n, dof)`` (NaN rows
+    /// where not converged), ``best_q`` (the best configuration tried), ``converged``
+    /// ``(n,)`` bool, ``position_error``, ``rotation_error``, ``iterations`` and
+    /// ``failure_reason`` (a list of str or None).
+    ///
+    /// ``max_time`` is a wall-clock budget per pose (s); with it the result can depend on the
+    /// machine's speed. Pass ``max_time=None`` for reproducible results (only ``max_iterations``
+    /// stops the search).
+    #[pyo3(signature = (
+        target,
+        seed = None,
+        *,
+        position_tolerance = 1e-5,
+        rotation_tolerance = 1e-5,
+        max_iterations = 100_000,
+        max_time = Some(0.005),
+        random_seed = 0
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik<'py>(
+        &self,
+        py: Python<'py>,
+        target: FloatArray<'py>,
+        seed: Option<FloatArray<'py>>,
+        position_tolerance: f64,
+        rotation_tolerance: f64,
+        max_iterations: usize,
+        max_time: Option<f64>,
+        random_seed: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let options = ik_options(
+            position_tolerance,
+            rotation_tolerance,
+            max_iterations,
+            max_time,
+            random_seed,
+        )?;
+        let dof = self.chain.dof();
+        let (targets, batch) = poses(&target, "target")?;
+        let n = targets.len();
+        let seeds: Vec<f64> = match &seed {
+            None => self.chain.mid_configuration().repeat(n),
+            Some(s) => {
+                let (data, seed_batch) = rows(s, dof, "seed")?;
+                match (seed_batch, batch) {
+                    (None, _) => data.repeat(n),
+                    (Some(m), Some(n)) if m == n => data,
+                    (Some(m), _) => {
+                        return Err(error(format!(
+                            "seed has {m} rows but there are {n} target pose(s); give one seed \
+                             (dof,) or one per pose (n, dof)"
+                        )))
+                    }
+                }
+            }
+        };
+        let chain = &self.chain;
+        let solutions = py
+            .detach(|| {
+                targets
+                    .par_iter()
+                    .zip(seeds.par_chunks(dof.max(1)))
+                    .map(|(t, s)| solve_ik(chain, t, s, &options))
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .map_err(error)?;
+        let dict = PyDict::new(py);
+        match batch {
+            None => {
+                let s = &solutions[0];
+                dict.set_item("q", s.q.clone().map(|q| PyArray1::from_vec(py, q)))?;
+                dict.set_item("converged", s.converged())?;
+                dict.set_item("position_error", s.position_error)?;
+                dict.set_item("rotation_error", s.rotation_error)?;
+                dict.set_item("iterations", s.iterations)?;
+                match &s.failure {
+                    None => dict.set_item("failure", py.None())?,
+                    Some(f) => {
+                        let failure = PyDict::new(py);
+                        failure.set_item("reason", failure_reason(s))?;
+                        failure.set_item("best_q", PyArray1::from_vec(py, f.best_q.clone()))?;
+                        failure.set_item("attempts", f.attempts)?;
+                        failure.set_item("message", f.to_string())?;
+                        dict.set_item("failure", failure)?;
+                    }
+                }
+            }
+            Some(n) => {
+                let mut q = Vec::with_capacity(n * dof);
+                let mut best = Vec::with_capacity(n * dof);
+                for s in &solutions {
+                    match (&s.q, &s.failure) {
+                        (Some(v), _) => {
+                            q.extend_from_slice(v);
+                            best.extend_from_slice(v);
+                        }
+                        (None, Some(f)) => {
+                            q.extend(std::iter::repeat_n(f64::NAN, dof));
+                            best.extend_from_slice(&f.best_q);
+                        }
+                        (None, None) => {
+                            q.extend(std::iter::repeat_n(f64::NAN, dof));
+                            best.extend(std::iter::repeat_n(f64::NAN, dof));
+                        }
+                    }
+                }
+                dict.set_item("q", array(py, q, &[n, dof])?)?;
+                dict.set_item("best_q", array(py, best, &[n, dof])?)?;
+                let converged: Vec<bool> = solutions.iter().map(IkSolution::converged).collect();
+                dict.set_item("converged", PyArray1::from_vec(py, converged))?;
+                let column = |f: &dyn Fn(&IkSolution) -> f64| -> Vec<f64> {
+                    solutions.iter().map(f).collect()
+                };
+                dict.set_item(
+                    "position_error",
+                    PyArray1::from_vec(py, column(&|s| s.position_error)),
+                )?;
+                dict.set_item(
+                    "rotation_error",
+                    PyArray1::from_vec(py, column(&|s| s.rotation_error)),
+                )?;
+                let iterations: Vec<i64> = solutions.iter().map(|s| s.iterations as i64).collect();
+                dict.set_item("iterations", PyArray1::from_vec(py, iterations))?;
+                let reasons: Vec<Option<&str>> = solutions.iter().map(failure_reason).collect();
+                dict.set_item("failure_reason", PyList::new(py, reasons)?)?;
+            }
+        }
+        Ok(dict)
+    }
+
+    /// Inverse kinematics along a trajectory of tip poses ``(n, 4, 4)`` (base frame, in order):
+    /// continuous joint paths inside the limits, one per distinct initial solution (branch),
+    /// no joint moving more than ``max_joint_step`` between samples. Deterministic (iteration
+    /// budgets only).
+    ///
+    /// Returns a dict: ``feasible`` (bool), ``branches`` (a list of ``(n, dof)`` arrays) and
+    /// ``failure`` (``None``, or a dict ``sample``, ``reason`` in
+    /// ``unreachable``/``joint_limit``/``discontinuity``, ``detail``).
+    #[pyo3(signature = (
+        targets,
+        seed = None,
+        *,
+        max_joint_step = 0.5,
+        branches = 4,
+        per_sample_iterations = 30,
+        max_iterations = 2000,
+        position_tolerance = 1e-5,
+        rotation_tolerance = 1e-5,
+        random_seed = 0
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik_trajectory<'py>(
+        &self,
+        py: Python<'py>,
+        targets: FloatArray<'py>,
+        seed: Option<FloatArray<'py>>,
+        max_joint_step: f64,
+        branches: usize,
+        per_sample_iterations: usize,
+        max_iterations: usize,
+        position_tolerance: f64,
+        rotation_tolerance: f64,
+        random_seed: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let dof = self.chain.dof();
+        let (targets, _) = poses(&targets, "targets")?;
+        let seed = match &seed {
+            None => self.chain.mid_configuration(),
+            Some(s) => match rows(s, dof, "seed")? {
+                (data, None) => data,
+                (_, Some(_)) => return Err(error("seed must have shape (dof,)")),
+            },
+        };
+        let options = TrajectoryIkOptions {
+            ik: ik_options(
+                position_tolerance,
+                rotation_tolerance,
+                max_iterations,
+                None,
+                random_seed,
+            )?,
+            max_joint_step,
+            branches,
+            per_sample_iterations,
+        };
+        let chain = &self.chain;
+        let result = py
+            .detach(|| solve_trajectory(chain, &targets, &seed, &options))
+            .map_err(error)?;
+        let dict = PyDict::new(py);
+        dict.set_item("feasible", result.feasible())?;
+        let list = PyList::empty(py);
+        for branch in &result.branches {
+            let flat: Vec<f64> = branch.q.iter().flatten().copied().collect();
+            list.append(array(py, flat, &[branch.q.len(), dof])?)?;
+        }
+        dict.set_item("branches", list)?;
+        match &result.failure {
+            None => dict.set_item("failure", py.None())?,
+            Some(f) => {
+                let failure = PyDict::new(py);
+                failure.set_item("sample", f.sample)?;
+                failure.set_item("reason", f.reason.as_str())?;
+                failure.set_item("detail", &f.detail)?;
+                dict.set_item("failure", failure)?;
+            }
+        }
+        Ok(dict)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Robot('{}', dof={}, source='{}')",
+            self.chain.name(),
+            self.chain.dof(),
+            self.chain.source_name()
+        )
+    }
+}
+
+/// Borrows a caller's output array for writing: float64, C-contiguous, writeable, of `shape`.
+fn output<'py>(
+    array: &Bound<'py, PyAny>,
+    shape: &[usize],
+    what: &str,
+) -> PyResult<PyReadwriteArrayDyn<'py, f64>> {
+    let array = array
+        .cast::<PyArrayDyn<f64>>()
+        .map_err(|_| error(format!("{what} must be a numpy float64 array")))?;
+    if array.shape() != shape {
+        return Err(error(format!(
+            "{what} has shape {} but {} is expected",
+            shape_text(array.shape()),
+            shape_text(shape)
+        )));
+    }
+    if !array.is_c_contiguous() {
+        return Err(error(format!("{what} must be C-contiguous")));
+    }
+    array
+        .try_readwrite()
+        .map_err(|e| error(format!("{what} cannot be written: {e}")))
+}
+
+impl PyRobot {
+    /// Poses (and Jacobians) of `q`, into new arrays or into the caller's `out` arrays.
+    #[allow(clippy::type_complexity)]
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        out: Option<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)>,
+        want_jacobian: bool,
+    ) -> PyResult<(Py<PyAny>, Option<Py<PyAny>>)> {
+        let dof = self.chain.dof();
+        let (data, batch) = self.configurations(&q)?;
+        let n = data.len() / dof.max(1);
+        let (pose_shape, jacobian_shape) = match batch {
+            None => (vec![4, 4], vec![6, dof]),
+            Some(n) => (vec![n, 4, 4], vec![n, 6, dof]),
+        };
+        let chain = &self.chain;
+        match out {
+            None => {
+                let mut poses = vec![0.0; 16 * n];
+                let mut jacobians = vec![0.0; if want_jacobian { 6 * dof * n } else { 0 }];
+                py.detach(|| {
+                    batch_into(
+                        chain,
+                        &data,
+                        &mut poses,
+                        want_jacobian.then_some(jacobians.as_mut_slice()),
+                    )
+                })
+                .map_err(error)?;
+                let jacobians = if want_jacobian {
+                    Some(array(py, jacobians, &jacobian_shape)?.into_any().unbind())
+                } else {
+                    None
+                };
+                Ok((
+                    array(py, poses, &pose_shape)?.into_any().unbind(),
+                    jacobians,
+                ))
+            }
+            Some((pose_array, jacobian_array)) => {
+                let mut pose_guard = output(&pose_array, &pose_shape, "out (poses)")?;
+                let mut jacobian_guard = match (&jacobian_array, want_jacobian) {
+                    (Some(j), true) => Some(output(j, &jacobian_shape, "out (jacobians)")?),
+                    _ => None,
+                };
+                let pose_slice = pose_guard.as_slice_mut().map_err(error)?;
+                let jacobian_slice = match jacobian_guard.as_mut() {
+                    Some(guard) => Some(guard.as_slice_mut().map_err(error)?),
+                    None => None,
+                };
+                py.detach(|| batch_into(chain, &data, pose_slice, jacobian_slice))
+                    .map_err(error)?;
+                drop(pose_guard);
+                drop(jacobian_guard);
+                Ok((pose_array.unbind(), jacobian_array.map(Bound::unbind)))
+            }
+        }
+    }
+
+    /// Evaluates a per-configuration directional index in parallel.
+    fn directional<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        u: FloatArray<'py>,
+        part: &str,
+        index: fn(&Matrix6xX<f64>, &Direction) -> f64,
+    ) -> PyResult<Py<PyAny>> {
+        let part = part_of(part)?;
+        let width = if part == JacobianPart::Full { 6 } else { 3 };
+        let dof = self.chain.dof();
+        let (data, batch) = self.configurations(&q)?;
+        let n = data.len() / dof.max(1);
+        let (directions, direction_batch) = rows(&u, width, "u")?;
+        if let Some(m) = direction_batch {
+            if m != n || batch.is_none() {
+                return Err(error(format!(
+                    "u has {m} rows but there are {n} configuration(s); give one direction \
+                     ({width},) or one per configuration (n, {width})"
+                )));
+            }
+        }
+        let mut units = Vec::with_capacity(directions.len());
+        for (k, d) in directions.chunks(width).enumerate() {
+            let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !(norm.is_finite() && norm > 0.0) {
+                return Err(error(format!("u[{k}] must be a finite non-zero direction")));
+            }
+            units.extend(d.iter().map(|v| v / norm));
+        }
+        let shared = direction_batch.is_none();
+        let chain = &self.chain;
+        let values = py
+            .detach(|| {
+                data.par_chunks(dof.max(1))
+                    .enumerate()
+                    .with_min_len(64)
+                    .map_init(
+                        || Matrix6xX::zeros(dof),
+                        |jacobian, (i, qi)| {
+                            chain.pose_and_jacobian_into(qi, jacobian)?;
+                            let k = if shared { 0 } else { i };
+                            let direction = direction_of(part, &units[k * width..(k + 1) * width]);
+                            Ok(index(jacobian, &direction))
+                        },
+                    )
+                    .collect::<Result<Vec<f64>, RobotError>>()
+            })
+            .map_err(error)?;
+        Ok(match batch {
+            None => values
+                .first()
+                .copied()
+                .unwrap_or(f64::NAN)
+                .into_pyobject(py)?
+                .into_any()
+                .unbind(),
+            Some(_) => PyArray1::from_vec(py, values).into_any().unbind(),
+        })
+    }
+}

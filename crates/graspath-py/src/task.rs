@@ -1,0 +1,522 @@
+//! `graspath.Task`: a selection task (robot arms, object path, grasp candidates, index and
+//! ranking settings) from a task file, task text, a dict, or numpy arrays.
+
+use crate::convert::{
+    array, check_shape, error, poses, push_isometry, single_pose, Buffer, FloatArray,
+};
+use crate::robot::PyRobot;
+use graspath::grasp::Candidate;
+use graspath::manipulability::IndexMode;
+use graspath::robot::TrajectoryIkOptions;
+use graspath::select::DEFAULT_GRASP_ITERATIONS;
+use graspath::select::{wrist_trajectory, ArmSetup, LikelihoodRule, Norm, SelectionOptions, Task};
+use graspath::task::{ObjectPath, PathSample, TaskFile};
+use nalgebra::{Isometry3, Point3};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use std::path::PathBuf;
+
+/// A task ready for :func:`graspath.select`.
+#[pyclass(module = "graspath", name = "Task", frozen)]
+pub struct PyTask {
+    pub(crate) task: Task,
+}
+
+impl PyTask {
+    fn arm(&self, name: &str) -> PyResult<&ArmSetup> {
+        self.task
+            .arms
+            .iter()
+            .find(|a| a.name == name)
+            .ok_or_else(|| {
+                error(format!(
+                    "unknown arm '{name}' (arms: {})",
+                    self.arm_names().join(", ")
+                ))
+            })
+    }
+
+    fn arm_names(&self) -> Vec<String> {
+        self.task.arms.iter().map(|a| a.name.clone()).collect()
+    }
+}
+
+/// Parses the index mode of `Task.from_arrays`.
+fn index_mode(mode: &str, length_scale: f64) -> PyResult<IndexMode> {
+    match mode {
+        "twist" => {
+            if !(length_scale.is_finite() && length_scale > 0.0) {
+                return Err(error("length_scale must be a positive length in metres"));
+            }
+            Ok(IndexMode::Twist { length_scale })
+        }
+        "translation" => Ok(IndexMode::Translation),
+        "rotation" => Ok(IndexMode::Rotation),
+        other => Err(error(format!(
+            "mode '{other}' is not one of 'twist', 'translation', 'rotation'"
+        ))),
+    }
+}
+
+/// Parses `likelihood`: `"product"`, `"ignore"` or a float weight (`"weighted"` rule).
+fn likelihood_rule(value: &Bound<'_, PyAny>) -> PyResult<LikelihoodRule> {
+    if let Ok(text) = value.extract::<String>() {
+        return match text.as_str() {
+            "product" => Ok(LikelihoodRule::Product),
+            "ignore" => Ok(LikelihoodRule::Ignore),
+            other => Err(error(format!(
+                "likelihood '{other}' is not 'product', 'ignore' or a weight (float >= 0)"
+            ))),
+        };
+    }
+    let weight: f64 = value
+        .extract()
+        .map_err(|_| error("likelihood must be 'product', 'ignore' or a weight (float >= 0)"))?;
+    if !(weight.is_finite() && weight >= 0.0) {
+        return Err(error("the likelihood weight must be a number >= 0"));
+    }
+    Ok(LikelihoodRule::Weighted { weight })
+}
+
+/// An arm of `Task.from_arrays`: a `Robot`, or `(Robot, world_from_base)`.
+fn arm_setup(name: String, value: &Bound<'_, PyAny>) -> PyResult<ArmSetup> {
+    let (robot, world_from_base) = if let Ok(robot) = value.cast::<PyRobot>() {
+        (robot.clone(), Isometry3::identity())
+    } else if let Ok(pair) = value.cast::<PyTuple>() {
+        if pair.len() != 2 {
+            return Err(error(format!(
+                "arm '{name}': give a Robot or a (Robot, world_from_base) pair"
+            )));
+        }
+        let robot = pair.get_item(0)?;
+        let robot = robot.cast::<PyRobot>().map_err(|_| {
+            error(format!(
+                "arm '{name}': the first item must be a graspath.Robot"
+            ))
+        })?;
+        let pose: FloatArray<'_> = pair.get_item(1)?.extract()?;
+        (
+            robot.clone(),
+            single_pose(&pose, &format!("arms['{name}'] world_from_base"))?,
+        )
+    } else {
+        return Err(error(format!(
+            "arm '{name}': give a Robot or a (Robot, world_from_base) pair"
+        )));
+    };
+    Ok(ArmSetup {
+        name,
+        chain: robot.get().chain.clone(),
+        world_from_base,
+    })
+}
+
+#[pymethods]
+impl PyTask {
+    /// Reads and checks a task file (YAML or JSON; the schema of ``docs/task-file.md``).
+    /// Relative paths inside it are relative to the file.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        Ok(Self {
+            task: Task::load(&path).map_err(error)?,
+        })
+    }
+
+    /// Parses task text (``format`` ``"yaml"`` or ``"json"``); relative paths in it are
+    /// resolved against ``base_dir``; ``name`` names the text in errors and in the summary.
+    #[staticmethod]
+    #[pyo3(signature = (text, format = "yaml", base_dir = None, name = "<task>"))]
+    fn parse(text: &str, format: &str, base_dir: Option<PathBuf>, name: &str) -> PyResult<Self> {
+        let file = TaskFile::parse(text, name, format).map_err(error)?;
+        let base_dir = base_dir.unwrap_or_else(|| PathBuf::from("."));
+        Ok(Self {
+            task: Task::from_file(&file, name, &base_dir).map_err(error)?,
+        })
+    }
+
+    /// A task from a dict with the task file's schema (as ``yaml.safe_load`` would give).
+    #[staticmethod]
+    #[pyo3(signature = (data, base_dir = None, name = "<dict>"))]
+    fn from_dict(
+        py: Python<'_>,
+        data: &Bound<'_, PyAny>,
+        base_dir: Option<PathBuf>,
+        name: &str,
+    ) -> PyResult<Self> {
+        let text: String = py
+            .import("json")?
+            .call_method1("dumps", (data,))?
+            .extract()?;
+        Self::parse(&text, "json", base_dir, name)
+    }
+
+    /// A task from arrays.
+    ///
+    /// * ``arms``: a dict ``name -> Robot`` or ``name -> (Robot, world_from_base)`` (4×4; the
+    ///   chain base in the world frame, default identity), in the order used for pairs.
+    /// * ``object_poses``: ``(n, 4, 4)`` ``world_from_object`` along the task; the first is the
+    ///   grasp pose. ``times``: ``(n,)`` seconds (default ``0, 1, 2, …``).
+    /// * ``candidates``: ``(k, 4, 4)`` ``object_from_wrist`` grasp candidates, with optional
+    ///   ``likelihoods`` ``(k,)`` (> 0), ``labels`` and ``contacts`` ``(k, 3)`` (object frame;
+    ///   NaN rows = unknown).
+    /// * settings as in the task file: ``mode`` (``twist``/``translation``/``rotation``),
+    ///   ``length_scale``, ``norm`` (``l2``/``l1``), ``mu0``, ``likelihood`` (``"product"``,
+    ///   ``"ignore"`` or a weight), ``pairs``, ``min_separation`` (m), and the trajectory IK's
+    ///   ``max_joint_step``, ``branches``, ``ik_seed``, ``ik_tolerance``, ``ik_iterations``.
+    #[staticmethod]
+    #[pyo3(signature = (
+        arms,
+        object_poses,
+        candidates,
+        *,
+        times = None,
+        likelihoods = None,
+        labels = None,
+        contacts = None,
+        mode = "twist",
+        length_scale = 1.0,
+        norm = "l2",
+        mu0 = None,
+        likelihood = None,
+        pairs = 10,
+        min_separation = 0.08,
+        max_joint_step = 0.5,
+        branches = 4,
+        ik_seed = 0,
+        ik_tolerance = 1e-5,
+        ik_iterations = DEFAULT_GRASP_ITERATIONS,
+        name = "<arrays>",
+        robot_name = "robot"
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_arrays(
+        arms: &Bound<'_, PyDict>,
+        object_poses: FloatArray<'_>,
+        candidates: FloatArray<'_>,
+        times: Option<FloatArray<'_>>,
+        likelihoods: Option<FloatArray<'_>>,
+        labels: Option<Vec<String>>,
+        contacts: Option<FloatArray<'_>>,
+        mode: &str,
+        length_scale: f64,
+        norm: &str,
+        mu0: Option<f64>,
+        likelihood: Option<&Bound<'_, PyAny>>,
+        pairs: usize,
+        min_separation: f64,
+        max_joint_step: f64,
+        branches: usize,
+        ik_seed: u64,
+        ik_tolerance: f64,
+        ik_iterations: usize,
+        name: &str,
+        robot_name: &str,
+    ) -> PyResult<Self> {
+        let mut arm_setups = Vec::new();
+        for (key, value) in arms.iter() {
+            let arm_name: String = key
+                .extract()
+                .map_err(|_| error("arm names (the keys of arms) must be strings"))?;
+            arm_setups.push(arm_setup(arm_name, &value)?);
+        }
+        if arm_setups.is_empty() {
+            return Err(error("arms: name at least one arm"));
+        }
+        check_shape(&object_poses, &[None, Some(4), Some(4)], "object_poses")?;
+        let (object_path, _) = poses(&object_poses, "object_poses")?;
+        if object_path.is_empty() {
+            return Err(error("object_poses: give at least one pose"));
+        }
+        let n = object_path.len();
+        let times: Vec<f64> = match &times {
+            None => (0..n).map(|i| i as f64).collect(),
+            Some(t) => {
+                check_shape(t, &[Some(n)], "times")?;
+                Buffer::from_array(t).data
+            }
+        };
+        if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|w| w[1] < w[0]) {
+            return Err(error("times must be finite and non-decreasing (s)"));
+        }
+        check_shape(&candidates, &[None, Some(4), Some(4)], "candidates")?;
+        let (candidate_poses, _) = poses(&candidates, "candidates")?;
+        let k = candidate_poses.len();
+        let log_likelihoods: Vec<f64> = match &likelihoods {
+            None => vec![0.0; k],
+            Some(l) => {
+                check_shape(l, &[Some(k)], "likelihoods")?;
+                let values = Buffer::from_array(l).data;
+                if let Some(i) = values.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+                    return Err(error(format!(
+                        "likelihoods[{i}] must be a positive finite number"
+                    )));
+                }
+                values.iter().map(|v| v.ln()).collect()
+            }
+        };
+        if let Some(labels) = &labels {
+            if labels.len() != k {
+                return Err(error(format!(
+                    "labels has {} entries but there are {k} candidates",
+                    labels.len()
+                )));
+            }
+        }
+        let contact_points: Vec<Option<Point3<f64>>> = match &contacts {
+            None => vec![None; k],
+            Some(c) => {
+                check_shape(c, &[Some(k), Some(3)], "contacts")?;
+                Buffer::from_array(c)
+                    .data
+                    .chunks_exact(3)
+                    .map(|p| {
+                        p.iter()
+                            .all(|v| v.is_finite())
+                            .then(|| Point3::new(p[0], p[1], p[2]))
+                    })
+                    .collect()
+            }
+        };
+        let candidates: Vec<Candidate> = candidate_poses
+            .into_iter()
+            .enumerate()
+            .map(|(i, object_from_wrist)| Candidate {
+                id: i,
+                label: labels
+                    .as_ref()
+                    .map_or_else(|| format!("candidate {i}"), |l| l[i].clone()),
+                object_from_wrist,
+                log_likelihood: log_likelihoods[i],
+                contact: contact_points[i],
+                hand_joints: Vec::new(),
+            })
+            .collect();
+        let norm = match norm {
+            "l2" => Norm::L2,
+            "l1" => Norm::L1,
+            other => return Err(error(format!("norm '{other}' is not 'l2' or 'l1'"))),
+        };
+        if let Some(mu0) = mu0 {
+            if mu0.is_nan() || mu0 <= 0.0 {
+                return Err(error("mu0 must be a positive number"));
+            }
+        }
+        if !(min_separation.is_finite() && min_separation >= 0.0) {
+            return Err(error("min_separation must be a distance >= 0 in metres"));
+        }
+        let likelihood = match likelihood {
+            None => LikelihoodRule::Product,
+            Some(value) => likelihood_rule(value)?,
+        };
+        let defaults = TrajectoryIkOptions::default();
+        let ik = TrajectoryIkOptions {
+            ik: graspath::robot::IkOptions {
+                random_seed: ik_seed,
+                position_tolerance: ik_tolerance,
+                rotation_tolerance: ik_tolerance,
+                max_iterations: ik_iterations,
+                ..defaults.ik.clone()
+            },
+            max_joint_step,
+            branches,
+            ..defaults
+        };
+        if !(max_joint_step.is_finite() && max_joint_step > 0.0) {
+            return Err(error("max_joint_step must be a positive angle in radians"));
+        }
+        if branches == 0 || ik_iterations == 0 {
+            return Err(error("branches and ik_iterations must be at least 1"));
+        }
+        if !(ik_tolerance.is_finite() && ik_tolerance > 0.0) {
+            return Err(error("ik_tolerance must be positive"));
+        }
+        let path = ObjectPath {
+            samples: object_path
+                .into_iter()
+                .zip(&times)
+                .map(|(world_from_object, &time)| PathSample {
+                    time,
+                    world_from_object,
+                    step: 0,
+                })
+                .collect(),
+            step_labels: vec!["path".to_string()],
+        };
+        Ok(Self {
+            task: Task {
+                source_name: name.to_string(),
+                robot_name: robot_name.to_string(),
+                arms: arm_setups,
+                shape: None,
+                candidates,
+                path,
+                mode: index_mode(mode, length_scale)?,
+                selection: SelectionOptions {
+                    norm,
+                    mu0,
+                    likelihood,
+                    pairs,
+                    min_separation,
+                },
+                ik,
+                compare_branches: false,
+            },
+        })
+    }
+
+    /// The same task with only the named arms, in the given order (e.g. one arm of a dual-arm
+    /// task, or the two arms swapped).
+    fn with_arms(&self, arms: Vec<String>) -> PyResult<Self> {
+        if arms.is_empty() {
+            return Err(error("name at least one arm"));
+        }
+        let mut task = self.task.clone();
+        task.arms = Vec::with_capacity(arms.len());
+        for (k, name) in arms.iter().enumerate() {
+            if arms[..k].contains(name) {
+                return Err(error(format!("arm '{name}' is listed twice")));
+            }
+            task.arms.push(self.arm(name)?.clone());
+        }
+        Ok(Self { task })
+    }
+
+    /// The task file (or the name given), as in the summary.
+    #[getter]
+    fn name(&self) -> String {
+        self.task.source_name.clone()
+    }
+
+    /// The robot's name.
+    #[getter]
+    fn robot_name(&self) -> String {
+        self.task.robot_name.clone()
+    }
+
+    /// The arms, in order.
+    #[getter]
+    fn arms(&self) -> Vec<String> {
+        self.arm_names()
+    }
+
+    /// The object path ``world_from_object``, shape ``(n, 4, 4)``; the first is the grasp pose.
+    #[getter]
+    fn object_poses<'py>(&self, py: Python<'py>) -> PyResult<Py<PyAny>> {
+        let mut flat = Vec::with_capacity(16 * self.task.path.samples.len());
+        for pose in self.task.path.poses() {
+            push_isometry(&mut flat, pose);
+        }
+        let n = self.task.path.samples.len();
+        Ok(array(py, flat, &[n, 4, 4])?.into_any().unbind())
+    }
+
+    /// The sample times (s), shape ``(n,)``.
+    #[getter]
+    fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_vec(py, self.task.path.times())
+    }
+
+    /// For each sample, the index of the step it ends in (0 for the initial pose).
+    #[getter]
+    fn sample_steps(&self) -> Vec<usize> {
+        self.task.path.samples.iter().map(|s| s.step).collect()
+    }
+
+    /// The steps' labels, in order.
+    #[getter]
+    fn step_labels(&self) -> Vec<String> {
+        self.task.path.step_labels.clone()
+    }
+
+    /// The candidates' wrist poses ``object_from_wrist``, shape ``(k, 4, 4)``.
+    #[getter]
+    fn candidate_poses<'py>(&self, py: Python<'py>) -> PyResult<Py<PyAny>> {
+        let mut flat = Vec::with_capacity(16 * self.task.candidates.len());
+        for c in &self.task.candidates {
+            push_isometry(&mut flat, &c.object_from_wrist);
+        }
+        Ok(array(py, flat, &[self.task.candidates.len(), 4, 4])?
+            .into_any()
+            .unbind())
+    }
+
+    /// The candidates as dicts: ``id``, ``label``, ``object_from_wrist`` (4×4 array),
+    /// ``likelihood``, ``log_likelihood``, ``contact`` (array of 3, or ``None``).
+    #[getter]
+    fn candidates<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for c in &self.task.candidates {
+            let d = PyDict::new(py);
+            d.set_item("id", c.id)?;
+            d.set_item("label", &c.label)?;
+            let mut flat = Vec::with_capacity(16);
+            push_isometry(&mut flat, &c.object_from_wrist);
+            d.set_item("object_from_wrist", array(py, flat, &[4, 4])?)?;
+            d.set_item("likelihood", c.log_likelihood.exp())?;
+            d.set_item("log_likelihood", c.log_likelihood)?;
+            d.set_item(
+                "contact",
+                c.contact
+                    .map(|p| PyArray1::from_vec(py, vec![p.x, p.y, p.z])),
+            )?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// The robot chain of one arm.
+    fn robot(&self, arm: &str) -> PyResult<PyRobot> {
+        Ok(PyRobot::new(self.arm(arm)?.chain.clone()))
+    }
+
+    /// Where one arm's chain base is in the task's world frame, ``world_from_base`` (4×4).
+    fn world_from_base<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Py<PyAny>> {
+        let mut flat = Vec::with_capacity(16);
+        push_isometry(&mut flat, &self.arm(arm)?.world_from_base);
+        Ok(array(py, flat, &[4, 4])?.into_any().unbind())
+    }
+
+    /// The wrist poses ``base_from_wrist`` (in the arm's base frame), shape ``(n, 4, 4)``, that
+    /// candidate number ``candidate`` (its position in :attr:`candidates`) asks of ``arm``:
+    /// the targets of the trajectory IK.
+    fn wrist_trajectory<'py>(
+        &self,
+        py: Python<'py>,
+        candidate: usize,
+        arm: &str,
+    ) -> PyResult<Py<PyAny>> {
+        let setup = self.arm(arm)?;
+        let c = self.task.candidates.get(candidate).ok_or_else(|| {
+            error(format!(
+                "candidate {candidate} is out of range (the task has {})",
+                self.task.candidates.len()
+            ))
+        })?;
+        let poses = wrist_trajectory(
+            &self.task.path,
+            &setup.world_from_base,
+            &c.object_from_wrist,
+        );
+        let mut flat = Vec::with_capacity(16 * poses.len());
+        for p in &poses {
+            push_isometry(&mut flat, p);
+        }
+        Ok(array(py, flat, &[poses.len(), 4, 4])?.into_any().unbind())
+    }
+
+    fn __len__(&self) -> usize {
+        self.task.candidates.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Task('{}', robot='{}', arms={:?}, candidates={}, samples={})",
+            self.task.source_name,
+            self.task.robot_name,
+            self.arm_names(),
+            self.task.candidates.len(),
+            self.task.path.samples.len()
+        )
+    }
+}

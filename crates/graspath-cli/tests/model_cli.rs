@@ -215,3 +215,55 @@ fn bad_inputs_give_one_clear_error_and_no_output() {
     let missing = dir.path().join("missing.pcd");
     run_fail(generate(&missing, &model), "missing.pcd", "No such file");
 }
+
+/// The whole paper pipeline from one task file: a trained model generates candidates with
+/// likelihoods on the object's cloud, and the selection ranks them along the task.
+#[test]
+fn a_task_can_generate_its_candidates_from_a_trained_model() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = trained(dir.path());
+    let task = dir.path().join("task.yaml");
+    std::fs::write(
+        &task,
+        format!(
+            r#"
+robot: {{ builtin: baxter }}
+arms: left
+object: {{ pose: {{ xyz: [0.70, 0.25, -0.10] }} }}
+candidates:
+  generate: {{ model: {}, cloud: {}, seed: 3, seeds: 2000, steps: 100, query_kernels: 1500, max_candidates: 15 }}
+trajectory:
+  samples_per_step: 5
+  steps: [ {{ lift: 0.2 }}, {{ move: [0, 0.2, 0] }}, {{ place: 0.2 }} ]
+"#,
+            s(&model),
+            s(&examples().join("cylinder.json"))
+        ),
+    )
+    .expect("write task");
+    let out = dir.path().join("out");
+    let o = graspath(&["select", "--task", s(&task), "--out", s(&out), "--quiet"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(out.join("candidates.json")).expect("candidates.json");
+    let list: serde_json::Value = serde_json::from_str(&text).expect("json");
+    let list = list.as_array().expect("a list");
+    assert_eq!(list.len(), 15);
+    let logs: Vec<f64> = list
+        .iter()
+        .map(|c| c["log_likelihood"].as_f64().expect("log"))
+        .collect();
+    assert!(
+        logs.windows(2).all(|w| w[0] >= w[1]),
+        "generated best first"
+    );
+    assert!(logs[0] > logs[14], "likelihoods differ");
+    // The ranking combines the likelihood: every ranked candidate's score is its μ_l2 times
+    // its likelihood relative to the most likely candidate.
+    for c in list.iter().filter(|c| c["rank"].is_u64()) {
+        let expected = c["mu_l2"].as_f64().expect("mu")
+            * (c["log_likelihood"].as_f64().expect("log") - logs[0]).exp();
+        assert!(
+            (c["score"].as_f64().expect("score") - expected).abs() <= 1e-12 * expected.max(1e-300)
+        );
+    }
+}

@@ -2,14 +2,16 @@
 //! path and the index and selection settings, every value checked with the field it came from.
 
 use super::rank::{LikelihoodRule, Norm, SelectionOptions};
+use crate::cloud::load_cloud_argument;
 use crate::geometry::{pose_from_rows, quaternion_xyzw};
+use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{edge_family, face_family, read_candidates, yaw_family, Candidate};
 use crate::manipulability::IndexMode;
 use crate::robot::builtin::{baxter_spec, Arm};
 use crate::robot::{Chain, TrajectoryIkOptions, UrdfRobot};
 use crate::task::{
-    ArmsFile, FamilyFile, LikelihoodFile, NormFile, ObjectPath, ObjectShape, PoseFile, Sampling,
-    ShapeFile, StepFile, TaskError, TaskFile,
+    ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, ObjectPath, ObjectShape,
+    PoseFile, Sampling, ShapeFile, StepFile, TaskError, TaskFile,
 };
 use crate::task::{Step, TimedStep};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -412,6 +414,15 @@ fn setup_candidates(
             Err(err(field, "must be a length ≥ 0 in metres".into()))
         }
     };
+    if let Some(generate) = &file.candidates.generate {
+        if file.candidates.file.is_some() || file.candidates.family.is_some() {
+            return Err(err(
+                "candidates",
+                "give one of file, family, generate".into(),
+            ));
+        }
+        return generated_candidates(generate, source, base_dir);
+    }
     match (&file.candidates.file, &file.candidates.family) {
         (Some(path), None) => {
             read_candidates(&base_dir.join(path)).map_err(|e| err("candidates.file", e.to_string()))
@@ -472,8 +483,62 @@ fn setup_candidates(
             "candidates",
             "give either file or family, not both".into(),
         )),
-        (None, None) => Err(err("candidates", "give file: PATH or family: {...}".into())),
+        (None, None) => Err(err(
+            "candidates",
+            "give file: PATH, family: {...} or generate: {model, cloud}".into(),
+        )),
     }
+}
+
+/// Candidates from the learned grasp model, best first, with their log-likelihoods.
+fn generated_candidates(
+    g: &GenerateFile,
+    source: &str,
+    base_dir: &Path,
+) -> Result<Vec<Candidate>, TaskError> {
+    let err = |field: &str, message: String| TaskError::new(source, field, message);
+    let model = GraspModel::read(&base_dir.join(&g.model))
+        .map_err(|e| err("candidates.generate.model", e.to_string()))?;
+    let cloud_path = base_dir.join(&g.cloud);
+    let cloud = load_cloud_argument(&cloud_path)
+        .map_err(|e| err("candidates.generate.cloud", e.to_string()))?;
+    let defaults = GenerateOptions::default();
+    let options = GenerateOptions {
+        seed: g.seed.unwrap_or(0),
+        seeds: g.seeds.unwrap_or(defaults.seeds),
+        steps: g.steps.unwrap_or(defaults.steps),
+        query_kernels: g.query_kernels.unwrap_or(defaults.query_kernels),
+        ..defaults
+    };
+    let mut generated = generate(
+        &model,
+        &cloud,
+        &options,
+        &cloud_path.display().to_string(),
+        &|_| {},
+    )
+    .map_err(|e| err("candidates.generate", e.to_string()))?;
+    if let Some(n) = g.max_candidates {
+        generated.truncate(n);
+    }
+    if generated.is_empty() {
+        return Err(err(
+            "candidates.generate",
+            "the model generated no candidate on this cloud".into(),
+        ));
+    }
+    Ok(generated
+        .into_iter()
+        .enumerate()
+        .map(|(id, c)| Candidate {
+            id,
+            label: format!("{} #{id}", model.label),
+            object_from_wrist: c.object_from_wrist,
+            log_likelihood: c.log_likelihood,
+            contact: c.contact,
+            hand_joints: c.hand_joints,
+        })
+        .collect())
 }
 
 fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskError> {

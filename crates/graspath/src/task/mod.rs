@@ -11,9 +11,9 @@ mod path;
 mod shape;
 
 pub use file::{
-    ArmFile, ArmsFile, CandidatesFile, FamilyFile, IkFile, IndexFile, LikelihoodFile, NormFile,
-    ObjectFile, PoseFile, RobotFile, RotateFile, SelectionFile, ShapeFile, SpacingFile, StepFile,
-    TaskError, TaskFile, TrajectoryFile,
+    ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile, LikelihoodFile,
+    NormFile, ObjectFile, PoseFile, RobotFile, RotateFile, SelectionFile, ShapeFile, SpacingFile,
+    StepFile, TaskError, TaskFile, TrajectoryFile,
 };
 pub use path::{ObjectPath, PathSample, Sampling, Step, TimedStep};
 pub use shape::ObjectShape;

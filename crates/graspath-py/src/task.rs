@@ -163,7 +163,7 @@ impl PyTask {
     /// * settings as in the task file: ``mode`` (``twist``/``translation``/``rotation``),
     ///   ``length_scale``, ``norm`` (``l2``/``l1``), ``mu0``, ``likelihood`` (``"product"``,
     ///   ``"ignore"`` or a weight), ``pairs``, ``min_separation`` (m), and the trajectory IK's
-    ///   ``max_joint_step``, ``branches``, ``ik_seed``, ``ik_tolerance``, ``ik_iterations``.
+    ///   ``max_joint_step``, ``branches``, ``ik_seed``, ``ik_tolerance``, ``ik_iterations``, ``compare_branches`` (track every IK branch and keep the best).
     #[staticmethod]
     #[pyo3(signature = (
         arms,
@@ -186,6 +186,7 @@ impl PyTask {
         ik_seed = 0,
         ik_tolerance = 1e-5,
         ik_iterations = DEFAULT_GRASP_ITERATIONS,
+        compare_branches = false,
         name = "<arrays>",
         robot_name = "robot"
     ))]
@@ -210,6 +211,7 @@ impl PyTask {
         ik_seed: u64,
         ik_tolerance: f64,
         ik_iterations: usize,
+        compare_branches: bool,
         name: &str,
         robot_name: &str,
     ) -> PyResult<Self> {
@@ -360,7 +362,7 @@ impl PyTask {
                     min_separation,
                 },
                 ik,
-                compare_branches: false,
+                compare_branches,
             },
         })
     }

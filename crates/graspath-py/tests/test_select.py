@@ -24,6 +24,10 @@ def run_cli(binary, task, out):
     return {p.name: p.read_bytes() for p in sorted(out.iterdir())}
 
 
+# The IK settings of examples/pick_and_place_left.yaml.
+SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "compare_branches": True}
+
+
 @pytest.fixture(scope="module")
 def left_selection():
     task = graspath.Task.load(LEFT)
@@ -161,6 +165,7 @@ def test_dict_and_text_tasks_equal_the_file(left_selection):
         },
         "index": {"mode": "twist", "length_scale": 1.0},
         "selection": {"norm": "l2"},
+        "ik": {"compare_branches": True, "branches": 8, "iterations": 2000},
     }
     from_dict = graspath.select(graspath.Task.from_dict(document))
     assert from_dict.candidates == selection.candidates
@@ -177,6 +182,7 @@ def test_array_task_equals_the_file(left_selection):
         labels=[x["label"] for x in c],
         contacts=np.array([x["contact"] for x in c]),
         likelihoods=np.array([x["likelihood"] for x in c]),
+        **SAME_IK_AS_THE_FILE,
     )
     assert len(from_arrays) == 21 and from_arrays.arms == ["left"]
     np.testing.assert_array_equal(from_arrays.object_poses, task.object_poses)
@@ -199,6 +205,7 @@ def test_array_task_with_a_moved_base(left_selection):
         world @ task.object_poses,
         task.candidate_poses,
         times=task.times,
+        **SAME_IK_AS_THE_FILE,
     )
     a = graspath.select(moved).arrays("left")
     b = selection.arrays("left")

@@ -162,6 +162,7 @@ class Task:
         ik_seed: int = 0,
         ik_tolerance: float = 1e-5,
         ik_iterations: int = 200,
+        compare_branches: bool = False,
         name: str = "<arrays>",
         robot_name: str = "robot",
     ) -> Task:

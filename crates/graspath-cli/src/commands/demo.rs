@@ -84,21 +84,11 @@ fn our_finding(task: &Task, selection: &Selection) -> Value {
         .map(|(k, arm)| {
             let best = arm.best().map(|i| label_of(task, selection, k, i));
             let by_yoshikawa = arm
-                .scores
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| s.feasible())
-                .filter_map(|(i, s)| s.yoshikawa_at_grasp.map(|y| (i, y)))
-                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-                .map(|(i, _)| label_of(task, selection, k, i));
+                .best_by(|s| s.yoshikawa_at_grasp)
+                .map(|i| label_of(task, selection, k, i));
             let by_inverse_condition = arm
-                .scores
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| s.feasible())
-                .filter_map(|(i, s)| s.inverse_condition_at_grasp.map(|y| (i, y)))
-                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-                .map(|(i, _)| label_of(task, selection, k, i));
+                .best_by(|s| s.inverse_condition_at_grasp)
+                .map(|i| label_of(task, selection, k, i));
             json!({
                 "arm": arm.arm,
                 "feasible": arm.feasible_count(),

@@ -53,34 +53,41 @@ pub fn wrist_tangent(
     let twist = base_frame_twist(base_from_wrist, base_from_next);
     let linear = Vector3::new(twist[0], twist[1], twist[2]);
     let angular = Vector3::new(twist[3], twist[4], twist[5]);
-    match mode {
-        IndexMode::Twist { length_scale } => {
-            if twist.norm() < STILL_TWIST_TOLERANCE {
-                return None;
-            }
-            let scaled = Vector6::new(
-                linear.x,
-                linear.y,
-                linear.z,
-                length_scale * angular.x,
-                length_scale * angular.y,
-                length_scale * angular.z,
-            );
-            let norm = scaled.norm();
-            (norm > 0.0).then(|| Direction::Full(scaled / norm))
-        }
-        IndexMode::Translation => {
-            let norm = linear.norm();
-            (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Translation(linear / norm))
-        }
-        IndexMode::Rotation => {
-            let norm = angular.norm();
-            (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Rotation(angular / norm))
-        }
-    }
+    mode.direction(&linear, &angular)
 }
 
 impl IndexMode {
+    /// The unit direction this mode measures for a motion with wrist-origin velocity `linear`
+    /// and angular velocity `angular` (base frame): the rows it uses, the angular part scaled
+    /// by L in `Twist` mode, normalised. `None` below [`STILL_TWIST_TOLERANCE`].
+    pub fn direction(&self, linear: &Vector3<f64>, angular: &Vector3<f64>) -> Option<Direction> {
+        match *self {
+            IndexMode::Twist { length_scale } => {
+                if (linear.norm_squared() + angular.norm_squared()).sqrt() < STILL_TWIST_TOLERANCE {
+                    return None;
+                }
+                let scaled = Vector6::new(
+                    linear.x,
+                    linear.y,
+                    linear.z,
+                    length_scale * angular.x,
+                    length_scale * angular.y,
+                    length_scale * angular.z,
+                );
+                let norm = scaled.norm();
+                (norm > 0.0).then(|| Direction::Full(scaled / norm))
+            }
+            IndexMode::Translation => {
+                let norm = linear.norm();
+                (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Translation(linear / norm))
+            }
+            IndexMode::Rotation => {
+                let norm = angular.norm();
+                (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Rotation(angular / norm))
+            }
+        }
+    }
+
     /// `M_T` in this mode for the unit `direction` from [`wrist_tangent`]: `‖J'ᵀ u‖²` where
     /// `J'` is `J` with its angular rows multiplied by L in `Twist` mode, else `J` itself.
     pub fn task_relevant<C: Dim, S: Storage<f64, U6, C>>(

@@ -144,13 +144,8 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
                 })
             });
             let by_yoshikawa = arm
-                .scores
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| s.feasible())
-                .filter_map(|(i, s)| s.yoshikawa_at_grasp.map(|y| (i, y)))
-                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-                .map(|(i, _)| task.candidates[arm.scores[i].candidate].id);
+                .best_by(|s| s.yoshikawa_at_grasp)
+                .map(|i| task.candidates[arm.scores[i].candidate].id);
             json!({
                 "arm": arm.arm,
                 "candidates": arm.scores.len(),

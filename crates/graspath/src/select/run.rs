@@ -21,6 +21,18 @@ impl ArmResult {
         self.rankings.iter().position(|r| r.rank == Some(1))
     }
 
+    /// The feasible candidate (index) a classical index at the grasp would pick: the largest
+    /// `index(score)`, the earlier candidate on ties.
+    pub fn best_by(&self, index: impl Fn(&CandidateScore) -> Option<f64>) -> Option<usize> {
+        self.scores
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.feasible())
+            .filter_map(|(i, s)| index(s).map(|v| (i, v)))
+            .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(i, _)| i)
+    }
+
     /// How many candidates are feasible along the whole path.
     pub fn feasible_count(&self) -> usize {
         self.scores.iter().filter(|s| s.feasible()).count()

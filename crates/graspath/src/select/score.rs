@@ -7,7 +7,7 @@ use crate::geometry::se3_log;
 use crate::grasp::Candidate;
 use crate::manipulability::{
     inverse_condition, inverse_condition_squared, yoshikawa, Direction, IndexMode, JacobianPart,
-    PathNorms, SampleIndex, STILL_TWIST_TOLERANCE,
+    PathNorms, SampleIndex,
 };
 use crate::robot::{solve_ik, solve_trajectory, Chain, TrajectoryIkOptions};
 use crate::task::ObjectPath;
@@ -105,35 +105,7 @@ impl ObjectMotion {
         let r = &self.rotations[i];
         let linear = r * (v + w.cross(&p));
         let angular = r * w;
-        match mode {
-            IndexMode::Twist { length_scale } => {
-                if Vector6::new(
-                    linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
-                )
-                .norm()
-                    < STILL_TWIST_TOLERANCE
-                {
-                    return None;
-                }
-                let scaled = Vector6::new(
-                    linear.x,
-                    linear.y,
-                    linear.z,
-                    length_scale * angular.x,
-                    length_scale * angular.y,
-                    length_scale * angular.z,
-                );
-                Some(Direction::Full(scaled.normalize()))
-            }
-            IndexMode::Translation => {
-                let n = linear.norm();
-                (n >= STILL_TWIST_TOLERANCE).then(|| Direction::Translation(linear / n))
-            }
-            IndexMode::Rotation => {
-                let n = angular.norm();
-                (n >= STILL_TWIST_TOLERANCE).then(|| Direction::Rotation(angular / n))
-            }
-        }
+        mode.direction(&linear, &angular)
     }
 }
 

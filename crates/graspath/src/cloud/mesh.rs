@@ -136,6 +136,29 @@ pub fn read_mesh(path: &Path) -> Result<TriangleMesh, CloudError> {
     Ok(mesh)
 }
 
+/// The three finite coordinates that follow a vertex keyword on text line `index` (0-based).
+fn vertex_coordinates<'a>(
+    tokens: &mut impl Iterator<Item = &'a str>,
+    source_name: &str,
+    index: usize,
+) -> Result<[f64; 3], CloudError> {
+    let mut xyz = [0.0; 3];
+    for slot in &mut xyz {
+        *slot = tokens
+            .next()
+            .and_then(|t| t.parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                CloudError::parse(
+                    source_name,
+                    format!("line {}", index + 1),
+                    "a vertex needs three finite numbers",
+                )
+            })?;
+    }
+    Ok(xyz)
+}
+
 /// Parses Wavefront OBJ text: `v x y z` and `f i j k ...` lines (polygons fanned into
 /// triangles; `i/t/n` forms and negative indices accepted). Other lines are ignored.
 pub fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudError> {
@@ -145,20 +168,7 @@ pub fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudErr
         let mut tokens = line.split_whitespace();
         match tokens.next() {
             Some("v") => {
-                let mut xyz = [0.0; 3];
-                for slot in &mut xyz {
-                    *slot = tokens
-                        .next()
-                        .and_then(|t| t.parse::<f64>().ok())
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            CloudError::parse(
-                                source_name,
-                                at(),
-                                "a vertex needs three finite numbers",
-                            )
-                        })?;
-                }
+                let xyz = vertex_coordinates(&mut tokens, source_name, number)?;
                 mesh.vertices.push(Point3::from(xyz));
             }
             Some("f") => {
@@ -250,20 +260,7 @@ pub fn parse_stl(bytes: &[u8], source_name: &str) -> Result<TriangleMesh, CloudE
         let mut tokens = line.split_whitespace();
         match tokens.next() {
             Some("vertex") => {
-                let mut xyz = [0.0; 3];
-                for slot in &mut xyz {
-                    *slot = tokens
-                        .next()
-                        .and_then(|t| t.parse::<f64>().ok())
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            CloudError::parse(
-                                source_name,
-                                format!("line {}", number + 1),
-                                "a vertex needs three finite numbers",
-                            )
-                        })?;
-                }
+                let xyz = vertex_coordinates(&mut tokens, source_name, number)?;
                 mesh.vertices.push(Point3::from(xyz));
                 pending.push((mesh.vertices.len() - 1) as u32);
             }

@@ -164,3 +164,43 @@ pub fn velocity_transmission_ratio<C: Dim, S: Storage<f64, U6, C>>(
     }
     1.0 / quadratic.sqrt()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix6, Matrix6xX};
+
+    fn jacobian() -> Matrix6xX<f64> {
+        Matrix6xX::from_fn(7, |r, c| {
+            ((r * 7 + c) as f64 * 0.37).sin() + if r == c { 1.0 } else { 0.0 }
+        })
+    }
+
+    #[test]
+    fn transmission_ratio_equals_the_explicit_inverse_form() {
+        // Oracle: 1/sqrt(uᵀ (J Jᵀ)⁻¹ u) with (J Jᵀ)⁻¹ from an LU inverse, not the SVD path.
+        let j = jacobian();
+        let inverse: Matrix6<f64> = (&j * j.transpose()).try_inverse().expect("full rank");
+        for k in 0..6 {
+            let u = Vector6::from_fn(|r, _| ((r + k) as f64 * 0.9).cos()).normalize();
+            let expected = 1.0 / (u.transpose() * inverse * u)[(0, 0)].sqrt();
+            let got = velocity_transmission_ratio(&j, &Direction::Full(u));
+            assert!(
+                (got - expected).abs() < 1e-10 * expected,
+                "{got} vs {expected}"
+            );
+        }
+    }
+
+    #[test]
+    fn transmission_ratio_is_zero_outside_the_range() {
+        // A 6×2 Jacobian cannot move along a direction orthogonal to its columns.
+        let j = Matrix6xX::from_column_slice(&[
+            1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0,
+        ]);
+        let along_z = Direction::Full(Vector6::new(0.0, 0.0, 1.0, 0.0, 0.0, 0.0));
+        assert_eq!(velocity_transmission_ratio(&j, &along_z), 0.0);
+        let along_x = Direction::Full(Vector6::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0));
+        assert!((velocity_transmission_ratio(&j, &along_x) - 1.0).abs() < 1e-12);
+    }
+}

@@ -4,12 +4,19 @@
 //! axis; the constant re-orientations are folded into the neighbouring fixed transforms. One
 //! forward pass then costs, per joint, one 3×3 product, one `sin_cos` and a column rotation,
 //! and writes the Jacobian column at the same time. Nothing is allocated per call.
+//!
+//! On x86-64 processors with AVX2 (detected at run time) the pass runs on 256-bit vectors
+//! ([`avx2`]); it performs the same IEEE operations in the same order as the scalar pass, so
+//! results do not depend on the processor.
 
 use super::error::RobotError;
 use super::spec::{ChainSpec, JointKind};
 use nalgebra::{
     Isometry3, IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, SMatrix, Translation3, Unit, Vector3,
 };
+
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 
 /// Largest number of moving joints in one chain (mimic followers included).
 pub const MAX_JOINTS: usize = 64;
@@ -450,23 +457,40 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// The forward pass. Writes the Jacobian (column-major, 6 per segment) when asked.
-///
-/// The rotation is kept as three column arrays so the compiler sees plain scalar arithmetic.
+/// The forward pass: the AVX2 kernel when the processor has it, the scalar one otherwise.
+/// Both do the same IEEE operations in the same order and give bit-identical results.
 #[inline(always)]
 fn forward(
     segments: &[Segment],
     joint_value: impl Fn(usize) -> f64,
     jacobian: Option<&mut [f64]>,
-    (tail_rotation, tail_translation): (&Matrix3<f64>, &Vector3<f64>),
+    tail: (&Matrix3<f64>, &Vector3<f64>),
+) -> IsometryMatrix3<f64> {
+    if let Some(j) = jacobian.as_deref() {
+        assert_eq!(j.len(), 6 * segments.len(), "Jacobian storage size");
+    }
+    #[cfg(target_arch = "x86_64")]
+    if avx2::available() {
+        // SAFETY: the processor supports AVX2 (checked just above).
+        return unsafe { avx2::forward(segments, joint_value, jacobian, tail) };
+    }
+    forward_scalar(segments, joint_value, jacobian, tail)
+}
+
+/// The scalar forward pass. Writes the Jacobian (column-major, 6 per segment) when asked.
+///
+/// The rotation is kept as three column arrays so the compiler sees plain scalar arithmetic.
+#[inline(always)]
+fn forward_scalar(
+    segments: &[Segment],
+    joint_value: impl Fn(usize) -> f64,
+    jacobian: Option<&mut [f64]>,
+    tail: (&Matrix3<f64>, &Vector3<f64>),
 ) -> IsometryMatrix3<f64> {
     // Columns of the current frame's rotation and its origin, base frame.
     let mut c = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let mut p = [0.0; 3];
     let mut jacobian = jacobian;
-    if let Some(j) = jacobian.as_deref() {
-        debug_assert_eq!(j.len(), 6 * segments.len());
-    }
     for (i, segment) in segments.iter().enumerate() {
         let s = &segment.rotation;
         let t = &segment.translation;
@@ -517,12 +541,7 @@ fn forward(
             }
         }
     }
-    let tt = tail_translation;
-    let offset = combine(&c[0], tt[0], &c[1], tt[1], &c[2], tt[2]);
-    let tip = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
-    let rotation = Matrix3::new(
-        c[0][0], c[1][0], c[2][0], c[0][1], c[1][1], c[2][1], c[0][2], c[1][2], c[2][2],
-    ) * tail_rotation;
+    let (tip, pose) = finish(&c, &p, tail);
     if let Some(j) = jacobian {
         for (segment, column) in segments.iter().zip(j.chunks_exact_mut(6)) {
             if segment.kind == MotionKind::Revolute {
@@ -533,10 +552,28 @@ fn forward(
             }
         }
     }
-    IsometryMatrix3::from_parts(
+    pose
+}
+
+/// Applies the tail (last fixed transforms and tool offset) to the last joint frame, given
+/// by its rotation columns `c` and origin `p`: the tip origin and the tip pose, base frame.
+#[inline(always)]
+fn finish(
+    c: &[[f64; 3]; 3],
+    p: &[f64; 3],
+    (tail_rotation, tail_translation): (&Matrix3<f64>, &Vector3<f64>),
+) -> ([f64; 3], IsometryMatrix3<f64>) {
+    let tt = tail_translation;
+    let offset = combine(&c[0], tt[0], &c[1], tt[1], &c[2], tt[2]);
+    let tip = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
+    let rotation = Matrix3::new(
+        c[0][0], c[1][0], c[2][0], c[0][1], c[1][1], c[2][1], c[0][2], c[1][2], c[2][2],
+    ) * tail_rotation;
+    let pose = IsometryMatrix3::from_parts(
         Translation3::new(tip[0], tip[1], tip[2]),
         Rotation3::from_matrix_unchecked(rotation),
-    )
+    );
+    (tip, pose)
 }
 
 /// A unit vector from a possibly unnormalised axis, or `None` when it is (nearly) zero or

@@ -14,6 +14,7 @@ pub mod error;
 pub mod file;
 pub mod generate;
 pub mod kernel;
+pub mod lanes;
 pub mod output;
 pub mod query;
 pub mod train;

@@ -3,7 +3,8 @@
 //! curvature (spec §3), and their fast evaluation through a uniform grid.
 
 use super::contact::{curvature_bandwidth, ContactModel};
-use super::kernel::{item_rng, quaternion_distance, sample_pose_kernel};
+use super::kernel::{item_rng, sample_pose_kernel};
+use super::lanes::{KernelTable, LaneQuery, WeightedKernel};
 use super::ModelParams;
 use crate::cloud::{PointIndex, SurfaceFeature};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -13,6 +14,8 @@ use rayon::prelude::*;
 
 /// Cells per position cut-off radius in the kernel grid.
 const REACH: i64 = 2;
+/// Rows of cells an evaluation scans at most.
+const ROWS: usize = ((2 * REACH + 1) * (2 * REACH + 1)) as usize;
 
 /// Largest density-distance cost (matched cost bound × 10).
 pub const DENSITY_DISTANCE_MAX: f64 = 10.0 * (2.5e-5 + 0.01 * 0.25);
@@ -24,9 +27,7 @@ pub struct QueryDensity {
     pub link_index: usize,
     /// `ln` of the link's weight factor `exp(−pen_i)` (curvature-statistics penalty).
     pub log_factor: f64,
-    positions: Vec<[f64; 3]>,
-    rotations: Vec<UnitQuaternion<f64>>,
-    weights: Vec<f64>,
+    kernels: KernelTable,
     cumulative: Vec<f64>,
     sigma_p: f64,
     kappa: f64,
@@ -180,27 +181,26 @@ impl QueryDensity {
         for c in 0..grid.starts.len() - 1 {
             grid.starts[c + 1] += grid.starts[c];
         }
-        let mut positions = Vec::with_capacity(kernels.len());
-        let mut rotations = Vec::with_capacity(kernels.len());
-        let mut weights = Vec::with_capacity(kernels.len());
-        let mut cumulative = Vec::with_capacity(kernels.len());
-        let mut total = 0.0;
-        for (_, i) in keyed {
-            let k = &kernels[i];
-            let p = k.pose.translation.vector;
-            positions.push([p.x, p.y, p.z]);
-            rotations.push(k.pose.rotation);
-            let w = k.weight.max(floor);
-            weights.push(w);
-            total += w;
-            cumulative.push(total);
-        }
+        let ordered: Vec<WeightedKernel> = keyed
+            .into_iter()
+            .map(|(_, i)| {
+                let k = &kernels[i];
+                let p = k.pose.translation.vector;
+                ([p.x, p.y, p.z], k.pose.rotation, k.weight.max(floor))
+            })
+            .collect();
+        let cumulative: Vec<f64> = ordered
+            .iter()
+            .scan(0.0, |total, &(_, _, w)| {
+                *total += w;
+                Some(*total)
+            })
+            .collect();
+        let table = KernelTable::new(ordered);
         Self {
             link_index,
             log_factor,
-            positions,
-            rotations,
-            weights,
+            kernels: table,
             cumulative,
             sigma_p,
             kappa: params.query_kappa,
@@ -210,12 +210,12 @@ impl QueryDensity {
 
     /// The number of kernels.
     pub fn len(&self) -> usize {
-        self.weights.len()
+        self.kernels.len()
     }
 
     /// Whether the density has no kernel.
     pub fn is_empty(&self) -> bool {
-        self.weights.is_empty()
+        self.kernels.is_empty()
     }
 
     /// `Σ_k w_k` (before the link factor).
@@ -235,9 +235,15 @@ impl QueryDensity {
         let p = object_from_link.translation.vector;
         let p = [p.x, p.y, p.z];
         let q = &object_from_link.rotation;
-        let inv_var = 1.0 / (self.sigma_p * self.sigma_p);
         let cut_p = 25.0 * self.sigma_p * self.sigma_p;
-        let cut_q = 25.0 / self.kappa;
+        let query = LaneQuery {
+            position: p,
+            rotation: [q.w, q.i, q.j, q.k],
+            inv_var: 1.0 / (self.sigma_p * self.sigma_p),
+            kappa: self.kappa,
+            cut_p,
+            cut_q: 25.0 / self.kappa,
+        };
         let cell = 1.0 / self.grid.inv_cell;
         let dims = self.grid.dims;
         let centre = self.grid.cell_of(&p);
@@ -251,7 +257,8 @@ impl QueryDensity {
                 0.0
             }
         };
-        let mut sum = 0.0;
+        let mut runs: [std::ops::Range<usize>; ROWS] = std::array::from_fn(|_| 0..0);
+        let mut count = 0;
         for cz in (centre[2] - REACH).max(0)..=(centre[2] + REACH).min(dims[2] as i64 - 1) {
             let gz = gap(2, cz);
             for cy in (centre[1] - REACH).max(0)..=(centre[1] + REACH).min(dims[1] as i64 - 1) {
@@ -271,25 +278,11 @@ impl QueryDensity {
                 let row = (cz as usize * dims[1] + cy as usize) * dims[0];
                 let range = self.grid.starts[row + x0 as usize] as usize
                     ..self.grid.starts[row + x1 as usize + 1] as usize;
-                for k in range {
-                    let c = &self.positions[k];
-                    let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2);
-                    if d2 >= cut_p {
-                        continue;
-                    }
-                    let dq = quaternion_distance(q, &self.rotations[k]);
-                    if dq >= cut_q {
-                        continue;
-                    }
-                    let exponent = d2 * inv_var + self.kappa * dq;
-                    if exponent >= 25.0 {
-                        continue;
-                    }
-                    sum += self.weights[k] * (-exponent).exp();
-                }
+                runs[count] = range;
+                count += 1;
             }
         }
-        sum
+        self.kernels.sum(&runs[..count], &query)
     }
 
     /// A link pose drawn from the density: a kernel by weight, perturbed by the kernel.
@@ -303,8 +296,11 @@ impl QueryDensity {
             .cumulative
             .partition_point(|&c| c < u)
             .min(self.len() - 1);
-        let c = self.positions[k];
-        let mean = Isometry3::from_parts(Translation3::new(c[0], c[1], c[2]), self.rotations[k]);
+        let c = self.kernels.position(k);
+        let mean = Isometry3::from_parts(
+            Translation3::new(c[0], c[1], c[2]),
+            self.kernels.rotation(k),
+        );
         Some(sample_pose_kernel(&mean, self.sigma_p, self.kappa, rng))
     }
 }
@@ -405,7 +401,7 @@ pub fn density_distance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grasp::model::kernel::{item_rng, unit_vector};
+    use crate::grasp::model::kernel::{item_rng, quaternion_distance, unit_vector};
 
     /// The grid evaluation against the defining sum over every kernel.
     #[test]

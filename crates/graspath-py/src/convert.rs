@@ -32,11 +32,13 @@ pub struct Buffer {
 impl Buffer {
     /// Copies `array` (any layout) into a row-major buffer.
     pub fn from_array(array: &FloatArray<'_>) -> Self {
-        let view = array.as_array();
-        Self {
-            shape: view.shape().to_vec(),
-            data: view.iter().copied().collect(),
-        }
+        let shape = array.shape().to_vec();
+        // C-contiguous arrays (the usual case) are copied in one block.
+        let data = match array.as_slice() {
+            Ok(slice) => slice.to_vec(),
+            Err(_) => array.as_array().iter().copied().collect(),
+        };
+        Self { shape, data }
     }
 
     /// The shape as Python prints it, e.g. `(3, 7)`.

@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 mod convert;
+mod memory;
 mod robot;
 mod selection;
 mod task;

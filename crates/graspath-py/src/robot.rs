@@ -8,14 +8,15 @@
 use crate::convert::{
     array, check_finite, error, poses, rows, shape_text, single_pose, write_matrix_pose, FloatArray,
 };
+use crate::memory::populate;
 use graspath::manipulability::{
     inverse_condition, inverse_condition_squared, singular_values, task_relevant,
     velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
 };
 use graspath::robot::builtin::{baxter_spec, Arm};
 use graspath::robot::{
-    solve_ik, solve_trajectory, Chain, FixedChain, IkOptions, IkSolution, RobotError,
-    TrajectoryIkOptions, UrdfRobot,
+    solve_ik, solve_trajectory, Chain, IkOptions, IkSolution, RobotError, TrajectoryIkOptions,
+    UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
@@ -85,101 +86,50 @@ fn tool_pose(tool: Option<FloatArray<'_>>) -> PyResult<Option<Isometry3<f64>>> {
 /// Computes poses and Jacobians of every configuration, in parallel, into row-major buffers:
 /// `pose_out` `(n, 4, 4)` and, when given, `jacobian_out` `(n, 6, dof)`. Configurations must
 /// have been checked (length and finiteness). The output does not depend on the thread count.
-///
-/// Chains of 6 or 7 joints without mimic joints use the library's fixed-size chain (stack
-/// Jacobian, no per-call checks); others the general chain. Both run the same forward pass.
 fn batch_into(
     chain: &Chain,
     q: &[f64],
     pose_out: &mut [f64],
     jacobian_out: Option<&mut [f64]>,
 ) -> Result<(), RobotError> {
-    match chain.dof() {
-        7 => {
-            if let Ok(fixed) = chain.fixed::<7>() {
-                batch_fixed(&fixed, q, pose_out, jacobian_out);
-                return Ok(());
-            }
-        }
-        6 => {
-            if let Ok(fixed) = chain.fixed::<6>() {
-                batch_fixed(&fixed, q, pose_out, jacobian_out);
-                return Ok(());
-            }
-        }
-        _ => {}
-    }
-    batch_dynamic(chain, q, pose_out, jacobian_out)
-}
-
-/// The batch on a fixed-size chain of `N` joints.
-fn batch_fixed<const N: usize>(
-    chain: &FixedChain<N>,
-    q: &[f64],
-    pose_out: &mut [f64],
-    jacobian_out: Option<&mut [f64]>,
-) {
-    let rows = |qi: &[f64]| -> [f64; N] { std::array::from_fn(|j| qi[j]) };
-    match jacobian_out {
-        Some(jacobian_out) => pose_out
-            .par_chunks_mut(16)
-            .zip(jacobian_out.par_chunks_mut(6 * N))
-            .zip(q.par_chunks(N))
-            .with_min_len(MIN_BATCH_CHUNK)
-            .for_each(|((pose_row, jacobian_row), qi)| {
-                let (pose, jacobian) = chain.pose_and_jacobian(&rows(qi));
-                write_matrix_pose(pose_row, &pose);
-                for r in 0..6 {
-                    for c in 0..N {
-                        jacobian_row[r * N + c] = jacobian[(r, c)];
-                    }
-                }
-            }),
-        None => pose_out
-            .par_chunks_mut(16)
-            .zip(q.par_chunks(N))
-            .with_min_len(MIN_BATCH_CHUNK)
-            .for_each(|(pose_row, qi)| write_matrix_pose(pose_row, &chain.pose(&rows(qi)))),
-    }
-}
-
-/// The batch on a general chain.
-fn batch_dynamic(
-    chain: &Chain,
-    q: &[f64],
-    pose_out: &mut [f64],
-    jacobian_out: Option<&mut [f64]>,
-) -> Result<(), RobotError> {
     let dof = chain.dof();
-    if let Some(jacobian_out) = jacobian_out {
+    if dof == 0 {
+        // No joint: the Jacobians are empty, every pose is the fixed tip pose.
+        let pose = chain.pose(&[])?;
         pose_out
+            .chunks_exact_mut(16)
+            .for_each(|row| write_matrix_pose(row, &pose));
+        return Ok(());
+    }
+    let Some(jacobian_out) = jacobian_out else {
+        return pose_out
             .par_chunks_mut(16)
-            .zip(jacobian_out.par_chunks_mut(6 * dof.max(1)))
-            .zip(q.par_chunks(dof.max(1)))
-            .with_min_len(MIN_BATCH_CHUNK)
-            .try_for_each_init(
-                || Matrix6xX::zeros(dof),
-                |jacobian, ((pose_row, jacobian_row), qi)| {
-                    let pose = chain.pose_and_jacobian_into(qi, jacobian)?;
-                    write_matrix_pose(pose_row, &pose);
-                    for r in 0..6 {
-                        for c in 0..dof {
-                            jacobian_row[r * dof + c] = jacobian[(r, c)];
-                        }
-                    }
-                    Ok(())
-                },
-            )
-    } else {
-        pose_out
-            .par_chunks_mut(16)
-            .zip(q.par_chunks(dof.max(1)))
+            .zip(q.par_chunks(dof))
             .with_min_len(MIN_BATCH_CHUNK)
             .try_for_each(|(pose_row, qi)| {
                 write_matrix_pose(pose_row, &chain.pose(qi)?);
-                Ok::<(), RobotError>(())
-            })
-    }
+                Ok(())
+            });
+    };
+    pose_out
+        .par_chunks_mut(16)
+        .zip(jacobian_out.par_chunks_mut(6 * dof))
+        .zip(q.par_chunks(dof))
+        .with_min_len(MIN_BATCH_CHUNK)
+        .try_for_each_init(
+            || Matrix6xX::zeros(dof),
+            |jacobian, ((pose_row, jacobian_row), qi)| {
+                let pose = chain.pose_and_jacobian_into(qi, jacobian)?;
+                write_matrix_pose(pose_row, &pose);
+                // Column-major 6 × dof into row-major.
+                for (c, column) in jacobian.as_slice().chunks_exact(6).enumerate() {
+                    for (r, value) in column.iter().enumerate() {
+                        jacobian_row[r * dof + c] = *value;
+                    }
+                }
+                Ok(())
+            },
+        )
 }
 
 /// The IK settings shared by `ik` and `ik_trajectory`.
@@ -763,53 +713,45 @@ impl PyRobot {
     ) -> PyResult<(Py<PyAny>, Option<Py<PyAny>>)> {
         let dof = self.chain.dof();
         let (data, batch) = self.configurations(&q)?;
-        let n = data.len() / dof.max(1);
         let (pose_shape, jacobian_shape) = match batch {
             None => (vec![4, 4], vec![6, dof]),
             Some(n) => (vec![n, 4, 4], vec![n, 6, dof]),
         };
         let chain = &self.chain;
-        match out {
-            None => {
-                let mut poses = vec![0.0; 16 * n];
-                let mut jacobians = vec![0.0; if want_jacobian { 6 * dof * n } else { 0 }];
-                py.detach(|| {
-                    batch_into(
-                        chain,
-                        &data,
-                        &mut poses,
-                        want_jacobian.then_some(jacobians.as_mut_slice()),
-                    )
-                })
-                .map_err(error)?;
-                let jacobians = if want_jacobian {
-                    Some(array(py, jacobians, &jacobian_shape)?.into_any().unbind())
-                } else {
-                    None
-                };
-                Ok((
-                    array(py, poses, &pose_shape)?.into_any().unbind(),
-                    jacobians,
-                ))
+        // New arrays come from numpy's allocator (huge pages for large arrays) and have their
+        // pages mapped in one go before they are written (see `memory.rs`).
+        let fresh = out.is_none();
+        let (pose_array, jacobian_array) = out.unwrap_or_else(|| {
+            (
+                PyArrayDyn::<f64>::zeros(py, pose_shape.as_slice(), false).into_any(),
+                want_jacobian.then(|| {
+                    PyArrayDyn::<f64>::zeros(py, jacobian_shape.as_slice(), false).into_any()
+                }),
+            )
+        });
+        let mut pose_guard = output(&pose_array, &pose_shape, "out (poses)")?;
+        let mut jacobian_guard = match (&jacobian_array, want_jacobian) {
+            (Some(j), true) => Some(output(j, &jacobian_shape, "out (jacobians)")?),
+            _ => None,
+        };
+        let pose_slice = pose_guard.as_slice_mut().map_err(error)?;
+        let mut jacobian_slice = match jacobian_guard.as_mut() {
+            Some(guard) => Some(guard.as_slice_mut().map_err(error)?),
+            None => None,
+        };
+        py.detach(|| {
+            if fresh {
+                populate(pose_slice);
+                if let Some(j) = jacobian_slice.as_deref_mut() {
+                    populate(j);
+                }
             }
-            Some((pose_array, jacobian_array)) => {
-                let mut pose_guard = output(&pose_array, &pose_shape, "out (poses)")?;
-                let mut jacobian_guard = match (&jacobian_array, want_jacobian) {
-                    (Some(j), true) => Some(output(j, &jacobian_shape, "out (jacobians)")?),
-                    _ => None,
-                };
-                let pose_slice = pose_guard.as_slice_mut().map_err(error)?;
-                let jacobian_slice = match jacobian_guard.as_mut() {
-                    Some(guard) => Some(guard.as_slice_mut().map_err(error)?),
-                    None => None,
-                };
-                py.detach(|| batch_into(chain, &data, pose_slice, jacobian_slice))
-                    .map_err(error)?;
-                drop(pose_guard);
-                drop(jacobian_guard);
-                Ok((pose_array.unbind(), jacobian_array.map(Bound::unbind)))
-            }
-        }
+            batch_into(chain, &data, pose_slice, jacobian_slice)
+        })
+        .map_err(error)?;
+        drop(pose_guard);
+        drop(jacobian_guard);
+        Ok((pose_array.unbind(), jacobian_array.map(Bound::unbind)))
     }
 
     /// Evaluates a per-configuration directional index in parallel.

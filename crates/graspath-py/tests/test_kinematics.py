@@ -70,6 +70,20 @@ def test_batch_equals_one_at_a_time(left):
         np.testing.assert_array_equal(one["singular_values"], idx["singular_values"][i])
 
 
+def test_large_batch_new_arrays_equal_out_arrays(left):
+    # Tens of megabytes: the new arrays get their pages mapped before they are written.
+    q = random_configurations(left, 50_000)
+    poses, jacs = left.fk_jacobian(q)
+    p_out, j_out = np.full((50_000, 4, 4), np.nan), np.full((50_000, 6, 7), np.nan)
+    left.fk_jacobian(q, out=(p_out, j_out))
+    np.testing.assert_array_equal(poses, p_out)
+    np.testing.assert_array_equal(jacs, j_out)
+    for i in range(0, 50_000, 4999):
+        pose, jac = left.fk_jacobian(q[i])
+        np.testing.assert_array_equal(poses[i], pose)
+        np.testing.assert_array_equal(jacs[i], jac)
+
+
 def test_fk_is_a_rigid_transform(left):
     for pose in left.fk(random_configurations(left, 20)):
         rotation = pose[:3, :3]

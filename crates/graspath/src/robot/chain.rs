@@ -494,11 +494,20 @@ fn forward_scalar(
     for (i, segment) in segments.iter().enumerate() {
         let s = &segment.rotation;
         let t = &segment.translation;
-        let offset = combine(&c[0], t[0], &c[1], t[1], &c[2], t[2]);
-        p = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
-        let x = combine(&c[0], s[(0, 0)], &c[1], s[(1, 0)], &c[2], s[(2, 0)]);
-        let y = combine(&c[0], s[(0, 1)], &c[1], s[(1, 1)], &c[2], s[(2, 1)]);
-        let z = combine(&c[0], s[(0, 2)], &c[1], s[(1, 2)], &c[2], s[(2, 2)]);
+        let column = |k: usize| [s[(0, k)], s[(1, k)], s[(2, k)]];
+        let (x, y, z) = if i == 0 {
+            // The base frame: the placement is the segment's own transform.
+            p = [t[0], t[1], t[2]];
+            (column(0), column(1), column(2))
+        } else {
+            let offset = combine(&c[0], t[0], &c[1], t[1], &c[2], t[2]);
+            p = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
+            (
+                combine(&c[0], s[(0, 0)], &c[1], s[(1, 0)], &c[2], s[(2, 0)]),
+                combine(&c[0], s[(0, 1)], &c[1], s[(1, 1)], &c[2], s[(2, 1)]),
+                combine(&c[0], s[(0, 2)], &c[1], s[(1, 2)], &c[2], s[(2, 2)]),
+            )
+        };
         let value = joint_value(i);
         match segment.kind {
             MotionKind::Revolute => {
@@ -517,12 +526,9 @@ fn forward_scalar(
                     z,
                 ];
                 if let Some(j) = jacobian.as_deref_mut() {
-                    // v = z × (p_tip − p); store p × z now, add z × p_tip at the end.
-                    let partial = cross(&p, &z);
+                    // v = z × (p_tip − p): keep p for now, finish once the tip is known.
                     if let Some(column) = j.get_mut(6 * i..6 * i + 6) {
-                        column.copy_from_slice(&[
-                            partial[0], partial[1], partial[2], z[0], z[1], z[2],
-                        ]);
+                        column.copy_from_slice(&[p[0], p[1], p[2], z[0], z[1], z[2]]);
                     }
                 }
             }
@@ -541,39 +547,34 @@ fn forward_scalar(
             }
         }
     }
-    let (tip, pose) = finish(&c, &p, tail);
-    if let Some(j) = jacobian {
-        for (segment, column) in segments.iter().zip(j.chunks_exact_mut(6)) {
-            if segment.kind == MotionKind::Revolute {
-                let lever = cross(&[column[3], column[4], column[5]], &tip);
-                column[0] += lever[0];
-                column[1] += lever[1];
-                column[2] += lever[2];
-            }
-        }
-    }
-    pose
-}
-
-/// Applies the tail (last fixed transforms and tool offset) to the last joint frame, given
-/// by its rotation columns `c` and origin `p`: the tip origin and the tip pose, base frame.
-#[inline(always)]
-fn finish(
-    c: &[[f64; 3]; 3],
-    p: &[f64; 3],
-    (tail_rotation, tail_translation): (&Matrix3<f64>, &Vector3<f64>),
-) -> ([f64; 3], IsometryMatrix3<f64>) {
+    let (tail_rotation, tail_translation) = tail;
     let tt = tail_translation;
     let offset = combine(&c[0], tt[0], &c[1], tt[1], &c[2], tt[2]);
     let tip = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
-    let rotation = Matrix3::new(
-        c[0][0], c[1][0], c[2][0], c[0][1], c[1][1], c[2][1], c[0][2], c[1][2], c[2][2],
-    ) * tail_rotation;
-    let pose = IsometryMatrix3::from_parts(
-        Translation3::new(tip[0], tip[1], tip[2]),
-        Rotation3::from_matrix_unchecked(rotation),
-    );
-    (tip, pose)
+    let r = tail_rotation;
+    let rotation = [0, 1, 2].map(|k| combine(&c[0], r[(0, k)], &c[1], r[(1, k)], &c[2], r[(2, k)]));
+    if let Some(j) = jacobian {
+        for (segment, column) in segments.iter().zip(j.chunks_exact_mut(6)) {
+            if segment.kind == MotionKind::Revolute {
+                let lever = [tip[0] - column[0], tip[1] - column[1], tip[2] - column[2]];
+                let v = cross(&[column[3], column[4], column[5]], &lever);
+                column[..3].copy_from_slice(&v);
+            }
+        }
+    }
+    pose_from_columns(&rotation, &tip)
+}
+
+/// The pose with rotation columns `rotation` and origin `origin` (base frame).
+#[inline(always)]
+fn pose_from_columns(rotation: &[[f64; 3]; 3], origin: &[f64; 3]) -> IsometryMatrix3<f64> {
+    let [x, y, z] = rotation;
+    IsometryMatrix3::from_parts(
+        Translation3::new(origin[0], origin[1], origin[2]),
+        Rotation3::from_matrix_unchecked(Matrix3::new(
+            x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2],
+        )),
+    )
 }
 
 /// A unit vector from a possibly unnormalised axis, or `None` when it is (nearly) zero or

@@ -5,7 +5,7 @@
 //! two passes give bit-identical poses and Jacobians; the sines and cosines of four joints are
 //! computed at once.
 
-use super::{finish, MotionKind, Segment};
+use super::{pose_from_columns, MotionKind, Segment};
 use crate::robot::trig::sin_cos4;
 use nalgebra::{IsometryMatrix3, Matrix3, Vector3};
 use std::arch::x86_64::*;
@@ -99,10 +99,19 @@ pub(super) unsafe fn forward(
         }
         let s = &segment.rotation;
         let t = &segment.translation;
-        p = _mm256_add_pd(p, combine(c0, t[0], c1, t[1], c2, t[2]));
-        let x = combine(c0, s[(0, 0)], c1, s[(1, 0)], c2, s[(2, 0)]);
-        let y = combine(c0, s[(0, 1)], c1, s[(1, 1)], c2, s[(2, 1)]);
-        let z = combine(c0, s[(0, 2)], c1, s[(1, 2)], c2, s[(2, 2)]);
+        let (x, y, z) = if i == 0 {
+            // The base frame: the placement is the segment's own transform.
+            p = _mm256_setr_pd(t[0], t[1], t[2], 0.0);
+            let column = |k: usize| _mm256_setr_pd(s[(0, k)], s[(1, k)], s[(2, k)], 0.0);
+            (column(0), column(1), column(2))
+        } else {
+            p = _mm256_add_pd(p, combine(c0, t[0], c1, t[1], c2, t[2]));
+            (
+                combine(c0, s[(0, 0)], c1, s[(1, 0)], c2, s[(2, 0)]),
+                combine(c0, s[(0, 1)], c1, s[(1, 1)], c2, s[(2, 1)]),
+                combine(c0, s[(0, 2)], c1, s[(1, 2)], c2, s[(2, 2)]),
+            )
+        };
         let column = jacobian.map(|j| j.add(6 * i));
         match segment.kind {
             MotionKind::Revolute => {
@@ -112,8 +121,8 @@ pub(super) unsafe fn forward(
                 c1 = _mm256_sub_pd(_mm256_mul_pd(y, cos), _mm256_mul_pd(x, sin));
                 c2 = z;
                 if let Some(column) = column {
-                    // v = z × (p_tip − p); store p × z now, add z × p_tip at the end.
-                    store_column(column, i + 1 == n, cross(p, z), z);
+                    // v = z × (p_tip − p): keep p for now, finish once the tip is known.
+                    store_column(column, i + 1 == n, p, z);
                 }
             }
             MotionKind::Prismatic => {
@@ -125,22 +134,25 @@ pub(super) unsafe fn forward(
             }
         }
     }
-    let (tip, pose) = finish(&[lanes(c0), lanes(c1), lanes(c2)], &lanes(p), tail);
+    let (tail_rotation, tail_translation) = tail;
+    let tt = tail_translation;
+    let tip = _mm256_add_pd(p, combine(c0, tt[0], c1, tt[1], c2, tt[2]));
+    let r = tail_rotation;
+    let rotation = [0, 1, 2].map(|k| lanes(combine(c0, r[(0, k)], c1, r[(1, k)], c2, r[(2, k)])));
     if let Some(j) = jacobian {
-        let tip = _mm256_setr_pd(tip[0], tip[1], tip[2], 0.0);
         for (i, segment) in segments.iter().enumerate() {
             if segment.kind != MotionKind::Revolute {
                 continue;
             }
             let column = j.add(6 * i);
-            let linear = _mm256_loadu_pd(column);
-            let angular = _mm256_setr_pd(*column.add(3), *column.add(4), *column.add(5), 0.0);
-            // Lane 3 of `linear` is the first angular value: keep it as it is.
-            let moved = _mm256_add_pd(linear, cross(angular, tip));
-            _mm256_storeu_pd(column, _mm256_blend_pd::<0b1000>(moved, linear));
+            let origin = _mm256_loadu_pd(column);
+            let axis = _mm256_setr_pd(*column.add(3), *column.add(4), *column.add(5), 0.0);
+            let linear = cross(axis, _mm256_sub_pd(tip, origin));
+            // Lane 3 of `origin` is the first angular value: keep it as it is.
+            _mm256_storeu_pd(column, _mm256_blend_pd::<0b1000>(linear, origin));
         }
     }
-    pose
+    pose_from_columns(&rotation, &lanes(tip))
 }
 
 #[cfg(test)]

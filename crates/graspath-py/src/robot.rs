@@ -26,8 +26,8 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// Smallest number of configurations handed to one rayon task in batch calls.
-const MIN_BATCH_CHUNK: usize = 256;
+/// Configurations per rayon task in batch calls.
+const BATCH_CHUNK: usize = 256;
 
 /// A serial kinematic chain from a base link to a tip link.
 #[pyclass(module = "graspath", name = "Robot", frozen)]
@@ -101,35 +101,34 @@ fn batch_into(
             .for_each(|row| write_matrix_pose(row, &pose));
         return Ok(());
     }
+    // Rayon splits the batch into runs of whole configurations; each run goes through the
+    // library's batch call (four configurations per vector lane group where available).
     let Some(jacobian_out) = jacobian_out else {
         return pose_out
-            .par_chunks_mut(16)
-            .zip(q.par_chunks(dof))
-            .with_min_len(MIN_BATCH_CHUNK)
-            .try_for_each(|(pose_row, qi)| {
-                write_matrix_pose(pose_row, &chain.pose(qi)?);
-                Ok(())
+            .par_chunks_mut(16 * BATCH_CHUNK)
+            .zip(q.par_chunks(dof * BATCH_CHUNK))
+            .try_for_each(|(poses, rows)| {
+                chain.for_each_pose(rows, |k, pose| {
+                    write_matrix_pose(&mut poses[16 * k..16 * (k + 1)], pose)
+                })
             });
     };
     pose_out
-        .par_chunks_mut(16)
-        .zip(jacobian_out.par_chunks_mut(6 * dof))
-        .zip(q.par_chunks(dof))
-        .with_min_len(MIN_BATCH_CHUNK)
-        .try_for_each_init(
-            || Matrix6xX::zeros(dof),
-            |jacobian, ((pose_row, jacobian_row), qi)| {
-                let pose = chain.pose_and_jacobian_into(qi, jacobian)?;
-                write_matrix_pose(pose_row, &pose);
+        .par_chunks_mut(16 * BATCH_CHUNK)
+        .zip(jacobian_out.par_chunks_mut(6 * dof * BATCH_CHUNK))
+        .zip(q.par_chunks(dof * BATCH_CHUNK))
+        .try_for_each(|((poses, jacobians), rows)| {
+            chain.for_each_pose_and_jacobian(rows, |k, pose, jacobian| {
+                write_matrix_pose(&mut poses[16 * k..16 * (k + 1)], pose);
                 // Column-major 6 × dof into row-major.
-                for (c, column) in jacobian.as_slice().chunks_exact(6).enumerate() {
+                let out = &mut jacobians[6 * dof * k..6 * dof * (k + 1)];
+                for (c, column) in jacobian.chunks_exact(6).enumerate() {
                     for (r, value) in column.iter().enumerate() {
-                        jacobian_row[r * dof + c] = *value;
+                        out[r * dof + c] = *value;
                     }
                 }
-                Ok(())
-            },
-        )
+            })
+        })
 }
 
 /// The IK settings shared by `ik` and `ik_trajectory`.

@@ -1,9 +1,9 @@
-//! FK + geometric Jacobian per call: Baxter's arm (built in, dynamic and fixed-size), Panda and
-//! UR5 from `../shared/robots` when present.
+//! FK + geometric Jacobian per call: Baxter's arm (built in, dynamic and fixed-size, and in
+//! batches), Panda and UR5 from `../shared/robots` when present.
 //!
 //! `cargo bench -p graspath --bench kinematics`
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::robot::{load_urdf_chain, Chain};
 use nalgebra::Matrix6xX;
@@ -59,6 +59,25 @@ fn kinematics(c: &mut Criterion) {
             black_box(fixed.pose_and_jacobian(black_box(&qs[k])))
         })
     });
+    // A batch of 1024 configurations through `for_each_pose_and_jacobian` (four per vector
+    // lane group on AVX2 processors); criterion reports the time per configuration.
+    let batch: Vec<f64> = (0..16)
+        .flat_map(|_| configurations(&left))
+        .flatten()
+        .collect();
+    let mut group = c.benchmark_group("fk_jacobian_batch");
+    group.throughput(Throughput::Elements((batch.len() / left.dof()) as u64));
+    group.bench_function("baxter_left_1024", |b| {
+        b.iter(|| {
+            let mut sum = 0.0;
+            left.for_each_pose_and_jacobian(black_box(&batch), |_, pose, jacobian| {
+                sum += pose.translation.x + jacobian[3];
+            })
+            .expect("valid configurations");
+            black_box(sum)
+        })
+    });
+    group.finish();
     let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/robots");
     for (name, file, base, tip) in [
         ("panda", "panda.urdf", "panda_link0", "panda_hand_tcp"),

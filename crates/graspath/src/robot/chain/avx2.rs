@@ -155,6 +155,171 @@ pub(super) unsafe fn forward(
     pose_from_columns(&rotation, &lanes(tip))
 }
 
+/// Three lanes-of-four values: component `r` of a 3-vector for four configurations.
+type Lanes3 = [__m256d; 3];
+
+/// `a·x + b·y + c·z` per component, evaluated like the scalar `combine`.
+#[inline(always)]
+unsafe fn combine4(x: &Lanes3, a: f64, y: &Lanes3, b: f64, z: &Lanes3, c: f64) -> Lanes3 {
+    let (a, b, c) = (_mm256_set1_pd(a), _mm256_set1_pd(b), _mm256_set1_pd(c));
+    let one = |r: usize| {
+        _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(x[r], a), _mm256_mul_pd(y[r], b)),
+            _mm256_mul_pd(z[r], c),
+        )
+    };
+    [one(0), one(1), one(2)]
+}
+
+/// `a + b` per component.
+#[inline(always)]
+unsafe fn add3(a: &Lanes3, b: &Lanes3) -> Lanes3 {
+    [
+        _mm256_add_pd(a[0], b[0]),
+        _mm256_add_pd(a[1], b[1]),
+        _mm256_add_pd(a[2], b[2]),
+    ]
+}
+
+/// `a − b` per component.
+#[inline(always)]
+unsafe fn sub3(a: &Lanes3, b: &Lanes3) -> Lanes3 {
+    [
+        _mm256_sub_pd(a[0], b[0]),
+        _mm256_sub_pd(a[1], b[1]),
+        _mm256_sub_pd(a[2], b[2]),
+    ]
+}
+
+/// `a · s` per component.
+#[inline(always)]
+unsafe fn scale3(a: &Lanes3, s: __m256d) -> Lanes3 {
+    [
+        _mm256_mul_pd(a[0], s),
+        _mm256_mul_pd(a[1], s),
+        _mm256_mul_pd(a[2], s),
+    ]
+}
+
+/// The same 3-vector in every lane.
+#[inline(always)]
+unsafe fn splat3(v: [f64; 3]) -> Lanes3 {
+    [
+        _mm256_set1_pd(v[0]),
+        _mm256_set1_pd(v[1]),
+        _mm256_set1_pd(v[2]),
+    ]
+}
+
+/// `a × b` per lane, as `a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀`.
+#[inline(always)]
+unsafe fn cross3(a: &Lanes3, b: &Lanes3) -> Lanes3 {
+    [
+        _mm256_sub_pd(_mm256_mul_pd(a[1], b[2]), _mm256_mul_pd(a[2], b[1])),
+        _mm256_sub_pd(_mm256_mul_pd(a[2], b[0]), _mm256_mul_pd(a[0], b[2])),
+        _mm256_sub_pd(_mm256_mul_pd(a[0], b[1]), _mm256_mul_pd(a[1], b[0])),
+    ]
+}
+
+/// The tip pose of four configurations: rotation columns and origin, one lane per
+/// configuration.
+pub(super) struct Poses4 {
+    pub rotation: [Lanes3; 3],
+    pub origin: Lanes3,
+}
+
+/// The scalar forward pass (`chain::forward_scalar`) for four configurations at once, one per
+/// lane: every lane performs exactly the scalar pass's operations, so each configuration gets
+/// bit-identical results. `values[i]` holds segment `i`'s joint values of the four
+/// configurations; the Jacobian, when asked, goes to `jacobian[6·i + row]` (rows `[v; ω]`).
+///
+/// # Safety
+/// The processor must support AVX2; `values` and `jacobian` (when given) must hold
+/// `segments.len()` and `6 · segments.len()` entries.
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn forward4(
+    segments: &[Segment],
+    values: &[[f64; 4]],
+    mut jacobian: Option<&mut [[f64; 4]]>,
+    (tail_rotation, tail_translation): (&Matrix3<f64>, &Vector3<f64>),
+) -> Poses4 {
+    let zero = _mm256_setzero_pd();
+    let mut c: [Lanes3; 3] = [
+        splat3([1.0, 0.0, 0.0]),
+        splat3([0.0, 1.0, 0.0]),
+        splat3([0.0, 0.0, 1.0]),
+    ];
+    let mut p: Lanes3 = [zero; 3];
+    for (i, segment) in segments.iter().enumerate() {
+        let s = &segment.rotation;
+        let t = &segment.translation;
+        let (x, y, z) = if i == 0 {
+            p = splat3([t[0], t[1], t[2]]);
+            (
+                splat3([s[(0, 0)], s[(1, 0)], s[(2, 0)]]),
+                splat3([s[(0, 1)], s[(1, 1)], s[(2, 1)]]),
+                splat3([s[(0, 2)], s[(1, 2)], s[(2, 2)]]),
+            )
+        } else {
+            p = add3(&p, &combine4(&c[0], t[0], &c[1], t[1], &c[2], t[2]));
+            (
+                combine4(&c[0], s[(0, 0)], &c[1], s[(1, 0)], &c[2], s[(2, 0)]),
+                combine4(&c[0], s[(0, 1)], &c[1], s[(1, 1)], &c[2], s[(2, 1)]),
+                combine4(&c[0], s[(0, 2)], &c[1], s[(1, 2)], &c[2], s[(2, 2)]),
+            )
+        };
+        let value = _mm256_loadu_pd(values[i].as_ptr());
+        let column: [__m256d; 6] = match segment.kind {
+            MotionKind::Revolute => {
+                let (sin, cos) = sin_cos4(value);
+                c = [
+                    add3(&scale3(&x, cos), &scale3(&y, sin)),
+                    sub3(&scale3(&y, cos), &scale3(&x, sin)),
+                    z,
+                ];
+                [p[0], p[1], p[2], z[0], z[1], z[2]]
+            }
+            MotionKind::Prismatic => {
+                c = [x, y, z];
+                p = add3(&p, &scale3(&z, value));
+                [z[0], z[1], z[2], zero, zero, zero]
+            }
+        };
+        if let Some(j) = jacobian.as_deref_mut() {
+            for (row, v) in column.iter().enumerate() {
+                _mm256_storeu_pd(j[6 * i + row].as_mut_ptr(), *v);
+            }
+        }
+    }
+    let tt = tail_translation;
+    let tip = add3(&p, &combine4(&c[0], tt[0], &c[1], tt[1], &c[2], tt[2]));
+    let r = tail_rotation;
+    let rotation = [
+        combine4(&c[0], r[(0, 0)], &c[1], r[(1, 0)], &c[2], r[(2, 0)]),
+        combine4(&c[0], r[(0, 1)], &c[1], r[(1, 1)], &c[2], r[(2, 1)]),
+        combine4(&c[0], r[(0, 2)], &c[1], r[(1, 2)], &c[2], r[(2, 2)]),
+    ];
+    if let Some(j) = jacobian {
+        for (i, segment) in segments.iter().enumerate() {
+            if segment.kind != MotionKind::Revolute {
+                continue;
+            }
+            let column = &mut j[6 * i..6 * i + 6];
+            let load = |row: &[f64; 4]| _mm256_loadu_pd(row.as_ptr());
+            let origin = [load(&column[0]), load(&column[1]), load(&column[2])];
+            let axis = [load(&column[3]), load(&column[4]), load(&column[5])];
+            let linear = cross3(&axis, &sub3(&tip, &origin));
+            for (row, v) in column.iter_mut().zip(linear) {
+                _mm256_storeu_pd(row.as_mut_ptr(), v);
+            }
+        }
+    }
+    Poses4 {
+        rotation,
+        origin: tip,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::{forward_scalar, Chain};
@@ -251,5 +416,73 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn batches_equal_one_call_per_configuration_bit_for_bit() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        for joints in [1, 3, 6, 7, 9] {
+            for _ in 0..20 {
+                let chain = random_chain(&mut rng, joints);
+                let dof = chain.dof();
+                if dof == 0 {
+                    continue;
+                }
+                for count in 0..=9 {
+                    let q: Vec<f64> = (0..count * dof)
+                        .map(|_| rng.random_range(-7.0..7.0))
+                        .collect();
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    let mut seen = Vec::new();
+                    chain
+                        .for_each_pose_and_jacobian(&q, |k, pose, jacobian| {
+                            let (one, expected) =
+                                chain.pose_and_jacobian(&q[k * dof..(k + 1) * dof]).unwrap();
+                            assert_eq!(
+                                bits(pose.to_homogeneous().as_slice()),
+                                bits(one.to_homogeneous().as_slice())
+                            );
+                            assert_eq!(bits(jacobian), bits(expected.as_slice()));
+                            seen.push(k);
+                        })
+                        .unwrap();
+                    assert_eq!(seen, (0..count).collect::<Vec<_>>());
+                    let mut poses = 0;
+                    chain
+                        .for_each_pose(&q, |k, pose| {
+                            let one = chain.pose(&q[k * dof..(k + 1) * dof]).unwrap();
+                            assert_eq!(
+                                bits(pose.to_homogeneous().as_slice()),
+                                bits(one.to_homogeneous().as_slice())
+                            );
+                            poses += 1;
+                        })
+                        .unwrap();
+                    assert_eq!(poses, count);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn batches_refuse_partial_rows_and_non_finite_values() {
+        let chain = random_chain(&mut Xoshiro256PlusPlus::seed_from_u64(3), 7);
+        let dof = chain.dof();
+        assert!(dof > 1);
+        let partial = vec![0.0; 2 * dof + 1];
+        let err = chain.for_each_pose(&partial, |_, _| {}).unwrap_err();
+        assert!(
+            err.to_string().contains(&format!("{} values", 2 * dof + 1)),
+            "{err}"
+        );
+        let mut nan = vec![0.0; 3 * dof];
+        nan[dof + 1] = f64::NAN;
+        let err = chain
+            .for_each_pose_and_jacobian(&nan, |_, _, _| panic!("nothing may be emitted"))
+            .unwrap_err();
+        assert!(
+            err.to_string().contains(&format!("q[{}]", dof + 1)),
+            "{err}"
+        );
     }
 }

@@ -7,7 +7,8 @@
 //!
 //! On x86-64 processors with AVX2 (detected at run time) the pass runs on 256-bit vectors
 //! ([`avx2`]); it performs the same IEEE operations in the same order as the scalar pass, so
-//! results do not depend on the processor.
+//! results do not depend on the processor. Batches of configurations
+//! ([`Chain::for_each_pose_and_jacobian`]) run four at a time, one per vector lane.
 
 use super::error::RobotError;
 use super::spec::{ChainSpec, JointKind};

@@ -323,7 +323,7 @@ pub(super) unsafe fn forward4(
 #[cfg(test)]
 mod tests {
     use super::super::{forward_scalar, Chain};
-    use crate::robot::spec::{ChainSpec, JointKind, JointSpec};
+    use crate::robot::spec::{ChainSpec, JointKind, JointSpec, Mimic};
     use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
     use rand::rngs::Xoshiro256PlusPlus;
     use rand::{RngExt, SeedableRng};
@@ -462,6 +462,54 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn batches_of_a_chain_with_a_mimic_joint_equal_single_calls() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        let joint = |name: &str, mimic: Option<Mimic>| JointSpec {
+            name: name.into(),
+            kind: JointKind::Revolute,
+            parent_from_joint: Isometry3::from_parts(
+                Translation3::new(0.1, 0.02, 0.3),
+                UnitQuaternion::from_euler_angles(0.3, -0.2, 0.1),
+            ),
+            axis: Vector3::new(0.0, 1.0, 0.0),
+            lower: -3.0,
+            upper: 3.0,
+            mimic,
+        };
+        let chain = Chain::from_spec(&ChainSpec {
+            source_name: "mimic".into(),
+            base_link: "base".into(),
+            tip_link: "tip".into(),
+            joints: vec![
+                joint("a", None),
+                joint("b", None),
+                joint(
+                    "c",
+                    Some(Mimic {
+                        leader: "a".into(),
+                        multiplier: 2.0,
+                        offset: 0.1,
+                    }),
+                ),
+            ],
+            tip_from_tool: None,
+        })
+        .expect("valid chain");
+        assert_eq!(chain.dof(), 2);
+        let q: Vec<f64> = (0..14).map(|_| rng.random_range(-3.0..3.0)).collect();
+        let mut count = 0;
+        chain
+            .for_each_pose_and_jacobian(&q, |k, pose, jacobian| {
+                let (one, expected) = chain.pose_and_jacobian(&q[2 * k..2 * k + 2]).unwrap();
+                assert_eq!(pose, &one);
+                assert_eq!(jacobian, expected.as_slice());
+                count += 1;
+            })
+            .unwrap();
+        assert_eq!(count, 7);
     }
 
     #[test]

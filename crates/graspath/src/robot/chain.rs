@@ -326,7 +326,11 @@ impl Chain {
     ///
     /// On processors with AVX2, chains without mimic joints evaluate four configurations at
     /// once, one per vector lane, with the scalar pass's operations (bit-identical results);
-    /// several times faster per configuration than one call each.
+    /// faster per configuration than one call each.
+    ///
+    /// Nothing is emitted when `q` is not a whole number of configurations
+    /// ([`RobotError::WrongDof`]) or holds a value that is not finite
+    /// ([`RobotError::NonFiniteJoint`], indexed into `q`).
     pub fn for_each_pose_and_jacobian(
         &self,
         q: &[f64],

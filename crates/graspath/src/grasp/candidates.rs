@@ -29,6 +29,15 @@ pub struct Candidate {
     pub hand_joints: Vec<f64>,
 }
 
+impl Candidate {
+    /// Where the hand holds the object, object frame (m): the contact point when known, else
+    /// the wrist origin. Two arms' grasps overlap when these are too close.
+    pub fn grasp_point(&self) -> Point3<f64> {
+        self.contact
+            .unwrap_or_else(|| Point3::from(self.object_from_wrist.translation.vector))
+    }
+}
+
 /// A candidate file that cannot be used: the file, where in it, and why.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{file}: {location}: {message}")]
@@ -351,6 +360,21 @@ fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
 mod tests {
     use super::*;
     use std::io::Write;
+
+    #[test]
+    fn the_grasp_point_is_the_contact_else_the_wrist_origin() {
+        let mut candidate = Candidate {
+            id: 0,
+            label: String::new(),
+            object_from_wrist: Isometry3::translation(0.1, -0.2, 0.3),
+            log_likelihood: 0.0,
+            contact: None,
+            hand_joints: Vec::new(),
+        };
+        assert_eq!(candidate.grasp_point(), Point3::new(0.1, -0.2, 0.3));
+        candidate.contact = Some(Point3::new(0.0, 0.01, 0.02));
+        assert_eq!(candidate.grasp_point(), Point3::new(0.0, 0.01, 0.02));
+    }
 
     fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> std::path::PathBuf {
         let path = dir.path().join(name);

@@ -3,9 +3,7 @@
 //! arms, the summed norm over first × second arm candidates (Fig. 7, 9).
 
 use super::plots::{Cell, Heatmap, Line, LinePlot, Plot};
-use crate::grasp::Candidate;
 use crate::select::{ArmResult, Norm, Selection, Task};
-use nalgebra::Point3;
 
 /// A figure of a report: a file stem, a caption for people and the plot.
 #[derive(Debug, Clone, PartialEq)]
@@ -202,14 +200,6 @@ fn classical_figure(task: &Task, arm: &ArmResult) -> Figure {
     }
 }
 
-/// The grasp point used for overlap: the contact when known, else the wrist origin, in the
-/// object frame (the same rule as the pair ranking).
-fn grasp_point(candidate: &Candidate) -> Point3<f64> {
-    candidate
-        .contact
-        .unwrap_or_else(|| Point3::from(candidate.object_from_wrist.translation.vector))
-}
-
 /// Fig. 7 and 9: the sum of the two arms' norms over first-arm × second-arm candidates.
 fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
     let [first, second] = selection.arms.as_slice() else {
@@ -228,8 +218,8 @@ fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
         for j in 0..second.scores.len() {
             let cell = match (norm(first, i), norm(second, j)) {
                 (Some(a), Some(b)) => {
-                    let pa = grasp_point(&task.candidates[first.scores[i].candidate]);
-                    let pb = grasp_point(&task.candidates[second.scores[j].candidate]);
+                    let pa = task.candidates[first.scores[i].candidate].grasp_point();
+                    let pb = task.candidates[second.scores[j].candidate].grasp_point();
                     if (pa - pb).norm() < task.selection.min_separation {
                         Cell::Marked
                     } else {

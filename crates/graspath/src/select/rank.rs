@@ -170,14 +170,6 @@ pub struct ArmPair {
     pub rank: usize,
 }
 
-/// The grasp point used for overlap tests: the contact when known, else the wrist origin, in
-/// the object frame.
-fn grasp_point(candidate: &Candidate) -> nalgebra::Point3<f64> {
-    candidate
-        .contact
-        .unwrap_or_else(|| nalgebra::Point3::from(candidate.object_from_wrist.translation.vector))
-}
-
 /// Every pair of eligible candidates of two arms whose grasps do not overlap (closer than
 /// `min_separation`), scored by the sum of the arms' norms; the best `options.pairs`, best first.
 pub fn rank_pairs(
@@ -198,9 +190,9 @@ pub fn rank_pairs(
     let b = eligible(second.1, second.2);
     let mut pairs: Vec<ArmPair> = Vec::new();
     for &(i, ni) in &a {
-        let pi = grasp_point(&first.0[first.1[i].candidate]);
+        let pi = first.0[first.1[i].candidate].grasp_point();
         for &(j, nj) in &b {
-            let pj = grasp_point(&second.0[second.1[j].candidate]);
+            let pj = second.0[second.1[j].candidate].grasp_point();
             if (pi - pj).norm() < options.min_separation {
                 continue;
             }

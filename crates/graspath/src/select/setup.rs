@@ -11,7 +11,7 @@ use crate::robot::builtin::{baxter_spec, Arm};
 use crate::robot::{Chain, TrajectoryIkOptions, UrdfRobot};
 use crate::task::{
     ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, ObjectPath, ObjectShape,
-    PoseFile, Sampling, ShapeFile, StepFile, TaskError, TaskFile,
+    PoseFile, Sampling, StepFile, TaskError, TaskFile,
 };
 use crate::task::{Step, TimedStep};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -77,7 +77,7 @@ impl Task {
             .object
             .shape
             .as_ref()
-            .map(shape_of)
+            .map(checked_shape)
             .transpose()
             .map_err(|m| err("object.shape", m))?;
         let candidates = setup_candidates(file, source_name, base_dir, shape.as_ref())?;
@@ -254,22 +254,10 @@ pub fn pose(p: &PoseFile, file: &str, field: &str) -> Result<Isometry3<f64>, Tas
     ))
 }
 
-fn shape_of(s: &ShapeFile) -> Result<ObjectShape, String> {
-    let shape = match *s {
-        ShapeFile::Box { size } => ObjectShape::Box { size },
-        ShapeFile::Cylinder { radius, length } => ObjectShape::Cylinder { radius, length },
-        ShapeFile::TShape {
-            bar,
-            handle_radius,
-            handle_length,
-        } => ObjectShape::TShape {
-            bar,
-            handle_radius,
-            handle_length,
-        },
-    };
+/// The shape, when every dimension is a positive length.
+fn checked_shape(shape: &ObjectShape) -> Result<ObjectShape, String> {
     if shape.is_valid() {
-        Ok(shape)
+        Ok(*shape)
     } else {
         Err("every dimension must be a positive length in metres".into())
     }

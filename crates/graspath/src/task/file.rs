@@ -3,6 +3,7 @@
 //! Every struct rejects unknown fields; errors name the file and the field's path
 //! (`trajectory.steps[2].rotate.angle_deg`). Paths inside a task file are relative to it.
 
+use super::shape::ObjectShape;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -145,34 +146,7 @@ pub struct ObjectFile {
     pub pose: PoseFile,
     /// A primitive shape (for candidate families, views and demos).
     #[serde(default)]
-    pub shape: Option<ShapeFile>,
-}
-
-/// A primitive shape.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum ShapeFile {
-    /// A box with edge lengths `size` (m) along the object axes.
-    Box {
-        /// Edge lengths (m).
-        size: [f64; 3],
-    },
-    /// A cylinder along the object's z.
-    Cylinder {
-        /// Radius (m).
-        radius: f64,
-        /// Length (m).
-        length: f64,
-    },
-    /// A bar with a cylindrical handle on top.
-    TShape {
-        /// Bar edge lengths (m).
-        bar: [f64; 3],
-        /// Handle radius (m).
-        handle_radius: f64,
-        /// Handle length (m).
-        handle_length: f64,
-    },
+    pub shape: Option<ObjectShape>,
 }
 
 /// Where candidates come from: exactly one of `file`, `family` or `generate`.

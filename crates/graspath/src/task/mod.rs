@@ -12,8 +12,8 @@ mod shape;
 
 pub use file::{
     ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile, LikelihoodFile,
-    NormFile, ObjectFile, PoseFile, RobotFile, RotateFile, SelectionFile, ShapeFile, SpacingFile,
-    StepFile, TaskError, TaskFile, TrajectoryFile,
+    NormFile, ObjectFile, PoseFile, RobotFile, RotateFile, SelectionFile, SpacingFile, StepFile,
+    TaskError, TaskFile, TrajectoryFile,
 };
 pub use path::{ObjectPath, PathSample, Sampling, Step, TimedStep};
 pub use shape::ObjectShape;

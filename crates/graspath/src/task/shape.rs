@@ -3,8 +3,11 @@
 use nalgebra::{Point3, Vector3};
 
 /// A primitive object shape. The object frame is at the shape's centre (for the T-shape: the
-/// centre of the bar), with `z` up when the object stands on a table.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// centre of the bar), with `z` up when the object stands on a table. In a task file:
+/// `{box: {size: [x, y, z]}}`, `{cylinder: {radius, length}}` or
+/// `{t_shape: {bar, handle_radius, handle_length}}`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ObjectShape {
     /// A box with edge lengths along the object's `x`, `y`, `z` axes.
     Box {

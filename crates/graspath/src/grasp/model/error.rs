@@ -81,6 +81,19 @@ pub enum ModelError {
 }
 
 impl ModelError {
+    /// A read or write failure of `source_name`.
+    pub(crate) fn io(source_name: impl Into<String>, e: impl std::fmt::Display) -> Self {
+        Self::Io {
+            source_name: source_name.into(),
+            message: e.to_string(),
+        }
+    }
+
+    /// Reads a whole text file; the error names it.
+    pub(crate) fn read_text(path: &std::path::Path) -> Result<String, Self> {
+        std::fs::read_to_string(path).map_err(|e| Self::io(path.display().to_string(), e))
+    }
+
     pub(crate) fn field(
         source_name: &str,
         field: impl Into<String>,

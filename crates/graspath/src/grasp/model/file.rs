@@ -79,10 +79,7 @@ pub struct GraspModel {
 impl GraspModel {
     /// The model as JSON bytes.
     pub fn to_json(&self) -> Result<Vec<u8>, ModelError> {
-        let mut bytes = serde_json::to_vec(self).map_err(|e| ModelError::Io {
-            source_name: "<model>".into(),
-            message: e.to_string(),
-        })?;
+        let mut bytes = serde_json::to_vec(self).map_err(|e| ModelError::io("<model>", e))?;
         bytes.push(b'\n');
         Ok(bytes)
     }
@@ -182,20 +179,13 @@ impl GraspModel {
 
     /// Reads a model file.
     pub fn read(path: &Path) -> Result<Self, ModelError> {
-        let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            source_name: name.clone(),
-            message: e.to_string(),
-        })?;
-        Self::from_json(&text, &name)
+        Self::from_json(&ModelError::read_text(path)?, &path.display().to_string())
     }
 
     /// Writes the model file atomically (temporary file in the same directory, then rename).
     pub fn write(&self, path: &Path) -> Result<(), ModelError> {
         let bytes = self.to_json()?;
-        crate::fsutil::write_atomic(path, &bytes).map_err(|e| ModelError::Io {
-            source_name: path.display().to_string(),
-            message: e.to_string(),
-        })
+        crate::fsutil::write_atomic(path, &bytes)
+            .map_err(|e| ModelError::io(path.display().to_string(), e))
     }
 }

@@ -53,10 +53,8 @@ pub fn candidates_json(candidates: &[Candidate], label: &str) -> Result<Vec<u8>,
             })
             .collect(),
     };
-    let mut bytes = serde_json::to_vec_pretty(&file).map_err(|e| ModelError::Io {
-        source_name: "<candidates>".into(),
-        message: e.to_string(),
-    })?;
+    let mut bytes =
+        serde_json::to_vec_pretty(&file).map_err(|e| ModelError::io("<candidates>", e))?;
     bytes.push(b'\n');
     Ok(bytes)
 }
@@ -67,10 +65,6 @@ pub fn write_candidates(
     candidates: &[Candidate],
     label: &str,
 ) -> Result<(), ModelError> {
-    crate::fsutil::write_atomic(path, &candidates_json(candidates, label)?).map_err(|e| {
-        ModelError::Io {
-            source_name: path.display().to_string(),
-            message: e.to_string(),
-        }
-    })
+    crate::fsutil::write_atomic(path, &candidates_json(candidates, label)?)
+        .map_err(|e| ModelError::io(path.display().to_string(), e))
 }

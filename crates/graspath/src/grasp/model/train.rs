@@ -114,10 +114,7 @@ impl Demonstration {
     /// Reads and checks a demonstration file.
     pub fn read(path: &Path) -> Result<Self, ModelError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            source_name: name.clone(),
-            message: e.to_string(),
-        })?;
+        let text = ModelError::read_text(path)?;
         let demo: Demonstration = serde_json::from_str(&text)
             .map_err(|e| ModelError::field(&name, format!("line {}", e.line()), e.to_string()))?;
         if demo.format != DEMONSTRATION_FORMAT {

@@ -93,11 +93,6 @@ impl KernelTable {
         ))
     }
 
-    /// Kernel `k`'s weight.
-    pub fn weight(&self, k: usize) -> f64 {
-        self.weight[k]
-    }
-
     /// `Σ_k w_k · exp(−(‖p − p_k‖²/σp² + κ(1 − |q·q_k|)))` over the kernels of `runs` that lie
     /// within the cut-offs. Kernel `k` of a run starting at `s` is added to partial sum
     /// `(k − s) mod 4`; the partial sums `a, b, c, d` are combined as `(a + b) + (c + d)`.

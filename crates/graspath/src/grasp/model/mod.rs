@@ -14,7 +14,7 @@ pub mod error;
 pub mod file;
 pub mod generate;
 pub mod kernel;
-pub mod lanes;
+mod lanes;
 pub mod output;
 pub mod query;
 pub mod train;

@@ -10,7 +10,8 @@ macro_rules! say {
 }
 
 use clap::Args;
-use graspath::select::{Selection, Task};
+use graspath::select::Selection;
+use graspath::task::Task;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::Path;
@@ -101,7 +102,7 @@ pub fn print_summary_table(
         ranked.sort_by_key(|&i| arm.rankings[i].rank);
         for &i in ranked.iter().take(5) {
             let s = &arm.scores[i];
-            let c = &task.candidates[s.candidate];
+            let c = &s.candidate;
             say!(
                 "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
                 arm.rankings[i].rank.unwrap_or(0),
@@ -119,9 +120,9 @@ pub fn print_summary_table(
         say!(
             "  best pair: {} {} + {} {} (sum {:.4})",
             a.arm,
-            task.candidates[a.scores[best.first].candidate].label,
+            best.first.label,
             b.arm,
-            task.candidates[b.scores[best.second].candidate].label,
+            best.second.label,
             best.score
         );
     }

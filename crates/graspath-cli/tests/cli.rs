@@ -303,7 +303,7 @@ fn every_example_task_loads_and_the_demo_runs() {
     for entry in std::fs::read_dir(&examples).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "yaml") {
-            graspath::select::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
         }
     }
     let dir = tempfile::tempdir().unwrap();

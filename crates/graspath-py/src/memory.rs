@@ -18,7 +18,7 @@ pub fn populate(buffer: &mut [f64]) {
         };
         let start = buffer.as_mut_ptr() as usize;
         let first = start.next_multiple_of(page);
-        let end = (start + std::mem::size_of_val(buffer)) / page * page;
+        let end = (start + size_of_val(buffer)) / page * page;
         if end > first {
             // SAFETY: [first, end) lies inside `buffer`, which is borrowed mutably here;
             // populating maps pages in without changing their contents. The result is ignored:

@@ -158,11 +158,7 @@ fn ik_options(
 }
 
 fn failure_reason(solution: &IkSolution) -> Option<&'static str> {
-    solution.failure.as_ref().map(|f| match f.reason {
-        graspath::robot::IkFailureReason::OutOfReach => "out_of_reach",
-        graspath::robot::IkFailureReason::TimeLimit => "time_limit",
-        graspath::robot::IkFailureReason::IterationLimit => "iteration_limit",
-    })
+    solution.failure.as_ref().map(|f| f.reason.as_str())
 }
 
 #[pymethods]
@@ -455,7 +451,7 @@ impl PyRobot {
     ///
     /// One pose gives a dict ``q`` (array, or ``None`` when not converged), ``converged``,
     /// ``position_error`` (m), ``rotation_error`` (rad), ``iterations``, ``failure`` (``None``
-    /// or a dict ``reason`` in ``out_of_reach``/``time_limit``/``iteration_limit``,
+    /// or a dict ``reason`` in ``unreachable``/``time_limit``/``iteration_limit``,
     /// ``best_q``, ``attempts``). Many poses give a dict of arrays: ``q`` ``(n, dof)`` (NaN rows
     /// where not converged), ``best_q`` (the best configuration tried), ``converged``
     /// ``(n,)`` bool, ``position_error``, ``rotation_error``, ``iterations`` and

@@ -3,8 +3,9 @@
 
 use crate::convert::{array, error, json_to_py};
 use crate::task::PyTask;
-use graspath::report::{candidates_json, pairs_json, summary_json, write_files_atomically};
-use graspath::select::{select as run_selection, Norm, Selection, Task};
+use graspath::select::{select as run_selection, Selection};
+use graspath::task::{Norm, Task};
+use graspath_report::{candidates_json, pairs_json, summary_json, write_files_atomically};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -43,13 +44,13 @@ impl PySelection {
     /// ``joint_trajectory``, …; an infinite μ_l∞ is ``None`` with ``mu_linf_infinite``).
     #[getter]
     fn candidates<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &candidates_json(&self.task, &self.selection))
+        json_to_py(py, &candidates_json(&self.selection))
     }
 
     /// The best arm pairs (two-arm tasks; empty otherwise), as in ``pairs.json``.
     #[getter]
     fn pairs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &pairs_json(&self.task, &self.selection))
+        json_to_py(py, &pairs_json(&self.selection))
     }
 
     /// The task in brief and the selected grasp per arm (and pair), as in ``summary.json``.
@@ -67,9 +68,7 @@ impl PySelection {
     /// The id of the best-ranked candidate of ``arm`` (``None`` when none is eligible).
     fn best(&self, arm: &str) -> PyResult<Option<usize>> {
         let result = self.arm_result(arm)?;
-        Ok(result
-            .best()
-            .map(|i| self.task.candidates[result.scores[i].candidate].id))
+        Ok(result.best().map(|i| result.scores[i].candidate.id))
     }
 
     /// One arm's results as numpy arrays over the candidates (in candidate order), for
@@ -81,7 +80,6 @@ impl PySelection {
     /// and ``failure_sample`` (int64, -1 when feasible).
     fn arrays<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Bound<'py, PyDict>> {
         let result = self.arm_result(arm)?;
-        let candidates = &self.task.candidates;
         let samples = self.task.path.samples.len();
         let k = result.scores.len();
         let nan = f64::NAN;
@@ -89,7 +87,7 @@ impl PySelection {
         let ids: Vec<i64> = result
             .scores
             .iter()
-            .map(|s| candidates[s.candidate].id as i64)
+            .map(|s| s.candidate.id as i64)
             .collect();
         dict.set_item("id", PyArray1::from_vec(py, ids))?;
         let feasible: Vec<bool> = result.scores.iter().map(|s| s.feasible()).collect();
@@ -134,11 +132,7 @@ impl PySelection {
         let contact: Vec<f64> = result
             .scores
             .iter()
-            .flat_map(|s| {
-                candidates[s.candidate]
-                    .contact
-                    .map_or([nan; 3], |p| [p.x, p.y, p.z])
-            })
+            .flat_map(|s| s.candidate.contact.map_or([nan; 3], |p| [p.x, p.y, p.z]))
             .collect();
         dict.set_item("contact", array(py, contact, &[k, 3])?)?;
         let mut m_t = vec![nan; k * samples];
@@ -190,7 +184,7 @@ impl PySelection {
         let mut files = vec![
             (
                 "candidates.json".to_string(),
-                pretty(&candidates_json(&self.task, &self.selection))?,
+                pretty(&candidates_json(&self.selection))?,
             ),
             (
                 "summary.json".to_string(),
@@ -200,7 +194,7 @@ impl PySelection {
         if self.task.arms.len() == 2 {
             files.push((
                 "pairs.json".to_string(),
-                pretty(&pairs_json(&self.task, &self.selection))?,
+                pretty(&pairs_json(&self.selection))?,
             ));
         }
         write_files_atomically(&out_dir, &files).map_err(error)

@@ -6,11 +6,12 @@ use crate::convert::{
 };
 use crate::robot::PyRobot;
 use graspath::grasp::Candidate;
-use graspath::manipulability::IndexMode;
-use graspath::robot::TrajectoryIkOptions;
-use graspath::select::DEFAULT_GRASP_ITERATIONS;
-use graspath::select::{wrist_trajectory, ArmSetup, LikelihoodRule, Norm, SelectionOptions, Task};
-use graspath::task::{ObjectPath, PathSample, TaskFile};
+use graspath::robot::Chain;
+use graspath::select::wrist_trajectory;
+use graspath::task::defaults;
+use graspath::task::{
+    ArmSetup, JacobianRows, LikelihoodRule, Norm, ObjectPath, PathSample, Task, TaskFile,
+};
 use nalgebra::{Isometry3, Point3};
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -43,16 +44,11 @@ impl PyTask {
 }
 
 /// Parses the index mode of `Task.from_arrays`.
-fn index_mode(mode: &str, length_scale: f64) -> PyResult<IndexMode> {
+fn index_mode(mode: &str, length_scale: f64) -> PyResult<JacobianRows> {
     match mode {
-        "twist" => {
-            if !(length_scale.is_finite() && length_scale > 0.0) {
-                return Err(error("length_scale must be a positive length in metres"));
-            }
-            Ok(IndexMode::Twist { length_scale })
-        }
-        "translation" => Ok(IndexMode::Translation),
-        "rotation" => Ok(IndexMode::Rotation),
+        "twist" => Ok(JacobianRows::Twist { length_scale }),
+        "translation" => Ok(JacobianRows::Translation),
+        "rotation" => Ok(JacobianRows::Rotation),
         other => Err(error(format!(
             "mode '{other}' is not one of 'twist', 'translation', 'rotation'"
         ))),
@@ -73,14 +69,11 @@ fn likelihood_rule(value: &Bound<'_, PyAny>) -> PyResult<LikelihoodRule> {
     let weight: f64 = value
         .extract()
         .map_err(|_| error("likelihood must be 'product', 'ignore' or a weight (float >= 0)"))?;
-    if !(weight.is_finite() && weight >= 0.0) {
-        return Err(error("the likelihood weight must be a number >= 0"));
-    }
     Ok(LikelihoodRule::Weighted { weight })
 }
 
 /// An arm of `Task.from_arrays`: a `Robot`, or `(Robot, world_from_base)`.
-fn arm_setup(name: String, value: &Bound<'_, PyAny>) -> PyResult<ArmSetup> {
+fn arm_setup(name: &str, value: &Bound<'_, PyAny>) -> PyResult<(Chain, Isometry3<f64>)> {
     let (robot, world_from_base) = if let Ok(robot) = value.cast::<PyRobot>() {
         (robot.clone(), Isometry3::identity())
     } else if let Ok(pair) = value.cast::<PyTuple>() {
@@ -105,11 +98,7 @@ fn arm_setup(name: String, value: &Bound<'_, PyAny>) -> PyResult<ArmSetup> {
             "arm '{name}': give a Robot or a (Robot, world_from_base) pair"
         )));
     };
-    Ok(ArmSetup {
-        name,
-        chain: robot.get().chain.clone(),
-        world_from_base,
-    })
+    Ok((robot.get().chain.clone(), world_from_base))
 }
 
 #[pymethods]
@@ -175,17 +164,17 @@ impl PyTask {
         labels = None,
         contacts = None,
         mode = "twist",
-        length_scale = 1.0,
+        length_scale = defaults::LENGTH_SCALE,
         norm = "l2",
         mu0 = None,
         likelihood = None,
-        pairs = 10,
-        min_separation = 0.08,
-        max_joint_step = 0.5,
-        branches = 4,
-        ik_seed = 0,
-        ik_tolerance = 1e-5,
-        ik_iterations = DEFAULT_GRASP_ITERATIONS,
+        pairs = defaults::PAIRS,
+        min_separation = defaults::MIN_SEPARATION,
+        max_joint_step = defaults::MAX_JOINT_STEP,
+        branches = defaults::IK_BRANCHES,
+        ik_seed = defaults::IK_RANDOM_SEED,
+        ik_tolerance = defaults::IK_TOLERANCE,
+        ik_iterations = defaults::GRASP_IK_ITERATIONS,
         compare_branches = false,
         name = "<arrays>",
         robot_name = "robot"
@@ -215,15 +204,13 @@ impl PyTask {
         name: &str,
         robot_name: &str,
     ) -> PyResult<Self> {
-        let mut arm_setups = Vec::new();
+        let mut builder = Task::builder(name).robot_name(robot_name);
         for (key, value) in arms.iter() {
             let arm_name: String = key
                 .extract()
                 .map_err(|_| error("arm names (the keys of arms) must be strings"))?;
-            arm_setups.push(arm_setup(arm_name, &value)?);
-        }
-        if arm_setups.is_empty() {
-            return Err(error("arms: name at least one arm"));
+            let (chain, world_from_base) = arm_setup(&arm_name, &value)?;
+            builder = builder.arm(arm_name, chain, world_from_base);
         }
         check_shape(&object_poses, &[None, Some(4), Some(4)], "object_poses")?;
         let (object_path, _) = poses(&object_poses, "object_poses")?;
@@ -299,40 +286,10 @@ impl PyTask {
             "l1" => Norm::L1,
             other => return Err(error(format!("norm '{other}' is not 'l2' or 'l1'"))),
         };
-        if let Some(mu0) = mu0 {
-            if mu0.is_nan() || mu0 <= 0.0 {
-                return Err(error("mu0 must be a positive number"));
-            }
-        }
-        if !(min_separation.is_finite() && min_separation >= 0.0) {
-            return Err(error("min_separation must be a distance >= 0 in metres"));
-        }
         let likelihood = match likelihood {
             None => LikelihoodRule::Product,
             Some(value) => likelihood_rule(value)?,
         };
-        let defaults = TrajectoryIkOptions::default();
-        let ik = TrajectoryIkOptions {
-            ik: graspath::robot::IkOptions {
-                random_seed: ik_seed,
-                position_tolerance: ik_tolerance,
-                rotation_tolerance: ik_tolerance,
-                max_iterations: ik_iterations,
-                ..defaults.ik.clone()
-            },
-            max_joint_step,
-            branches,
-            ..defaults
-        };
-        if !(max_joint_step.is_finite() && max_joint_step > 0.0) {
-            return Err(error("max_joint_step must be a positive angle in radians"));
-        }
-        if branches == 0 || ik_iterations == 0 {
-            return Err(error("branches and ik_iterations must be at least 1"));
-        }
-        if !(ik_tolerance.is_finite() && ik_tolerance > 0.0) {
-            return Err(error("ik_tolerance must be positive"));
-        }
         let path = ObjectPath {
             samples: object_path
                 .into_iter()
@@ -345,26 +302,24 @@ impl PyTask {
                 .collect(),
             step_labels: vec!["path".to_string()],
         };
-        Ok(Self {
-            task: Task {
-                source_name: name.to_string(),
-                robot_name: robot_name.to_string(),
-                arms: arm_setups,
-                shape: None,
-                candidates,
-                path,
-                mode: index_mode(mode, length_scale)?,
-                selection: SelectionOptions {
-                    norm,
-                    mu0,
-                    likelihood,
-                    pairs,
-                    min_separation,
-                },
-                ik,
-                compare_branches,
-            },
-        })
+        let task = builder
+            .candidates(candidates)
+            .object_path(path)
+            .rows(index_mode(mode, length_scale)?)
+            .norm(norm)
+            .mu0(mu0)
+            .likelihood(likelihood)
+            .pairs(pairs)
+            .min_separation(min_separation)
+            .max_joint_step(max_joint_step)
+            .ik_branches(branches)
+            .ik_random_seed(ik_seed)
+            .ik_tolerance(ik_tolerance)
+            .grasp_ik_iterations(ik_iterations)
+            .compare_branches(compare_branches)
+            .build()
+            .map_err(error)?;
+        Ok(Self { task })
     }
 
     /// The same task with only the named arms, in the given order (e.g. one arm of a dual-arm

@@ -5,7 +5,8 @@
 //! `cargo bench -p graspath --bench select`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use graspath::select::{select, Task};
+use graspath::select::select;
+use graspath::task::Task;
 use std::hint::black_box;
 use std::path::PathBuf;
 

@@ -15,11 +15,11 @@
 #![warn(missing_docs)]
 
 pub mod cloud;
+pub mod failure;
 pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
 pub mod manipulability;
-pub mod report;
 pub mod robot;
 pub mod select;
 pub mod task;

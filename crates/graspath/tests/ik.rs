@@ -5,10 +5,10 @@
 mod common;
 
 use common::{fk, pose_distance, shared_file, ur5_like};
+use graspath::failure::FailureReason;
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::robot::{
-    load_urdf_chain, solve_ik, Chain, ChainSpec, IkFailureReason, IkOptions, JointKind, JointSpec,
-    RobotError,
+    load_urdf_chain, solve_ik, Chain, ChainSpec, IkOptions, JointKind, JointSpec, RobotError,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use proptest::prelude::*;
@@ -158,7 +158,7 @@ fn a_target_out_of_reach_fails_with_its_reason() {
     .expect("ok");
     assert!(solution.q.is_none());
     let failure = solution.failure.expect("explained");
-    assert_eq!(failure.reason, IkFailureReason::OutOfReach);
+    assert_eq!(failure.reason, FailureReason::Unreachable);
     assert!(solution.position_error > 2.0);
     assert!(chain.within_limits(&failure.best_q));
     assert!(failure.to_string().contains("out of the chain's reach"));
@@ -186,7 +186,7 @@ fn a_reachable_position_with_an_impossible_orientation_spends_the_budget() {
         return;
     }
     let failure = solution.failure.expect("explained");
-    assert_eq!(failure.reason, IkFailureReason::IterationLimit);
+    assert_eq!(failure.reason, FailureReason::IterationLimit);
     assert_eq!(solution.iterations, 3000);
     assert!(failure.attempts > 2, "restarts were tried");
 }

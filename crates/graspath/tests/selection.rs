@@ -3,9 +3,9 @@
 //! stationary step.
 
 use graspath::grasp::Candidate;
-use graspath::manipulability::IndexMode;
-use graspath::robot::{parse_urdf_chain, TrajectoryIkOptions};
-use graspath::select::{select, ArmSetup, SelectionOptions, Task};
+use graspath::robot::parse_urdf_chain;
+use graspath::select::select;
+use graspath::task::{JacobianRows, Task};
 use graspath::task::{ObjectPath, Sampling, Step, TaskFile, TimedStep};
 use nalgebra::{Isometry3, Vector3};
 
@@ -67,35 +67,27 @@ fn planar_task(start_x: f64, end_x: f64, samples: usize) -> Task {
         },
         duration: 1.0,
     }];
-    let path = ObjectPath::sample(
-        Isometry3::translation(start_x, 0.3, 0.0),
-        &steps,
-        Sampling::PerStep(samples),
-    )
-    .unwrap();
-    Task {
-        source_name: "planar".into(),
-        robot_name: "planar3r".into(),
-        arms: vec![ArmSetup {
-            name: "arm".into(),
-            chain,
-            world_from_base: Isometry3::identity(),
-        }],
-        shape: None,
-        candidates: vec![Candidate {
+    Task::builder("planar")
+        .robot_name("planar3r")
+        .arm("arm", chain, Isometry3::identity())
+        .candidates(vec![Candidate {
             id: 0,
             label: "at the object origin".into(),
             object_from_wrist: Isometry3::identity(),
             log_likelihood: 0.0,
             contact: None,
             hand_joints: Vec::new(),
-        }],
-        path,
-        mode: IndexMode::Translation,
-        selection: SelectionOptions::default(),
-        ik: TrajectoryIkOptions::default(),
-        compare_branches: true,
-    }
+        }])
+        .object_motion(
+            Isometry3::translation(start_x, 0.3, 0.0),
+            steps,
+            Sampling::PerStep(samples),
+        )
+        .rows(JacobianRows::Translation)
+        .grasp_ik_iterations(1000)
+        .compare_branches(true)
+        .build()
+        .unwrap()
 }
 
 #[test]
@@ -153,7 +145,7 @@ fn a_path_leaving_the_workspace_reports_its_first_unreachable_sample() {
         .find(|&i| closed_form_ik(start + (end - start) * i as f64 / n as f64, 0.3).is_none())
         .unwrap();
     assert_eq!(failure.sample, first_out, "{failure:?}");
-    assert_eq!(failure.reason, "unreachable");
+    assert_eq!(failure.reason.as_str(), "unreachable");
     assert!(
         score.yoshikawa_at_grasp.is_some(),
         "the grasp itself is reachable"
@@ -182,7 +174,7 @@ fn a_stationary_step_is_skipped_not_divided_by() {
             duration: 1.0,
         },
     ];
-    task.path = ObjectPath::sample(start, &steps, Sampling::PerStep(5)).unwrap();
+    task.path = ObjectPath::sample(start, &steps, Sampling::PerStep(5), 1000).unwrap();
     let result = select(&task, &|| {});
     let score = &result.arms[0].scores[0];
     assert!(score.feasible());
@@ -230,11 +222,11 @@ fn rankings_do_not_change_with_the_world_frame() {
     assert_eq!(
         a.pairs
             .iter()
-            .map(|p| (p.first, p.second))
+            .map(|p| (p.first.id, p.second.id))
             .collect::<Vec<_>>(),
         b.pairs
             .iter()
-            .map(|p| (p.first, p.second))
+            .map(|p| (p.first.id, p.second.id))
             .collect::<Vec<_>>()
     );
 }
@@ -246,12 +238,16 @@ fn pairs_never_overlap_and_sum_the_arms_norms() {
     let result = select(&task, &|| {});
     assert!(!result.pairs.is_empty());
     for pair in &result.pairs {
-        let (a, b) = (
-            &result.arms[0].scores[pair.first],
-            &result.arms[1].scores[pair.second],
-        );
-        let pa = task.candidates[a.candidate].contact.unwrap();
-        let pb = task.candidates[b.candidate].contact.unwrap();
+        let score_of = |arm: usize, c: &Candidate| {
+            result.arms[arm]
+                .scores
+                .iter()
+                .find(|s| s.candidate.id == c.id)
+                .unwrap()
+        };
+        let (a, b) = (score_of(0, &pair.first), score_of(1, &pair.second));
+        let pa = pair.first.contact.unwrap();
+        let pb = pair.second.contact.unwrap();
         assert!((pa - pb).norm() >= task.selection.min_separation);
         let sum = a.norms.unwrap().l2 + b.norms.unwrap().l2;
         assert!((pair.score - sum).abs() < 1e-12);

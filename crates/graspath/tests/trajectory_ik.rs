@@ -4,10 +4,11 @@
 mod common;
 
 use common::{fk, pose_distance, shared_file, ur5_like};
+use graspath::failure::FailureReason;
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::robot::{
-    load_urdf_chain, solve_ik, solve_trajectory, Chain, IkOptions, RobotError,
-    TrajectoryFailureReason, TrajectoryIkOptions, TrajectoryIkResult,
+    load_urdf_chain, solve_ik, solve_trajectory, Chain, IkOptions, RobotError, TrajectoryIkOptions,
+    TrajectoryIkResult,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
@@ -137,11 +138,7 @@ fn leaving_the_workspace_is_unreachable_at_the_first_sample_out() {
         solve_trajectory(&chain, &poses, &chain.mid_configuration(), &options).expect("ok");
     assert!(result.branches.is_empty());
     let failure = result.failure.expect("explained");
-    assert_eq!(
-        failure.reason,
-        TrajectoryFailureReason::Unreachable,
-        "{failure}"
-    );
+    assert_eq!(failure.reason, FailureReason::Unreachable, "{failure}");
     assert!(failure.sample > 0 && failure.sample < 15, "{failure}");
     // Oracle: the single-pose solver cannot reach the failing sample either.
     let options = IkOptions {
@@ -181,7 +178,7 @@ fn a_first_sample_out_of_reach_is_reported_at_sample_zero() {
     .expect("ok");
     let failure = result.failure.expect("explained");
     assert_eq!(failure.sample, 0);
-    assert_eq!(failure.reason, TrajectoryFailureReason::Unreachable);
+    assert_eq!(failure.reason, FailureReason::Unreachable);
     assert!(failure.detail.contains("reach"), "{failure}");
 }
 
@@ -204,11 +201,7 @@ fn pushing_a_joint_past_its_limit_is_a_joint_limit_failure() {
     let result = solve_trajectory(&chain, &poses, &seed, &options).expect("ok");
     assert!(result.branches.is_empty());
     let failure = result.failure.expect("explained");
-    assert_eq!(
-        failure.reason,
-        TrajectoryFailureReason::JointLimit,
-        "{failure}"
-    );
+    assert_eq!(failure.reason, FailureReason::JointLimit, "{failure}");
     let first_out = (0..31)
         .find(|&i| 2.6 + 0.03 * i as f64 > std::f64::consts::PI)
         .expect("crosses");
@@ -288,11 +281,7 @@ fn a_wrist_flip_near_a_singularity_is_a_discontinuity() {
     if result.branches.is_empty() {
         // The swing happens where the path passes the singularity (s = 0, sample 20).
         let failure = result.failure.as_ref().expect("explained");
-        assert_eq!(
-            failure.reason,
-            TrajectoryFailureReason::Discontinuity,
-            "{failure}"
-        );
+        assert_eq!(failure.reason, FailureReason::Discontinuity, "{failure}");
         assert!((19..=21).contains(&failure.sample), "{failure}");
         assert!(failure.detail.contains("wrist"), "{failure}");
     }
@@ -341,11 +330,7 @@ fn a_first_pose_outside_the_limits_is_a_joint_limit_failure_at_sample_zero() {
     assert!(result.branches.is_empty());
     let failure = result.failure.expect("explained");
     assert_eq!(failure.sample, 0, "{failure}");
-    assert_eq!(
-        failure.reason,
-        TrajectoryFailureReason::JointLimit,
-        "{failure}"
-    );
+    assert_eq!(failure.reason, FailureReason::JointLimit, "{failure}");
     assert!(failure.detail.contains("shoulder_pan_joint"), "{failure}");
 }
 

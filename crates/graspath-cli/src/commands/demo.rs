@@ -6,9 +6,10 @@ use super::select::run_task;
 use crate::output::OutputArgs;
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::report::write_files_atomically;
-use graspath::select::{Selection, Task};
+use graspath::select::Selection;
+use graspath::task::Task;
 use graspath::task::TaskFile;
+use graspath_report::write_files_atomically;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -69,26 +70,24 @@ const EXPERIMENTS: [Experiment; 6] = [
     },
 ];
 
-fn label_of(task: &Task, selection: &Selection, arm: usize, index: usize) -> String {
-    task.candidates[selection.arms[arm].scores[index].candidate]
-        .label
-        .clone()
+fn label_of(selection: &Selection, arm: usize, index: usize) -> String {
+    selection.arms[arm].scores[index].candidate.label.clone()
 }
 
 /// What our run found, in the terms the paper uses.
-fn our_finding(task: &Task, selection: &Selection) -> Value {
+fn our_finding(selection: &Selection) -> Value {
     let arms: Vec<Value> = selection
         .arms
         .iter()
         .enumerate()
         .map(|(k, arm)| {
-            let best = arm.best().map(|i| label_of(task, selection, k, i));
+            let best = arm.best().map(|i| label_of(selection, k, i));
             let by_yoshikawa = arm
                 .best_by(|s| s.yoshikawa_at_grasp)
-                .map(|i| label_of(task, selection, k, i));
+                .map(|i| label_of(selection, k, i));
             let by_inverse_condition = arm
                 .best_by(|s| s.inverse_condition_at_grasp)
-                .map(|i| label_of(task, selection, k, i));
+                .map(|i| label_of(selection, k, i));
             json!({
                 "arm": arm.arm,
                 "feasible": arm.feasible_count(),
@@ -101,8 +100,8 @@ fn our_finding(task: &Task, selection: &Selection) -> Value {
         .collect();
     let pair = selection.pairs.first().map(|p| {
         json!({
-            selection.arms[0].arm.clone(): label_of(task, selection, 0, p.first),
-            selection.arms[1].arm.clone(): label_of(task, selection, 1, p.second),
+            selection.arms[0].arm.clone(): p.first.label,
+            selection.arms[1].arm.clone(): p.second.label,
             "score": p.score,
         })
     });
@@ -130,7 +129,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         };
         let selection = run_task(&task, &out, &per_run, &title, true)
             .with_context(|| format!("experiment {}", experiment.name))?;
-        let ours = our_finding(&task, &selection);
+        let ours = our_finding(&selection);
         if !args.output.quiet && !args.output.json {
             crate::say!("  paper: {}", experiment.paper_finding);
             crate::say!("  ours:  {}\n", summarise(&ours));

@@ -5,10 +5,11 @@
 use crate::output::{print_summary_table, progress_bar, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::report::{
+use graspath::select::{select, Selection};
+use graspath::task::Task;
+use graspath_report::{
     candidates_json, pairs_json, render_report, summary_json, write_files_atomically,
 };
-use graspath::select::{select, Selection, Task};
 use std::path::{Path, PathBuf};
 
 /// Options of `graspath select`.
@@ -50,7 +51,7 @@ pub fn run_task(
     let mut files = vec![
         (
             "candidates.json".to_string(),
-            pretty(candidates_json(task, &selection))?,
+            pretty(candidates_json(&selection))?,
         ),
         (
             "summary.json".to_string(),
@@ -58,10 +59,7 @@ pub fn run_task(
         ),
     ];
     if task.arms.len() == 2 {
-        files.push((
-            "pairs.json".to_string(),
-            pretty(pairs_json(task, &selection))?,
-        ));
+        files.push(("pairs.json".to_string(), pretty(pairs_json(&selection))?));
     }
     if report {
         files.extend(render_report(task, &selection)?);

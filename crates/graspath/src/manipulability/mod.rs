@@ -19,4 +19,4 @@ pub use indices::{
     velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
 };
 pub use norms::{PathNorms, SampleIndex};
-pub use tangent::{wrist_tangent, IndexMode, STILL_TWIST_TOLERANCE};
+pub use tangent::{wrist_tangent, STILL_TWIST_TOLERANCE};

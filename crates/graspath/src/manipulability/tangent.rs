@@ -2,32 +2,12 @@
 
 use super::indices::{task_relevant, Direction};
 use crate::geometry::se3_log;
+use crate::task::JacobianRows;
 use nalgebra::{Dim, Isometry3, Matrix, Storage, Vector3, Vector6, U6};
 
 /// Twists (m or rad per step) below this norm count as "the object is still": the sample is
 /// skipped rather than divided by.
 pub const STILL_TWIST_TOLERANCE: f64 = 1e-9;
-
-/// Which part of the motion the task-relevant index measures.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum IndexMode {
-    /// The full 6-D twist, the angular rows of `J` and of the tangent scaled by a characteristic
-    /// length `length_scale` (m). `1.0` reproduces the paper's raw `J`.
-    Twist {
-        /// Characteristic length L (m), > 0.
-        length_scale: f64,
-    },
-    /// The linear velocity of the wrist origin only (`Jv`, 3-D tangent).
-    Translation,
-    /// The angular velocity only (`Jω`, 3-D tangent).
-    Rotation,
-}
-
-impl Default for IndexMode {
-    fn default() -> Self {
-        IndexMode::Twist { length_scale: 1.0 }
-    }
-}
 
 /// The twist moving the wrist from `base_from_wrist` to `base_from_next`, as the velocity of the
 /// wrist origin and the angular velocity along base-frame axes (the quantities `J` maps to).
@@ -48,7 +28,7 @@ fn base_frame_twist(
 pub fn wrist_tangent(
     base_from_wrist: &Isometry3<f64>,
     base_from_next: &Isometry3<f64>,
-    mode: IndexMode,
+    mode: JacobianRows,
 ) -> Option<Direction> {
     let twist = base_frame_twist(base_from_wrist, base_from_next);
     let linear = Vector3::new(twist[0], twist[1], twist[2]);
@@ -56,13 +36,13 @@ pub fn wrist_tangent(
     mode.direction(&linear, &angular)
 }
 
-impl IndexMode {
+impl JacobianRows {
     /// The unit direction this mode measures for a motion with wrist-origin velocity `linear`
     /// and angular velocity `angular` (base frame): the rows it uses, the angular part scaled
     /// by L in `Twist` mode, normalised. `None` below [`STILL_TWIST_TOLERANCE`].
     pub fn direction(&self, linear: &Vector3<f64>, angular: &Vector3<f64>) -> Option<Direction> {
         match *self {
-            IndexMode::Twist { length_scale } => {
+            JacobianRows::Twist { length_scale } => {
                 if (linear.norm_squared() + angular.norm_squared()).sqrt() < STILL_TWIST_TOLERANCE {
                     return None;
                 }
@@ -77,11 +57,11 @@ impl IndexMode {
                 let norm = scaled.norm();
                 (norm > 0.0).then(|| Direction::Full(scaled / norm))
             }
-            IndexMode::Translation => {
+            JacobianRows::Translation => {
                 let norm = linear.norm();
                 (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Translation(linear / norm))
             }
-            IndexMode::Rotation => {
+            JacobianRows::Rotation => {
                 let norm = angular.norm();
                 (norm >= STILL_TWIST_TOLERANCE).then(|| Direction::Rotation(angular / norm))
             }
@@ -96,7 +76,7 @@ impl IndexMode {
         direction: &Direction,
     ) -> f64 {
         match (*self, direction) {
-            (IndexMode::Twist { length_scale }, Direction::Full(u)) => {
+            (JacobianRows::Twist { length_scale }, Direction::Full(u)) => {
                 let weighted = Vector6::new(
                     u[0],
                     u[1],

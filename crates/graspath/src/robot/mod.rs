@@ -12,16 +12,14 @@ mod chain;
 mod error;
 mod ik;
 mod spec;
-mod trajectory_ik;
 mod trig;
 mod urdf;
 
 pub use chain::{Chain, FixedChain, MotionKind};
 pub use error::RobotError;
-pub use ik::{solve_ik, IkFailure, IkFailureReason, IkOptions, IkSolution};
-pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
-pub use trajectory_ik::{
-    solve_trajectory, JointPath, TrajectoryFailure, TrajectoryFailureReason, TrajectoryIkOptions,
+pub use ik::{
+    solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution, JointPath, TrajectoryIkOptions,
     TrajectoryIkResult,
 };
+pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};

@@ -4,11 +4,10 @@
 mod rank;
 mod run;
 mod score;
-mod setup;
 
-pub use rank::{
-    rank_candidates, rank_pairs, ArmPair, LikelihoodRule, Norm, Ranking, SelectionOptions,
-};
+pub use rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
 pub use run::{select, ArmResult, Selection};
-pub use score::{score_candidates, wrist_trajectory, CandidateScore, Failure};
-pub use setup::{pose, ArmSetup, Task, DEFAULT_GRASP_ITERATIONS};
+pub use score::{
+    for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,
+    STREAM_CHUNK,
+};

@@ -3,57 +3,8 @@
 
 use super::score::CandidateScore;
 use crate::grasp::Candidate;
-
-/// The norm that is maximised.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Norm {
-    /// `μ_l2` (the paper's choice).
-    L2,
-    /// `μ_l1`, the time integral.
-    L1,
-}
-
-/// How the grasp likelihood combines with the norm into a score.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum LikelihoodRule {
-    /// `norm × ℓ/ℓ_max` — the default. With equal likelihoods it is the paper's rule.
-    Product,
-    /// The norm alone.
-    Ignore,
-    /// `ln(norm) + weight · ln(ℓ/ℓ_max)`: a weight above 1 favours likely grasps more than the
-    /// product does, below 1 less.
-    Weighted {
-        /// The likelihood's weight (≥ 0).
-        weight: f64,
-    },
-}
-
-/// Selection settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SelectionOptions {
-    /// The norm to maximise.
-    pub norm: Norm,
-    /// Reject candidates with `μ_l∞ > μ0` (`None`: only singular paths, `μ_l∞ = ∞`, are rejected).
-    pub mu0: Option<f64>,
-    /// How the likelihood enters the score.
-    pub likelihood: LikelihoodRule,
-    /// How many best arm pairs to keep.
-    pub pairs: usize,
-    /// Two grasps closer than this (m, object frame) overlap.
-    pub min_separation: f64,
-}
-
-impl Default for SelectionOptions {
-    fn default() -> Self {
-        Self {
-            norm: Norm::L2,
-            mu0: None,
-            likelihood: LikelihoodRule::Product,
-            pairs: 10,
-            min_separation: 0.08,
-        }
-    }
-}
+use crate::task::{LikelihoodRule, Norm, SelectionOptions};
+use std::sync::Arc;
 
 /// A candidate's place in the ranking of one arm.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,14 +45,10 @@ fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> O
 
 /// Ranks one arm's candidates. Ties are broken by candidate order, so the ranking is
 /// deterministic.
-pub fn rank_candidates(
-    candidates: &[Candidate],
-    scores: &[CandidateScore],
-    options: &SelectionOptions,
-) -> Vec<Ranking> {
-    let max_log = candidates
+pub fn rank_candidates(scores: &[CandidateScore], options: &SelectionOptions) -> Vec<Ranking> {
+    let max_log = scores
         .iter()
-        .map(|c| c.log_likelihood)
+        .map(|s| s.candidate.log_likelihood)
         .fold(f64::NEG_INFINITY, f64::max);
     let mut rankings: Vec<Ranking> = scores
         .iter()
@@ -115,7 +62,7 @@ pub fn rank_candidates(
                 .then(|| norm_value(s, options.norm))
                 .flatten()
                 .map(|norm| {
-                    let relative_log = candidates[s.candidate].log_likelihood - max_log;
+                    let relative_log = s.candidate.log_likelihood - max_log;
                     match options.likelihood {
                         LikelihoodRule::Product => norm * relative_log.exp(),
                         LikelihoodRule::Ignore => norm,
@@ -145,10 +92,10 @@ pub fn rank_candidates(
     }
     // Pareto front of (log-likelihood, norm) among the eligible.
     for &i in &order {
-        let li = candidates[scores[i].candidate].log_likelihood;
+        let li = scores[i].candidate.log_likelihood;
         let ni = norm_value(&scores[i], options.norm).unwrap_or(0.0);
         let dominated = order.iter().any(|&j| {
-            let lj = candidates[scores[j].candidate].log_likelihood;
+            let lj = scores[j].candidate.log_likelihood;
             let nj = norm_value(&scores[j], options.norm).unwrap_or(0.0);
             lj >= li && nj >= ni && (lj > li || nj > ni)
         });
@@ -160,10 +107,10 @@ pub fn rank_candidates(
 /// A pair of grasps, one per arm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmPair {
-    /// Index into the first arm's candidates.
-    pub first: usize,
-    /// Index into the second arm's candidates.
-    pub second: usize,
+    /// The first arm's candidate.
+    pub first: Arc<Candidate>,
+    /// The second arm's candidate.
+    pub second: Arc<Candidate>,
     /// The sum of the two arms' norms.
     pub score: f64,
     /// 1-based rank.
@@ -173,8 +120,8 @@ pub struct ArmPair {
 /// Every pair of eligible candidates of two arms whose grasps do not overlap (closer than
 /// `min_separation`), scored by the sum of the arms' norms; the best `options.pairs`, best first.
 pub fn rank_pairs(
-    first: (&[Candidate], &[CandidateScore], &[Ranking]),
-    second: (&[Candidate], &[CandidateScore], &[Ranking]),
+    first: (&[CandidateScore], &[Ranking]),
+    second: (&[CandidateScore], &[Ranking]),
     options: &SelectionOptions,
 ) -> Vec<ArmPair> {
     let eligible = |scores: &[CandidateScore], ranks: &[Ranking]| -> Vec<(usize, f64)> {
@@ -186,32 +133,30 @@ pub fn rank_pairs(
             .filter_map(|(i, (s, _))| norm_value(s, options.norm).map(|n| (i, n)))
             .collect()
     };
-    let a = eligible(first.1, first.2);
-    let b = eligible(second.1, second.2);
-    let mut pairs: Vec<ArmPair> = Vec::new();
+    let a = eligible(first.0, first.1);
+    let b = eligible(second.0, second.1);
+    // (first index, second index, score): ordered by score, then by candidate order.
+    let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
     for &(i, ni) in &a {
-        let pi = first.0[first.1[i].candidate].grasp_point();
+        let pi = first.0[i].candidate.grasp_point();
         for &(j, nj) in &b {
-            let pj = second.0[second.1[j].candidate].grasp_point();
+            let pj = second.0[j].candidate.grasp_point();
             if (pi - pj).norm() < options.min_separation {
                 continue;
             }
-            pairs.push(ArmPair {
-                first: i,
-                second: j,
-                score: ni + nj,
-                rank: 0,
-            });
+            pairs.push((i, j, ni + nj));
         }
     }
-    pairs.sort_by(|x, y| {
-        y.score
-            .total_cmp(&x.score)
-            .then((x.first, x.second).cmp(&(y.first, y.second)))
-    });
+    pairs.sort_by(|x, y| y.2.total_cmp(&x.2).then((x.0, x.1).cmp(&(y.0, y.1))));
     pairs.truncate(options.pairs);
-    for (r, p) in pairs.iter_mut().enumerate() {
-        p.rank = r + 1;
-    }
     pairs
+        .into_iter()
+        .enumerate()
+        .map(|(r, (i, j, score))| ArmPair {
+            first: Arc::clone(&first.0[i].candidate),
+            second: Arc::clone(&second.0[j].candidate),
+            score,
+            rank: r + 1,
+        })
+        .collect()
 }

@@ -1,17 +1,17 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
 use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
-use super::score::{score_candidates, CandidateScore};
-use super::setup::Task;
+use super::score::{score_candidates, CandidateScore, ScoringSetup};
+use crate::task::Task;
 
 /// One arm's results.
 #[derive(Debug, Clone)]
 pub struct ArmResult {
     /// The arm's name.
     pub arm: String,
-    /// One score per task candidate, in candidate order.
+    /// One score per task candidate, in candidate order; each carries its candidate.
     pub scores: Vec<CandidateScore>,
-    /// One ranking per task candidate, in candidate order.
+    /// `rankings[i]` ranks `scores[i]`.
     pub rankings: Vec<Ranking>,
 }
 
@@ -54,16 +54,15 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
         .arms
         .iter()
         .map(|arm| {
-            let scores = score_candidates(
+            let setup = ScoringSetup {
                 arm,
-                &task.candidates,
-                &task.path,
-                task.mode,
-                &task.ik,
-                task.compare_branches,
-                progress,
-            );
-            let rankings = rank_candidates(&task.candidates, &scores, &task.selection);
+                path: &task.path,
+                rows: task.rows,
+                ik: &task.ik,
+                compare_branches: task.compare_branches,
+            };
+            let scores = score_candidates(&setup, &task.candidates, progress);
+            let rankings = rank_candidates(&scores, &task.selection);
             ArmResult {
                 arm: arm.name.clone(),
                 scores,
@@ -73,8 +72,8 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
         .collect();
     let pairs = if arms.len() == 2 {
         rank_pairs(
-            (&task.candidates, &arms[0].scores, &arms[0].rankings),
-            (&task.candidates, &arms[1].scores, &arms[1].rankings),
+            (&arms[0].scores, &arms[0].rankings),
+            (&arms[1].scores, &arms[1].rankings),
             &task.selection,
         )
     } else {

@@ -2,34 +2,28 @@
 //! trajectory IK, `M_T` at every sample, the norms over the path, and the classical indices at
 //! the grasp for comparison.
 
-use super::setup::ArmSetup;
+pub use crate::failure::Failure;
+use crate::failure::FailureReason;
 use crate::geometry::se3_log;
 use crate::grasp::Candidate;
 use crate::manipulability::{
-    inverse_condition, inverse_condition_squared, yoshikawa, Direction, IndexMode, JacobianPart,
-    PathNorms, SampleIndex,
+    inverse_condition, inverse_condition_squared, yoshikawa, Direction, JacobianPart, PathNorms,
+    SampleIndex,
 };
 use crate::robot::{solve_ik, solve_trajectory, Chain, TrajectoryIkOptions};
-use crate::task::ObjectPath;
+use crate::task::{ArmSetup, JacobianRows, ObjectPath};
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 use rayon::prelude::*;
+use std::sync::Arc;
 
-/// Why a candidate cannot carry out the task, and where.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Failure {
-    /// `unreachable`, `joint_limit` or `discontinuity`.
-    pub reason: String,
-    /// The first failing sample (0 = the grasp pose).
-    pub sample: usize,
-    /// A sentence for people.
-    pub detail: String,
-}
+/// How many candidates are scored in parallel before their results are handed on in order.
+pub const STREAM_CHUNK: usize = 256;
 
 /// A candidate's scores for one arm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CandidateScore {
-    /// Index of the candidate in the task's candidate list.
-    pub candidate: usize,
+    /// The candidate scored (shared with the task).
+    pub candidate: Arc<Candidate>,
     /// Set when the arm cannot follow the whole path from this grasp.
     pub failure: Option<Failure>,
     /// `M_T` at each sample (`None` where the object is still), along the chosen IK branch.
@@ -96,7 +90,7 @@ impl ObjectMotion {
         &self,
         i: usize,
         object_from_wrist: &Isometry3<f64>,
-        mode: IndexMode,
+        mode: JacobianRows,
     ) -> Option<Direction> {
         let xi = &self.twists[i];
         let v = Vector3::new(xi[0], xi[1], xi[2]);
@@ -127,7 +121,7 @@ fn index_along(
     motion: &ObjectMotion,
     object_from_wrist: &Isometry3<f64>,
     joints: &[Vec<f64>],
-    mode: IndexMode,
+    mode: JacobianRows,
     jacobian: &mut Matrix6xX<f64>,
 ) -> Vec<Option<f64>> {
     joints
@@ -143,64 +137,83 @@ fn index_along(
         .collect()
 }
 
-/// Scores every candidate for one arm, in parallel (rayon), deterministically: the result does
-/// not depend on the thread count. `progress` is called once per finished candidate.
+/// What scoring needs besides the candidate: the arm, the object path, which rows of `J` enter
+/// `M_T`, and the IK settings.
+#[derive(Debug, Clone, Copy)]
+pub struct ScoringSetup<'a> {
+    /// The arm that grasps.
+    pub arm: &'a ArmSetup,
+    /// The object's path (world frame).
+    pub path: &'a ObjectPath,
+    /// Which rows of `J` and of the tangent enter `M_T`.
+    pub rows: JacobianRows,
+    /// Trajectory IK settings.
+    pub ik: &'a TrajectoryIkOptions,
+    /// Track every IK branch and keep the best (else the first feasible branch is scored).
+    pub compare_branches: bool,
+}
+
+/// Scores every candidate for one arm and hands each result to `consume` as soon as its chunk
+/// of [`STREAM_CHUNK`] candidates is done, in candidate order, so a consumer can write results
+/// out without holding them all. Chunks are scored in parallel (rayon); the results do not
+/// depend on the thread count. `progress` is called once per finished candidate.
 ///
 /// IK tracks one branch from the grasp pose; only when it fails are up to `ik.branches`
 /// distinct initial solutions searched and tracked. With `compare_branches`, every branch is
 /// tracked and the one with the best norm is kept (slower, and the ranking then reflects the
 /// best redundancy resolution rather than the first one found).
-pub fn score_candidates(
-    arm: &ArmSetup,
-    candidates: &[Candidate],
-    path: &ObjectPath,
-    mode: IndexMode,
-    ik: &TrajectoryIkOptions,
-    compare_branches: bool,
+pub fn for_each_score(
+    setup: &ScoringSetup<'_>,
+    candidates: &[Arc<Candidate>],
     progress: &(dyn Fn() + Sync),
-) -> Vec<CandidateScore> {
-    let base_from_world = arm.world_from_base.inverse();
-    let motion = ObjectMotion::new(path, &base_from_world);
-    let times = path.times();
-    candidates
-        .par_iter()
-        .enumerate()
-        .map(|(index, candidate)| {
-            let score = score_one(
-                arm,
-                index,
-                candidate,
-                path,
-                &motion,
-                &times,
-                mode,
-                ik,
-                compare_branches,
-            );
-            progress();
-            score
-        })
-        .collect()
+    mut consume: impl FnMut(CandidateScore),
+) {
+    let base_from_world = setup.arm.world_from_base.inverse();
+    let motion = ObjectMotion::new(setup.path, &base_from_world);
+    let times = setup.path.times();
+    for chunk in candidates.chunks(STREAM_CHUNK) {
+        let scores: Vec<CandidateScore> = chunk
+            .par_iter()
+            .map(|candidate| {
+                let score = score_one(setup, candidate, &motion, &times);
+                progress();
+                score
+            })
+            .collect();
+        scores.into_iter().for_each(&mut consume);
+    }
 }
 
-#[allow(clippy::too_many_arguments)]
+/// Scores every candidate for one arm (see [`for_each_score`]), in candidate order.
+pub fn score_candidates(
+    setup: &ScoringSetup<'_>,
+    candidates: &[Arc<Candidate>],
+    progress: &(dyn Fn() + Sync),
+) -> Vec<CandidateScore> {
+    let mut scores = Vec::with_capacity(candidates.len());
+    for_each_score(setup, candidates, progress, |s| scores.push(s));
+    scores
+}
+
 fn score_one(
-    arm: &ArmSetup,
-    index: usize,
-    candidate: &Candidate,
-    path: &ObjectPath,
+    setup: &ScoringSetup<'_>,
+    candidate: &Arc<Candidate>,
     motion: &ObjectMotion,
     times: &[f64],
-    mode: IndexMode,
-    ik: &TrajectoryIkOptions,
-    compare_branches: bool,
 ) -> CandidateScore {
+    let ScoringSetup {
+        arm,
+        path,
+        rows: mode,
+        ik,
+        compare_branches,
+    } = *setup;
     let chain = &arm.chain;
     let targets = wrist_trajectory(path, &arm.world_from_base, &candidate.object_from_wrist);
     let seed = chain.mid_configuration();
     let mut jacobian = Matrix6xX::zeros(chain.dof());
     let mut score = CandidateScore {
-        candidate: index,
+        candidate: Arc::clone(candidate),
         failure: None,
         m_t: Vec::new(),
         norms: None,
@@ -227,7 +240,7 @@ fn score_one(
         Ok(r) => r,
         Err(e) => {
             score.failure = Some(Failure {
-                reason: "unreachable".into(),
+                reason: FailureReason::Unreachable,
                 sample: 0,
                 detail: e.to_string(),
             });
@@ -268,21 +281,16 @@ fn score_one(
             score.joint_trajectory.first().cloned()
         }
         None => {
-            let failure = result
-                .failure
-                .unwrap_or_else(|| crate::robot::TrajectoryFailure {
-                    sample: 0,
-                    reason: crate::robot::TrajectoryFailureReason::Unreachable,
-                    detail: "no IK branch was found".into(),
-                });
-            score.failure = Some(Failure {
-                reason: failure.reason.as_str().to_string(),
-                sample: failure.sample,
-                detail: failure.detail.clone(),
+            let failure = result.failure.unwrap_or_else(|| Failure {
+                sample: 0,
+                reason: FailureReason::Unreachable,
+                detail: "no IK branch was found".into(),
             });
+            let failed_sample = failure.sample;
+            score.failure = Some(failure);
             // The classical indices at the grasp need only the grasp pose to be reachable,
             // which it is when the path fails later.
-            if failure.sample > 0 {
+            if failed_sample > 0 {
                 solve_ik(chain, &targets[0], &seed, &ik.ik)
                     .ok()
                     .and_then(|s| s.q)
@@ -337,7 +345,7 @@ mod tests {
             Translation3::new(0.7, 0.2, -0.05),
             UnitQuaternion::from_euler_angles(0.1, -0.2, 0.7),
         );
-        let path = ObjectPath::sample(start, &steps, Sampling::PerStep(5)).unwrap();
+        let path = ObjectPath::sample(start, &steps, Sampling::PerStep(5), 1000).unwrap();
         let world_from_base = Isometry3::from_parts(
             Translation3::new(0.1, -0.3, 0.9),
             UnitQuaternion::from_euler_angles(0.0, 0.1, -0.4),
@@ -349,9 +357,9 @@ mod tests {
         let motion = ObjectMotion::new(&path, &world_from_base.inverse());
         let wrists = wrist_trajectory(&path, &world_from_base, &object_from_wrist);
         for mode in [
-            IndexMode::Twist { length_scale: 0.3 },
-            IndexMode::Translation,
-            IndexMode::Rotation,
+            JacobianRows::Twist { length_scale: 0.3 },
+            JacobianRows::Translation,
+            JacobianRows::Rotation,
         ] {
             for i in 0..wrists.len() {
                 let (a, b) = if i + 1 < wrists.len() {
@@ -368,7 +376,7 @@ mod tests {
                         assert!((e - g).norm() < 1e-9, "{mode:?} sample {i}: {e} vs {g}")
                     }
                     (None, None) => assert!(
-                        matches!(mode, IndexMode::Rotation),
+                        matches!(mode, JacobianRows::Rotation),
                         "only a rotation-free interval is still"
                     ),
                     other => panic!("{mode:?} sample {i}: only one side is still: {other:?}"),

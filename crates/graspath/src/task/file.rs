@@ -3,46 +3,13 @@
 //! Every struct rejects unknown fields; errors name the file and the field's path
 //! (`trajectory.steps[2].rotate.angle_deg`). Paths inside a task file are relative to it.
 
+use super::error::TaskError;
+use super::settings::Limits;
 use super::shape::ObjectShape;
+use crate::geometry::PoseSpec;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-/// An error in a task file: the file, the field's path (empty for the whole document) and what
-/// is wrong.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}: {}{message}", field_prefix(.field))]
-pub struct TaskError {
-    /// The task file.
-    pub file: String,
-    /// The field's path, e.g. `object.pose.xyz`.
-    pub field: String,
-    /// What is wrong.
-    pub message: String,
-}
-
-fn field_prefix(field: &str) -> String {
-    if field.is_empty() || field == "." {
-        String::new()
-    } else {
-        format!("field '{field}': ")
-    }
-}
-
-impl TaskError {
-    /// An error about `field` of `file`.
-    pub fn new(
-        file: impl Into<String>,
-        field: impl Into<String>,
-        message: impl Into<String>,
-    ) -> Self {
-        Self {
-            file: file.into(),
-            field: field.into(),
-            message: message.into(),
-        }
-    }
-}
 
 /// A whole task file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,6 +35,9 @@ pub struct TaskFile {
     /// Trajectory IK settings.
     #[serde(default)]
     pub ik: IkFile,
+    /// Bounds on the work the task may ask for (default: [`Limits::default`]).
+    #[serde(default)]
+    pub limits: Option<Limits>,
 }
 
 /// One arm name, a list of names, or `both`.
@@ -95,7 +65,7 @@ pub struct RobotFile {
     pub chains: BTreeMap<String, ArmFile>,
     /// A tool offset `tip_from_tool` applied to every arm that does not set its own.
     #[serde(default)]
-    pub tool: Option<PoseFile>,
+    pub tool: Option<PoseSpec>,
 }
 
 /// One arm chain.
@@ -110,32 +80,10 @@ pub struct ArmFile {
     pub tip: Option<String>,
     /// A tool offset `tip_from_tool`.
     #[serde(default)]
-    pub tool: Option<PoseFile>,
+    pub tool: Option<PoseSpec>,
     /// Where the chain's base is in the task's world frame, `world_from_base` (default identity).
     #[serde(default)]
-    pub base_pose: Option<PoseFile>,
-}
-
-/// A pose: `xyz` (m) and at most one of `rpy` (rad, URDF roll-pitch-yaw), `rpy_deg` (degrees),
-/// `quaternion` (`[x, y, z, w]`); or a 4×4 row-major `matrix` alone.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PoseFile {
-    /// Translation (m).
-    #[serde(default)]
-    pub xyz: Option<[f64; 3]>,
-    /// Roll, pitch, yaw (rad) about fixed x, y, z.
-    #[serde(default)]
-    pub rpy: Option<[f64; 3]>,
-    /// Roll, pitch, yaw in degrees.
-    #[serde(default)]
-    pub rpy_deg: Option<[f64; 3]>,
-    /// Unit quaternion `[x, y, z, w]` (normalised on reading).
-    #[serde(default)]
-    pub quaternion: Option<[f64; 4]>,
-    /// A 4×4 homogeneous matrix, row-major.
-    #[serde(default)]
-    pub matrix: Option<[[f64; 4]; 4]>,
+    pub base_pose: Option<PoseSpec>,
 }
 
 /// The object.
@@ -143,7 +91,7 @@ pub struct PoseFile {
 #[serde(deny_unknown_fields)]
 pub struct ObjectFile {
     /// The initial pose `world_from_object`.
-    pub pose: PoseFile,
+    pub pose: PoseSpec,
     /// A primitive shape (for candidate families, views and demos).
     #[serde(default)]
     pub shape: Option<ObjectShape>,
@@ -279,7 +227,7 @@ pub struct StepFile {
     pub rotate: Option<RotateFile>,
     /// Go to an absolute object pose `world_from_object`.
     #[serde(default)]
-    pub pose: Option<PoseFile>,
+    pub pose: Option<PoseSpec>,
     /// Duration (s).
     #[serde(default)]
     pub duration: Option<f64>,

@@ -1,19 +1,31 @@
-//! Tasks: what the object must do after it is grasped.
+//! Tasks: who grasps, what, and what the object must do after it is grasped.
 //!
+//! * [`Task`], built and checked by [`TaskBuilder`] (every default in [`defaults`], every bound
+//!   in [`Limits`]), or read from a task file by [`Task::load`];
 //! * [`ObjectPath`]: the desired object trajectory as waypoints (absolute poses or relative steps
-//!   `lift`, `move`, `rotate`, `place`), sampled in SE(3) with times.
-//! * [`ObjectShape`]: the object's primitive shape, for candidate families, clouds and views.
+//!   `lift`, `move`, `rotate`, `place`), sampled in SE(3) with times;
+//! * [`ObjectShape`]: the object's primitive shape, for candidate families, clouds and views;
 //! * [`TaskFile`]: the documented task-file schema (YAML or JSON), parsed with every unknown field
-//!   rejected by its path.
+//!   rejected by its path;
+//! * the settings a task carries: [`JacobianRows`], [`Norm`], [`LikelihoodRule`],
+//!   [`SelectionOptions`].
 
+mod builder;
+mod error;
 mod file;
+mod load;
 mod path;
+mod settings;
 mod shape;
 
+pub use builder::{ArmSetup, Task, TaskBuilder};
+pub use error::TaskError;
 pub use file::{
     ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile, LikelihoodFile,
-    NormFile, ObjectFile, PoseFile, RobotFile, RotateFile, SelectionFile, SpacingFile, StepFile,
-    TaskError, TaskFile, TrajectoryFile,
+    NormFile, ObjectFile, RobotFile, RotateFile, SelectionFile, SpacingFile, StepFile, TaskFile,
+    TrajectoryFile,
 };
-pub use path::{ObjectPath, PathSample, Sampling, Step, TimedStep};
+pub use load::{builder_from_file, pose};
+pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
+pub use settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
 pub use shape::ObjectShape;

@@ -59,6 +59,17 @@ pub struct ObjectPath {
     pub step_labels: Vec<String>,
 }
 
+impl Step {
+    /// A pure translation by a world-frame vector (m): `lift`, `move`, `place`.
+    pub fn translation(translation: Vector3<f64>) -> Self {
+        Step::Relative {
+            translation,
+            axis: Vector3::z_axis(),
+            angle: 0.0,
+        }
+    }
+}
+
 /// A labelled step with its duration (s).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TimedStep {
@@ -68,6 +79,59 @@ pub struct TimedStep {
     pub step: Step,
     /// Duration (s), > 0.
     pub duration: f64,
+}
+
+impl TimedStep {
+    /// A step lasting the default [`STEP_DURATION`](super::defaults::STEP_DURATION).
+    pub fn new(label: impl Into<String>, step: Step) -> Self {
+        Self {
+            label: label.into(),
+            step,
+            duration: super::defaults::STEP_DURATION,
+        }
+    }
+}
+
+/// Why an object path cannot be sampled.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PathError {
+    /// A step's duration is not a positive number of seconds.
+    #[error("step {step} ({label}): duration must be a positive number of seconds")]
+    Duration {
+        /// The step's index.
+        step: usize,
+        /// The step's label.
+        label: String,
+    },
+    /// The sampling asks for no sample, or for a spacing that is not positive.
+    #[error("{0}")]
+    Sampling(&'static str),
+    /// `Total(n)` with fewer samples than the steps need.
+    #[error("{total} samples cannot cover {steps} steps (need at least {})", steps + 1)]
+    TooFewSamples {
+        /// The samples asked for.
+        total: usize,
+        /// The number of steps.
+        steps: usize,
+    },
+    /// The sampling would give more samples than allowed.
+    #[error("the path would have {count:.0} samples, more than the limit {limit}; use fewer samples (or raise limits.max_samples)")]
+    TooManySamples {
+        /// The number of samples asked for (as a float: it may not fit an integer).
+        count: f64,
+        /// The limit.
+        limit: usize,
+    },
+}
+
+impl PathError {
+    /// The task-file field at fault.
+    pub fn field(&self) -> String {
+        match self {
+            PathError::Duration { step, .. } => format!("trajectory.steps[{step}].duration"),
+            _ => "trajectory".into(),
+        }
+    }
 }
 
 struct Segment {
@@ -129,32 +193,34 @@ impl Segment {
 impl ObjectPath {
     /// Samples the trajectory that starts at `world_from_object` and performs `steps` in order.
     ///
-    /// Errors (as text naming the step) on a non-positive duration, a zero sample count or
-    /// spacing.
+    /// Errors on a non-positive duration, a zero sample count or spacing, and on more than
+    /// `max_samples` samples (checked before anything is allocated).
     pub fn sample(
         world_from_object: Isometry3<f64>,
         steps: &[TimedStep],
         sampling: Sampling,
-    ) -> Result<Self, String> {
+        max_samples: usize,
+    ) -> Result<Self, PathError> {
         let mut segments = Vec::with_capacity(steps.len());
         let mut pose = world_from_object;
         for (k, timed) in steps.iter().enumerate() {
             if !(timed.duration.is_finite() && timed.duration > 0.0) {
-                return Err(format!(
-                    "step {k} ({}): duration must be a positive number of seconds",
-                    timed.label
-                ));
+                return Err(PathError::Duration {
+                    step: k,
+                    label: timed.label.clone(),
+                });
             }
             let segment = Segment::new(pose, &timed.step);
             pose = segment.end;
             segments.push(segment);
         }
-        let counts = sample_counts(&segments, sampling)?;
-        let mut samples = vec![PathSample {
+        let counts = sample_counts(&segments, sampling, max_samples)?;
+        let mut samples = Vec::with_capacity(1 + counts.iter().sum::<usize>());
+        samples.push(PathSample {
             time: 0.0,
             world_from_object,
             step: 0,
-        }];
+        });
         let mut t0 = 0.0;
         for (k, (segment, timed)) in segments.iter().zip(steps).enumerate() {
             let n = counts[k];
@@ -195,34 +261,59 @@ impl ObjectPath {
     }
 }
 
-fn sample_counts(segments: &[Segment], sampling: Sampling) -> Result<Vec<usize>, String> {
+/// Samples per segment; the total (initial pose included) is at most `max_samples`.
+fn sample_counts(
+    segments: &[Segment],
+    sampling: Sampling,
+    max_samples: usize,
+) -> Result<Vec<usize>, PathError> {
+    let too_many = |count: f64| PathError::TooManySamples {
+        count,
+        limit: max_samples,
+    };
     match sampling {
-        Sampling::PerStep(0) => Err("samples per step must be at least 1".into()),
-        Sampling::PerStep(n) => Ok(vec![n; segments.len()]),
+        Sampling::PerStep(0) => Err(PathError::Sampling("samples per step must be at least 1")),
+        Sampling::PerStep(n) => {
+            let count = 1.0 + n as f64 * segments.len() as f64;
+            if count > max_samples as f64 {
+                return Err(too_many(count));
+            }
+            Ok(vec![n; segments.len()])
+        }
         Sampling::Spacing {
             translation,
             rotation,
         } => {
             if !(translation > 0.0 && rotation > 0.0) {
-                return Err("spacing must be positive (translation in m, rotation in rad)".into());
+                return Err(PathError::Sampling(
+                    "spacing must be positive (translation in m, rotation in rad)",
+                ));
             }
-            Ok(segments
+            let counts: Vec<f64> = segments
                 .iter()
                 .map(|s| {
-                    let n = (s.translation / translation)
+                    (s.translation / translation)
                         .max(s.rotation / rotation)
-                        .ceil();
-                    (n as usize).max(1)
+                        .ceil()
+                        .max(1.0)
                 })
-                .collect())
+                .collect();
+            let count = 1.0 + counts.iter().sum::<f64>();
+            // NaN (an infinite step over an infinite spacing) is refused too.
+            if !(count <= max_samples as f64) {
+                return Err(too_many(count));
+            }
+            Ok(counts.into_iter().map(|n| n as usize).collect())
         }
         Sampling::Total(total) => {
+            if total > max_samples {
+                return Err(too_many(total as f64));
+            }
             if total < segments.len() + 1 {
-                return Err(format!(
-                    "{total} samples cannot cover {} steps (need at least {})",
-                    segments.len(),
-                    segments.len() + 1
-                ));
+                return Err(PathError::TooFewSamples {
+                    total,
+                    steps: segments.len(),
+                });
             }
             let available = total - 1 - segments.len();
             let total_length: f64 = segments.iter().map(|s| s.length).sum();
@@ -283,7 +374,8 @@ mod tests {
     #[test]
     fn total_sampling_gives_the_requested_count_and_ends_at_the_goal() {
         let start = Isometry3::translation(0.7, 0.25, -0.05);
-        let path = ObjectPath::sample(start, &lift_move_place(), Sampling::Total(50)).unwrap();
+        let path =
+            ObjectPath::sample(start, &lift_move_place(), Sampling::Total(50), 1000).unwrap();
         assert_eq!(path.samples.len(), 50);
         let end = path.samples.last().unwrap();
         assert_relative_eq!(
@@ -311,7 +403,8 @@ mod tests {
             },
             duration: 2.0,
         }];
-        let path = ObjectPath::sample(Isometry3::identity(), &steps, Sampling::PerStep(3)).unwrap();
+        let path =
+            ObjectPath::sample(Isometry3::identity(), &steps, Sampling::PerStep(3), 1000).unwrap();
         let yaw = |k: usize| path.samples[k].world_from_object.rotation.euler_angles().2;
         assert_relative_eq!(yaw(1), 90f64.to_radians(), epsilon = 1e-12);
         assert_relative_eq!(yaw(2), 180f64.to_radians().abs(), epsilon = 1e-9);
@@ -327,25 +420,61 @@ mod tests {
                 translation: 0.05,
                 rotation: 0.1,
             },
+            1000,
         )
         .unwrap();
         assert_eq!(path.samples.len(), 1 + 4 + 6 + 4);
         assert!(ObjectPath::sample(
             Isometry3::identity(),
             &lift_move_place(),
-            Sampling::PerStep(0)
+            Sampling::PerStep(0),
+            1000
         )
         .is_err());
         assert!(ObjectPath::sample(
             Isometry3::identity(),
             &lift_move_place(),
-            Sampling::Total(3)
+            Sampling::Total(3),
+            1000
         )
         .is_err());
         let mut steps = lift_move_place();
         steps[1].duration = 0.0;
-        let err =
-            ObjectPath::sample(Isometry3::identity(), &steps, Sampling::PerStep(2)).unwrap_err();
-        assert!(err.contains("step 1 (move)"), "{err}");
+        let err = ObjectPath::sample(Isometry3::identity(), &steps, Sampling::PerStep(2), 1000)
+            .unwrap_err();
+        assert!(err.to_string().contains("step 1 (move)"), "{err}");
+        assert_eq!(err.field(), "trajectory.steps[1].duration");
+    }
+
+    #[test]
+    fn sample_counts_are_bounded_before_anything_is_allocated() {
+        // Three steps: PerStep(n) gives 1 + 3n samples, Total(n) n, and a 1e-12 m spacing over
+        // the 0.3 m move 3e11 samples: each is refused just above the limit, accepted at it.
+        let steps = lift_move_place();
+        let start = Isometry3::identity();
+        assert_eq!(
+            ObjectPath::sample(start, &steps, Sampling::PerStep(3), 10)
+                .unwrap()
+                .samples
+                .len(),
+            10
+        );
+        let refused = [
+            Sampling::PerStep(4),
+            Sampling::PerStep(1_000_000_000),
+            Sampling::Total(11),
+            Sampling::Total(usize::MAX),
+            Sampling::Spacing {
+                translation: 1e-12,
+                rotation: 0.1,
+            },
+        ];
+        for sampling in refused {
+            let err = ObjectPath::sample(start, &steps, sampling, 10).unwrap_err();
+            assert!(
+                matches!(err, PathError::TooManySamples { limit: 10, .. }),
+                "{err}"
+            );
+        }
     }
 }

@@ -21,9 +21,13 @@
 //! is what stops the search.
 
 pub(crate) mod kernel;
+mod trajectory;
+
+pub use trajectory::{solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult};
 
 use super::chain::{Chain, MAX_JOINTS};
 use super::error::RobotError;
+use crate::failure::FailureReason;
 use kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
@@ -62,24 +66,13 @@ impl Default for IkOptions {
     }
 }
 
-/// Why a solve found no configuration within tolerance.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum IkFailureReason {
-    /// The target position is farther from the first joint than the chain can reach; the
-    /// search stopped after one attempt from the seed.
-    OutOfReach,
-    /// The time budget ([`IkOptions::max_time`]) ran out.
-    TimeLimit,
-    /// The iteration budget ([`IkOptions::max_iterations`]) ran out.
-    IterationLimit,
-}
-
 /// A failed solve: why it stopped and the best configuration it saw.
 #[derive(Debug, Clone, PartialEq)]
 pub struct IkFailure {
     /// Why the search stopped.
-    pub reason: IkFailureReason,
+    /// `unreachable` (the target is farther from the first joint than the chain can reach; the
+    /// search stopped after one attempt), `time_limit` or `iteration_limit`.
+    pub reason: FailureReason,
     /// The configuration (inside the limits, rad / m) with the lowest residual; its errors
     /// are [`IkSolution::position_error`] and [`IkSolution::rotation_error`].
     pub best_q: Vec<f64>,
@@ -90,9 +83,10 @@ pub struct IkFailure {
 impl fmt::Display for IkFailure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let why = match self.reason {
-            IkFailureReason::OutOfReach => "the target is out of the chain's reach",
-            IkFailureReason::TimeLimit => "the time budget ran out",
-            IkFailureReason::IterationLimit => "the iteration budget ran out",
+            FailureReason::Unreachable => "the target is out of the chain's reach",
+            FailureReason::TimeLimit => "the time budget ran out",
+            FailureReason::IterationLimit => "the iteration budget ran out",
+            other => other.as_str(),
         };
         write!(
             f,
@@ -166,11 +160,11 @@ pub fn solve_ik(
     let reason = if search.converged {
         None
     } else if search.out_of_reach {
-        Some(IkFailureReason::OutOfReach)
+        Some(FailureReason::Unreachable)
     } else if budget.timed_out {
-        Some(IkFailureReason::TimeLimit)
+        Some(FailureReason::TimeLimit)
     } else {
-        Some(IkFailureReason::IterationLimit)
+        Some(FailureReason::IterationLimit)
     };
     Ok(match reason {
         None => IkSolution {

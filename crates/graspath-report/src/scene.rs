@@ -7,11 +7,14 @@
 //! poses stay in the **object frame** (`object_from_wrist`), so the viewer attaches them to the
 //! object. Poses are `[x, y, z, qx, qy, qz, qw]`. Coordinates are rounded to 0.1 mm.
 
-use crate::robot::Chain;
-use crate::select::{ArmResult, ArmSetup, Norm, Selection, Task};
-use crate::task::ObjectShape;
+use graspath::grasp::Candidate;
+use graspath::robot::Chain;
+use graspath::select::{ArmResult, Selection};
+use graspath::task::ObjectShape;
+use graspath::task::{ArmSetup, Norm, Task};
 use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
 use serde_json::{json, Value};
+use std::sync::Arc;
 
 /// At most this many candidates per arm carry their arm motion (best ranked first, then the
 /// other feasible ones in candidate order), which bounds the report's size on large sets.
@@ -178,7 +181,7 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
         .zip(&arm.rankings)
         .enumerate()
         .map(|(i, (s, r))| {
-            let c = &task.candidates[s.candidate];
+            let c = &s.candidate;
             let moving = has_motion[i] && !s.joint_trajectory.is_empty();
             let motion = moving
                 .then(|| motion(chain, &setup.world_from_base, &s.joint_trajectory))
@@ -197,7 +200,7 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
                 (None, None) => "feasible".into(),
             };
             json!({
-                "candidate": s.candidate,
+                "candidate": i,
                 "rank": r.rank,
                 "score": finite(r.score),
                 "mu_l2": s.norms.map(|n| n.l2),
@@ -246,7 +249,10 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
         },
         "candidates": candidates,
         "arms": arms,
-        "pair": selection.pairs.first().map(|p| json!([p.first, p.second])),
+        "pair": selection.pairs.first().map(|p| {
+            let index = |c: &Arc<Candidate>| task.candidates.iter().position(|t| Arc::ptr_eq(t, c));
+            json!([index(&p.first), index(&p.second)])
+        }),
     })
 }
 

@@ -3,9 +3,10 @@
 //! Numbers that are infinite (a `μ_l∞` on a singular path) are written as `null` with a flag
 //! beside them, since JSON has no infinity. Output is byte-identical for the same input.
 
-use crate::geometry::pose_to_rows;
-use crate::manipulability::IndexMode;
-use crate::select::{Norm, Selection, Task};
+use graspath::geometry::pose_to_rows;
+use graspath::select::Selection;
+use graspath::task::JacobianRows;
+use graspath::task::{Norm, Task};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 
@@ -49,11 +50,11 @@ fn finite(v: f64) -> Option<f64> {
 }
 
 /// `candidates.json`: one record per candidate and arm, in candidate order, arm by arm.
-pub fn candidates_json(task: &Task, selection: &Selection) -> Value {
+pub fn candidates_json(selection: &Selection) -> Value {
     let mut records = Vec::new();
     for arm in &selection.arms {
         for (score, ranking) in arm.scores.iter().zip(&arm.rankings) {
-            let c = &task.candidates[score.candidate];
+            let c = &score.candidate;
             let record = CandidateRecord {
                 id: c.id,
                 arm: &arm.arm,
@@ -64,7 +65,7 @@ pub fn candidates_json(task: &Task, selection: &Selection) -> Value {
                 log_likelihood: c.log_likelihood,
                 feasible: score.feasible(),
                 failure: score.failure.as_ref().map(|f| FailureRecord {
-                    reason: &f.reason,
+                    reason: f.reason.as_str(),
                     sample: f.sample,
                     detail: &f.detail,
                 }),
@@ -91,7 +92,7 @@ pub fn candidates_json(task: &Task, selection: &Selection) -> Value {
 }
 
 /// `pairs.json`: the best pairs, keyed by the two arms' names (`left`, `right` on Baxter).
-pub fn pairs_json(task: &Task, selection: &Selection) -> Value {
+pub fn pairs_json(selection: &Selection) -> Value {
     if selection.arms.len() != 2 {
         return Value::Array(Vec::new());
     }
@@ -101,8 +102,8 @@ pub fn pairs_json(task: &Task, selection: &Selection) -> Value {
             .pairs
             .iter()
             .map(|p| {
-                let ca = &task.candidates[a.scores[p.first].candidate];
-                let cb = &task.candidates[b.scores[p.second].candidate];
+                let ca = &p.first;
+                let cb = &p.second;
                 let mut m = Map::new();
                 m.insert(a.arm.clone(), json!(ca.id));
                 m.insert(b.arm.clone(), json!(cb.id));
@@ -116,11 +117,13 @@ pub fn pairs_json(task: &Task, selection: &Selection) -> Value {
     )
 }
 
-fn mode_json(mode: IndexMode) -> Value {
+fn mode_json(mode: JacobianRows) -> Value {
     match mode {
-        IndexMode::Twist { length_scale } => json!({"mode": "twist", "length_scale": length_scale}),
-        IndexMode::Translation => json!({"mode": "translation"}),
-        IndexMode::Rotation => json!({"mode": "rotation"}),
+        JacobianRows::Twist { length_scale } => {
+            json!({"mode": "twist", "length_scale": length_scale})
+        }
+        JacobianRows::Translation => json!({"mode": "translation"}),
+        JacobianRows::Rotation => json!({"mode": "rotation"}),
     }
 }
 
@@ -132,7 +135,7 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         .map(|arm| {
             let selected = arm.best().map(|i| {
                 let s = &arm.scores[i];
-                let c = &task.candidates[s.candidate];
+                let c = &s.candidate;
                 json!({
                     "id": c.id,
                     "label": c.label,
@@ -145,7 +148,7 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
             });
             let by_yoshikawa = arm
                 .best_by(|s| s.yoshikawa_at_grasp)
-                .map(|i| task.candidates[arm.scores[i].candidate].id);
+                .map(|i| arm.scores[i].candidate.id);
             json!({
                 "arm": arm.arm,
                 "candidates": arm.scores.len(),
@@ -156,14 +159,14 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
             })
         })
         .collect();
-    let pairs = pairs_json(task, selection);
+    let pairs = pairs_json(selection);
     json!({
         "task": task.source_name,
         "robot": task.robot_name,
         "samples": task.path.samples.len(),
         "steps": task.path.step_labels,
         "duration_s": task.path.samples.last().map(|s| s.time),
-        "index": mode_json(task.mode),
+        "index": mode_json(task.rows),
         "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
         "mu0": task.selection.mu0,
         "arms": arms,

@@ -1,63 +1,27 @@
-//! Turning a task file into a runnable [`Task`]: robot chains, candidates, the sampled object
-//! path and the index and selection settings, every value checked with the field it came from.
+//! The task-file loader: a task file (YAML or JSON, `docs/task-file.md`) turned into a
+//! [`TaskBuilder`], every value checked with the field it came from. The defaults and the
+//! checks shared with the other ways of building a task live in the builder.
 
-use super::rank::{LikelihoodRule, Norm, SelectionOptions};
+use super::builder::{check_count, check_shape, Task, TaskBuilder};
+use super::error::TaskError;
+use super::file::{
+    ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, StepFile, TaskFile,
+};
+use super::path::{Sampling, Step, TimedStep};
+use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm};
+use super::shape::ObjectShape;
 use crate::cloud::load_cloud_argument;
-use crate::geometry::{pose_from_rows, quaternion_xyzw};
+use crate::geometry::PoseSpec;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{edge_family, face_family, read_candidates, yaw_family, Candidate};
-use crate::manipulability::IndexMode;
 use crate::robot::builtin::{baxter_spec, Arm};
-use crate::robot::{Chain, TrajectoryIkOptions, UrdfRobot};
-use crate::task::{
-    ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, ObjectPath, ObjectShape,
-    PoseFile, Sampling, StepFile, TaskError, TaskFile,
-};
-use crate::task::{Step, TimedStep};
-use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use crate::robot::{Chain, UrdfRobot};
+use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::{Path, PathBuf};
 
-/// The default IK iteration budget of a candidate's grasp sample (over all restarts).
-pub const DEFAULT_GRASP_ITERATIONS: usize = 200;
-
-/// One arm taking part in the task.
-#[derive(Debug, Clone)]
-pub struct ArmSetup {
-    /// The arm's name (`left`, `right`, or the key in `robot.chains`).
-    pub name: String,
-    /// Its kinematic chain (poses and Jacobians in the chain's base frame).
-    pub chain: Chain,
-    /// Where the chain's base is in the task's world frame, `world_from_base`.
-    pub world_from_base: Isometry3<f64>,
-}
-
-/// A task ready to score: who, what, where to grasp, and how the object must move.
-#[derive(Debug, Clone)]
-pub struct Task {
-    /// The task file, for messages and reports.
-    pub source_name: String,
-    /// The robot's name (`baxter` or the URDF robot's name).
-    pub robot_name: String,
-    /// The arms used, in the order given.
-    pub arms: Vec<ArmSetup>,
-    /// The object's shape, when given.
-    pub shape: Option<ObjectShape>,
-    /// The grasp candidates (wrist poses in the object frame).
-    pub candidates: Vec<Candidate>,
-    /// The sampled object trajectory in the world frame; its first pose is the grasp pose.
-    pub path: ObjectPath,
-    /// How the task-relevant index is computed.
-    pub mode: IndexMode,
-    /// How candidates are ranked.
-    pub selection: SelectionOptions,
-    /// Trajectory IK settings.
-    pub ik: TrajectoryIkOptions,
-    /// Track every IK branch and keep the best (else the first feasible branch is scored).
-    pub compare_branches: bool,
-}
-
 impl Task {
-    /// Reads and checks a task file (YAML or JSON).
+    /// Reads and checks a task file (YAML or JSON). Relative paths inside it are relative to
+    /// the file.
     pub fn load(path: &Path) -> Result<Self, TaskError> {
         let file = TaskFile::load(path)?;
         let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -70,204 +34,113 @@ impl Task {
         source_name: &str,
         base_dir: &Path,
     ) -> Result<Self, TaskError> {
-        let err = |field: &str, message: String| TaskError::new(source_name, field, message);
-        let (robot_name, arms) = setup_arms(file, source_name, base_dir)?;
-        let world_from_object = pose(&file.object.pose, source_name, "object.pose")?;
-        let shape = file
-            .object
-            .shape
-            .as_ref()
-            .map(checked_shape)
-            .transpose()
-            .map_err(|m| err("object.shape", m))?;
-        let candidates = setup_candidates(file, source_name, base_dir, shape.as_ref())?;
-        let path = setup_path(file, source_name, world_from_object)?;
-        let mode = match file.index.mode.as_deref().unwrap_or("twist") {
-            "twist" => {
-                let length_scale = file.index.length_scale.unwrap_or(1.0);
-                if !(length_scale.is_finite() && length_scale > 0.0) {
-                    return Err(err(
-                        "index.length_scale",
-                        "must be a positive length in metres".into(),
-                    ));
-                }
-                IndexMode::Twist { length_scale }
-            }
-            "translation" => IndexMode::Translation,
-            "rotation" => IndexMode::Rotation,
-            other => {
-                return Err(err(
-                    "index.mode",
-                    format!("'{other}' is not one of twist, translation, rotation"),
-                ))
-            }
-        };
-        if file.index.length_scale.is_some() && !matches!(mode, IndexMode::Twist { .. }) {
+        builder_from_file(file, source_name, base_dir)?.build()
+    }
+}
+
+/// The builder a task file describes (robot chains loaded, candidates read or generated).
+pub fn builder_from_file(
+    file: &TaskFile,
+    source_name: &str,
+    base_dir: &Path,
+) -> Result<TaskBuilder, TaskError> {
+    let err = |field: &str, message: String| TaskError::new(source_name, field, message);
+    let limits = file.limits.unwrap_or_default();
+    let mut builder = Task::builder(source_name).limits(limits);
+    let (robot_name, arms) = setup_arms(file, source_name, base_dir)?;
+    builder = builder.robot_name(robot_name);
+    for (name, chain, world_from_base) in arms {
+        builder = builder.arm(name, chain, world_from_base);
+    }
+    let world_from_object = pose(&file.object.pose, source_name, "object.pose")?;
+    if let Some(shape) = file.object.shape {
+        check_shape(source_name, &shape)?;
+        builder = builder.shape(shape);
+    }
+    let candidates = setup_candidates(
+        file,
+        source_name,
+        base_dir,
+        file.object.shape.as_ref(),
+        &limits,
+    )?;
+    builder = builder.candidates(candidates);
+    let (steps, sampling) = setup_steps(file, source_name)?;
+    builder = builder.object_motion(world_from_object, steps, sampling);
+    let rows = match file.index.mode.as_deref().unwrap_or("twist") {
+        "twist" => JacobianRows::Twist {
+            length_scale: file.index.length_scale.unwrap_or(defaults::LENGTH_SCALE),
+        },
+        "translation" => JacobianRows::Translation,
+        "rotation" => JacobianRows::Rotation,
+        other => {
             return Err(err(
-                "index.length_scale",
-                "only applies to mode 'twist'".into(),
-            ));
+                "index.mode",
+                format!("'{other}' is not one of twist, translation, rotation"),
+            ))
         }
-        let s = &file.selection;
-        let mu0 = s.mu0;
-        if let Some(mu0) = mu0 {
-            if mu0.is_nan() || mu0 <= 0.0 {
-                return Err(err("selection.mu0", "must be a positive number".into()));
-            }
-        }
-        let likelihood = match s.likelihood.unwrap_or_default() {
+    };
+    if file.index.length_scale.is_some() && !matches!(rows, JacobianRows::Twist { .. }) {
+        return Err(err(
+            "index.length_scale",
+            "only applies to mode 'twist'".into(),
+        ));
+    }
+    let s = &file.selection;
+    builder = builder
+        .rows(rows)
+        .norm(match s.norm.unwrap_or_default() {
+            NormFile::L2 => Norm::L2,
+            NormFile::L1 => Norm::L1,
+        })
+        .mu0(s.mu0)
+        .likelihood(match s.likelihood.unwrap_or_default() {
             LikelihoodFile::Product => LikelihoodRule::Product,
             LikelihoodFile::Ignore => LikelihoodRule::Ignore,
-            LikelihoodFile::Weighted { weight } => {
-                if !(weight.is_finite() && weight >= 0.0) {
-                    return Err(err(
-                        "selection.likelihood.weighted.weight",
-                        "must be a number ≥ 0".into(),
-                    ));
-                }
-                LikelihoodRule::Weighted { weight }
-            }
-        };
-        let min_separation = s.min_separation.unwrap_or(0.08);
-        if !(min_separation.is_finite() && min_separation >= 0.0) {
-            return Err(err(
-                "selection.min_separation",
-                "must be a distance ≥ 0 in metres".into(),
-            ));
-        }
-        let selection = SelectionOptions {
-            norm: match s.norm.unwrap_or_default() {
-                NormFile::L2 => Norm::L2,
-                NormFile::L1 => Norm::L1,
-            },
-            mu0,
-            likelihood,
-            pairs: s.pairs.unwrap_or(10),
-            min_separation,
-        };
-        let mut ik = TrajectoryIkOptions::default();
-        if let Some(step) = file.ik.max_joint_step {
-            if !(step.is_finite() && step > 0.0) {
-                return Err(err(
-                    "ik.max_joint_step",
-                    "must be a positive angle in radians".into(),
-                ));
-            }
-            ik.max_joint_step = step;
-        }
-        if let Some(branches) = file.ik.branches {
-            if branches == 0 {
-                return Err(err("ik.branches", "must be at least 1".into()));
-            }
-            ik.branches = branches;
-        }
-        ik.ik.max_iterations = file.ik.iterations.unwrap_or(DEFAULT_GRASP_ITERATIONS);
-        if ik.ik.max_iterations == 0 {
-            return Err(err("ik.iterations", "must be at least 1".into()));
-        }
-        if let Some(seed) = file.ik.seed {
-            ik.ik.random_seed = seed;
-        }
-        if let Some(tolerance) = file.ik.tolerance {
-            if !(tolerance.is_finite() && tolerance > 0.0) {
-                return Err(err("ik.tolerance", "must be positive".into()));
-            }
-            ik.ik.position_tolerance = tolerance;
-            ik.ik.rotation_tolerance = tolerance;
-        }
-        Ok(Self {
-            source_name: source_name.to_string(),
-            robot_name,
-            arms,
-            shape,
-            candidates,
-            path,
-            mode,
-            selection,
-            ik,
-            compare_branches: file.ik.compare_branches.unwrap_or(false),
-        })
+            LikelihoodFile::Weighted { weight } => LikelihoodRule::Weighted { weight },
+        });
+    if let Some(pairs) = s.pairs {
+        builder = builder.pairs(pairs);
     }
-
-    /// The same task seen from another world frame: the object path and every arm base moved by
-    /// `new_world_from_world`. Scores and rankings must not change.
-    pub fn in_world_frame(&self, new_world_from_world: &Isometry3<f64>) -> Self {
-        let mut moved = self.clone();
-        moved.path = self.path.transformed(new_world_from_world);
-        for arm in &mut moved.arms {
-            arm.world_from_base = new_world_from_world * arm.world_from_base;
-        }
-        moved
+    if let Some(d) = s.min_separation {
+        builder = builder.min_separation(d);
     }
+    let ik = &file.ik;
+    if let Some(step) = ik.max_joint_step {
+        builder = builder.max_joint_step(step);
+    }
+    if let Some(branches) = ik.branches {
+        builder = builder.ik_branches(branches);
+    }
+    if let Some(seed) = ik.seed {
+        builder = builder.ik_random_seed(seed);
+    }
+    if let Some(tolerance) = ik.tolerance {
+        builder = builder.ik_tolerance(tolerance);
+    }
+    if let Some(iterations) = ik.iterations {
+        builder = builder.grasp_ik_iterations(iterations);
+    }
+    if let Some(compare) = ik.compare_branches {
+        builder = builder.compare_branches(compare);
+    }
+    Ok(builder)
 }
 
 /// A pose from its file form; `field` names it in errors.
-pub fn pose(p: &PoseFile, file: &str, field: &str) -> Result<Isometry3<f64>, TaskError> {
-    let err = |sub: &str, message: String| TaskError::new(file, format!("{field}.{sub}"), message);
-    if let Some(rows) = p.matrix {
-        if p.xyz.is_some() || p.rpy.is_some() || p.rpy_deg.is_some() || p.quaternion.is_some() {
-            return Err(err(
-                "matrix",
-                "give a matrix alone, or xyz with rpy / rpy_deg / quaternion".into(),
-            ));
-        }
-        return pose_from_rows(&rows).map_err(|e| err("matrix", e.to_string()));
-    }
-    let xyz = p.xyz.unwrap_or([0.0; 3]);
-    if xyz.iter().any(|v| !v.is_finite()) {
-        return Err(err("xyz", format!("not finite: {xyz:?}")));
-    }
-    let rotations = [p.rpy.is_some(), p.rpy_deg.is_some(), p.quaternion.is_some()];
-    if rotations.iter().filter(|&&b| b).count() > 1 {
-        return Err(err(
-            "rpy",
-            "give at most one of rpy, rpy_deg, quaternion".into(),
-        ));
-    }
-    let rotation = if let Some(rpy) = p.rpy {
-        if rpy.iter().any(|v| !v.is_finite()) {
-            return Err(err("rpy", format!("not finite: {rpy:?}")));
-        }
-        UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2])
-    } else if let Some(deg) = p.rpy_deg {
-        if deg.iter().any(|v| !v.is_finite()) {
-            return Err(err("rpy_deg", format!("not finite: {deg:?}")));
-        }
-        UnitQuaternion::from_euler_angles(
-            deg[0].to_radians(),
-            deg[1].to_radians(),
-            deg[2].to_radians(),
-        )
-    } else if let Some(q) = p.quaternion {
-        quaternion_xyzw(q).ok_or_else(|| {
-            err(
-                "quaternion",
-                "must be a finite, non-zero [x, y, z, w]".into(),
-            )
-        })?
-    } else {
-        UnitQuaternion::identity()
-    };
-    Ok(Isometry3::from_parts(
-        Translation3::new(xyz[0], xyz[1], xyz[2]),
-        rotation,
-    ))
+pub fn pose(spec: &PoseSpec, file: &str, field: &str) -> Result<Isometry3<f64>, TaskError> {
+    spec.to_isometry()
+        .map_err(|e| TaskError::new(file, format!("{field}.{}", e.field), e.message))
 }
 
-/// The shape, when every dimension is a positive length.
-fn checked_shape(shape: &ObjectShape) -> Result<ObjectShape, String> {
-    if shape.is_valid() {
-        Ok(*shape)
-    } else {
-        Err("every dimension must be a positive length in metres".into())
-    }
-}
+/// An arm as the file describes it: name, chain, `world_from_base`.
+type ArmParts = (String, Chain, Isometry3<f64>);
 
 fn setup_arms(
     file: &TaskFile,
     source: &str,
     base_dir: &Path,
-) -> Result<(String, Vec<ArmSetup>), TaskError> {
+) -> Result<(String, Vec<ArmParts>), TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     let robot = &file.robot;
     let default_tool = robot
@@ -374,11 +247,7 @@ fn setup_arms(
                 Chain::from_spec(&spec).map_err(|e| err(&field, e.to_string()))?
             }
         };
-        arms.push(ArmSetup {
-            name: name.clone(),
-            chain,
-            world_from_base,
-        });
+        arms.push((name.clone(), chain, world_from_base));
     }
     let robot_name = urdf
         .as_ref()
@@ -392,8 +261,14 @@ fn setup_candidates(
     source: &str,
     base_dir: &Path,
     shape: Option<&ObjectShape>,
+    limits: &Limits,
 ) -> Result<Vec<Candidate>, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
+    // A family's count is checked before the family is generated.
+    let bounded = |field: &str, count: usize| {
+        check_count("count", count, limits.max_candidates, "max_candidates")
+            .map_err(|m| err(field, m))
+    };
     let positive = |field: &str, value: Option<f64>, default: f64| -> Result<f64, TaskError> {
         let v = value.unwrap_or(default);
         if v.is_finite() && v >= 0.0 {
@@ -409,7 +284,7 @@ fn setup_candidates(
                 "give one of file, family, generate".into(),
             ));
         }
-        return generated_candidates(generate, source, base_dir);
+        return generated_candidates(generate, source, base_dir, limits);
     }
     match (&file.candidates.file, &file.candidates.family) {
         (Some(path), None) => {
@@ -428,18 +303,30 @@ fn setup_candidates(
                     count,
                     depth,
                     margin,
-                } => edge_family(
-                    shape,
-                    *count,
-                    positive("candidates.family.edge.depth", *depth, 0.02)?,
-                    positive("candidates.family.edge.margin", *margin, 0.02)?,
-                ),
+                } => {
+                    bounded("candidates.family.edge.count", *count)?;
+                    edge_family(
+                        shape,
+                        *count,
+                        positive(
+                            "candidates.family.edge.depth",
+                            *depth,
+                            defaults::FAMILY_DEPTH,
+                        )?,
+                        positive(
+                            "candidates.family.edge.margin",
+                            *margin,
+                            defaults::FAMILY_MARGIN,
+                        )?,
+                    )
+                }
                 FamilyFile::Yaw {
                     count,
                     step_deg,
                     start_deg,
                     depth,
                 } => {
+                    bounded("candidates.family.yaw.count", *count)?;
                     if !step_deg.is_finite() || !start_deg.unwrap_or(0.0).is_finite() {
                         return Err(err(
                             "candidates.family.yaw.step_deg",
@@ -451,19 +338,30 @@ fn setup_candidates(
                         *count,
                         start_deg.unwrap_or(0.0).to_radians(),
                         step_deg.to_radians(),
-                        positive("candidates.family.yaw.depth", *depth, 0.02)?,
+                        positive(
+                            "candidates.family.yaw.depth",
+                            *depth,
+                            defaults::FAMILY_DEPTH,
+                        )?,
                     )
                 }
                 FamilyFile::Faces {
                     count,
                     exclude,
                     depth,
-                } => face_family(
-                    shape,
-                    *count,
-                    exclude,
-                    positive("candidates.family.faces.depth", *depth, 0.02)?,
-                ),
+                } => {
+                    bounded("candidates.family.faces.count", *count)?;
+                    face_family(
+                        shape,
+                        *count,
+                        exclude,
+                        positive(
+                            "candidates.family.faces.depth",
+                            *depth,
+                            defaults::FAMILY_DEPTH,
+                        )?,
+                    )
+                }
             }
             .map_err(|m| err(field, m))
         }
@@ -483,8 +381,13 @@ fn generated_candidates(
     g: &GenerateFile,
     source: &str,
     base_dir: &Path,
+    limits: &Limits,
 ) -> Result<Vec<Candidate>, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
+    if let Some(n) = g.max_candidates {
+        check_count("max_candidates", n, limits.max_candidates, "max_candidates")
+            .map_err(|m| err("candidates.generate.max_candidates", m))?;
+    }
     let model = GraspModel::read(&base_dir.join(&g.model))
         .map_err(|e| err("candidates.generate.model", e.to_string()))?;
     let cloud_path = base_dir.join(&g.cloud);
@@ -592,7 +495,7 @@ fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskErr
             }
         }
     };
-    let duration = step.duration.unwrap_or(1.0);
+    let duration = step.duration.unwrap_or(defaults::STEP_DURATION);
     if !(duration.is_finite() && duration > 0.0) {
         return Err(err(
             ".duration",
@@ -606,11 +509,9 @@ fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskErr
     })
 }
 
-fn setup_path(
-    file: &TaskFile,
-    source: &str,
-    world_from_object: Isometry3<f64>,
-) -> Result<ObjectPath, TaskError> {
+/// The file's steps and sampling; the path is sampled by the builder once the sample count
+/// has been checked against the limits.
+fn setup_steps(file: &TaskFile, source: &str) -> Result<(Vec<TimedStep>, Sampling), TaskError> {
     let t = &file.trajectory;
     if t.steps.is_empty() {
         return Err(TaskError::new(
@@ -626,7 +527,7 @@ fn setup_path(
         .map(|(k, s)| step_of(s, k, source))
         .collect::<Result<Vec<_>, _>>()?;
     let sampling = match (t.samples_per_step, t.samples, &t.spacing) {
-        (None, None, None) => Sampling::PerStep(10),
+        (None, None, None) => Sampling::PerStep(defaults::SAMPLES_PER_STEP),
         (Some(n), None, None) => Sampling::PerStep(n),
         (None, Some(n), None) => Sampling::Total(n),
         (None, None, Some(s)) => Sampling::Spacing {
@@ -641,6 +542,5 @@ fn setup_path(
             ))
         }
     };
-    ObjectPath::sample(world_from_object, &steps, sampling)
-        .map_err(|m| TaskError::new(source, "trajectory", m))
+    Ok((steps, sampling))
 }

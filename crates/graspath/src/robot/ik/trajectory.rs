@@ -26,19 +26,19 @@
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
 //! so results are identical from run to run and at any thread count.
 
-use super::chain::{Chain, MAX_JOINTS};
-use super::error::RobotError;
-use super::ik::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
-use super::ik::{
+use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
+use super::{
     check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
     IkOptions, RESTART_ATTEMPT_CAP,
 };
+use crate::failure::{Failure, FailureReason};
 use crate::geometry::interpolate_decoupled;
+use crate::robot::chain::{Chain, MAX_JOINTS};
+use crate::robot::error::RobotError;
 use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// Options of a trajectory solve.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,56 +82,6 @@ pub struct JointPath {
     pub q: Vec<Vec<f64>>,
 }
 
-/// Why a trajectory cannot be followed from a given sample on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TrajectoryFailureReason {
-    /// No solution near the target pose was found.
-    Unreachable,
-    /// A solution exists only outside the joint limits.
-    JointLimit,
-    /// Solutions exist only farther than `max_joint_step` from the previous sample.
-    Discontinuity,
-}
-
-impl TrajectoryFailureReason {
-    /// `unreachable`, `joint_limit` or `discontinuity`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Unreachable => "unreachable",
-            Self::JointLimit => "joint_limit",
-            Self::Discontinuity => "discontinuity",
-        }
-    }
-}
-
-impl fmt::Display for TrajectoryFailureReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// The first sample a branch could not follow, and why.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct TrajectoryFailure {
-    /// Index of the first failing sample (0-based).
-    pub sample: usize,
-    /// Why it failed.
-    pub reason: TrajectoryFailureReason,
-    /// A sentence with the numbers: the joint and value at fault, the jump, or the residual.
-    pub detail: String,
-}
-
-impl fmt::Display for TrajectoryFailure {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "sample {}: {}: {}",
-            self.sample, self.reason, self.detail
-        )
-    }
-}
-
 /// The result of a trajectory solve.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrajectoryIkResult {
@@ -140,7 +90,7 @@ pub struct TrajectoryIkResult {
     pub branches: Vec<JointPath>,
     /// Set when no branch follows the whole trajectory: the first failing sample of the branch
     /// that got furthest (the earliest branch among equals).
-    pub failure: Option<TrajectoryFailure>,
+    pub failure: Option<Failure>,
 }
 
 impl TrajectoryIkResult {
@@ -211,7 +161,7 @@ pub fn solve_trajectory(
         }
     };
     let mut branches = Vec::new();
-    let mut furthest: Option<TrajectoryFailure> = None;
+    let mut furthest: Option<Failure> = None;
     for (b, start) in starts.iter().enumerate() {
         match tracker.track(b, start) {
             Ok(path) => branches.push(path),
@@ -292,7 +242,7 @@ impl Tracker<'_> {
     }
 
     /// Distinct solutions at sample 0, the one from the seed first.
-    fn initial_solutions(&self, seed: &[f64]) -> Result<Vec<Vec<f64>>, TrajectoryFailure> {
+    fn initial_solutions(&self, seed: &[f64]) -> Result<Vec<Vec<f64>>, Failure> {
         let n = self.n();
         let kernel = &self.kernel;
         let target = Target::new(&self.poses[0]);
@@ -361,19 +311,16 @@ impl Tracker<'_> {
         start: &[f64],
         far: bool,
         best: (f64, f64),
-    ) -> Result<Vec<f64>, TrajectoryFailure> {
+    ) -> Result<Vec<f64>, Failure> {
         let fail = |reason, detail| {
-            Err(TrajectoryFailure {
+            Err(Failure {
                 sample: 0,
                 reason,
                 detail,
             })
         };
         if far {
-            return fail(
-                TrajectoryFailureReason::Unreachable,
-                self.reach_detail(target),
-            );
+            return fail(FailureReason::Unreachable, self.reach_detail(target));
         }
         let free = self.kernel.unconstrained();
         let mut rng = self.rng(usize::MAX, 0);
@@ -401,11 +348,11 @@ impl Tracker<'_> {
                 if self.kernel.chain.within_limits(q) {
                     return Ok(q.to_vec());
                 }
-                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+                return fail(FailureReason::JointLimit, self.limit_detail(q));
             }
         }
         fail(
-            TrajectoryFailureReason::Unreachable,
+            FailureReason::Unreachable,
             format!(
                 "no solution found within the iteration budget; best residual {:.3e} m, {:.3e} rad",
                 best.0, best.1
@@ -443,7 +390,7 @@ impl Tracker<'_> {
     }
 
     /// Follows the trajectory from `start` (a solution at sample 0).
-    fn track(&self, branch: usize, start: &[f64]) -> Result<JointPath, TrajectoryFailure> {
+    fn track(&self, branch: usize, start: &[f64]) -> Result<JointPath, Failure> {
         let n = self.n();
         let kernel = &self.kernel;
         let step = self.options.max_joint_step;
@@ -487,14 +434,14 @@ impl Tracker<'_> {
         previous: &[f64],
         target: &Target,
         ws: &mut Workspace,
-    ) -> Result<(), TrajectoryFailure> {
+    ) -> Result<(), Failure> {
         let n = previous.len();
         let kernel = &self.kernel;
         let chain = kernel.chain;
         let step = self.options.max_joint_step;
         let per_sample = self.options.per_sample_iterations;
         let fail = |reason, detail| {
-            Err(TrajectoryFailure {
+            Err(Failure {
                 sample: i,
                 reason,
                 detail,
@@ -504,10 +451,7 @@ impl Tracker<'_> {
             end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
         };
         if out_of_reach(kernel, target) {
-            return fail(
-                TrajectoryFailureReason::Unreachable,
-                self.reach_detail(target),
-            );
+            return fail(FailureReason::Unreachable, self.reach_detail(target));
         }
         // 1. The other limit strategy from the previous solution.
         ws.cur_mut().q[..n].copy_from_slice(previous);
@@ -578,7 +522,7 @@ impl Tracker<'_> {
                 if chain.within_limits(q) {
                     return Ok(());
                 }
-                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+                return fail(FailureReason::JointLimit, self.limit_detail(q));
             }
         }
         // 4. Restarts near the previous solution, then anywhere in the limits.
@@ -637,7 +581,7 @@ impl Tracker<'_> {
         }
         if let Some((joint, jump)) = nearest {
             return fail(
-                TrajectoryFailureReason::Discontinuity,
+                FailureReason::Discontinuity,
                 format!(
                     "the solutions found inside the limits move joint '{}' by {:.4} (more than max_joint_step {})",
                     chain.joint_names()[joint],
@@ -648,11 +592,11 @@ impl Tracker<'_> {
         }
         if let Some(q) = &free_q {
             if !chain.within_limits(q) {
-                return fail(TrajectoryFailureReason::JointLimit, self.limit_detail(q));
+                return fail(FailureReason::JointLimit, self.limit_detail(q));
             }
         }
         fail(
-            TrajectoryFailureReason::Unreachable,
+            FailureReason::Unreachable,
             format!(
                 "no solution found near the target; best residual {:.3e} m, {:.3e} rad",
                 best.1, best.2

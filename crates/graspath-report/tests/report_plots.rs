@@ -2,10 +2,11 @@
 //! brightest cell is where the data's maximum is, and the figures of a real selection carry
 //! the values of the selection.
 
-use graspath::report::{
+use graspath::select::select;
+use graspath::task::Task;
+use graspath_report::{
     figures, render_png, render_svg, Cell, Heatmap, Line, LinePlot, Plot, HEATMAP_SIZE, LINE_SIZE,
 };
-use graspath::select::{select, Task};
 use std::path::PathBuf;
 
 /// Decodes a PNG into (width, height, RGB bytes).
@@ -194,7 +195,7 @@ fn figures_of_a_selection_carry_its_values() {
         match (s.norms, v) {
             (Some(n), Some(v)) => assert!((n.l2 / max - v).abs() < 1e-12),
             (None, None) => {}
-            other => panic!("candidate {}: {other:?}", s.candidate),
+            other => panic!("candidate {}: {other:?}", s.candidate.id),
         }
     }
     let best = arm.best().unwrap();
@@ -233,8 +234,14 @@ fn the_pair_heatmap_sums_eligible_norms_and_marks_overlaps() {
     assert_eq!((h.rows(), h.columns()), (a.scores.len(), b.scores.len()));
     // Oracle: every listed best pair is a valued cell holding its score, and the best pair's
     // cell is the largest value.
+    let row = |c: &std::sync::Arc<graspath::grasp::Candidate>| {
+        task.candidates
+            .iter()
+            .position(|t| std::sync::Arc::ptr_eq(t, c))
+            .expect("a pair's candidates are the task's")
+    };
     for p in &selection.pairs {
-        match h.cells[p.first * h.columns() + p.second] {
+        match h.cells[row(&p.first) * h.columns() + row(&p.second)] {
             Cell::Value(v) => assert!((v - p.score).abs() < 1e-12),
             other => panic!("pair {p:?} is {other:?}"),
         }

@@ -2,15 +2,16 @@
 //! (JSON), three.js and the figures (inline SVG) put in, so the one file works offline from
 //! `file://`. Opening it with `#selftest` runs the page's own checks (see the template).
 
-use super::figures::{figures, Figure};
-use super::plots::{render_png, render_svg, Plot, PlotError};
-use super::scene::scene_json;
-use crate::select::{Selection, Task};
+use crate::figures::{figures, Figure};
+use crate::plots::{render_png, render_svg, Plot, PlotError};
+use crate::scene::scene_json;
+use graspath::select::Selection;
+use graspath::task::Task;
 
-const TEMPLATE: &str = include_str!("../../assets/report.html");
+const TEMPLATE: &str = include_str!("../assets/report.html");
 /// three.js r170, the single-file module build (MIT; `assets/three-LICENSE.txt`).
-const THREE: &str = include_str!("../../assets/three.module.min.js");
-const THREE_LICENSE: &str = include_str!("../../assets/three-LICENSE.txt");
+const THREE: &str = include_str!("../assets/three.module.min.js");
+const THREE_LICENSE: &str = include_str!("../assets/three-LICENSE.txt");
 
 /// Text safe inside HTML element content and attribute values.
 fn escape_html(text: &str) -> String {

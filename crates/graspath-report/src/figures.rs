@@ -2,8 +2,9 @@
 //! over candidate × sample (Fig. 6), the classical indices at the grasp (Fig. 8) and, for two
 //! arms, the summed norm over first × second arm candidates (Fig. 7, 9).
 
-use super::plots::{Cell, Heatmap, Line, LinePlot, Plot};
-use crate::select::{ArmResult, Norm, Selection, Task};
+use crate::plots::{Cell, Heatmap, Line, LinePlot, Plot};
+use graspath::select::{ArmResult, Selection};
+use graspath::task::{JacobianRows, Norm, Task};
 
 /// A figure of a report: a file stem, a caption for people and the plot.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,20 +40,17 @@ fn normalised(values: &[Option<f64>]) -> Vec<Option<f64>> {
         .collect()
 }
 
-fn ids(task: &Task, arm: &ArmResult) -> Vec<f64> {
-    arm.scores
-        .iter()
-        .map(|s| task.candidates[s.candidate].id as f64)
-        .collect()
+fn ids(arm: &ArmResult) -> Vec<f64> {
+    arm.scores.iter().map(|s| s.candidate.id as f64).collect()
 }
 
 /// Fig. 5: the norms over the candidates, each normalised to its maximum.
-fn norms_figure(task: &Task, arm: &ArmResult) -> Figure {
+fn norms_figure(arm: &ArmResult) -> Figure {
     let l2: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.l2)).collect();
     let linf: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.linf)).collect();
     let mut marks = Vec::new();
     if let Some(best) = arm.best() {
-        let c = &task.candidates[arm.scores[best].candidate];
+        let c = &arm.scores[best].candidate;
         marks.push((c.id as f64, format!("selected: {} ({})", c.id, c.label)));
     }
     Figure {
@@ -66,7 +64,7 @@ fn norms_figure(task: &Task, arm: &ArmResult) -> Figure {
             title: format!("Task-relevant norms, {} arm", arm.arm),
             x_label: "candidate id".into(),
             y_label: "norm / its maximum (1)".into(),
-            x: ids(task, arm),
+            x: ids(arm),
             lines: vec![
                 Line {
                     name: "μ_l∞ = max 1/M_T (constraint)".into(),
@@ -98,10 +96,10 @@ fn m_t_figure(task: &Task, arm: &ArmResult) -> Figure {
             cells.push(v.map_or(Cell::Missing, Cell::Value));
         }
     }
-    let unit = match task.mode {
-        crate::manipulability::IndexMode::Twist { .. } => "M_T = uᵀ J Jᵀ u (m²/rad², twist)",
-        crate::manipulability::IndexMode::Translation => "M_T = uᵀ Jv Jvᵀ u (m²/rad²)",
-        crate::manipulability::IndexMode::Rotation => "M_T = uᵀ Jω Jωᵀ u (1)",
+    let unit = match task.rows {
+        JacobianRows::Twist { .. } => "M_T = uᵀ J Jᵀ u (m²/rad², twist)",
+        JacobianRows::Translation => "M_T = uᵀ Jv Jvᵀ u (m²/rad²)",
+        JacobianRows::Rotation => "M_T = uᵀ Jω Jωᵀ u (1)",
     };
     Figure {
         name: format!("mt-heatmap-{}", arm.arm),
@@ -125,7 +123,7 @@ fn m_t_figure(task: &Task, arm: &ArmResult) -> Figure {
             row_ticks: arm
                 .scores
                 .iter()
-                .map(|s| task.candidates[s.candidate].id.to_string())
+                .map(|s| s.candidate.id.to_string())
                 .collect(),
             cells,
             note: Some("grey: infeasible candidate, or the object is still".into()),
@@ -144,7 +142,7 @@ fn argmax(values: &[Option<f64>]) -> Option<usize> {
 
 /// Fig. 8: Yoshikawa's index and the inverse condition number at the grasp configuration,
 /// normalised, with the task-relevant choice marked.
-fn classical_figure(task: &Task, arm: &ArmResult) -> Figure {
+fn classical_figure(arm: &ArmResult) -> Figure {
     let feasible = |v: Option<f64>, ok: bool| if ok { v } else { None };
     let yoshikawa: Vec<Option<f64>> = arm
         .scores
@@ -156,14 +154,14 @@ fn classical_figure(task: &Task, arm: &ArmResult) -> Figure {
         .iter()
         .map(|s| feasible(s.inverse_condition_squared_at_grasp, s.feasible()))
         .collect();
-    let id_of = |i: usize| task.candidates[arm.scores[i].candidate].id;
+    let id_of = |i: usize| arm.scores[i].candidate.id;
     let name = |base: &str, values: &[Option<f64>]| match argmax(values) {
         Some(i) => format!("{base}, best: {}", id_of(i)),
         None => base.to_string(),
     };
     let mut marks = Vec::new();
     if let Some(best) = arm.best() {
-        let c = &task.candidates[arm.scores[best].candidate];
+        let c = &arm.scores[best].candidate;
         marks.push((
             c.id as f64,
             format!("task-relevant choice: {} ({})", c.id, c.label),
@@ -182,7 +180,7 @@ fn classical_figure(task: &Task, arm: &ArmResult) -> Figure {
             title: format!("Indices at the grasp, {} arm", arm.arm),
             x_label: "candidate id".into(),
             y_label: "index / its maximum (1)".into(),
-            x: ids(task, arm),
+            x: ids(arm),
             lines: vec![
                 Line {
                     name: name("Yoshikawa w at grasp", &yoshikawa),
@@ -218,8 +216,8 @@ fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
         for j in 0..second.scores.len() {
             let cell = match (norm(first, i), norm(second, j)) {
                 (Some(a), Some(b)) => {
-                    let pa = task.candidates[first.scores[i].candidate].grasp_point();
-                    let pb = task.candidates[second.scores[j].candidate].grasp_point();
+                    let pa = first.scores[i].candidate.grasp_point();
+                    let pb = second.scores[j].candidate.grasp_point();
                     if (pa - pb).norm() < task.selection.min_separation {
                         Cell::Marked
                     } else {
@@ -234,7 +232,7 @@ fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
     let ticks = |arm: &ArmResult| -> Vec<String> {
         arm.scores
             .iter()
-            .map(|s| task.candidates[s.candidate].id.to_string())
+            .map(|s| s.candidate.id.to_string())
             .collect()
     };
     let norm = norm_name(task);
@@ -269,9 +267,9 @@ fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
 pub fn figures(task: &Task, selection: &Selection) -> Vec<Figure> {
     let mut figures = Vec::new();
     for arm in &selection.arms {
-        figures.push(norms_figure(task, arm));
+        figures.push(norms_figure(arm));
         figures.push(m_t_figure(task, arm));
-        figures.push(classical_figure(task, arm));
+        figures.push(classical_figure(arm));
     }
     figures.extend(pairs_figure(task, selection));
     figures

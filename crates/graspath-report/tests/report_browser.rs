@@ -6,8 +6,9 @@
 //! Skipped with a message when Chromium is not installed, except under CI (`CI` set), where
 //! `.ci/run` installs it and its absence is a failure.
 
-use graspath::report::{render_report, write_files_atomically};
-use graspath::select::{select, Task};
+use graspath::select::select;
+use graspath::task::Task;
+use graspath_report::{render_report, write_files_atomically};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

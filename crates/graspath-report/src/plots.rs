@@ -12,7 +12,7 @@ use std::error::Error;
 use std::sync::Once;
 
 /// The font every plot uses (DejaVu Sans; licence in `assets/DejaVuSans-LICENSE.txt`).
-static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// Size in pixels of a line chart's PNG (width, height); the SVG has the same size in px.
 pub const LINE_SIZE: (u32, u32) = (800, 500);

@@ -1,0 +1,499 @@
+//! [`Task`] and its one checked constructor, [`TaskBuilder`]: the task-file loader, the Python
+//! bindings and library users all build tasks through it, so every default and every check is
+//! applied in one place and the same task gives the same results however it was written.
+
+use super::error::TaskError;
+use super::path::{ObjectPath, Sampling, TimedStep};
+use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
+use super::shape::ObjectShape;
+use crate::grasp::Candidate;
+use crate::robot::{Chain, IkOptions, TrajectoryIkOptions};
+use nalgebra::Isometry3;
+use std::sync::Arc;
+
+/// One arm taking part in the task.
+#[derive(Debug, Clone)]
+pub struct ArmSetup {
+    /// The arm's name (`left`, `right`, or the key in `robot.chains`).
+    pub name: String,
+    /// Its kinematic chain (poses and Jacobians in the chain's base frame).
+    pub chain: Chain,
+    /// Where the chain's base is in the task's world frame, `world_from_base`.
+    pub world_from_base: Isometry3<f64>,
+}
+
+/// A task ready to score: who, what, where to grasp, and how the object must move. Built by
+/// [`TaskBuilder`] (or [`Task::load`] from a task file), so every value has been checked.
+///
+/// ```
+/// use graspath::grasp::edge_family;
+/// use graspath::robot::builtin::{baxter_chain, Arm};
+/// use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
+/// use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+///
+/// let shape = ObjectShape::Box { size: [0.06, 0.40, 0.10] };
+/// let lift = TimedStep::new("lift", Step::translation(Vector3::new(0.0, 0.0, 0.2)));
+/// let task = Task::builder("pick")
+///     .arm("left", baxter_chain(Arm::Left).unwrap(), Isometry3::identity())
+///     .shape(shape)
+///     .candidates(edge_family(&shape, 5, 0.02, 0.02).unwrap())
+///     .object_motion(
+///         Isometry3::from_parts(Translation3::new(0.75, 0.0, -0.1), UnitQuaternion::identity()),
+///         vec![lift],
+///         Sampling::PerStep(10),
+///     )
+///     .build()
+///     .unwrap();
+/// assert_eq!(task.path.samples.len(), 11);
+/// assert_eq!(task.ik.ik.max_iterations, 200); // the task default, from `task::defaults`
+/// ```
+#[derive(Debug, Clone)]
+pub struct Task {
+    /// The task's name (its file, or the name given to the builder), for messages and reports.
+    pub source_name: String,
+    /// The robot's name (`baxter` or the URDF robot's name).
+    pub robot_name: String,
+    /// The arms used, in the order given.
+    pub arms: Vec<ArmSetup>,
+    /// The object's shape, when given.
+    pub shape: Option<ObjectShape>,
+    /// The grasp candidates (wrist poses in the object frame), shared with the results that
+    /// refer to them.
+    pub candidates: Vec<Arc<Candidate>>,
+    /// The sampled object trajectory in the world frame; its first pose is the grasp pose.
+    pub path: ObjectPath,
+    /// Which rows of `J` and of the tangent enter `M_T`.
+    pub rows: JacobianRows,
+    /// How candidates are ranked.
+    pub selection: SelectionOptions,
+    /// Trajectory IK settings.
+    pub ik: TrajectoryIkOptions,
+    /// Track every IK branch and keep the best (else the first feasible branch is scored).
+    pub compare_branches: bool,
+    /// The bounds the task was checked against.
+    pub limits: Limits,
+}
+
+impl Task {
+    /// A builder for a task named `name` (the name appears in errors and reports).
+    pub fn builder(name: impl Into<String>) -> TaskBuilder {
+        TaskBuilder::new(name)
+    }
+
+    /// The same task seen from another world frame: the object path and every arm base moved by
+    /// `new_world_from_world`. Scores and rankings must not change.
+    pub fn in_world_frame(&self, new_world_from_world: &Isometry3<f64>) -> Self {
+        let mut moved = self.clone();
+        moved.path = self.path.transformed(new_world_from_world);
+        for arm in &mut moved.arms {
+            arm.world_from_base = new_world_from_world * arm.world_from_base;
+        }
+        moved
+    }
+
+    /// The work estimate of this task in kinematics evaluations (see [`Limits::max_work`]).
+    pub fn work(&self) -> u64 {
+        Limits::work(
+            self.arms.len(),
+            self.candidates.len(),
+            self.path.samples.len(),
+            self.ik.branches,
+            self.ik.ik.max_iterations,
+            self.ik.per_sample_iterations,
+        )
+    }
+}
+
+/// The object path, given sampled or as steps to sample.
+#[derive(Debug, Clone)]
+enum PathInput {
+    Sampled(ObjectPath),
+    Steps {
+        world_from_object: Isometry3<f64>,
+        steps: Vec<TimedStep>,
+        sampling: Sampling,
+    },
+}
+
+/// Builds a checked [`Task`]. Settings left unset take the values in
+/// [`defaults`](super::defaults); [`TaskBuilder::build`] checks every value and names the
+/// offending setting by its task-file field (`ik.iterations`, `selection.mu0`, …).
+#[derive(Debug, Clone)]
+pub struct TaskBuilder {
+    name: String,
+    robot_name: Option<String>,
+    arms: Vec<ArmSetup>,
+    shape: Option<ObjectShape>,
+    candidates: Vec<Candidate>,
+    path: Option<PathInput>,
+    rows: JacobianRows,
+    norm: Norm,
+    mu0: Option<f64>,
+    likelihood: LikelihoodRule,
+    pairs: usize,
+    min_separation: f64,
+    max_joint_step: f64,
+    ik_branches: usize,
+    ik_random_seed: u64,
+    ik_tolerance: f64,
+    grasp_ik_iterations: usize,
+    compare_branches: bool,
+    limits: Limits,
+}
+
+impl TaskBuilder {
+    /// A builder with every setting at its default.
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            robot_name: None,
+            arms: Vec::new(),
+            shape: None,
+            candidates: Vec::new(),
+            path: None,
+            rows: JacobianRows::default(),
+            norm: Norm::default(),
+            mu0: None,
+            likelihood: LikelihoodRule::default(),
+            pairs: defaults::PAIRS,
+            min_separation: defaults::MIN_SEPARATION,
+            max_joint_step: defaults::MAX_JOINT_STEP,
+            ik_branches: defaults::IK_BRANCHES,
+            ik_random_seed: defaults::IK_RANDOM_SEED,
+            ik_tolerance: defaults::IK_TOLERANCE,
+            grasp_ik_iterations: defaults::GRASP_IK_ITERATIONS,
+            compare_branches: false,
+            limits: Limits::default(),
+        }
+    }
+
+    /// The robot's name for reports (default: `robot`).
+    pub fn robot_name(mut self, name: impl Into<String>) -> Self {
+        self.robot_name = Some(name.into());
+        self
+    }
+
+    /// Adds an arm: its chain and where its base is in the world frame (`world_from_base`).
+    /// Arms are scored in the order added; the first two form the pairs.
+    pub fn arm(
+        mut self,
+        name: impl Into<String>,
+        chain: Chain,
+        world_from_base: Isometry3<f64>,
+    ) -> Self {
+        self.arms.push(ArmSetup {
+            name: name.into(),
+            chain,
+            world_from_base,
+        });
+        self
+    }
+
+    /// The object's shape (object frame, m).
+    pub fn shape(mut self, shape: ObjectShape) -> Self {
+        self.shape = Some(shape);
+        self
+    }
+
+    /// The grasp candidates, `object_from_wrist` with log-likelihoods.
+    pub fn candidates(mut self, candidates: Vec<Candidate>) -> Self {
+        self.candidates = candidates;
+        self
+    }
+
+    /// The object trajectory as an already sampled path (world frame).
+    pub fn object_path(mut self, path: ObjectPath) -> Self {
+        self.path = Some(PathInput::Sampled(path));
+        self
+    }
+
+    /// The object trajectory as steps from `world_from_object`, sampled by `build` (after the
+    /// sample count has been checked against the limits).
+    pub fn object_motion(
+        mut self,
+        world_from_object: Isometry3<f64>,
+        steps: Vec<TimedStep>,
+        sampling: Sampling,
+    ) -> Self {
+        self.path = Some(PathInput::Steps {
+            world_from_object,
+            steps,
+            sampling,
+        });
+        self
+    }
+
+    /// Which rows of `J` and of the tangent enter `M_T` (default: the full twist, L = 1 m).
+    pub fn rows(mut self, rows: JacobianRows) -> Self {
+        self.rows = rows;
+        self
+    }
+
+    /// The norm to maximise (default `μ_l2`).
+    pub fn norm(mut self, norm: Norm) -> Self {
+        self.norm = norm;
+        self
+    }
+
+    /// Reject candidates whose `μ_l∞` exceeds `mu0` (default: no bound).
+    pub fn mu0(mut self, mu0: Option<f64>) -> Self {
+        self.mu0 = mu0;
+        self
+    }
+
+    /// How the likelihood combines with the norm (default: the product).
+    pub fn likelihood(mut self, rule: LikelihoodRule) -> Self {
+        self.likelihood = rule;
+        self
+    }
+
+    /// How many best arm pairs to keep.
+    pub fn pairs(mut self, pairs: usize) -> Self {
+        self.pairs = pairs;
+        self
+    }
+
+    /// Two grasps closer than this overlap (m, object frame).
+    pub fn min_separation(mut self, metres: f64) -> Self {
+        self.min_separation = metres;
+        self
+    }
+
+    /// Largest joint motion between consecutive samples (rad or m).
+    pub fn max_joint_step(mut self, step: f64) -> Self {
+        self.max_joint_step = step;
+        self
+    }
+
+    /// Distinct IK branches searched from the grasp pose.
+    pub fn ik_branches(mut self, branches: usize) -> Self {
+        self.ik_branches = branches;
+        self
+    }
+
+    /// Seed of the IK's random restarts.
+    pub fn ik_random_seed(mut self, seed: u64) -> Self {
+        self.ik_random_seed = seed;
+        self
+    }
+
+    /// Position (m) and rotation (rad) tolerance of IK.
+    pub fn ik_tolerance(mut self, tolerance: f64) -> Self {
+        self.ik_tolerance = tolerance;
+        self
+    }
+
+    /// The IK iteration budget of the grasp sample, over all restarts.
+    pub fn grasp_ik_iterations(mut self, iterations: usize) -> Self {
+        self.grasp_ik_iterations = iterations;
+        self
+    }
+
+    /// Track every IK branch and keep the one with the best norm.
+    pub fn compare_branches(mut self, compare: bool) -> Self {
+        self.compare_branches = compare;
+        self
+    }
+
+    /// The bounds the task is checked against (default [`Limits::default`]).
+    pub fn limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// Checks every setting and builds the task.
+    pub fn build(self) -> Result<Task, TaskError> {
+        let err = |field: &str, message: String| TaskError::new(&self.name, field, message);
+        let limits = self.limits;
+        if self.arms.is_empty() {
+            return Err(err("arms", "name at least one arm".into()));
+        }
+        for (k, arm) in self.arms.iter().enumerate() {
+            if self.arms[..k].iter().any(|a| a.name == arm.name) {
+                return Err(err(
+                    &format!("arms[{k}]"),
+                    format!("arm '{}' is listed twice", arm.name),
+                ));
+            }
+        }
+        if let Some(shape) = &self.shape {
+            check_shape(&self.name, shape)?;
+        }
+        check_count(
+            "candidates",
+            self.candidates.len(),
+            limits.max_candidates,
+            "max_candidates",
+        )
+        .map_err(|m| err("candidates", m))?;
+        if self.candidates.is_empty() {
+            return Err(err("candidates", "give at least one candidate".into()));
+        }
+        if let JacobianRows::Twist { length_scale } = self.rows {
+            if !(length_scale.is_finite() && length_scale > 0.0) {
+                return Err(err(
+                    "index.length_scale",
+                    "must be a positive length in metres".into(),
+                ));
+            }
+        }
+        if let Some(mu0) = self.mu0 {
+            if mu0.is_nan() || mu0 <= 0.0 {
+                return Err(err("selection.mu0", "must be a positive number".into()));
+            }
+        }
+        if let LikelihoodRule::Weighted { weight } = self.likelihood {
+            if !(weight.is_finite() && weight >= 0.0) {
+                return Err(err(
+                    "selection.likelihood.weighted.weight",
+                    "must be a number ≥ 0".into(),
+                ));
+            }
+        }
+        if !(self.min_separation.is_finite() && self.min_separation >= 0.0) {
+            return Err(err(
+                "selection.min_separation",
+                "must be a distance ≥ 0 in metres".into(),
+            ));
+        }
+        if !(self.max_joint_step.is_finite() && self.max_joint_step > 0.0) {
+            return Err(err(
+                "ik.max_joint_step",
+                "must be a positive angle in radians".into(),
+            ));
+        }
+        if self.ik_branches == 0 {
+            return Err(err("ik.branches", "must be at least 1".into()));
+        }
+        check_count(
+            "ik.branches",
+            self.ik_branches,
+            limits.max_ik_branches,
+            "max_ik_branches",
+        )
+        .map_err(|m| err("ik.branches", m))?;
+        if self.grasp_ik_iterations == 0 {
+            return Err(err("ik.iterations", "must be at least 1".into()));
+        }
+        check_count(
+            "ik.iterations",
+            self.grasp_ik_iterations,
+            limits.max_ik_iterations,
+            "max_ik_iterations",
+        )
+        .map_err(|m| err("ik.iterations", m))?;
+        if !(self.ik_tolerance.is_finite() && self.ik_tolerance > 0.0) {
+            return Err(err("ik.tolerance", "must be positive".into()));
+        }
+        let path = match self.path {
+            None => return Err(err("trajectory", "give the object's trajectory".into())),
+            Some(PathInput::Sampled(path)) => path,
+            Some(PathInput::Steps {
+                world_from_object,
+                steps,
+                sampling,
+            }) => ObjectPath::sample(world_from_object, &steps, sampling, limits.max_samples)
+                .map_err(|e| err(&e.field(), e.to_string()))?,
+        };
+        check_count(
+            "samples",
+            path.samples.len(),
+            limits.max_samples,
+            "max_samples",
+        )
+        .map_err(|m| err("trajectory", m))?;
+        if path.samples.is_empty() {
+            return Err(err("trajectory", "give at least one object pose".into()));
+        }
+        if path.samples.iter().any(|s| !s.time.is_finite())
+            || path.samples.windows(2).any(|w| w[1].time < w[0].time)
+        {
+            return Err(err(
+                "trajectory",
+                "sample times must be finite and non-decreasing (s)".into(),
+            ));
+        }
+        let ik = TrajectoryIkOptions {
+            ik: IkOptions {
+                position_tolerance: self.ik_tolerance,
+                rotation_tolerance: self.ik_tolerance,
+                max_time: None,
+                max_iterations: self.grasp_ik_iterations,
+                random_seed: self.ik_random_seed,
+            },
+            max_joint_step: self.max_joint_step,
+            branches: self.ik_branches,
+            per_sample_iterations: defaults::PER_SAMPLE_IK_ITERATIONS,
+        };
+        let task = Task {
+            source_name: self.name.clone(),
+            robot_name: self.robot_name.unwrap_or_else(|| "robot".into()),
+            arms: self.arms,
+            shape: self.shape,
+            candidates: self.candidates.into_iter().map(Arc::new).collect(),
+            path,
+            rows: self.rows,
+            selection: SelectionOptions {
+                norm: self.norm,
+                mu0: self.mu0,
+                likelihood: self.likelihood,
+                pairs: self.pairs,
+                min_separation: self.min_separation,
+            },
+            ik,
+            compare_branches: self.compare_branches,
+            limits,
+        };
+        let work = task.work();
+        if work > limits.max_work {
+            return Err(TaskError::new(
+                &self.name,
+                "limits.max_work",
+                format!(
+                    "the task asks for about {:.3e} kinematics evaluations ({} arm(s) × {} \
+                     candidates × {} branches × ({} grasp iterations + {} samples × {} per \
+                     sample)), more than the limit {:.3e}; reduce the task or raise \
+                     limits.max_work",
+                    work as f64,
+                    task.arms.len(),
+                    task.candidates.len(),
+                    task.ik.branches,
+                    task.ik.ik.max_iterations,
+                    task.path.samples.len(),
+                    task.ik.per_sample_iterations,
+                    limits.max_work as f64,
+                ),
+            ));
+        }
+        Ok(task)
+    }
+}
+
+/// `Ok` when every dimension of `shape` is a positive length.
+pub(crate) fn check_shape(task: &str, shape: &ObjectShape) -> Result<(), TaskError> {
+    if shape.is_valid() {
+        Ok(())
+    } else {
+        Err(TaskError::new(
+            task,
+            "object.shape",
+            "every dimension must be a positive length in metres",
+        ))
+    }
+}
+
+/// `Ok` when `count ≤ limit`; else a message naming the limit that can be raised.
+pub(crate) fn check_count(
+    what: &str,
+    count: usize,
+    limit: usize,
+    limit_name: &str,
+) -> Result<(), String> {
+    if count > limit {
+        Err(format!(
+            "{what}: {count} is more than the limit {limit}; raise limits.{limit_name} if this is intended"
+        ))
+    } else {
+        Ok(())
+    }
+}

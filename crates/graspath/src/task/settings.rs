@@ -1,0 +1,179 @@
+//! What a task asks of the scoring and the ranking — which rows of `J` and of the tangent enter
+//! `M_T`, which norm is maximised, how the likelihood combines with it — every default in
+//! [`defaults`], and the [`Limits`] that bound the work a task may ask for.
+
+/// Which rows of the Jacobian `J` (and of the path tangent `u`) enter the task-relevant index
+/// `M_T = ‖J'ᵀ u‖²`. In a task file: `index: { mode: twist | translation | rotation,
+/// length_scale }`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JacobianRows {
+    /// All six rows: the linear velocity of the wrist origin and the angular velocity, the
+    /// angular rows of `J` and of the tangent scaled by a characteristic length (m). A length of
+    /// 1 m reproduces the paper's raw `J`.
+    Twist {
+        /// Characteristic length L (m), > 0.
+        length_scale: f64,
+    },
+    /// The three linear rows `Jv` and the linear part of the tangent.
+    Translation,
+    /// The three angular rows `Jω` and the angular part of the tangent.
+    Rotation,
+}
+
+impl Default for JacobianRows {
+    /// The paper's choice: the full twist with L = [`defaults::LENGTH_SCALE`].
+    fn default() -> Self {
+        JacobianRows::Twist {
+            length_scale: defaults::LENGTH_SCALE,
+        }
+    }
+}
+
+impl JacobianRows {
+    /// The task-file spelling: `twist`, `translation` or `rotation`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            JacobianRows::Twist { .. } => "twist",
+            JacobianRows::Translation => "translation",
+            JacobianRows::Rotation => "rotation",
+        }
+    }
+}
+
+/// The norm of `M_T` along the path that is maximised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Norm {
+    /// `μ_l2 = ‖M‖₂` (the paper's choice).
+    #[default]
+    L2,
+    /// `μ_l1`, the time integral of `M_T`.
+    L1,
+}
+
+/// How the grasp likelihood combines with the norm into a score.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum LikelihoodRule {
+    /// `norm × ℓ/ℓ_max` — the default. With equal likelihoods it is the paper's rule.
+    #[default]
+    Product,
+    /// The norm alone.
+    Ignore,
+    /// `ln(norm) + weight · ln(ℓ/ℓ_max)`: a weight above 1 favours likely grasps more than the
+    /// product does, below 1 less.
+    Weighted {
+        /// The likelihood's weight (≥ 0).
+        weight: f64,
+    },
+}
+
+/// How candidates are ranked and paired.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelectionOptions {
+    /// The norm to maximise.
+    pub norm: Norm,
+    /// Reject candidates with `μ_l∞ > μ0` (`None`: only singular paths, `μ_l∞ = ∞`, are rejected).
+    pub mu0: Option<f64>,
+    /// How the likelihood enters the score.
+    pub likelihood: LikelihoodRule,
+    /// How many best arm pairs to keep.
+    pub pairs: usize,
+    /// Two grasps closer than this (m, object frame) overlap.
+    pub min_separation: f64,
+}
+
+impl Default for SelectionOptions {
+    fn default() -> Self {
+        Self {
+            norm: Norm::L2,
+            mu0: None,
+            likelihood: LikelihoodRule::Product,
+            pairs: defaults::PAIRS,
+            min_separation: defaults::MIN_SEPARATION,
+        }
+    }
+}
+
+/// Every default of a task, in one place: the task-file loader, the builder, the Python
+/// bindings and the docs (`docs/task-file.md`) all take them from here.
+pub mod defaults {
+    /// Characteristic length L of the `twist` index (m): the paper's raw `J`.
+    pub const LENGTH_SCALE: f64 = 1.0;
+    /// How many best arm pairs are kept.
+    pub const PAIRS: usize = 10;
+    /// Two grasps closer than this overlap (m; Baxter's gripper width).
+    pub const MIN_SEPARATION: f64 = 0.08;
+    /// Samples per step of the object path when no sampling is given.
+    pub const SAMPLES_PER_STEP: usize = 10;
+    /// Duration of a step (s).
+    pub const STEP_DURATION: f64 = 1.0;
+    /// Largest joint motion between consecutive samples (rad or m); also the separation that
+    /// makes two IK branches distinct.
+    pub const MAX_JOINT_STEP: f64 = 0.5;
+    /// Distinct IK branches searched from the grasp pose.
+    pub const IK_BRANCHES: usize = 4;
+    /// Seed of the IK's random restarts.
+    pub const IK_RANDOM_SEED: u64 = 0;
+    /// Position (m) and rotation (rad) tolerance of IK.
+    pub const IK_TOLERANCE: f64 = 1e-5;
+    /// The IK iteration budget of a candidate's grasp sample over all restarts: what an
+    /// unreachable candidate costs before it is given up.
+    pub const GRASP_IK_ITERATIONS: usize = 200;
+    /// Iteration budget of the warm-started solve of one path sample.
+    pub const PER_SAMPLE_IK_ITERATIONS: usize = 30;
+    /// How far below the top face (or inside a face) a family's tool point sits (m).
+    pub const FAMILY_DEPTH: f64 = 0.02;
+    /// Distance an edge family keeps from each end of the edge (m).
+    pub const FAMILY_MARGIN: f64 = 0.02;
+}
+
+/// Upper bounds on what one task may ask for, checked before anything is allocated or run, so
+/// that a typo (`samples: 1000000000`) is a clear error instead of an exhausted machine. Each
+/// can be raised in the task file (`limits: {...}`) or from the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Limits {
+    /// Largest number of grasp candidates (families, files and generated).
+    pub max_candidates: usize,
+    /// Largest number of samples of the object path (initial pose included).
+    pub max_samples: usize,
+    /// Largest IK iteration budget (`ik.iterations`).
+    pub max_ik_iterations: usize,
+    /// Largest number of IK branches (`ik.branches`).
+    pub max_ik_branches: usize,
+    /// Largest work estimate, in kinematics evaluations: arms × candidates × branches ×
+    /// (grasp iterations + samples × per-sample iterations). About 10¹⁰ evaluations are
+    /// 30 minutes on two cores.
+    pub max_work: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_candidates: 10_000_000,
+            max_samples: 100_000,
+            max_ik_iterations: 1_000_000,
+            max_ik_branches: 64,
+            max_work: 10_000_000_000,
+        }
+    }
+}
+
+impl Limits {
+    /// The work estimate of scoring `candidates` candidates on `arms` arms along `samples`
+    /// samples, in kinematics evaluations (saturating, never overflowing).
+    pub fn work(
+        arms: usize,
+        candidates: usize,
+        samples: usize,
+        branches: usize,
+        grasp_iterations: usize,
+        per_sample_iterations: usize,
+    ) -> u64 {
+        let per_branch = (grasp_iterations as u64)
+            .saturating_add((samples as u64).saturating_mul(per_sample_iterations as u64));
+        (arms as u64)
+            .saturating_mul(candidates as u64)
+            .saturating_mul(branches as u64)
+            .saturating_mul(per_branch)
+    }
+}

@@ -60,12 +60,12 @@ def test_unreachable_target_is_a_result_not_an_error(left):
     far[:3, 3] = [5.0, 0.0, 0.0]
     result = left.ik(far, **EXACT)
     assert not result["converged"] and result["q"] is None
-    assert result["failure"]["reason"] == "out_of_reach"
+    assert result["failure"]["reason"] == "unreachable"
     assert left.within_limits(result["failure"]["best_q"])
     batch = left.ik(np.stack([far, targets(left, 1)[0]]), **EXACT)
     assert batch["converged"].tolist() == [False, True]
     assert np.isnan(batch["q"][0]).all() and not np.isnan(batch["best_q"][0]).any()
-    assert batch["failure_reason"] == ["out_of_reach", None]
+    assert batch["failure_reason"] == ["unreachable", None]
 
 
 def test_trajectory_is_continuous_and_on_target(left):

@@ -5,10 +5,51 @@
 //! selection: a joint solution to planning grasps and manipulative motion trajectories",
 //! IROS 2016).
 //!
-//! The modules follow the pipeline: [`geometry`] (poses), [`robot`] (chains, forward and
-//! inverse kinematics), [`cloud`] (point clouds and their surface features), [`grasp`] (hand
-//! models and the learned one-shot grasp model), [`manipulability`] (indices and their norms
-//! along a path).
+//! ## The pipeline
+//!
+//! The modules follow the data, and each imports only the modules before it in this list:
+//!
+//! 1. [`geometry`] — poses (`a_from_b` transforms, the one pose syntax of every input file
+//!    [`geometry::PoseSpec`]), SE(3) logarithm and exponential, interpolation;
+//! 2. [`failure`] — why something failed, one spelling everywhere;
+//! 3. [`robot`] — serial chains (built-in Baxter or URDF), forward kinematics and the geometric
+//!    Jacobian, inverse kinematics of one pose and of a whole trajectory;
+//! 4. [`cloud`] — point clouds (PLY, PCD, meshes, primitives) and their surface features;
+//! 5. [`grasp`] — grasp candidates (wrist poses in the object frame with likelihoods) from
+//!    files, parametric families or the learned one-shot grasp model;
+//! 6. [`task`] — [`task::Task`]: the arms, the candidates, the object's path after the grasp
+//!    and every setting, built and checked by [`task::TaskBuilder`] or read from a task file;
+//! 7. [`manipulability`] — the classical indices, the task-relevant index
+//!    `M_T = uᵀ J Jᵀ u` and its norms along the path;
+//! 8. [`select`] — every candidate scored along the path for each arm (wrist trajectory,
+//!    trajectory IK, `M_T` per sample, norms), ranked, and paired for two arms. Each result
+//!    carries its candidate.
+//!
+//! Reports (JSON, figures, the HTML 3D view) are in the `graspath-report` crate; the `graspath`
+//! binary and the Python bindings are thin layers over these two.
+//!
+//! ## Example
+//!
+//! ```
+//! use graspath::grasp::edge_family;
+//! use graspath::robot::builtin::{baxter, Arm};
+//! use graspath::select::select;
+//! use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
+//! use nalgebra::{Isometry3, Vector3};
+//!
+//! let shape = ObjectShape::Box { size: [0.06, 0.40, 0.10] };
+//! let lift = TimedStep::new("lift", Step::translation(Vector3::new(0.0, 0.0, 0.2)));
+//! let task = Task::builder("lift a box")
+//!     .arm("left", baxter(Arm::Left), Isometry3::identity())
+//!     .shape(shape)
+//!     .candidates(edge_family(&shape, 5, 0.02, 0.02).unwrap())
+//!     .object_motion(Isometry3::translation(0.75, 0.0, -0.1), vec![lift], Sampling::PerStep(5))
+//!     .build()
+//!     .unwrap();
+//! let selection = select(&task, &|| {});
+//! let best = selection.arms[0].best().expect("a feasible grasp");
+//! println!("grasp {}", selection.arms[0].scores[best].candidate.label);
+//! ```
 //!
 //! Units are metres, radians and seconds. A transform is named `a_from_b`: it maps coordinates
 //! in frame `b` to frame `a`.

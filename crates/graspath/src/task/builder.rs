@@ -27,14 +27,14 @@ pub struct ArmSetup {
 ///
 /// ```
 /// use graspath::grasp::edge_family;
-/// use graspath::robot::builtin::{baxter_chain, Arm};
+/// use graspath::robot::builtin::{baxter, Arm};
 /// use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
 /// use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 ///
 /// let shape = ObjectShape::Box { size: [0.06, 0.40, 0.10] };
 /// let lift = TimedStep::new("lift", Step::translation(Vector3::new(0.0, 0.0, 0.2)));
 /// let task = Task::builder("pick")
-///     .arm("left", baxter_chain(Arm::Left).unwrap(), Isometry3::identity())
+///     .arm("left", baxter(Arm::Left), Isometry3::identity())
 ///     .shape(shape)
 ///     .candidates(edge_family(&shape, 5, 0.02, 0.02).unwrap())
 ///     .object_motion(

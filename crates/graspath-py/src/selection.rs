@@ -3,7 +3,8 @@
 
 use crate::convert::{array, error, json_to_py};
 use crate::task::PyTask;
-use graspath::report::{candidates_json, pairs_json, summary_json, write_files_atomically};
+use graspath::fsutil::{write_files, Existing};
+use graspath::report::{candidates_json, pairs_json, summary_json};
 use graspath::select::{select as run_selection, Norm, Selection, Task};
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -184,8 +185,8 @@ impl PySelection {
     }
 
     /// Writes ``candidates.json``, ``summary.json`` and, with two arms, ``pairs.json`` into
-    /// ``out_dir`` (created if missing), byte for byte as ``graspath select --out`` does; each
-    /// file appears whole or not at all. Returns the paths written.
+    /// ``out_dir`` (created if missing; an existing non-empty folder is refused), byte for byte as
+    /// ``graspath select --out`` does; the files appear together or not at all. Returns the paths written.
     fn write(&self, out_dir: PathBuf) -> PyResult<Vec<PathBuf>> {
         let mut files = vec![
             (
@@ -203,7 +204,7 @@ impl PySelection {
                 pretty(&pairs_json(&self.task, &self.selection))?,
             ));
         }
-        write_files_atomically(&out_dir, &files).map_err(error)
+        write_files(&out_dir, &files, Existing::Refuse).map_err(error)
     }
 
     /// The norm used for ranking: ``"l2"`` or ``"l1"``.

@@ -517,9 +517,8 @@ pub fn write_files(
         }
         match found {
             Found::Folder(_) => replace_folder(&staging.path, dir)?,
-            _ => std::fs::rename(&staging.path, dir).map_err(|e| {
-                OutputError::io(dir, "rename the temporary folder onto it", e)
-            })?,
+            _ => std::fs::rename(&staging.path, dir)
+                .map_err(|e| OutputError::io(dir, "rename the temporary folder onto it", e))?,
         }
         staging.keep = true;
         sync_folder(&parent).map_err(|e| OutputError::io(dir, "flush its parent folder", e))?;

@@ -1,9 +1,9 @@
 //! `graspath ik`: inverse kinematics of single poses (JSON Lines) or of a whole trajectory
 //! (one JSON document).
 
+use crate::bad_input;
 use crate::jsonl::{for_each_line, open_input, source_name};
 use crate::robot_args::RobotArgs;
-use crate::bad_input;
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::geometry::pose_from_rows;
@@ -134,7 +134,9 @@ pub fn run(args: &IkArgs) -> Result<()> {
             })
             .collect::<Result<Vec<Isometry3<f64>>>>()?;
         if poses.is_empty() {
-            return Err(bad_input!("{source}: field 'poses': the trajectory has no poses"));
+            return Err(bad_input!(
+                "{source}: field 'poses': the trajectory has no poses"
+            ));
         }
         let trajectory_options = TrajectoryIkOptions {
             ik: IkOptions {

@@ -9,7 +9,11 @@ fn tree(dir: &Path) -> Vec<String> {
         for entry in std::fs::read_dir(dir).expect("list") {
             let entry = entry.expect("entry");
             let path = entry.path();
-            let relative = path.strip_prefix(root).expect("inside").display().to_string();
+            let relative = path
+                .strip_prefix(root)
+                .expect("inside")
+                .display()
+                .to_string();
             let file_type = std::fs::symlink_metadata(&path).expect("stat").file_type();
             if file_type.is_dir() {
                 out.push(format!("{relative}/"));
@@ -116,7 +120,10 @@ fn files_and_folders_are_not_taken_for_each_other() {
         }
     ));
     let err = write_file(&file.join("below"), b"x", Existing::Replace).expect_err("under a file");
-    assert!(matches!(err.kind, OutputErrorKind::ParentNotFolder), "{err}");
+    assert!(
+        matches!(err.kind, OutputErrorKind::ParentNotFolder),
+        "{err}"
+    );
     assert_eq!(tree(dir.path()), ["f"]);
 }
 
@@ -169,11 +176,17 @@ fn an_empty_folder_is_filled_and_a_full_one_replaced_only_when_allowed() {
         .expect_err("not empty");
     assert!(matches!(err.kind, OutputErrorKind::FolderNotEmpty(_)));
     assert!(err.to_string().contains("--force"), "{err}");
-    assert_eq!(std::fs::read(out.join("candidates.json")).expect("read"), b"1");
+    assert_eq!(
+        std::fs::read(out.join("candidates.json")).expect("read"),
+        b"1"
+    );
     // Replacing drops the earlier run's pairs.json: nothing stale mixes with the new set.
     write_files(&out, &set(&[("candidates.json", "2")]), Existing::Replace).expect("replace");
     assert_eq!(tree(dir.path()), ["out/", "out/candidates.json"]);
-    assert_eq!(std::fs::read(out.join("candidates.json")).expect("read"), b"2");
+    assert_eq!(
+        std::fs::read(out.join("candidates.json")).expect("read"),
+        b"2"
+    );
 }
 
 #[test]
@@ -189,15 +202,17 @@ fn a_failed_set_leaves_nothing_behind() {
     // The same failure over an existing folder keeps the old contents.
     let old = dir.path().join("old");
     write_files(&old, &set(&[("keep", "k")]), Existing::Refuse).expect("seed");
-    write_files(&old, &set(&[("a", "1"), ("a/b", "2")]), Existing::Replace)
-        .expect_err("collision");
+    write_files(&old, &set(&[("a", "1"), ("a/b", "2")]), Existing::Replace).expect_err("collision");
     assert_eq!(tree(dir.path()), ["old/", "old/keep"]);
     for bad in ["", "/abs", "../up", "a/../b", "."] {
         let err = write_files(&out, &set(&[(bad, "x")]), Existing::Refuse).expect_err(bad);
-        assert!(matches!(err.kind, OutputErrorKind::BadName(_)), "{bad}: {err}");
+        assert!(
+            matches!(err.kind, OutputErrorKind::BadName(_)),
+            "{bad}: {err}"
+        );
     }
-    let err = write_files(&out, &set(&[("x", "1"), ("x", "2")]), Existing::Refuse)
-        .expect_err("twice");
+    let err =
+        write_files(&out, &set(&[("x", "1"), ("x", "2")]), Existing::Refuse).expect_err("twice");
     assert!(matches!(err.kind, OutputErrorKind::DuplicateName(_)));
     assert_eq!(tree(dir.path()), ["old/", "old/keep"]);
 }

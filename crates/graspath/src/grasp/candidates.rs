@@ -5,12 +5,31 @@
 //! bare list; each candidate has `object_from_wrist` (4×4 row-major) or `xyz` + `quaternion`
 //! (`[x, y, z, w]`), and optionally `id`, `label`, `likelihood` or `log_likelihood`, `contact`
 //! (`[x, y, z]` or null) and `hand_joints`. CSV: a header with `x,y,z,qx,qy,qz,qw` and
-//! optionally `id,label,likelihood|log_likelihood,contact_x,contact_y,contact_z`.
+//! optionally `id,label,likelihood|log_likelihood,contact_x,contact_y,contact_z` and
+//! `hand_joints` (numbers separated by spaces or `;`).
+//!
+//! Checked, with an error naming the file, the candidate (`candidates[3]` or `line 7`) and the
+//! field: every number finite; a quaternion's norm within [`QUATERNION_NORM_TOLERANCE`] of 1
+//! (then normalised), a matrix orthonormal (see [`crate::geometry::ROTATION_TOLERANCE`]); wrist
+//! and contact positions within [`MAX_OFFSET`] of the object origin; ids unique; the file at
+//! most [`MAX_FILE_BYTES`] long (the number of candidates is what the file holds).
 
 use crate::geometry::{pose_from_rows, quaternion_xyzw};
 use nalgebra::{Isometry3, Point3, Translation3};
 use serde::Deserialize;
+use std::io::Read;
 use std::path::Path;
+
+/// How far the norm of a candidate's quaternion may be from 1: enough for values printed with
+/// four decimals or stored as `f32`; a larger deviation is an error, not silently normalised.
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-4;
+
+/// The largest distance (m) of a wrist or contact coordinate from the object origin: a grasp
+/// holds the object, so a larger value is a unit mistake (millimetres) or a corrupt file.
+pub const MAX_OFFSET: f64 = 10.0;
+
+/// The largest candidate file read (bytes, 1 GiB: about five million JSON candidates).
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// One grasp candidate.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,13 +67,6 @@ pub struct CandidateError {
     pub location: String,
     /// What is wrong.
     pub message: String,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum Document {
-    Wrapped(Wrapped),
-    Bare(Vec<serde_json::Value>),
 }
 
 #[derive(Debug, Deserialize)]
@@ -120,6 +132,15 @@ impl Raw {
                         "must be a finite non-zero [x, y, z, w]".to_string(),
                     )
                 })?;
+                let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
+                    return Err((
+                        "quaternion".into(),
+                        format!(
+                            "its norm is {norm:.6}, not 1 (tolerance {QUATERNION_NORM_TOLERANCE}); give a unit quaternion [x, y, z, w]"
+                        ),
+                    ));
+                }
                 Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation)
             }
             _ => {
@@ -129,6 +150,12 @@ impl Raw {
                 ))
             }
         };
+        let field = if self.matrix.is_some() {
+            "object_from_wrist"
+        } else {
+            "xyz"
+        };
+        check_offset(field, &pose.translation.vector.into())?;
         let log_likelihood = match (self.likelihood, self.log_likelihood) {
             (Some(_), Some(_)) => {
                 return Err((
@@ -157,9 +184,15 @@ impl Raw {
             Some(c) if c.iter().any(|v| !v.is_finite()) => {
                 return Err(("contact".into(), "not finite".into()))
             }
-            Some(c) => Some(Point3::new(c[0], c[1], c[2])),
+            Some(c) => {
+                check_offset("contact", &c)?;
+                Some(Point3::new(c[0], c[1], c[2]))
+            }
             None => None,
         };
+        if self.hand_joints.iter().any(|v| !v.is_finite()) {
+            return Err(("hand_joints".into(), "not finite".into()));
+        }
         let id = self.id.unwrap_or(index);
         Ok(Candidate {
             id,
@@ -172,6 +205,20 @@ impl Raw {
     }
 }
 
+/// Refuses a position with a coordinate beyond ±[`MAX_OFFSET`].
+fn check_offset(field: &str, xyz: &[f64; 3]) -> Result<(), (String, String)> {
+    let farthest = xyz.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if farthest > MAX_OFFSET {
+        return Err((
+            field.to_string(),
+            format!(
+                "a coordinate is {farthest} m from the object origin; more than {MAX_OFFSET} m is refused (are the units metres?)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Reads candidates from a `.json` or `.csv` file (by extension; others are tried as JSON).
 /// Refuses an empty set and duplicate ids.
 pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
@@ -181,32 +228,68 @@ pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
         location,
         message,
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| error("file".into(), format!("cannot read: {e}")))?;
+    let text = read_text(path).map_err(|m| error("file".into(), m))?;
     let is_csv = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let candidates = if is_csv {
+    let located = if is_csv {
         parse_csv(&text).map_err(|(l, m)| error(l, m))?
     } else {
         parse_json(&text).map_err(|(l, m)| error(l, m))?
     };
-    if candidates.is_empty() {
+    if located.is_empty() {
         return Err(error("file".into(), "contains no candidates".into()));
     }
-    let mut ids: Vec<usize> = candidates.iter().map(|c| c.id).collect();
-    ids.sort_unstable();
-    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
-        return Err(error("id".into(), format!("id {} is used twice", w[0])));
+    let mut first_use = std::collections::HashMap::with_capacity(located.len());
+    for (location, candidate) in &located {
+        if let Some(earlier) = first_use.insert(candidate.id, location) {
+            return Err(error(
+                location.clone(),
+                format!("id {} is used twice (also by {earlier})", candidate.id),
+            ));
+        }
     }
-    Ok(candidates)
+    Ok(located.into_iter().map(|(_, c)| c).collect())
 }
 
-fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
-    let document: Document = serde_json::from_str(text)
+/// The file's text, at most [`MAX_FILE_BYTES`] long (also for pipes and devices).
+fn read_text(path: &Path) -> Result<String, String> {
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    if let Ok(metadata) = file.metadata() {
+        if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
+            return Err(too_large(metadata.len()));
+        }
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+fn too_large(bytes: u64) -> String {
+    format!("is larger than {MAX_FILE_BYTES} bytes (at least {bytes}); split the candidates into several files")
+}
+
+/// Candidates with where each one is in its file (`candidates[3]`, `line 7`).
+type Located = Vec<(String, Candidate)>;
+
+fn parse_json(text: &str) -> Result<Located, (String, String)> {
+    let document: serde_json::Value = serde_json::from_str(text)
         .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
     let entries = match document {
-        Document::Wrapped(w) => {
+        serde_json::Value::Array(list) => list,
+        object @ serde_json::Value::Object(_) => {
+            let w: Wrapped = serde_json::from_value(object)
+                .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
             if let Some(format) = &w.format {
                 if format != "graspath-candidates" {
                     return Err((
@@ -233,15 +316,21 @@ fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
             }
             w.candidates
         }
-        Document::Bare(list) => list,
+        _ => {
+            return Err((
+                "file".into(),
+                "not a candidate document: expected an object with 'candidates' or a list".into(),
+            ))
+        }
     };
     entries
         .into_iter()
         .enumerate()
         .map(|(i, value)| {
-            let entry: Entry = serde_json::from_value(value)
-                .map_err(|e| (format!("candidates[{i}]"), e.to_string()))?;
-            Raw {
+            let location = format!("candidates[{i}]");
+            let entry: Entry =
+                serde_json::from_value(value).map_err(|e| (location.clone(), e.to_string()))?;
+            let candidate = Raw {
                 id: entry.id,
                 label: entry.label,
                 matrix: entry.object_from_wrist,
@@ -253,12 +342,13 @@ fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
                 hand_joints: entry.hand_joints,
             }
             .into_candidate(i)
-            .map_err(|(field, message)| (format!("candidates[{i}].{field}"), message))
+            .map_err(|(field, message)| (format!("{location}.{field}"), message))?;
+            Ok((location, candidate))
         })
         .collect()
 }
 
-fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
+fn parse_csv(text: &str) -> Result<Located, (String, String)> {
     const KNOWN: [&str; 16] = [
         "id",
         "label",
@@ -295,8 +385,14 @@ fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
     }
     let mut candidates = Vec::new();
     for (i, record) in reader.records().enumerate() {
-        let line = format!("line {}", i + 2);
-        let record = record.map_err(|e| (line.clone(), e.to_string()))?;
+        let record = record.map_err(|e| {
+            let line = e.position().map_or(i + 2, |p| p.line() as usize);
+            (format!("line {line}"), e.to_string())
+        })?;
+        let line = format!(
+            "line {}",
+            record.position().map_or(i + 2, |p| p.line() as usize)
+        );
         let number = |name: &str| -> Result<Option<f64>, (String, String)> {
             match column(name).and_then(|c| record.get(c)) {
                 None | Some("") => Ok(None),
@@ -346,12 +442,26 @@ fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
             likelihood: number("likelihood")?,
             log_likelihood: number("log_likelihood")?,
             contact,
-            hand_joints: Vec::new(),
+            hand_joints: match column("hand_joints").and_then(|c| record.get(c)) {
+                None => Vec::new(),
+                Some(text) => text
+                    .split(|c: char| c.is_whitespace() || c == ';')
+                    .filter(|v| !v.is_empty())
+                    .map(|v| {
+                        v.parse::<f64>().map_err(|_| {
+                            (
+                                line.clone(),
+                                format!("column 'hand_joints': '{v}' is not a number"),
+                            )
+                        })
+                    })
+                    .collect::<Result<Vec<f64>, _>>()?,
+            },
         };
-        candidates.push(
-            raw.into_candidate(i)
-                .map_err(|(field, message)| (line.clone(), format!("{field}: {message}")))?,
-        );
+        let candidate = raw
+            .into_candidate(i)
+            .map_err(|(field, message)| (line.clone(), format!("{field}: {message}")))?;
+        candidates.push((line, candidate));
     }
     Ok(candidates)
 }
@@ -446,10 +556,11 @@ mod tests {
             "d.json",
             r#"[{"id":1,"xyz":[0,0,0],"quaternion":[0,0,0,1]},{"id":1,"xyz":[0,0,0],"quaternion":[0,0,0,1]}]"#,
         );
-        assert!(read_candidates(&dup)
-            .unwrap_err()
-            .to_string()
-            .contains("id 1 is used twice"));
+        let err = read_candidates(&dup).unwrap_err();
+        assert_eq!(err.location, "candidates[1]");
+        assert!(err
+            .message
+            .contains("id 1 is used twice (also by candidates[0])"));
         let skew = write(
             &dir,
             "s.json",
@@ -459,5 +570,126 @@ mod tests {
             .unwrap_err()
             .message
             .contains("not orthonormal"));
+    }
+
+    #[test]
+    fn a_quaternion_must_be_unit_within_the_stated_tolerance() {
+        let dir = tempfile::tempdir().unwrap();
+        // Half a tolerance off: accepted, and the rotation is the normalised quaternion's.
+        let (x, w) = (0.6_f64, 0.8_f64);
+        let scale = 1.0 + QUATERNION_NORM_TOLERANCE / 2.0;
+        let near = write(
+            &dir,
+            "near.json",
+            &format!(
+                r#"[{{"xyz":[0,0,0],"quaternion":[{},0,0,{}]}}]"#,
+                x * scale,
+                w * scale
+            ),
+        );
+        let c = read_candidates(&near).unwrap();
+        let angle = c[0].object_from_wrist.rotation.angle();
+        assert!((angle - 2.0 * x.atan2(w)).abs() < 1e-12, "{angle}");
+        // Twice the tolerance off, in JSON and in CSV: an error naming the candidate and field.
+        let scale = 1.0 + 2.0 * QUATERNION_NORM_TOLERANCE;
+        let far = write(
+            &dir,
+            "far.json",
+            &format!(
+                r#"[{{"xyz":[0,0,0],"quaternion":[0,0,0,1]}},{{"xyz":[0,0,0],"quaternion":[0,0,0,{scale}]}}]"#
+            ),
+        );
+        let err = read_candidates(&far).unwrap_err();
+        assert_eq!(err.location, "candidates[1].quaternion");
+        assert!(err.message.contains("not 1"), "{err}");
+        let csv = write(
+            &dir,
+            "far.csv",
+            "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,0,0,0,0,2\n",
+        );
+        let err = read_candidates(&csv).unwrap_err();
+        assert_eq!(err.location, "line 3");
+        assert!(
+            err.message.contains("quaternion: its norm is 2.000000"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn absurd_or_non_finite_values_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases = [
+            (
+                "far.json",
+                r#"[{"xyz":[1e300,0,0],"quaternion":[0,0,0,1]}]"#,
+                "candidates[0].xyz",
+            ),
+            (
+                "mm.json",
+                r#"[{"object_from_wrist":[[1,0,0,150],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]"#,
+                "candidates[0].object_from_wrist",
+            ),
+            (
+                "contact.json",
+                r#"[{"xyz":[0,0,0],"quaternion":[0,0,0,1],"contact":[0,-11,0]}]"#,
+                "candidates[0].contact",
+            ),
+            (
+                "nan.csv",
+                "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\nNaN,0,0,0,0,0,1\n",
+                "line 3",
+            ),
+            (
+                "joints.csv",
+                "x,y,z,qx,qy,qz,qw,hand_joints\n0,0,0,0,0,0,1,0.01 inf\n",
+                "line 2",
+            ),
+            ("wrapped.json", r#"{"candidates":[],"units":"mm"}"#, "file"),
+            ("scalar.json", "42", "file"),
+        ];
+        for (name, text, location) in cases {
+            let err = read_candidates(&write(&dir, name, text)).unwrap_err();
+            assert_eq!(err.location, location, "{name}: {err}");
+            assert!(err.file.ends_with(name));
+        }
+        let err = read_candidates(&dir.path().join("far.json")).unwrap_err();
+        assert!(err.message.contains("are the units metres?"), "{err}");
+        let err = read_candidates(&dir.path().join("wrapped.json")).unwrap_err();
+        assert!(err.message.contains("unknown field `units`"), "{err}");
+    }
+
+    #[test]
+    fn csv_hand_joints_are_read_and_line_numbers_count_quoted_newlines() {
+        let dir = tempfile::tempdir().unwrap();
+        let csv = write(
+            &dir,
+            "h.csv",
+            "label,x,y,z,qx,qy,qz,qw,hand_joints\n\"two\nlines\",0,0,0,0,0,0,1,0.01 0.02;0.03\nb,0,0,0,0,0,0,oops,\n",
+        );
+        let err = read_candidates(&csv).unwrap_err();
+        assert_eq!(err.location, "line 4", "{err}");
+        let ok = write(
+            &dir,
+            "ok.csv",
+            "x,y,z,qx,qy,qz,qw,hand_joints\n0,0,0,0,0,0,1,0.01 0.02;0.03\n",
+        );
+        assert_eq!(
+            read_candidates(&ok).unwrap()[0].hand_joints,
+            [0.01, 0.02, 0.03]
+        );
+    }
+
+    #[test]
+    fn a_file_over_the_size_limit_is_refused_before_it_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("huge.json");
+        // A sparse file: no disk space is used and nothing is read.
+        std::fs::File::create(&path)
+            .unwrap()
+            .set_len(MAX_FILE_BYTES + 1)
+            .unwrap();
+        let err = read_candidates(&path).unwrap_err();
+        assert_eq!(err.location, "file");
+        assert!(err.message.contains("is larger than"), "{err}");
     }
 }

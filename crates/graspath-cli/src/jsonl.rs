@@ -1,5 +1,6 @@
 //! Reading JSON Lines input (a file or stdin) with errors that name the line.
 
+use crate::bad_input;
 use anyhow::{Context, Result};
 use serde::de::DeserializeOwned;
 use std::io::{BufRead, BufReader};
@@ -9,8 +10,8 @@ use std::path::Path;
 pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead>> {
     match path {
         Some(p) if p != Path::new("-") => {
-            let file =
-                std::fs::File::open(p).with_context(|| format!("{}: cannot open", p.display()))?;
+            let file = std::fs::File::open(p)
+                .map_err(|e| bad_input!("{}: cannot open: {e}", p.display()))?;
             Ok(Box::new(BufReader::new(file)))
         }
         _ => Ok(Box::new(BufReader::new(std::io::stdin()))),
@@ -26,12 +27,12 @@ pub fn for_each_line<T: DeserializeOwned>(
 ) -> Result<()> {
     for (index, line) in input.lines().enumerate() {
         let number = index + 1;
-        let line = line.with_context(|| format!("{source}: line {number}: cannot read"))?;
+        let line = line.map_err(|e| bad_input!("{source}: line {number}: cannot read: {e}"))?;
         if line.trim().is_empty() {
             continue;
         }
         let value: T = serde_json::from_str(&line)
-            .with_context(|| format!("{source}: line {number}: not a valid input object"))?;
+            .map_err(|e| bad_input!("{source}: line {number}: not a valid input object: {e}"))?;
         each(number, value).with_context(|| format!("{source}: line {number}"))?;
     }
     Ok(())

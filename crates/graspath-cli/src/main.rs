@@ -2,6 +2,7 @@
 //! manipulation task well.
 
 mod commands;
+mod exit;
 mod jsonl;
 mod output;
 mod robot_args;
@@ -11,7 +12,7 @@ use std::process::ExitCode;
 
 /// Task-relevant grasp selection (Ghalamzan et al., IROS 2016) and the kinematics behind it.
 #[derive(Debug, Parser)]
-#[command(name = "graspath", version, about, long_about = None)]
+#[command(name = "graspath", version, about, long_about = None, after_help = exit::TABLE)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -33,21 +34,32 @@ enum Command {
     Generate(commands::generate::GenerateArgs),
 }
 
+/// How a run that did not fail ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Finished {
+    /// Everything asked for was done.
+    Done,
+    /// `select` wrote its results but selected nothing (exit code 3).
+    NothingSelected,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let done = |r: anyhow::Result<()>| r.map(|()| Finished::Done);
     let result = match cli.command {
-        Command::Kinematics(args) => commands::kinematics::run(&args),
+        Command::Kinematics(args) => done(commands::kinematics::run(&args)),
         Command::Select(args) => commands::select::run(&args),
-        Command::Demo(args) => commands::demo::run(&args),
-        Command::Ik(args) => commands::ik::run(&args),
-        Command::Train(args) => commands::train::run(&args),
-        Command::Generate(args) => commands::generate::run(&args),
+        Command::Demo(args) => done(commands::demo::run(&args)),
+        Command::Ik(args) => done(commands::ik::run(&args)),
+        Command::Train(args) => done(commands::train::run(&args)),
+        Command::Generate(args) => done(commands::generate::run(&args)),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
+    ExitCode::from(match result {
+        Ok(Finished::Done) => exit::SUCCESS,
+        Ok(Finished::NothingSelected) => exit::NOTHING_SELECTED,
         Err(error) => {
             eprintln!("graspath: error: {error:#}");
-            ExitCode::FAILURE
+            exit::code_of(&error)
         }
-    }
+    })
 }

@@ -12,9 +12,9 @@ macro_rules! say {
 use clap::Args;
 use graspath::select::Selection;
 use graspath::task::Task;
+use graspath_report::nothing_selected;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-use std::path::Path;
 use std::time::Duration;
 
 /// Output switches shared by the long-running subcommands.
@@ -52,13 +52,7 @@ fn number(v: Option<f64>) -> String {
 }
 
 /// The one-screen summary: per arm the best five candidates and the failures by reason.
-pub fn print_summary_table(
-    task: &Task,
-    selection: &Selection,
-    title: &str,
-    elapsed: Duration,
-    out: &Path,
-) {
+pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elapsed: Duration) {
     say!(
         "{title}: {} candidates x {} arm(s), {} samples, {:.3} s",
         task.candidates.len(),
@@ -126,5 +120,7 @@ pub fn print_summary_table(
             best.score
         );
     }
-    say!("  wrote {}", out.display());
+    if nothing_selected(selection) {
+        say!("  nothing selected: no feasible candidate (two arms: no valid pair)");
+    }
 }

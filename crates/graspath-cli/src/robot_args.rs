@@ -1,6 +1,7 @@
 //! The options that choose a robot chain, shared by the kinematics subcommands.
 
-use anyhow::{bail, Context, Result};
+use crate::bad_input;
+use anyhow::Result;
 use clap::Args;
 use graspath::robot::builtin::{baxter, baxter_with_tool, Arm};
 use graspath::robot::{Chain, UrdfRobot};
@@ -41,10 +42,14 @@ impl RobotArgs {
         let xyz = self.tool_xyz.clone().unwrap_or_else(|| vec![0.0; 3]);
         let rpy = self.tool_rpy.clone().unwrap_or_else(|| vec![0.0; 3]);
         if xyz.len() != 3 || rpy.len() != 3 {
-            bail!("--tool-xyz / --tool-rpy: give three comma-separated numbers, e.g. 0,0,0.1");
+            return Err(bad_input!(
+                "--tool-xyz / --tool-rpy: give three comma-separated numbers, e.g. 0,0,0.1"
+            ));
         }
         if xyz.iter().chain(&rpy).any(|v| !v.is_finite()) {
-            bail!("--tool-xyz / --tool-rpy: values must be finite numbers");
+            return Err(bad_input!(
+                "--tool-xyz / --tool-rpy: values must be finite numbers"
+            ));
         }
         Ok(Some(Isometry3::from_parts(
             Translation3::new(xyz[0], xyz[1], xyz[2]),
@@ -58,19 +63,19 @@ impl RobotArgs {
         match (&self.urdf, &self.robot) {
             (Some(path), None) => {
                 let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
-                    bail!("--urdf needs --base LINK and --tip LINK");
+                    return Err(bad_input!("--urdf needs --base LINK and --tip LINK"));
                 };
                 Ok(UrdfRobot::from_file(path)?.chain(base, tip, tool)?)
             }
             (None, Some(name)) if name == "baxter" => {
-                let arm: Arm = self.arm.parse().map_err(anyhow::Error::msg).context("--arm")?;
+                let arm: Arm = self.arm.parse().map_err(|e| bad_input!("--arm: {e}"))?;
                 Ok(match tool {
                     Some(tool) => baxter_with_tool(arm, tool)?,
                     None => baxter(arm),
                 })
             }
-            (None, Some(other)) => bail!("--robot: unknown built-in robot '{other}' (built in: baxter)"),
-            _ => bail!("choose a robot: --robot baxter --arm left|right, or --urdf FILE --base LINK --tip LINK"),
+            (None, Some(other)) => Err(bad_input!("--robot: unknown built-in robot '{other}' (built in: baxter)")),
+            _ => Err(bad_input!("choose a robot: --robot baxter --arm left|right, or --urdf FILE --base LINK --tip LINK")),
         }
     }
 }

@@ -284,7 +284,9 @@ fn an_unreachable_task_is_a_result_not_an_error() {
         None,
         None,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    // Nothing selected: exit code 3, the results written all the same.
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("nothing selected"), "{}", stderr(&o));
     let candidates: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("candidates.json")).unwrap()).unwrap();
     for c in candidates.as_array().unwrap() {
@@ -295,6 +297,26 @@ fn an_unreachable_task_is_a_result_not_an_error() {
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
     assert!(summary["arms"][0]["selected"].is_null());
+    assert_eq!(summary["nothing_selected"], true);
+    // --allow-empty: exit 0 with the same files (--force replaces the first run's folder).
+    let o = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--force",
+            "--allow-empty",
+        ],
+        None,
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let again: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(again, summary);
 }
 
 #[test]

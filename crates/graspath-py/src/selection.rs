@@ -3,9 +3,10 @@
 
 use crate::convert::{array, error, json_to_py};
 use crate::task::PyTask;
+use graspath::fsutil::{write_files, Existing};
 use graspath::select::{select as run_selection, Selection};
 use graspath::task::{Norm, Task};
-use graspath_report::{candidates_json, pairs_json, summary_json, write_files_atomically};
+use graspath_report::{candidates_json, pairs_json, summary_json};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -178,8 +179,8 @@ impl PySelection {
     }
 
     /// Writes ``candidates.json``, ``summary.json`` and, with two arms, ``pairs.json`` into
-    /// ``out_dir`` (created if missing), byte for byte as ``graspath select --out`` does; each
-    /// file appears whole or not at all. Returns the paths written.
+    /// ``out_dir`` (created if missing; an existing non-empty folder is refused), byte for byte as
+    /// ``graspath select --out`` does; the files appear together or not at all. Returns the paths written.
     fn write(&self, out_dir: PathBuf) -> PyResult<Vec<PathBuf>> {
         let mut files = vec![
             (
@@ -197,7 +198,7 @@ impl PySelection {
                 pretty(&pairs_json(&self.selection))?,
             ));
         }
-        write_files_atomically(&out_dir, &files).map_err(error)
+        write_files(&out_dir, &files, Existing::Refuse).map_err(error)
     }
 
     /// The norm used for ranking: ``"l2"`` or ``"l1"``.

@@ -127,6 +127,18 @@ fn mode_json(mode: JacobianRows) -> Value {
     }
 }
 
+/// True when the task selected nothing: with one arm, no candidate is ranked (none is feasible,
+/// or every feasible one is rejected by `mu0`); with two arms, no valid pair exists. The CLI's
+/// `select` then exits with code 3 (unless `--allow-empty`), and `summary.json` says so in
+/// `nothing_selected`.
+pub fn nothing_selected(selection: &Selection) -> bool {
+    if selection.arms.len() == 2 {
+        selection.pairs.is_empty()
+    } else {
+        selection.arms.iter().all(|arm| arm.best().is_none())
+    }
+}
+
 /// `summary.json`: the task in brief and the selected grasp per arm (and pair).
 pub fn summary_json(task: &Task, selection: &Selection) -> Value {
     let arms: Vec<Value> = selection
@@ -171,5 +183,6 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         "mu0": task.selection.mu0,
         "arms": arms,
         "best_pair": pairs.as_array().and_then(|p| p.first().cloned()),
+        "nothing_selected": nothing_selected(selection),
     })
 }

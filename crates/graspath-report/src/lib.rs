@@ -1,21 +1,19 @@
 //! Reports of a selection: JSON of every candidate with every score, the ranked pairs and a
 //! summary; the paper's figures as SVG and PNG plots; a self-contained HTML page with a 3D view.
-//! Everything is rendered in memory first and then written atomically (no partial output on
-//! error).
+//! Everything is rendered in memory; [`graspath::fsutil::write_files`] writes the set atomically
+//! (no partial output on error).
 
 mod figures;
 mod html;
 mod json;
 mod plots;
 mod scene;
-mod write;
 
 pub use figures::{figures, Figure};
 pub use html::{render_report, report_html, Inline, INLINE_SVG_MAX_CELLS};
-pub use json::{candidates_json, pairs_json, summary_json};
+pub use json::{candidates_json, nothing_selected, pairs_json, summary_json};
 pub use plots::{
     render_png, render_svg, viridis, Cell, Heatmap, Line, LinePlot, Plot, PlotError, HEATMAP_SIZE,
     LINE_SIZE, MARKED_COLOUR, MISSING_COLOUR,
 };
 pub use scene::scene_json;
-pub use write::{write_files_atomically, ReportError};

@@ -6,9 +6,10 @@
 //! Skipped with a message when Chromium is not installed, except under CI (`CI` set), where
 //! `.ci/run` installs it and its absence is a failure.
 
+use graspath::fsutil::{write_files, Existing};
 use graspath::select::select;
 use graspath::task::Task;
-use graspath_report::{render_report, write_files_atomically};
+use graspath_report::render_report;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -90,7 +91,7 @@ fn the_report_passes_its_self_test_in_headless_chromium() {
     let selection = select(&task, &|| {});
     let files = render_report(&task, &selection).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    write_files_atomically(dir.path(), &files).unwrap();
+    write_files(dir.path(), &files, Existing::Refuse).unwrap();
     let page = dir.path().join("report.html");
     let url = format!("file://{}", page.display());
 

@@ -1,48 +1,575 @@
-//! Writing files without ever leaving a partial one behind.
+//! Writing output — one file or a set of files — so that nothing is ever clobbered by accident
+//! or left half-written.
+//!
+//! The rules, the same for every writer of the library, the CLI and the Python bindings:
+//!
+//! * An output path that is a symbolic link, a device, a FIFO or a socket is refused: output is
+//!   never written through or over them (not even when replacing is allowed).
+//! * A single file is written to a fresh temporary file beside the target (same folder, hence
+//!   the same file system), flushed to disk, then renamed onto the target. An existing regular
+//!   file is replaced only with [`Existing::Replace`]; otherwise it is refused.
+//! * A set of files (an output folder) is written into a fresh temporary folder beside the
+//!   target, flushed, then moved into place with one rename: all files appear together or none
+//!   does, and files of an earlier run never mix with new ones. An existing empty folder is
+//!   replaced; an existing non-empty folder only with [`Existing::Replace`], which moves the old
+//!   folder aside, renames the new one in and only then deletes the old one (on a failure the
+//!   old folder is put back). The current folder, one of its ancestors and the home folder are
+//!   never replaced.
+//! * Missing parent folders are created, and removed again when the write fails. On any error
+//!   no temporary file or folder is left behind.
+//!
+//! Temporary names are hidden and carry the target's name, the process id and a counter:
+//! `.NAME.graspath-PID-N.tmp` (and `.NAME.graspath-PID-N.old` for a folder being replaced).
 
+use std::ffi::OsString;
+use std::fs::{File, OpenOptions};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Writes `bytes` to `path` through a temporary file in the same directory that is renamed
-/// over `path` once complete. On error the temporary file is removed and `path` is untouched.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
+/// What to do when the output path already holds a regular file (single-file output) or a
+/// non-empty folder (folder output).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Existing {
+    /// Refuse with [`OutputErrorKind::FileExists`] or [`OutputErrorKind::FolderNotEmpty`].
+    #[default]
+    Refuse,
+    /// Replace it atomically (the CLI's `--force`).
+    Replace,
+}
+
+impl Existing {
+    /// [`Existing::Replace`] when `force` is set, else [`Existing::Refuse`].
+    pub fn replace_if(force: bool) -> Self {
+        if force {
+            Self::Replace
+        } else {
+            Self::Refuse
+        }
+    }
+}
+
+/// Output could not be written: the output path and what is wrong with it.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {kind}", path.display())]
+pub struct OutputError {
+    /// The output path (the file or folder the caller asked for).
+    pub path: PathBuf,
+    /// What is wrong.
+    pub kind: OutputErrorKind,
+}
+
+/// What went wrong with an output path.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputErrorKind {
+    /// The path is a symbolic link.
+    #[error("is a symbolic link (to '{}'); output is never written through or over a link: give the real path", .0.display())]
+    Symlink(PathBuf),
+    /// The path is a device, FIFO or socket.
+    #[error("is a {0}, not a regular file or folder; choose another output path")]
+    Special(&'static str),
+    /// The path is a file where a folder is wanted, or a folder where a file is wanted.
+    #[error("is an existing {found}, but the output is a {wanted}; choose another path")]
+    WrongKind {
+        /// `file` or `folder`: what is there.
+        found: &'static str,
+        /// `file` or `folder`: what would be written.
+        wanted: &'static str,
+    },
+    /// A regular file exists and replacing was not allowed.
+    #[error("the file exists; use --force to replace it, or choose another path")]
+    FileExists,
+    /// A non-empty folder exists and replacing was not allowed.
+    #[error("the folder exists and is not empty (it holds '{0}'); use --force to replace it and everything in it, or choose another folder")]
+    FolderNotEmpty(String),
+    /// Replacing this folder would delete the working folder, one of its ancestors or the home
+    /// folder.
+    #[error("refusing to replace {0}; choose a new folder")]
+    Protected(&'static str),
+    /// A component of the path's parent is a file, not a folder.
+    #[error("a parent of this path is a file, not a folder; choose another path")]
+    ParentNotFolder,
+    /// A name in the set of files is not a plain relative path inside the folder.
+    #[error("'{0}' is not a relative file name inside the output folder")]
+    BadName(String),
+    /// The same name twice in the set of files.
+    #[error("'{0}' is given twice in the set of files")]
+    DuplicateName(String),
+    /// An operating-system error while writing.
+    #[error("cannot {action}: {error}")]
+    Io {
+        /// What was being done, naming the file involved.
+        action: String,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// Replacing an existing folder failed and the old folder could not be put back either.
+    #[error("cannot {action}: {error}; the previous contents are kept in '{}'", aside.display())]
+    NotRestored {
+        /// What was being done.
+        action: String,
+        /// The first error.
+        error: std::io::Error,
+        /// Where the previous contents are.
+        aside: PathBuf,
+    },
+    /// The new folder is in place but the previous contents could not be deleted.
+    #[error("the new output is in place, but the previous contents, moved to '{}', could not be deleted: {error}", aside.display())]
+    OldNotRemoved {
+        /// Where the previous contents are.
+        aside: PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+}
+
+impl OutputError {
+    fn new(path: &Path, kind: OutputErrorKind) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            kind,
+        }
+    }
+
+    fn io(path: &Path, action: impl Into<String>, error: std::io::Error) -> Self {
+        Self::new(
+            path,
+            OutputErrorKind::Io {
+                action: action.into(),
+                error,
+            },
+        )
+    }
+
+    /// True when the output path was refused before anything was written (a symbolic link, a
+    /// device, an existing file or folder, a bad name): the caller's choice is at fault. False
+    /// for an operating-system failure while writing.
+    pub fn is_refusal(&self) -> bool {
+        !matches!(
+            self.kind,
+            OutputErrorKind::Io { .. }
+                | OutputErrorKind::NotRestored { .. }
+                | OutputErrorKind::OldNotRemoved { .. }
+        )
+    }
+}
+
+/// What is at an output path now.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Found {
+    Nothing,
+    File,
+    EmptyFolder,
+    /// A folder and the name of one entry in it.
+    Folder(String),
+}
+
+fn inspect(path: &Path) -> Result<Found, OutputError> {
+    let metadata = match std::fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Found::Nothing),
+        Err(e) if e.kind() == std::io::ErrorKind::NotADirectory => {
+            return Err(OutputError::new(path, OutputErrorKind::ParentNotFolder))
+        }
+        Err(e) => return Err(OutputError::io(path, "inspect the output path", e)),
     };
-    let file_name = path
+    let file_type = metadata.file_type();
+    if file_type.is_symlink() {
+        let target = std::fs::read_link(path).unwrap_or_default();
+        return Err(OutputError::new(path, OutputErrorKind::Symlink(target)));
+    }
+    if file_type.is_file() {
+        return Ok(Found::File);
+    }
+    if file_type.is_dir() {
+        let mut entries = std::fs::read_dir(path)
+            .map_err(|e| OutputError::io(path, "list the existing folder", e))?;
+        return Ok(match entries.next() {
+            None => Found::EmptyFolder,
+            Some(entry) => Found::Folder(
+                entry
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .unwrap_or_else(|_| "?".into()),
+            ),
+        });
+    }
+    Err(OutputError::new(
+        path,
+        OutputErrorKind::Special(special_kind(&file_type)),
+    ))
+}
+
+#[cfg(unix)]
+fn special_kind(file_type: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if file_type.is_block_device() {
+        "block device"
+    } else if file_type.is_char_device() {
+        "character device"
+    } else if file_type.is_fifo() {
+        "FIFO (named pipe)"
+    } else if file_type.is_socket() {
+        "socket"
+    } else {
+        "special file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::FileType) -> &'static str {
+    "special file"
+}
+
+/// Checks, before any work is done, that `path` may receive a single output file: not a link,
+/// device or folder, and not an existing file unless `existing` is [`Existing::Replace`].
+/// [`write_file`] checks again when it writes.
+pub fn check_file_target(path: &Path, existing: Existing) -> Result<(), OutputError> {
+    match inspect(path)? {
+        Found::Nothing => Ok(()),
+        Found::File if existing == Existing::Replace => Ok(()),
+        Found::File => Err(OutputError::new(path, OutputErrorKind::FileExists)),
+        Found::EmptyFolder | Found::Folder(_) => Err(OutputError::new(
+            path,
+            OutputErrorKind::WrongKind {
+                found: "folder",
+                wanted: "file",
+            },
+        )),
+    }
+}
+
+/// Checks, before any work is done, that `dir` may receive an output folder: not a link,
+/// device or file, and empty or missing unless `existing` is [`Existing::Replace`] (and then
+/// not a folder that must never be replaced). [`write_files`] checks again when it writes.
+pub fn check_folder_target(dir: &Path, existing: Existing) -> Result<(), OutputError> {
+    folder_state(dir, existing).map(|_| ())
+}
+
+fn folder_state(dir: &Path, existing: Existing) -> Result<Found, OutputError> {
+    let found = inspect(dir)?;
+    match &found {
+        Found::Nothing | Found::EmptyFolder => {}
+        Found::File => {
+            return Err(OutputError::new(
+                dir,
+                OutputErrorKind::WrongKind {
+                    found: "file",
+                    wanted: "folder",
+                },
+            ))
+        }
+        Found::Folder(example) => {
+            if existing == Existing::Refuse {
+                return Err(OutputError::new(
+                    dir,
+                    OutputErrorKind::FolderNotEmpty(example.clone()),
+                ));
+            }
+            if let Some(what) = protected(dir) {
+                return Err(OutputError::new(dir, OutputErrorKind::Protected(what)));
+            }
+        }
+    }
+    Ok(found)
+}
+
+/// Why `dir` must never be replaced, if it must not.
+fn protected(dir: &Path) -> Option<&'static str> {
+    let dir = std::fs::canonicalize(dir).ok()?;
+    if dir.parent().is_none() {
+        return Some("the root folder");
+    }
+    if let Ok(cwd) = std::env::current_dir().and_then(std::fs::canonicalize) {
+        if cwd == dir {
+            return Some("the working folder");
+        }
+        if cwd.starts_with(&dir) {
+            return Some("an ancestor of the working folder");
+        }
+    }
+    let home = std::env::var_os("HOME").map(PathBuf::from)?;
+    (std::fs::canonicalize(home).ok()? == dir).then_some("the home folder")
+}
+
+/// The folder a path lives in (`.` for a bare name).
+fn parent_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Creates the missing ancestors of `dir` (and `dir`), returning the ones created, outermost
+/// first, so that a failed write can remove them again.
+fn create_missing(dir: &Path, target: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    let mut missing = Vec::new();
+    let mut current = Some(dir);
+    while let Some(d) = current {
+        if d.as_os_str().is_empty() || std::fs::symlink_metadata(d).is_ok() {
+            break;
+        }
+        missing.push(d.to_path_buf());
+        current = d.parent();
+    }
+    missing.reverse();
+    let mut created = Vec::new();
+    for d in missing {
+        if let Err(e) = std::fs::create_dir(&d) {
+            if e.kind() == std::io::ErrorKind::AlreadyExists {
+                continue;
+            }
+            remove_created(&created);
+            return Err(OutputError::io(
+                target,
+                format!("create the folder '{}'", d.display()),
+                e,
+            ));
+        }
+        created.push(d);
+    }
+    Ok(created)
+}
+
+/// Removes folders made by [`create_missing`] (innermost first; only while they are empty).
+fn remove_created(created: &[PathBuf]) {
+    for d in created.iter().rev() {
+        let _ = std::fs::remove_dir(d);
+    }
+}
+
+/// A fresh hidden name beside `target`: `.NAME.graspath-PID-N.SUFFIX`, created by `make`
+/// (which must fail with `AlreadyExists` when the name is taken).
+fn fresh<T>(
+    target: &Path,
+    suffix: &str,
+    mut make: impl FnMut(&Path) -> std::io::Result<T>,
+) -> std::io::Result<(PathBuf, T)> {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let dir = parent_of(target);
+    let name = target
         .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "output".into());
-    let temp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
+        .map_or_else(|| OsString::from("output"), OsString::from);
+    loop {
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let mut file_name = OsString::from(".");
+        file_name.push(&name);
+        file_name.push(format!(".graspath-{}-{n}.{suffix}", std::process::id()));
+        let path = dir.join(file_name);
+        match make(&path) {
+            Ok(value) => return Ok((path, value)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 1_000_000 => continue,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// Flushes a folder's entries (new names, renames) to disk.
+fn sync_folder(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        File::open(dir)?.sync_all()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        Ok(())
+    }
+}
+
+fn write_new_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = OpenOptions::new().write(true).create_new(true).open(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()
+}
+
+/// Writes `bytes` to the file `path` (see the module's rules): a symbolic link, device or
+/// folder is refused, an existing regular file is replaced only with [`Existing::Replace`],
+/// missing parent folders are created. The file appears complete or not at all, and no
+/// temporary file is left behind on an error.
+pub fn write_file(path: &Path, bytes: &[u8], existing: Existing) -> Result<(), OutputError> {
+    check_file_target(path, existing)?;
+    let dir = parent_of(path);
+    let created = create_missing(&dir, path)?;
     let result = (|| {
-        let mut file = std::fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        std::fs::rename(&temp, path)
+        let (temporary, mut file) = fresh(path, "tmp", |p| {
+            OpenOptions::new().write(true).create_new(true).open(p)
+        })
+        .map_err(|e| OutputError::io(path, "create a temporary file beside it", e))?;
+        let placed = (|| {
+            file.write_all(bytes)
+                .and_then(|()| file.sync_all())
+                .map_err(|e| OutputError::io(path, "write the temporary file", e))?;
+            drop(file);
+            place_file(&temporary, path, existing)
+        })();
+        if placed.is_err() {
+            let _ = std::fs::remove_file(&temporary);
+        }
+        placed?;
+        sync_folder(&dir).map_err(|e| OutputError::io(path, "flush its folder", e))
     })();
     if result.is_err() {
-        let _ = std::fs::remove_file(&temp);
+        remove_created(&created);
     }
     result
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// Moves the complete temporary file onto `path`: a rename when replacing is allowed, else a
+/// hard link that fails if `path` appeared meanwhile (falling back to a rename where the file
+/// system has no hard links).
+fn place_file(temporary: &Path, path: &Path, existing: Existing) -> Result<(), OutputError> {
+    if existing == Existing::Refuse {
+        match std::fs::hard_link(temporary, path) {
+            Ok(()) => {
+                let _ = std::fs::remove_file(temporary);
+                return Ok(());
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                return Err(match inspect(path) {
+                    Err(refused) => refused,
+                    Ok(_) => OutputError::new(path, OutputErrorKind::FileExists),
+                });
+            }
+            Err(_) => check_file_target(path, existing)?,
+        }
+    }
+    std::fs::rename(temporary, path)
+        .map_err(|e| OutputError::io(path, "rename the temporary file onto it", e))
+}
 
-    #[test]
-    fn writes_and_leaves_no_temporary_file() {
-        let dir = tempfile::tempdir().expect("tempdir");
-        let path = dir.path().join("out.json");
-        write_atomic(&path, b"{}").expect("write");
-        assert_eq!(std::fs::read(&path).expect("read"), b"{}");
-        let names: Vec<_> = std::fs::read_dir(dir.path())
-            .expect("list")
-            .map(|e| e.expect("entry").file_name())
-            .collect();
-        assert_eq!(names.len(), 1);
-        let err = write_atomic(&dir.path().join("missing/out.json"), b"x");
-        assert!(err.is_err());
+/// A temporary folder that is deleted with its contents when dropped, unless kept.
+struct Staging {
+    path: PathBuf,
+    keep: bool,
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if !self.keep {
+            let _ = std::fs::remove_dir_all(&self.path);
+        }
     }
 }
+
+/// Checks a relative name of the set and returns its components.
+fn relative_name(dir: &Path, name: &str) -> Result<PathBuf, OutputError> {
+    let relative = Path::new(name);
+    let plain = !name.is_empty()
+        && relative
+            .components()
+            .all(|c| matches!(c, Component::Normal(_)));
+    if !plain {
+        return Err(OutputError::new(
+            dir,
+            OutputErrorKind::BadName(name.to_string()),
+        ));
+    }
+    Ok(relative.to_path_buf())
+}
+
+/// Writes a set of `(relative name, bytes)` files as the folder `dir` (see the module's rules):
+/// all files appear together or none does; an existing non-empty folder is replaced as a whole
+/// only with [`Existing::Replace`], never merged. Names may contain `/` for subfolders. Returns
+/// the paths written, in the order given.
+pub fn write_files(
+    dir: &Path,
+    files: &[(String, Vec<u8>)],
+    existing: Existing,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let mut names = Vec::with_capacity(files.len());
+    let mut seen = std::collections::BTreeSet::new();
+    for (name, _) in files {
+        let relative = relative_name(dir, name)?;
+        if !seen.insert(relative.clone()) {
+            return Err(OutputError::new(
+                dir,
+                OutputErrorKind::DuplicateName(name.clone()),
+            ));
+        }
+        names.push(relative);
+    }
+    let found = folder_state(dir, existing)?;
+    let parent = parent_of(dir);
+    let created = create_missing(&parent, dir)?;
+    let result = (|| {
+        let (path, ()) = fresh(dir, "tmp", |p| std::fs::create_dir(p))
+            .map_err(|e| OutputError::io(dir, "create a temporary folder beside it", e))?;
+        let mut staging = Staging { path, keep: false };
+        let mut folders = std::collections::BTreeSet::new();
+        folders.insert(staging.path.clone());
+        for (relative, (_, bytes)) in names.iter().zip(files) {
+            let file = staging.path.join(relative);
+            let action = || format!("write '{}' in the temporary folder", relative.display());
+            let mut sub = relative.parent();
+            if sub.is_some_and(|s| !s.as_os_str().is_empty()) {
+                std::fs::create_dir_all(file.parent().unwrap_or(&staging.path))
+                    .map_err(|e| OutputError::io(dir, action(), e))?;
+            }
+            while let Some(s) = sub.filter(|s| !s.as_os_str().is_empty()) {
+                folders.insert(staging.path.join(s));
+                sub = s.parent();
+            }
+            write_new_file(&file, bytes).map_err(|e| OutputError::io(dir, action(), e))?;
+        }
+        for folder in &folders {
+            sync_folder(folder)
+                .map_err(|e| OutputError::io(dir, "flush the temporary folder", e))?;
+        }
+        match found {
+            Found::Folder(_) => replace_folder(&staging.path, dir)?,
+            _ => std::fs::rename(&staging.path, dir)
+                .map_err(|e| OutputError::io(dir, "rename the temporary folder onto it", e))?,
+        }
+        staging.keep = true;
+        sync_folder(&parent).map_err(|e| OutputError::io(dir, "flush its parent folder", e))?;
+        Ok(names.iter().map(|n| dir.join(n)).collect())
+    })();
+    if result.is_err() {
+        remove_created(&created);
+    }
+    result
+}
+
+/// Moves the old folder aside, the new one in, then deletes the old one; puts the old one back
+/// when the new one cannot be moved in.
+fn replace_folder(staging: &Path, dir: &Path) -> Result<(), OutputError> {
+    let (aside, ()) = fresh(dir, "old", |p| std::fs::create_dir(p))
+        .map_err(|e| OutputError::io(dir, "reserve a name to move the old folder to", e))?;
+    // Renaming a folder onto an empty folder replaces it.
+    if let Err(e) = std::fs::rename(dir, &aside) {
+        let _ = std::fs::remove_dir(&aside);
+        return Err(OutputError::io(dir, "move the old folder aside", e));
+    }
+    if let Err(error) = std::fs::rename(staging, dir) {
+        let action = "rename the temporary folder onto it".to_string();
+        return Err(match std::fs::rename(&aside, dir) {
+            Ok(()) => OutputError::io(dir, action, error),
+            Err(_) => OutputError::new(
+                dir,
+                OutputErrorKind::NotRestored {
+                    action,
+                    error,
+                    aside,
+                },
+            ),
+        });
+    }
+    std::fs::remove_dir_all(&aside)
+        .map_err(|error| OutputError::new(dir, OutputErrorKind::OldNotRemoved { aside, error }))
+}
+
+/// Writes `bytes` to `path` for the library's own file writers (clouds, model and candidate
+/// files): [`write_file`] with [`Existing::Replace`], so an existing regular file is replaced
+/// atomically while links, devices and folders are refused. The error's message does not
+/// repeat the path (callers name it).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_file(path, bytes, Existing::Replace).map_err(|e| match e.kind {
+        OutputErrorKind::Io { action, error } => {
+            std::io::Error::new(error.kind(), format!("cannot {action}: {error}"))
+        }
+        kind => std::io::Error::other(kind.to_string()),
+    })
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,15 +1,16 @@
 //! `graspath demo [--out DIR]`: the paper's experiments on the built-in Baxter, from task files
 //! compiled into the binary (the same files as `examples/`), so no input is needed. Every
-//! experiment's folder gets the JSON results, the figures and `report.html`.
+//! experiment's folder gets the JSON results, the figures and `report.html`; the whole output
+//! folder (every experiment and `findings.json`) is written at once, at the end.
 
 use super::select::run_task;
-use crate::output::OutputArgs;
+use crate::output::{print_summary_table, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
+use graspath::fsutil::{check_folder_target, write_files, Existing};
 use graspath::select::Selection;
 use graspath::task::Task;
 use graspath::task::TaskFile;
-use graspath_report::write_files_atomically;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -19,6 +20,9 @@ pub struct DemoArgs {
     /// Where to write the experiments' results (one folder each).
     #[arg(long, value_name = "DIR", default_value = "graspath-demo")]
     out: PathBuf,
+    /// Replace an existing non-empty --out folder as a whole.
+    #[arg(long)]
+    force: bool,
     #[command(flatten)]
     output: OutputArgs,
 }
@@ -110,12 +114,14 @@ fn our_finding(selection: &Selection) -> Value {
 
 /// Runs the subcommand.
 pub fn run(args: &DemoArgs) -> Result<()> {
+    let existing = Existing::replace_if(args.force);
+    check_folder_target(&args.out, existing)?;
     let mut findings = Vec::new();
+    let mut files = Vec::new();
     for experiment in &EXPERIMENTS {
         let source = format!("examples/{}.yaml", experiment.name);
         let file = TaskFile::parse(experiment.task_yaml, &source, "yaml")?;
         let task = Task::from_file(&file, &source, Path::new("."))?;
-        let out = args.out.join(experiment.name);
         let title = format!("{} ({})", experiment.name, experiment.figure);
         // With --json the demo prints one document (the findings) at the end, not one summary
         // per experiment.
@@ -127,8 +133,17 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         } else {
             args.output.clone()
         };
-        let selection = run_task(&task, &out, &per_run, &title, true)
+        let run = run_task(&task, &per_run, &title, true)
             .with_context(|| format!("experiment {}", experiment.name))?;
+        if !per_run.quiet {
+            print_summary_table(&task, &run.selection, &title, run.elapsed);
+        }
+        let selection = run.selection;
+        files.extend(
+            run.files
+                .into_iter()
+                .map(|(name, bytes)| (format!("{}/{name}", experiment.name), bytes)),
+        );
         let ours = our_finding(&selection);
         if !args.output.quiet && !args.output.json {
             crate::say!("  paper: {}", experiment.paper_finding);
@@ -144,9 +159,12 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     let findings = Value::Array(findings);
     let mut bytes = serde_json::to_vec_pretty(&findings)?;
     bytes.push(b'\n');
-    write_files_atomically(&args.out, &[("findings.json".to_string(), bytes)])?;
+    files.push(("findings.json".to_string(), bytes));
+    write_files(&args.out, &files, existing)?;
     if args.output.json {
         crate::say!("{}", serde_json::to_string_pretty(&findings)?);
+    } else if !args.output.quiet {
+        crate::say!("wrote {}", args.out.display());
     }
     Ok(())
 }

@@ -3,7 +3,8 @@
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::cloud::load_cloud_argument;
-use graspath::grasp::model::{generate, write_candidates, GenerateOptions, GraspModel, Progress};
+use graspath::fsutil::{check_file_target, write_file, Existing};
+use graspath::grasp::model::{candidates_json, generate, GenerateOptions, GraspModel, Progress};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -18,9 +19,13 @@ pub struct GenerateArgs {
     /// The object cloud: .ply, .pcd, or a .json cloud source (primitive or mesh to sample).
     #[arg(long, value_name = "FILE")]
     cloud: PathBuf,
-    /// Where to write the candidates.
+    /// Where to write the candidates (a new file, or any existing regular file with --force).
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
+    /// Replace an existing --out file (atomically). Symbolic links and devices are refused
+    /// even so.
+    #[arg(long)]
+    force: bool,
     /// Seed of every random choice: the same inputs and seed give the same bytes.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -43,6 +48,8 @@ pub struct GenerateArgs {
 
 /// Runs the subcommand.
 pub fn run(args: &GenerateArgs) -> Result<()> {
+    let existing = Existing::replace_if(args.force);
+    check_file_target(&args.out, existing)?;
     let model = GraspModel::read(&args.model)?;
     let cloud = load_cloud_argument(&args.cloud)?;
     let source = args.cloud.display().to_string();
@@ -93,7 +100,11 @@ pub fn run(args: &GenerateArgs) -> Result<()> {
     if let Some(n) = args.max_candidates {
         candidates.truncate(n);
     }
-    write_candidates(&args.out, &candidates, &model.label)?;
+    write_file(
+        &args.out,
+        &candidates_json(&candidates, &model.label)?,
+        existing,
+    )?;
     if !args.quiet {
         let best = candidates.first().map_or(f64::NAN, |c| c.log_likelihood);
         println!(

@@ -1,9 +1,10 @@
 //! `graspath ik`: inverse kinematics of single poses (JSON Lines) or of a whole trajectory
 //! (one JSON document).
 
+use crate::bad_input;
 use crate::jsonl::{for_each_line, open_input, source_name};
 use crate::robot_args::RobotArgs;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::Args;
 use graspath::geometry::pose_from_rows;
 use graspath::robot::{
@@ -19,6 +20,7 @@ use std::time::{Duration, Instant};
 /// writes one line per pose: `{"q":[...] or null,"position_error":m,"rotation_error":rad,
 /// "iterations":k,"time_us":t}`. With `--trajectory`, reads one document
 /// `{"poses":[[[4×4]],...]}` and writes `{"branches":[{"q":[[...],...]}],"failure":...}`.
+/// A target with a coordinate beyond ±1000 m is refused as bad input (exit code 2).
 #[derive(Debug, Args)]
 pub struct IkArgs {
     #[command(flatten)]
@@ -81,25 +83,25 @@ struct PoseOutput<'a> {
 /// Runs the subcommand. The output is written only once the whole input has been processed.
 pub fn run(args: &IkArgs) -> Result<()> {
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
-        bail!(
+        return Err(bad_input!(
             "--tolerance: must be a positive number, got {}",
             args.tolerance
-        );
+        ));
     }
     if !(args.timeout_ms.is_finite() && args.timeout_ms > 0.0) {
-        bail!(
+        return Err(bad_input!(
             "--timeout-ms: must be a positive number, got {}",
             args.timeout_ms
-        );
+        ));
     }
     if !(args.max_joint_step.is_finite() && args.max_joint_step > 0.0) {
-        bail!(
+        return Err(bad_input!(
             "--max-joint-step: must be a positive number, got {}",
             args.max_joint_step
-        );
+        ));
     }
     if args.branches == 0 {
-        bail!("--branches: must be at least 1");
+        return Err(bad_input!("--branches: must be at least 1"));
     }
     let chain = args.robot.load()?;
     let seed = parse_seed(&args.seed, &chain).context("--seed")?;
@@ -108,7 +110,7 @@ pub fn run(args: &IkArgs) -> Result<()> {
         rotation_tolerance: args.tolerance,
         max_time: Some(
             Duration::try_from_secs_f64(args.timeout_ms * 1e-3)
-                .map_err(|e| anyhow::anyhow!("--timeout-ms: {e}"))?,
+                .map_err(|e| bad_input!("--timeout-ms: {e}"))?,
         ),
         random_seed: args.random_seed,
         ..IkOptions::default()
@@ -120,19 +122,21 @@ pub fn run(args: &IkArgs) -> Result<()> {
         let mut text = String::new();
         input
             .read_to_string(&mut text)
-            .with_context(|| format!("{source}: cannot read"))?;
+            .map_err(|e| bad_input!("{source}: cannot read: {e}"))?;
         let document: TrajectoryInput = serde_json::from_str(&text)
-            .with_context(|| format!("{source}: not a valid trajectory document"))?;
+            .map_err(|e| bad_input!("{source}: not a valid trajectory document: {e}"))?;
         let poses = document
             .poses
             .iter()
             .enumerate()
             .map(|(i, rows)| {
-                pose_from_rows(rows).with_context(|| format!("{source}: field 'poses[{i}]'"))
+                target_from_rows(rows).with_context(|| format!("{source}: field 'poses[{i}]'"))
             })
             .collect::<Result<Vec<Isometry3<f64>>>>()?;
         if poses.is_empty() {
-            bail!("{source}: field 'poses': the trajectory has no poses");
+            return Err(bad_input!(
+                "{source}: field 'poses': the trajectory has no poses"
+            ));
         }
         let trajectory_options = TrajectoryIkOptions {
             ik: IkOptions {
@@ -149,10 +153,17 @@ pub fn run(args: &IkArgs) -> Result<()> {
         output.push(b'\n');
     } else {
         for_each_line(input, &source, |_, line: PoseLine| {
-            let target = pose_from_rows(&line.pose).context("field 'pose'")?;
+            let target = target_from_rows(&line.pose).context("field 'pose'")?;
             let start = Instant::now();
             let solution = solve_ik(&chain, &target, &seed, &options)?;
             let time_us = start.elapsed().as_secs_f64() * 1e6;
+            if !(solution.position_error.is_finite() && solution.rotation_error.is_finite()) {
+                anyhow::bail!(
+                    "the solver returned a non-finite error (position {}, rotation {})",
+                    solution.position_error,
+                    solution.rotation_error
+                );
+            }
             serde_json::to_writer(
                 &mut output,
                 &PoseOutput {
@@ -174,6 +185,22 @@ pub fn run(args: &IkArgs) -> Result<()> {
     Ok(())
 }
 
+/// Targets with a coordinate beyond ±this (m, chain base frame) are refused: no arm reaches
+/// them, and the position error of such a target is not a meaningful (or even finite) number.
+pub const MAX_TARGET_COORDINATE: f64 = 1e3;
+
+/// A target pose from its 4×4 rows: a valid rigid transform within [`MAX_TARGET_COORDINATE`].
+fn target_from_rows(rows: &[[f64; 4]; 4]) -> Result<Isometry3<f64>> {
+    let pose = pose_from_rows(rows)?;
+    let farthest = pose.translation.vector.amax();
+    if farthest > MAX_TARGET_COORDINATE {
+        return Err(bad_input!(
+            "a coordinate of the target position is {farthest:e} m; targets beyond ±{MAX_TARGET_COORDINATE} m are refused (no arm reaches them; are the units metres?)"
+        ));
+    }
+    Ok(pose)
+}
+
 /// `mid`, `zero` or comma-separated joint values, checked against the chain.
 fn parse_seed(text: &str, chain: &Chain) -> Result<Vec<f64>> {
     let seed = match text.trim() {
@@ -184,20 +211,20 @@ fn parse_seed(text: &str, chain: &Chain) -> Result<Vec<f64>> {
             .map(|v| {
                 v.trim()
                     .parse::<f64>()
-                    .with_context(|| format!("'{}' is not a number", v.trim()))
+                    .map_err(|_| bad_input!("'{}' is not a number", v.trim()))
             })
             .collect::<Result<Vec<f64>>>()?,
     };
     if seed.len() != chain.dof() {
-        bail!(
+        return Err(bad_input!(
             "expected 'mid', 'zero' or {} comma-separated values for the chain '{}', got {} values",
             chain.dof(),
             chain.name(),
             seed.len()
-        );
+        ));
     }
     if let Some(index) = seed.iter().position(|v| !v.is_finite()) {
-        bail!("value {} is not a finite number", index + 1);
+        return Err(bad_input!("value {} is not a finite number", index + 1));
     }
     Ok(seed)
 }

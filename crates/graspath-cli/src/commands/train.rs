@@ -2,6 +2,7 @@
 
 use anyhow::Result;
 use clap::Args;
+use graspath::fsutil::{check_file_target, write_file, Existing};
 use graspath::grasp::model::train_file;
 use std::path::PathBuf;
 
@@ -11,9 +12,13 @@ use std::path::PathBuf;
 pub struct TrainArgs {
     /// The demonstration JSON (hand, object cloud, waypoints from pre-grasp to grasp).
     demonstration: PathBuf,
-    /// Where to write the model file.
+    /// Where to write the model file (a new file, or any existing regular file with --force).
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
+    /// Replace an existing --out file (atomically). Symbolic links and devices are refused
+    /// even so.
+    #[arg(long)]
+    force: bool,
     /// Print nothing on success.
     #[arg(long)]
     quiet: bool,
@@ -21,8 +26,10 @@ pub struct TrainArgs {
 
 /// Runs the subcommand.
 pub fn run(args: &TrainArgs) -> Result<()> {
+    let existing = Existing::replace_if(args.force);
+    check_file_target(&args.out, existing)?;
     let model = train_file(&args.demonstration)?;
-    model.write(&args.out)?;
+    write_file(&args.out, &model.to_json()?, existing)?;
     if !args.quiet {
         let links: Vec<String> = model
             .contacts

@@ -5,12 +5,31 @@
 //! bare list; each candidate has `object_from_wrist` (4×4 row-major) or `xyz` + `quaternion`
 //! (`[x, y, z, w]`), and optionally `id`, `label`, `likelihood` or `log_likelihood`, `contact`
 //! (`[x, y, z]` or null) and `hand_joints`. CSV: a header with `x,y,z,qx,qy,qz,qw` and
-//! optionally `id,label,likelihood|log_likelihood,contact_x,contact_y,contact_z`.
+//! optionally `id,label,likelihood|log_likelihood,contact_x,contact_y,contact_z` and
+//! `hand_joints` (numbers separated by spaces or `;`).
+//!
+//! Checked, with an error naming the file, the candidate (`candidates[3]` or `line 7`) and the
+//! field: every number finite; a quaternion's norm within [`QUATERNION_NORM_TOLERANCE`] of 1
+//! (then normalised), a matrix orthonormal (see [`crate::geometry::ROTATION_TOLERANCE`]); wrist
+//! and contact positions within [`MAX_OFFSET`] of the object origin; ids unique; the file at
+//! most [`MAX_FILE_BYTES`] long (the number of candidates is what the file holds).
 
 use crate::geometry::{pose_from_rows, quaternion_xyzw};
 use nalgebra::{Isometry3, Point3, Translation3};
 use serde::Deserialize;
+use std::io::Read;
 use std::path::Path;
+
+/// How far the norm of a candidate's quaternion may be from 1: enough for values printed with
+/// four decimals or stored as `f32`; a larger deviation is an error, not silently normalised.
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-4;
+
+/// The largest distance (m) of a wrist or contact coordinate from the object origin: a grasp
+/// holds the object, so a larger value is a unit mistake (millimetres) or a corrupt file.
+pub const MAX_OFFSET: f64 = 10.0;
+
+/// The largest candidate file read (bytes, 1 GiB: about five million JSON candidates).
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// One grasp candidate.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,13 +67,6 @@ pub struct CandidateError {
     pub location: String,
     /// What is wrong.
     pub message: String,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum Document {
-    Wrapped(Wrapped),
-    Bare(Vec<serde_json::Value>),
 }
 
 #[derive(Debug, Deserialize)]
@@ -120,6 +132,15 @@ impl Raw {
                         "must be a finite non-zero [x, y, z, w]".to_string(),
                     )
                 })?;
+                let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
+                    return Err((
+                        "quaternion".into(),
+                        format!(
+                            "its norm is {norm:.6}, not 1 (tolerance {QUATERNION_NORM_TOLERANCE}); give a unit quaternion [x, y, z, w]"
+                        ),
+                    ));
+                }
                 Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation)
             }
             _ => {
@@ -129,6 +150,12 @@ impl Raw {
                 ))
             }
         };
+        let field = if self.matrix.is_some() {
+            "object_from_wrist"
+        } else {
+            "xyz"
+        };
+        check_offset(field, &pose.translation.vector.into())?;
         let log_likelihood = match (self.likelihood, self.log_likelihood) {
             (Some(_), Some(_)) => {
                 return Err((
@@ -157,9 +184,15 @@ impl Raw {
             Some(c) if c.iter().any(|v| !v.is_finite()) => {
                 return Err(("contact".into(), "not finite".into()))
             }
-            Some(c) => Some(Point3::new(c[0], c[1], c[2])),
+            Some(c) => {
+                check_offset("contact", &c)?;
+                Some(Point3::new(c[0], c[1], c[2]))
+            }
             None => None,
         };
+        if self.hand_joints.iter().any(|v| !v.is_finite()) {
+            return Err(("hand_joints".into(), "not finite".into()));
+        }
         let id = self.id.unwrap_or(index);
         Ok(Candidate {
             id,
@@ -172,6 +205,20 @@ impl Raw {
     }
 }
 
+/// Refuses a position with a coordinate beyond ±[`MAX_OFFSET`].
+fn check_offset(field: &str, xyz: &[f64; 3]) -> Result<(), (String, String)> {
+    let farthest = xyz.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if farthest > MAX_OFFSET {
+        return Err((
+            field.to_string(),
+            format!(
+                "a coordinate is {farthest} m from the object origin; more than {MAX_OFFSET} m is refused (are the units metres?)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Reads candidates from a `.json` or `.csv` file (by extension; others are tried as JSON).
 /// Refuses an empty set and duplicate ids.
 pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
@@ -181,32 +228,68 @@ pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
         location,
         message,
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| error("file".into(), format!("cannot read: {e}")))?;
+    let text = read_text(path).map_err(|m| error("file".into(), m))?;
     let is_csv = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let candidates = if is_csv {
+    let located = if is_csv {
         parse_csv(&text).map_err(|(l, m)| error(l, m))?
     } else {
         parse_json(&text).map_err(|(l, m)| error(l, m))?
     };
-    if candidates.is_empty() {
+    if located.is_empty() {
         return Err(error("file".into(), "contains no candidates".into()));
     }
-    let mut ids: Vec<usize> = candidates.iter().map(|c| c.id).collect();
-    ids.sort_unstable();
-    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
-        return Err(error("id".into(), format!("id {} is used twice", w[0])));
+    let mut first_use = std::collections::HashMap::with_capacity(located.len());
+    for (location, candidate) in &located {
+        if let Some(earlier) = first_use.insert(candidate.id, location) {
+            return Err(error(
+                location.clone(),
+                format!("id {} is used twice (also by {earlier})", candidate.id),
+            ));
+        }
     }
-    Ok(candidates)
+    Ok(located.into_iter().map(|(_, c)| c).collect())
 }
 
-fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
-    let document: Document = serde_json::from_str(text)
+/// The file's text, at most [`MAX_FILE_BYTES`] long (also for pipes and devices).
+fn read_text(path: &Path) -> Result<String, String> {
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    if let Ok(metadata) = file.metadata() {
+        if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
+            return Err(too_large(metadata.len()));
+        }
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+fn too_large(bytes: u64) -> String {
+    format!("is larger than {MAX_FILE_BYTES} bytes (at least {bytes}); split the candidates into several files")
+}
+
+/// Candidates with where each one is in its file (`candidates[3]`, `line 7`).
+type Located = Vec<(String, Candidate)>;
+
+fn parse_json(text: &str) -> Result<Located, (String, String)> {
+    let document: serde_json::Value = serde_json::from_str(text)
         .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
     let entries = match document {
-        Document::Wrapped(w) => {
+        serde_json::Value::Array(list) => list,
+        object @ serde_json::Value::Object(_) => {
+            let w: Wrapped = serde_json::from_value(object)
+                .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
             if let Some(format) = &w.format {
                 if format != "graspath-candidates" {
                     return Err((
@@ -233,15 +316,21 @@ fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
             }
             w.candidates
         }
-        Document::Bare(list) => list,
+        _ => {
+            return Err((
+                "file".into(),
+                "not a candidate document: expected an object with 'candidates' or a list".into(),
+            ))
+        }
     };
     entries
         .into_iter()
         .enumerate()
         .map(|(i, value)| {
-            let entry: Entry = serde_json::from_value(value)
-                .map_err(|e| (format!("candidates[{i}]"), e.to_string()))?;
-            Raw {
+            let location = format!("candidates[{i}]");
+            let entry: Entry =
+                serde_json::from_value(value).map_err(|e| (location.clone(), e.to_string()))?;
+            let candidate = Raw {
                 id: entry.id,
                 label: entry.label,
                 matrix: entry.object_from_wrist,
@@ -253,12 +342,13 @@ fn parse_json(text: &str) -> Result<Vec<Candidate>, (String, String)> {
                 hand_joints: entry.hand_joints,
             }
             .into_candidate(i)
-            .map_err(|(field, message)| (format!("candidates[{i}].{field}"), message))
+            .map_err(|(field, message)| (format!("{location}.{field}"), message))?;
+            Ok((location, candidate))
         })
         .collect()
 }
 
-fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
+fn parse_csv(text: &str) -> Result<Located, (String, String)> {
     const KNOWN: [&str; 16] = [
         "id",
         "label",
@@ -295,8 +385,14 @@ fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
     }
     let mut candidates = Vec::new();
     for (i, record) in reader.records().enumerate() {
-        let line = format!("line {}", i + 2);
-        let record = record.map_err(|e| (line.clone(), e.to_string()))?;
+        let record = record.map_err(|e| {
+            let line = e.position().map_or(i + 2, |p| p.line() as usize);
+            (format!("line {line}"), e.to_string())
+        })?;
+        let line = format!(
+            "line {}",
+            record.position().map_or(i + 2, |p| p.line() as usize)
+        );
         let number = |name: &str| -> Result<Option<f64>, (String, String)> {
             match column(name).and_then(|c| record.get(c)) {
                 None | Some("") => Ok(None),
@@ -346,118 +442,29 @@ fn parse_csv(text: &str) -> Result<Vec<Candidate>, (String, String)> {
             likelihood: number("likelihood")?,
             log_likelihood: number("log_likelihood")?,
             contact,
-            hand_joints: Vec::new(),
+            hand_joints: match column("hand_joints").and_then(|c| record.get(c)) {
+                None => Vec::new(),
+                Some(text) => text
+                    .split(|c: char| c.is_whitespace() || c == ';')
+                    .filter(|v| !v.is_empty())
+                    .map(|v| {
+                        v.parse::<f64>().map_err(|_| {
+                            (
+                                line.clone(),
+                                format!("column 'hand_joints': '{v}' is not a number"),
+                            )
+                        })
+                    })
+                    .collect::<Result<Vec<f64>, _>>()?,
+            },
         };
-        candidates.push(
-            raw.into_candidate(i)
-                .map_err(|(field, message)| (line.clone(), format!("{field}: {message}")))?,
-        );
+        let candidate = raw
+            .into_candidate(i)
+            .map_err(|(field, message)| (line.clone(), format!("{field}: {message}")))?;
+        candidates.push((line, candidate));
     }
     Ok(candidates)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use std::io::Write;
-
-    #[test]
-    fn the_grasp_point_is_the_contact_else_the_wrist_origin() {
-        let mut candidate = Candidate {
-            id: 0,
-            label: String::new(),
-            object_from_wrist: Isometry3::translation(0.1, -0.2, 0.3),
-            log_likelihood: 0.0,
-            contact: None,
-            hand_joints: Vec::new(),
-        };
-        assert_eq!(candidate.grasp_point(), Point3::new(0.1, -0.2, 0.3));
-        candidate.contact = Some(Point3::new(0.0, 0.01, 0.02));
-        assert_eq!(candidate.grasp_point(), Point3::new(0.0, 0.01, 0.02));
-    }
-
-    fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> std::path::PathBuf {
-        let path = dir.path().join(name);
-        std::fs::File::create(&path)
-            .unwrap()
-            .write_all(text.as_bytes())
-            .unwrap();
-        path
-    }
-
-    #[test]
-    fn json_and_csv_give_the_same_candidates() {
-        let dir = tempfile::tempdir().unwrap();
-        let json = write(
-            &dir,
-            "c.json",
-            r#"{"format":"graspath-candidates","version":1,"frame":"object","candidates":[
-                {"id":3,"label":"top","xyz":[0.0,0.1,0.05],"quaternion":[1,0,0,0],"likelihood":0.5,"contact":[0,0.1,0.03]},
-                {"id":4,"object_from_wrist":[[1,0,0,0.01],[0,1,0,0],[0,0,1,0],[0,0,0,1]],"log_likelihood":-2}]}"#,
-        );
-        let csv = write(
-            &dir,
-            "c.csv",
-            "id,label,x,y,z,qx,qy,qz,qw,log_likelihood,contact_x,contact_y,contact_z\n\
-             3,top,0.0,0.1,0.05,1,0,0,0,-0.6931471805599453,0,0.1,0.03\n\
-             4,,0.01,0,0,0,0,0,1,-2,,,\n",
-        );
-        let a = read_candidates(&json).unwrap();
-        let b = read_candidates(&csv).unwrap();
-        assert_eq!(a.len(), 2);
-        assert_eq!(a[0].id, b[0].id);
-        assert!((a[0].log_likelihood - b[0].log_likelihood).abs() < 1e-15);
-        assert_eq!(a[0].object_from_wrist, b[0].object_from_wrist);
-        assert_eq!(a[1].object_from_wrist, b[1].object_from_wrist);
-        assert_eq!(a[0].contact, Some(Point3::new(0.0, 0.1, 0.03)));
-        assert_eq!(b[1].contact, None);
-        assert_eq!(b[1].label, "candidate 4");
-    }
-
-    #[test]
-    fn bad_files_name_the_place() {
-        let dir = tempfile::tempdir().unwrap();
-        let empty = write(&dir, "e.json", r#"{"candidates":[]}"#);
-        assert!(read_candidates(&empty)
-            .unwrap_err()
-            .to_string()
-            .contains("contains no candidates"));
-        let nan = write(
-            &dir,
-            "n.json",
-            r#"[{"xyz":[0,0,0],"quaternion":[0,0,0,0]}]"#,
-        );
-        let err = read_candidates(&nan).unwrap_err();
-        assert_eq!(err.location, "candidates[0].quaternion");
-        let unknown = write(
-            &dir,
-            "u.json",
-            r#"[{"xyz":[0,0,0],"quaternion":[0,0,0,1],"score":1}]"#,
-        );
-        assert!(read_candidates(&unknown)
-            .unwrap_err()
-            .message
-            .contains("unknown field `score`"));
-        let bad_number = write(&dir, "b.csv", "x,y,z,qx,qy,qz,qw\n0,zero,0,0,0,0,1\n");
-        let err = read_candidates(&bad_number).unwrap_err();
-        assert_eq!(err.location, "line 2");
-        let dup = write(
-            &dir,
-            "d.json",
-            r#"[{"id":1,"xyz":[0,0,0],"quaternion":[0,0,0,1]},{"id":1,"xyz":[0,0,0],"quaternion":[0,0,0,1]}]"#,
-        );
-        assert!(read_candidates(&dup)
-            .unwrap_err()
-            .to_string()
-            .contains("id 1 is used twice"));
-        let skew = write(
-            &dir,
-            "s.json",
-            r#"[{"object_from_wrist":[[1,0.5,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]"#,
-        );
-        assert!(read_candidates(&skew)
-            .unwrap_err()
-            .message
-            .contains("not orthonormal"));
-    }
-}
+mod tests;

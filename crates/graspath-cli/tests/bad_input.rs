@@ -1,0 +1,460 @@
+//! The bad-input table: one row per bad input (command line, files written into a fresh
+//! temporary folder, the expected exit code and a fragment of the one-line message). For every
+//! row the binary must not panic, must print nothing on stdout when it fails, and must leave the
+//! folder exactly as it found it — no output file or folder, no temporary file — except for the
+//! entries a row says it leaves (`nothing selected` still writes its results).
+//!
+//! Adding a row is one line: `row(name, "args with {d} for the folder", &[(file, text)], code,
+//! "fragment")`, plus `.stdin(..)`, `.setup(..)` or `.leaves(..)` when needed.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// One row of the table.
+struct Row {
+    name: &'static str,
+    args: &'static str,
+    files: &'static [(&'static str, &'static str)],
+    code: i32,
+    message: &'static str,
+    stdin: &'static str,
+    setup: Option<fn(&Path)>,
+    leaves: &'static [&'static str],
+}
+
+fn row(
+    name: &'static str,
+    args: &'static str,
+    files: &'static [(&'static str, &'static str)],
+    code: i32,
+    message: &'static str,
+) -> Row {
+    Row {
+        name,
+        args,
+        files,
+        code,
+        message,
+        stdin: "",
+        setup: None,
+        leaves: &[],
+    }
+}
+
+impl Row {
+    fn stdin(mut self, text: &'static str) -> Self {
+        self.stdin = text;
+        self
+    }
+    fn setup(mut self, setup: fn(&Path)) -> Self {
+        self.setup = Some(setup);
+        self
+    }
+    fn leaves(mut self, entries: &'static [&'static str]) -> Self {
+        self.leaves = entries;
+        self
+    }
+}
+
+const TASK: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 5 } } }
+trajectory:
+  samples_per_step: 3
+  steps: [ { lift: 0.2 }, { move: [0, 0.3, 0] }, { place: 0.2 } ]
+"#;
+
+/// The task file with the candidates read from `c.json` / `c.csv`.
+const TASK_FILE_JSON: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { file: c.json }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+"#;
+const TASK_FILE_CSV: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { file: c.csv }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+"#;
+const TASK_URDF: &str = r#"
+robot: { urdf: two.urdf, chains: { left: { base: base, tip: nope } } }
+arms: left
+object: { pose: { xyz: [0.3, 0.0, 0.0] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 3 } } }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+"#;
+const TWO_LINK_URDF: &str = r#"<robot name="two">
+  <link name="base"/><link name="l1"/><link name="tip"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="tip"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"#;
+const IDENTITY: &str = r#"{"pose":[[1,0,0,0.5],[0,1,0,0.2],[0,0,1,0.1],[0,0,0,1]]}"#;
+
+/// Task variants by file name (`v-NAME.yaml`): `TASK` with `from` replaced by `to` (once).
+fn variants() -> BTreeMap<&'static str, (&'static str, &'static str)> {
+    BTreeMap::from([
+        (
+            "v-unknown-field.yaml",
+            ("arms: left", "arms: left\ncolour: red"),
+        ),
+        ("v-unknown-arm.yaml", ("arms: left", "arms: middle")),
+        (
+            "v-xyz-short.yaml",
+            ("xyz: [0.75, 0.0, -0.10]", "xyz: [0.75, 0.0]"),
+        ),
+        (
+            "v-xyz-nan.yaml",
+            ("xyz: [0.75, 0.0, -0.10]", "xyz: [.nan, 0.0, -0.10]"),
+        ),
+        (
+            "v-two-rotations.yaml",
+            (
+                "xyz: [0.75, 0.0, -0.10] }",
+                "xyz: [0.75, 0.0, -0.10], rpy: [0, 0, 0], rpy_deg: [0, 0, 0] }",
+            ),
+        ),
+        (
+            "v-negative-duration.yaml",
+            ("{ lift: 0.2 }", "{ lift: 0.2, duration: -1 }"),
+        ),
+        ("v-unknown-step.yaml", ("{ lift: 0.2 }", "{ lfit: 0.2 }")),
+        ("v-builtin-kuka.yaml", ("builtin: baxter", "builtin: kuka")),
+        (
+            "v-missing-urdf.yaml",
+            (
+                "{ builtin: baxter }",
+                "{ urdf: missing.urdf, chains: { left: { base: a, tip: b } } }",
+            ),
+        ),
+        (
+            "v-box-size.yaml",
+            ("size: [0.06, 0.40, 0.10]", "size: [0.06, -0.40, 0.10]"),
+        ),
+        (
+            "v-norm.yaml",
+            ("arms: left", "arms: left\nselection: { norm: l3 }"),
+        ),
+        (
+            "v-mode.yaml",
+            ("arms: left", "arms: left\nindex: { mode: sideways }"),
+        ),
+        (
+            "v-missing-candidates.yaml",
+            (
+                "candidates: { family: { edge: { count: 5 } } }",
+                "candidates: { file: nowhere.json }",
+            ),
+        ),
+        (
+            "v-two-sources.yaml",
+            (
+                "candidates: { family: { edge: { count: 5 } } }",
+                "candidates: { file: c.json, family: { edge: { count: 5 } } }",
+            ),
+        ),
+        (
+            "v-unknown-family.yaml",
+            ("edge: { count: 5 }", "spiral: { count: 5 }"),
+        ),
+        (
+            "v-far.yaml",
+            ("xyz: [0.75, 0.0, -0.10]", "xyz: [3.0, 0.0, -0.10]"),
+        ),
+        (
+            "v-far-both.yaml",
+            (
+                "arms: left\nobject: { pose: { xyz: [0.75, 0.0, -0.10] }",
+                "arms: both\nobject: { pose: { xyz: [3.0, 0.0, -0.10] }",
+            ),
+        ),
+        ("v-bad-yaml.yaml", ("arms: left", "arms: [left")),
+    ])
+}
+
+fn table() -> Vec<Row> {
+    vec![
+        // Usage (clap).
+        row("no subcommand", "", &[], 2, "Usage"),
+        row("unknown subcommand", "frobnicate", &[], 2, "unrecognized subcommand 'frobnicate'"),
+        row("select without --task", "select --out {d}/out", &[], 2, "--task"),
+        row("unknown option", "select --task {d}/t.yaml --bogus", &[("t.yaml", TASK)], 2, "unexpected argument '--bogus'"),
+        row("tolerance not a number", "ik --robot baxter --tolerance abc", &[], 2, "invalid value 'abc'"),
+        row("urdf without base", "kinematics --urdf {d}/two.urdf", &[("two.urdf", TWO_LINK_URDF)], 2, "--base"),
+        // Task files.
+        row("missing task file", "select --task {d}/missing.yaml --out {d}/out", &[], 2, "missing.yaml"),
+        row("task yaml syntax", "select --task {d}/v-bad-yaml.yaml --out {d}/out", &[], 2, "v-bad-yaml.yaml"),
+        row("task unknown field", "select --task {d}/v-unknown-field.yaml --out {d}/out", &[], 2, "unknown field `colour`"),
+        row("task unknown arm", "select --task {d}/v-unknown-arm.yaml --out {d}/out", &[], 2, "middle"),
+        row("task pose xyz short", "select --task {d}/v-xyz-short.yaml --out {d}/out", &[], 2, "object.pose"),
+        row("task pose NaN", "select --task {d}/v-xyz-nan.yaml --out {d}/out", &[], 2, "line 4 column 25: non-finite float"),
+        row("task pose two rotations", "select --task {d}/v-two-rotations.yaml --out {d}/out", &[], 2, "object.pose"),
+        row("task negative duration", "select --task {d}/v-negative-duration.yaml --out {d}/out", &[], 2, "trajectory.steps[0].duration"),
+        row("task unknown step", "select --task {d}/v-unknown-step.yaml --out {d}/out", &[], 2, "lfit"),
+        row("task unknown builtin", "select --task {d}/v-builtin-kuka.yaml --out {d}/out", &[], 2, "kuka"),
+        row("task missing urdf", "select --task {d}/v-missing-urdf.yaml --out {d}/out", &[], 2, "missing.urdf"),
+        row("task negative box size", "select --task {d}/v-box-size.yaml --out {d}/out", &[], 2, "object.shape"),
+        row("task unknown norm", "select --task {d}/v-norm.yaml --out {d}/out", &[], 2, "l3"),
+        row("task unknown index mode", "select --task {d}/v-mode.yaml --out {d}/out", &[], 2, "sideways"),
+        row("task unknown family", "select --task {d}/v-unknown-family.yaml --out {d}/out", &[], 2, "spiral"),
+        row("task two candidate sources", "select --task {d}/v-two-sources.yaml --out {d}/out", &[], 2, "candidates"),
+        row("task urdf missing link", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF), ("two.urdf", TWO_LINK_URDF)], 2, "no link named 'nope'"),
+        row("task urdf malformed", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF), ("two.urdf", "<robot name=\"x\"><link></robot>")], 2, "two.urdf"),
+        // Candidate files.
+        row("candidates file missing", "select --task {d}/v-missing-candidates.yaml --out {d}/out", &[], 2, "nowhere.json"),
+        row("candidates empty", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"{"candidates":[]}"#)], 2, "contains no candidates"),
+        row("candidates non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1.1]}]"#)], 2, "candidates[0].quaternion: its norm is 1.100000"),
+        row("candidates zero quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,0]}]"#)], 2, "candidates[0].quaternion"),
+        row("candidates duplicate id", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"id":4,"xyz":[0,0,0.05],"quaternion":[0,0,0,1]},{"id":4,"xyz":[0,0,0.05],"quaternion":[0,0,0,1]}]"#)], 2, "id 4 is used twice (also by candidates[0])"),
+        row("candidates far wrist", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,50],"quaternion":[0,0,0,1]}]"#)], 2, "are the units metres?"),
+        row("candidates unknown field", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1],"score":2}]"#)], 2, "unknown field `score`"),
+        row("candidates skewed matrix", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"object_from_wrist":[[1,0.5,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]"#)], 2, "not orthonormal"),
+        row("candidates wrong frame", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"{"frame":"world","candidates":[{"xyz":[0,0,0],"quaternion":[0,0,0,1]}]}"#)], 2, "object frame"),
+        row("candidates negative likelihood", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1],"likelihood":-1}]"#)], 2, "candidates[0].likelihood"),
+        row("candidates csv NaN", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw\n0,0,0.05,0,0,0,1\nNaN,0,0,0,0,0,1\n")], 2, "line 3: xyz: not finite"),
+        row("candidates csv unknown column", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw,score\n0,0,0.05,0,0,0,1,1\n")], 2, "unknown column 'score'"),
+        row("candidates csv non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw\n0,0,0.05,0,0,0,1\n0,0,0.05,0,0,0.5,0.5\n")], 2, "line 3: quaternion"),
+        // Output folders and files.
+        row("out is a symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
+        row("out is a dangling symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("nowhere"), &d.join("link"), false)),
+        row("out is a device", "select --task {d}/t.yaml --out /dev/null", &[("t.yaml", TASK)], 2, "/dev/null: is a character device"),
+        row("out is a FIFO", "select --task {d}/t.yaml --out {d}/fifo", &[("t.yaml", TASK)], 2, "FIFO").setup(|d| mkfifo(&d.join("fifo"))),
+        row("out is a non-empty folder", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK), ("out/pairs.json", "[]")], 2, "not empty (it holds 'pairs.json'); use --force"),
+        row("out holds a stale summary folder", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK), ("out/summary.json/x", "")], 2, "use --force"),
+        row("out is a file", "select --task {d}/t.yaml --out {d}/t.yaml", &[("t.yaml", TASK)], 2, "is an existing file, but the output is a folder"),
+        row("out below a file", "select --task {d}/t.yaml --out {d}/t.yaml/out", &[("t.yaml", TASK)], 2, "a parent of this path is a file"),
+        row("out force over the working folder", "select --task {d}/t.yaml --out . --force", &[("t.yaml", TASK)], 2, "refusing to replace the working folder"),
+        row("out cannot be created", "select --task {d}/t.yaml --out /proc/graspath-out --quiet", &[("t.yaml", TASK)], 1, "cannot create a temporary folder"),
+        row("demo out non-empty", "demo --out {d}/demo", &[("demo/findings.json", "[]")], 2, "use --force"),
+        row("demo out symlink", "demo --out {d}/link", &[], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
+        row("train out exists", "train {d}/demo.json --out {d}/model.json", &[("demo.json", "{}"), ("model.json", "old")], 2, "the file exists; use --force"),
+        row("train out symlink", "train {d}/demo.json --out {d}/link --force", &[("demo.json", "{}"), ("model.json", "old")], 2, "is a symbolic link").setup(|d| symlink(&d.join("model.json"), &d.join("link"), false)),
+        row("train out folder", "train {d}/demo.json --out {d}/dir --force", &[("demo.json", "{}"), ("dir/x", "")], 2, "is an existing folder"),
+        row("train missing demonstration", "train {d}/missing.json --out {d}/model.json", &[], 2, "missing.json"),
+        row("train invalid demonstration", "train {d}/demo.json --out {d}/model.json", &[("demo.json", "{\"hand\": 3}")], 2, "demo.json"),
+        row("generate out exists", "generate --model {d}/m.json --cloud {d}/c.ply --out {d}/c.json", &[("c.json", "old")], 2, "the file exists; use --force"),
+        row("generate out device", "generate --model {d}/m.json --cloud {d}/c.ply --out /dev/null --force", &[], 2, "character device"),
+        row("generate missing model", "generate --model {d}/m.json --cloud {d}/c.ply --out {d}/c.json", &[], 2, "m.json"),
+        row("generate invalid model", "generate --model {d}/m.json --cloud {d}/c.ply --out {d}/c.json", &[("m.json", "[1, 2]")], 2, "m.json"),
+        // Nothing selected: the results are written, the exit code says so.
+        row("nothing feasible", "select --task {d}/v-far.yaml --out {d}/out --quiet", &[], 3, "nothing selected (no feasible candidate)").leaves(&["out"]),
+        row("no valid pair", "select --task {d}/v-far-both.yaml --out {d}/out --quiet", &[], 3, "nothing selected (no valid pair of grasps)").leaves(&["out"]),
+        row("nothing feasible, allowed", "select --task {d}/v-far.yaml --out {d}/out --quiet --allow-empty", &[], 0, "").leaves(&["out"]),
+        // Kinematics.
+        row("kinematics bad line", "kinematics --robot baxter --input {d}/q.jsonl", &[("q.jsonl", "{\"q\":[0,0,0,0,0,0,0]}\n{\"q\":[0,\"x\"]}\n")], 2, "q.jsonl: line 2: not a valid input object"),
+        row("kinematics wrong dof", "kinematics --robot baxter", &[], 2, "line 1: q has 3 values").stdin("{\"q\":[0,0,0]}\n"),
+        row("kinematics unknown field", "kinematics --robot baxter", &[], 2, "unknown field `extra`").stdin("{\"q\":[0,0,0,0,0,0,0],\"extra\":1}\n"),
+        row("kinematics number out of range", "kinematics --robot baxter", &[], 2, "line 1").stdin("{\"q\":[1e400,0,0,0,0,0,0]}\n"),
+        row("kinematics missing input", "kinematics --robot baxter --input {d}/missing.jsonl", &[], 2, "missing.jsonl: cannot open"),
+        row("kinematics unknown robot", "kinematics --robot kuka", &[], 2, "unknown built-in robot 'kuka'"),
+        row("kinematics unknown arm", "kinematics --robot baxter --arm middle", &[], 2, "--arm"),
+        row("kinematics no robot", "kinematics", &[], 2, "choose a robot"),
+        row("kinematics tool two numbers", "kinematics --robot baxter --tool-xyz 1,2", &[], 2, "three comma-separated numbers"),
+        row("kinematics urdf missing link", "kinematics --urdf {d}/two.urdf --base base --tip nope", &[("two.urdf", TWO_LINK_URDF)], 2, "no link named 'nope'"),
+        row("kinematics urdf missing file", "kinematics --urdf {d}/none.urdf --base base --tip tip", &[], 2, "none.urdf"),
+        // Inverse kinematics.
+        row("ik target 1e300 m away", "ik --robot baxter", &[], 2, "are the units metres?").stdin("{\"pose\":[[1,0,0,1e300],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}\n"),
+        row("ik target 2 km away", "ik --robot baxter", &[], 2, "line 2: field 'pose'").stdin(concat!(r#"{"pose":[[1,0,0,0.5],[0,1,0,0.2],[0,0,1,0.1],[0,0,0,1]]}"#, "\n", r#"{"pose":[[1,0,0,0],[0,1,0,-2000],[0,0,1,0],[0,0,0,1]]}"#, "\n")),
+        row("ik pose not orthonormal", "ik --robot baxter", &[], 2, "rotation block is not orthonormal").stdin("{\"pose\":[[2,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}\n"),
+        row("ik pose bad last row", "ik --robot baxter", &[], 2, "field 'pose'").stdin("{\"pose\":[[1,0,0,0],[0,1,0,0],[0,0,1,0],[1,0,0,1]]}\n"),
+        row("ik seed not a number", "ik --robot baxter --seed 0,0,x,0,0,0,0", &[], 2, "'x' is not a number").stdin(IDENTITY),
+        row("ik seed wrong count", "ik --robot baxter --seed 0,0", &[], 2, "got 2 values").stdin(IDENTITY),
+        row("ik negative tolerance", "ik --robot baxter --tolerance=-1", &[], 2, "--tolerance: must be a positive number").stdin(IDENTITY),
+        row("ik zero timeout", "ik --robot baxter --timeout-ms 0", &[], 2, "--timeout-ms").stdin(IDENTITY),
+        row("ik zero branches", "ik --robot baxter --trajectory --branches 0", &[], 2, "--branches").stdin("{\"poses\":[]}"),
+        row("ik trajectory without poses", "ik --robot baxter --trajectory", &[], 2, "the trajectory has no poses").stdin("{\"poses\":[]}"),
+        row("ik trajectory not a document", "ik --robot baxter --trajectory", &[], 2, "not a valid trajectory document").stdin("[1,2"),
+        row("ik trajectory far pose", "ik --robot baxter --trajectory", &[], 2, "field 'poses[1]'").stdin(r#"{"poses":[[[1,0,0,0.5],[0,1,0,0.2],[0,0,1,0.1],[0,0,0,1]],[[1,0,0,1e30],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}"#),
+    ]
+}
+
+fn symlink(target: &Path, link: &Path, make_target_folder: bool) {
+    if make_target_folder {
+        std::fs::create_dir_all(target).unwrap();
+        std::fs::write(target.join("keep"), "k").unwrap();
+    }
+    std::os::unix::fs::symlink(target, link).unwrap();
+}
+
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .expect("mkfifo runs");
+    assert!(status.success());
+}
+
+/// Everything under `dir`: relative path → what it is (file bytes, link target, folder).
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, String> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<PathBuf, String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            let relative = path.strip_prefix(root).unwrap().to_path_buf();
+            let file_type = std::fs::symlink_metadata(&path).unwrap().file_type();
+            let what = if file_type.is_symlink() {
+                format!("link to {}", std::fs::read_link(&path).unwrap().display())
+            } else if file_type.is_dir() {
+                walk(root, &path, out);
+                "folder".to_string()
+            } else if file_type.is_file() {
+                format!("file {:?}", std::fs::read(&path).unwrap())
+            } else {
+                "special".to_string()
+            };
+            out.insert(relative, what);
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+fn run(
+    row: &Row,
+    variants: &BTreeMap<&'static str, (&'static str, &'static str)>,
+) -> Result<(), String> {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (name, text) in row.files {
+        let path = d.join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
+    for (name, (from, to)) in variants {
+        if row.args.contains(name) {
+            assert!(TASK.contains(from), "{name}: '{from}' is not in the task");
+            std::fs::write(d.join(name), TASK.replacen(from, to, 1)).unwrap();
+        }
+    }
+    if let Some(setup) = row.setup {
+        setup(d);
+    }
+    let before = snapshot(d);
+    let args: Vec<String> = row
+        .args
+        .split_whitespace()
+        .map(|a| a.replace("{d}", &d.display().to_string()))
+        .collect();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
+        .args(&args)
+        .current_dir(d)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    // A command that fails before reading stdin closes it: ignore the broken pipe.
+    let _ = stdin.write_all(row.stdin.as_bytes());
+    drop(stdin);
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let mut problems = Vec::new();
+    if output.status.code() != Some(row.code) {
+        problems.push(format!(
+            "exit code {:?}, expected {}",
+            output.status.code(),
+            row.code
+        ));
+    }
+    if !stderr.contains(row.message) {
+        problems.push(format!("message lacks '{}'", row.message));
+    }
+    if stderr.contains("panicked") {
+        problems.push("panicked".into());
+    }
+    if row.code == 1 || row.code == 2 {
+        if !output.stdout.is_empty() {
+            problems.push("printed to stdout".into());
+        }
+        if stderr
+            .lines()
+            .filter(|l| l.starts_with("graspath: "))
+            .count()
+            > 1
+        {
+            problems.push("more than one error line".into());
+        }
+    }
+    let after = snapshot(d);
+    for (path, what) in &after {
+        let name = path.display().to_string();
+        if name.contains(".graspath-") || name.ends_with(".tmp") {
+            problems.push(format!("temporary entry left behind: {name}"));
+        }
+        let left = row.leaves.iter().any(|l| path.starts_with(l));
+        if !left && before.get(path) != Some(what) {
+            problems.push(format!("{name} was created or changed"));
+        }
+    }
+    for path in before.keys() {
+        if !after.contains_key(path) {
+            problems.push(format!("{} was removed", path.display()));
+        }
+    }
+    for l in row.leaves {
+        if !after.contains_key(Path::new(l)) {
+            problems.push(format!("{l} was not written"));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: {}\n    stderr: {}",
+            row.name,
+            problems.join("; "),
+            stderr.trim()
+        ))
+    }
+}
+
+#[test]
+fn every_bad_input_gives_its_exit_code_and_message_and_leaves_nothing_behind() {
+    let rows = table();
+    assert!(rows.len() >= 45, "{} rows", rows.len());
+    let mut names = std::collections::BTreeSet::new();
+    for row in &rows {
+        assert!(names.insert(row.name), "row '{}' twice", row.name);
+    }
+    let variants = variants();
+    let failures: Vec<String> = rows
+        .iter()
+        .filter_map(|row| run(row, &variants).err())
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} rows failed:\n{}",
+        failures.len(),
+        rows.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn the_help_documents_the_exit_codes() {
+    for args in [&["--help"][..], &["select", "--help"][..]] {
+        let output = Command::new(env!("CARGO_BIN_EXE_graspath"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(0));
+        let text = String::from_utf8_lossy(&output.stdout);
+        for code in [
+            "0  success",
+            "1  internal error",
+            "2  bad input",
+            "3  select",
+        ] {
+            assert!(text.contains(code), "{args:?}: '{code}' missing");
+        }
+    }
+}

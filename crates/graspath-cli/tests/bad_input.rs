@@ -177,6 +177,51 @@ fn variants() -> BTreeMap<&'static str, (&'static str, &'static str)> {
             ),
         ),
         ("v-bad-yaml.yaml", ("arms: left", "arms: [left")),
+        (
+            "v-samples-huge.yaml",
+            ("samples_per_step: 3", "samples_per_step: 1000000000"),
+        ),
+        (
+            "v-samples-total-huge.yaml",
+            ("samples_per_step: 3", "samples: 1000000000"),
+        ),
+        (
+            "v-spacing-tiny.yaml",
+            (
+                "samples_per_step: 3",
+                "spacing: { translation: 1.0e-12, rotation_deg: 1 }",
+            ),
+        ),
+        (
+            "v-count-huge.yaml",
+            ("edge: { count: 5 }", "edge: { count: 1000000000 }"),
+        ),
+        (
+            "v-iterations-huge.yaml",
+            ("arms: left", "arms: left\nik: { iterations: 4294967296 }"),
+        ),
+        (
+            "v-branches-huge.yaml",
+            ("arms: left", "arms: left\nik: { branches: 100000 }"),
+        ),
+        (
+            "v-work-huge.yaml",
+            (
+                "arms: left",
+                "arms: left\nik: { iterations: 1000000 }\nlimits: { max_work: 1000000 }",
+            ),
+        ),
+        (
+            "v-limits-unknown.yaml",
+            ("arms: left", "arms: left\nlimits: { max_sample: 10 }"),
+        ),
+        (
+            "v-quaternion-norm.yaml",
+            (
+                "xyz: [0.75, 0.0, -0.10]",
+                "xyz: [0.75, 0.0, -0.10], quaternion: [0, 0, 0, 2]",
+            ),
+        ),
     ])
 }
 
@@ -202,6 +247,15 @@ fn table() -> Vec<Row> {
         row("task unknown builtin", "select --task {d}/v-builtin-kuka.yaml --out {d}/out", &[], 2, "kuka"),
         row("task missing urdf", "select --task {d}/v-missing-urdf.yaml --out {d}/out", &[], 2, "missing.urdf"),
         row("task negative box size", "select --task {d}/v-box-size.yaml --out {d}/out", &[], 2, "object.shape"),
+        row("task samples per step 1e9", "select --task {d}/v-samples-huge.yaml --out {d}/out", &[], 2, "more than the limit 100000"),
+        row("task total samples 1e9", "select --task {d}/v-samples-total-huge.yaml --out {d}/out", &[], 2, "raise limits.max_samples"),
+        row("task spacing 1e-12 m", "select --task {d}/v-spacing-tiny.yaml --out {d}/out", &[], 2, "field 'trajectory'"),
+        row("task family count 1e9", "select --task {d}/v-count-huge.yaml --out {d}/out", &[], 2, "candidates.family.edge.count"),
+        row("task ik iterations 2^32", "select --task {d}/v-iterations-huge.yaml --out {d}/out", &[], 2, "field 'ik.iterations'"),
+        row("task ik branches 1e5", "select --task {d}/v-branches-huge.yaml --out {d}/out", &[], 2, "field 'ik.branches'"),
+        row("task work beyond its limit", "select --task {d}/v-work-huge.yaml --out {d}/out", &[], 2, "raise limits.max_work"),
+        row("task limits unknown field", "select --task {d}/v-limits-unknown.yaml --out {d}/out", &[], 2, "limits.max_sample"),
+        row("task quaternion norm 2", "select --task {d}/v-quaternion-norm.yaml --out {d}/out", &[], 2, "object.pose.quaternion"),
         row("task unknown norm", "select --task {d}/v-norm.yaml --out {d}/out", &[], 2, "l3"),
         row("task unknown index mode", "select --task {d}/v-mode.yaml --out {d}/out", &[], 2, "sideways"),
         row("task unknown family", "select --task {d}/v-unknown-family.yaml --out {d}/out", &[], 2, "spiral"),
@@ -211,7 +265,7 @@ fn table() -> Vec<Row> {
         // Candidate files.
         row("candidates file missing", "select --task {d}/v-missing-candidates.yaml --out {d}/out", &[], 2, "nowhere.json"),
         row("candidates empty", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"{"candidates":[]}"#)], 2, "contains no candidates"),
-        row("candidates non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1.1]}]"#)], 2, "candidates[0].quaternion: its norm is 1.100000"),
+        row("candidates non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1.1]}]"#)], 2, "candidates[0].quaternion: must be a unit quaternion [x, y, z, w] (its norm is 1.100000"),
         row("candidates zero quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,0]}]"#)], 2, "candidates[0].quaternion"),
         row("candidates duplicate id", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"id":4,"xyz":[0,0,0.05],"quaternion":[0,0,0,1]},{"id":4,"xyz":[0,0,0.05],"quaternion":[0,0,0,1]}]"#)], 2, "id 4 is used twice (also by candidates[0])"),
         row("candidates far wrist", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,50],"quaternion":[0,0,0,1]}]"#)], 2, "are the units metres?"),

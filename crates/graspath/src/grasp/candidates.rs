@@ -9,20 +9,16 @@
 //! `hand_joints` (numbers separated by spaces or `;`).
 //!
 //! Checked, with an error naming the file, the candidate (`candidates[3]` or `line 7`) and the
-//! field: every number finite; a quaternion's norm within [`QUATERNION_NORM_TOLERANCE`] of 1
+//! field: every number finite; a quaternion's norm within [`QUATERNION_NORM_TOLERANCE`](crate::geometry::QUATERNION_NORM_TOLERANCE) of 1
 //! (then normalised), a matrix orthonormal (see [`crate::geometry::ROTATION_TOLERANCE`]); wrist
 //! and contact positions within [`MAX_OFFSET`] of the object origin; ids unique; the file at
 //! most [`MAX_FILE_BYTES`] long (the number of candidates is what the file holds).
 
-use crate::geometry::{pose_from_rows, quaternion_xyzw};
+use crate::geometry::{pose_from_rows, unit_quaternion_xyzw};
 use nalgebra::{Isometry3, Point3, Translation3};
 use serde::Deserialize;
 use std::io::Read;
 use std::path::Path;
-
-/// How far the norm of a candidate's quaternion may be from 1: enough for values printed with
-/// four decimals or stored as `f32`; a larger deviation is an error, not silently normalised.
-pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-4;
 
 /// The largest distance (m) of a wrist or contact coordinate from the object origin: a grasp
 /// holds the object, so a larger value is a unit mistake (millimetres) or a corrupt file.
@@ -126,21 +122,8 @@ impl Raw {
                 if xyz.iter().any(|v| !v.is_finite()) {
                     return Err(("xyz".into(), "not finite".into()));
                 }
-                let rotation = quaternion_xyzw(q).ok_or_else(|| {
-                    (
-                        "quaternion".to_string(),
-                        "must be a finite non-zero [x, y, z, w]".to_string(),
-                    )
-                })?;
-                let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-                if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
-                    return Err((
-                        "quaternion".into(),
-                        format!(
-                            "its norm is {norm:.6}, not 1 (tolerance {QUATERNION_NORM_TOLERANCE}); give a unit quaternion [x, y, z, w]"
-                        ),
-                    ));
-                }
+                let rotation =
+                    unit_quaternion_xyzw(q).map_err(|m| ("quaternion".to_string(), m))?;
                 Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation)
             }
             _ => {

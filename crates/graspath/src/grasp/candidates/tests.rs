@@ -1,6 +1,7 @@
 //! Candidate files: both formats agree, and every bad value is refused at its place.
 
 use super::*;
+use crate::geometry::QUATERNION_NORM_TOLERANCE;
 use std::io::Write;
 
 #[test]
@@ -133,7 +134,7 @@ fn a_quaternion_must_be_unit_within_the_stated_tolerance() {
     );
     let err = read_candidates(&far).unwrap_err();
     assert_eq!(err.location, "candidates[1].quaternion");
-    assert!(err.message.contains("not 1"), "{err}");
+    assert!(err.message.contains("must be a unit quaternion"), "{err}");
     let csv = write(
         &dir,
         "far.csv",
@@ -142,7 +143,8 @@ fn a_quaternion_must_be_unit_within_the_stated_tolerance() {
     let err = read_candidates(&csv).unwrap_err();
     assert_eq!(err.location, "line 3");
     assert!(
-        err.message.contains("quaternion: its norm is 2.000000"),
+        err.message
+            .contains("quaternion: must be a unit quaternion [x, y, z, w] (its norm is 2.000000"),
         "{err}"
     );
 }

@@ -6,17 +6,17 @@
 use graspath::grasp::edge_family;
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::select::select;
-use graspath::task::{ObjectShape, Sampling, Step, Task, TaskError, TimedStep};
+use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
 use nalgebra::{Isometry3, Vector3};
 
-fn main() -> Result<(), TaskError> {
+fn main() -> graspath::Result<()> {
     // The object: a 6 × 40 × 10 cm cuboid 0.75 m in front of Baxter's base frame.
     let shape = ObjectShape::Box {
         size: [0.06, 0.40, 0.10],
     };
     let world_from_object = Isometry3::translation(0.75, 0.0, -0.10);
     // 21 top grasps along the top edge, from the left-most (+y) to the right-most (−y) contact.
-    let candidates = edge_family(&shape, 21, 0.02, 0.02).expect("a valid family");
+    let candidates = edge_family(&shape, 21, 0.02, 0.02)?;
     // After the grasp: lift 0.2 m, move 0.3 m to the left, place 0.2 m lower (world frame).
     let step =
         |label: &str, v: [f64; 3]| TimedStep::new(label, Step::translation(Vector3::from(v)));

@@ -25,6 +25,9 @@
 //!    trajectory IK, `M_T` per sample, norms), ranked, and paired for two arms. Each result
 //!    carries its candidate.
 //!
+//! Every module has its own error type naming the file and field at fault; [`Error`] gathers
+//! them for applications that handle errors once.
+//!
 //! Reports (JSON, figures, the HTML 3D view) are in the `graspath-report` crate; the `graspath`
 //! binary and the Python bindings are thin layers over these two.
 //!
@@ -56,6 +59,7 @@
 #![warn(missing_docs)]
 
 pub mod cloud;
+mod error;
 pub mod failure;
 pub mod fsutil;
 pub mod geometry;
@@ -64,3 +68,5 @@ pub mod manipulability;
 pub mod robot;
 pub mod select;
 pub mod task;
+
+pub use error::{Error, Result};

@@ -14,6 +14,8 @@ mod se3;
 
 pub use interpolate::{interpolate_decoupled, interpolate_screw};
 pub use matrix::{pose_from_rows, pose_to_rows, PoseError, ROTATION_TOLERANCE};
-pub use pose_spec::{unit_quaternion_xyzw, PoseSpec, PoseSpecError, QUATERNION_NORM_TOLERANCE};
+pub use pose_spec::{
+    unit_quaternion_xyzw, PoseSpec, PoseSpecError, QuaternionError, QUATERNION_NORM_TOLERANCE,
+};
 pub use quaternion::{quaternion_angle_between, quaternion_in_hemisphere_of, quaternion_xyzw};
 pub use se3::{se3_exp, se3_log, so3_log, Twist};

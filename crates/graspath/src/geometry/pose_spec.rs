@@ -110,7 +110,7 @@ impl PoseSpec {
                 deg[2].to_radians(),
             )
         } else if let Some(q) = self.quaternion {
-            unit_quaternion_xyzw(q).map_err(|m| err("quaternion", m))?
+            unit_quaternion_xyzw(q).map_err(|e| err("quaternion", e.to_string()))?
         } else {
             UnitQuaternion::identity()
         };
@@ -121,20 +121,30 @@ impl PoseSpec {
     }
 }
 
-/// A unit quaternion from `[x, y, z, w]` whose norm is 1 within
-/// [`QUATERNION_NORM_TOLERANCE`]; the message says what is wrong otherwise.
-pub fn unit_quaternion_xyzw(xyzw: [f64; 4]) -> Result<UnitQuaternion<f64>, String> {
+/// Why four numbers are not a unit quaternion.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QuaternionError {
+    /// A component is NaN or infinite.
+    #[error("must be four finite numbers [x, y, z, w]: {0:?}")]
+    NonFinite([f64; 4]),
+    /// The norm is farther from 1 than [`QUATERNION_NORM_TOLERANCE`].
+    #[error("must be a unit quaternion [x, y, z, w] (its norm is {norm:.6}, allowed 1 ± {QUATERNION_NORM_TOLERANCE})")]
+    NotUnit {
+        /// The quaternion's norm.
+        norm: f64,
+    },
+}
+
+/// A unit quaternion from `[x, y, z, w]` (the ROS / Eigen storage order) whose norm is 1 within
+/// [`QUATERNION_NORM_TOLERANCE`], normalised exactly.
+pub fn unit_quaternion_xyzw(xyzw: [f64; 4]) -> Result<UnitQuaternion<f64>, QuaternionError> {
     if xyzw.iter().any(|c| !c.is_finite()) {
-        return Err(format!(
-            "must be four finite numbers [x, y, z, w]: {xyzw:?}"
-        ));
+        return Err(QuaternionError::NonFinite(xyzw));
     }
     let q = Quaternion::new(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
     let norm = q.norm();
     if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
-        return Err(format!(
-            "must be a unit quaternion [x, y, z, w] (its norm is {norm:.6}, allowed 1 ± {QUATERNION_NORM_TOLERANCE})"
-        ));
+        return Err(QuaternionError::NotUnit { norm });
     }
     Ok(UnitQuaternion::from_quaternion(q))
 }

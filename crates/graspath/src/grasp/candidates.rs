@@ -122,8 +122,8 @@ impl Raw {
                 if xyz.iter().any(|v| !v.is_finite()) {
                     return Err(("xyz".into(), "not finite".into()));
                 }
-                let rotation =
-                    unit_quaternion_xyzw(q).map_err(|m| ("quaternion".to_string(), m))?;
+                let rotation = unit_quaternion_xyzw(q)
+                    .map_err(|e| ("quaternion".to_string(), e.to_string()))?;
                 Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation)
             }
             _ => {

@@ -35,6 +35,37 @@ fn candidate(
     }
 }
 
+/// Why a candidate family cannot be laid out on a shape.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FamilyError {
+    /// The family is defined on a box only.
+    #[error("the {family} family needs a box shape")]
+    NeedsBox {
+        /// The family's name.
+        family: &'static str,
+    },
+    /// `count` is zero.
+    #[error("count must be at least 1")]
+    ZeroCount,
+    /// The margin leaves no edge to place grasps on.
+    #[error("margin {margin} m leaves no edge on a {side} m box side")]
+    NoEdge {
+        /// The margin kept from each end (m).
+        margin: f64,
+        /// The box side's length (m).
+        side: f64,
+    },
+    /// A face name that is not one of the six.
+    #[error("unknown face '{0}' (faces: top, bottom, left, right, front, back)")]
+    UnknownFace(String),
+    /// Every face is wider than the gripper opens.
+    #[error("no face of a {size:?} m box fits a {GRIPPER_MAX_OPENING} m gripper opening")]
+    NoFaceFits {
+        /// The box's edge lengths (m).
+        size: [f64; 3],
+    },
+}
+
 /// Top grasps along a box's top edge in the object's `y` direction, from the left-most
 /// (`+y`) to the right-most (`−y`) contact, approaching from above (`−z`) with the fingers
 /// closing across `x`; `margin` (m) kept from each end.
@@ -43,19 +74,19 @@ pub fn edge_family(
     count: usize,
     depth: f64,
     margin: f64,
-) -> Result<Vec<Candidate>, String> {
+) -> Result<Vec<Candidate>, FamilyError> {
     let ObjectShape::Box { size } = *shape else {
-        return Err("the edge family needs a box shape".into());
+        return Err(FamilyError::NeedsBox { family: "edge" });
     };
     if count == 0 {
-        return Err("count must be at least 1".into());
+        return Err(FamilyError::ZeroCount);
     }
     let half = size[1] / 2.0 - margin;
     if half < 0.0 {
-        return Err(format!(
-            "margin {margin} m leaves no edge on a {} m box side",
-            size[1]
-        ));
+        return Err(FamilyError::NoEdge {
+            margin,
+            side: size[1],
+        });
     }
     let rotation = wrist_rotation(-Vector3::z(), Vector3::x());
     Ok((0..count)
@@ -83,9 +114,9 @@ pub fn yaw_family(
     start: f64,
     step: f64,
     depth: f64,
-) -> Result<Vec<Candidate>, String> {
+) -> Result<Vec<Candidate>, FamilyError> {
     if count == 0 {
-        return Err("count must be at least 1".into());
+        return Err(FamilyError::ZeroCount);
     }
     let top = shape.bounds().1.z;
     let base = wrist_rotation(-Vector3::z(), Vector3::x());
@@ -122,17 +153,15 @@ pub fn face_family(
     count: usize,
     exclude: &[String],
     depth: f64,
-) -> Result<Vec<Candidate>, String> {
+) -> Result<Vec<Candidate>, FamilyError> {
     let ObjectShape::Box { size } = *shape else {
-        return Err("the faces family needs a box shape".into());
+        return Err(FamilyError::NeedsBox { family: "faces" });
     };
     if let Some(unknown) = exclude
         .iter()
         .find(|e| !FACES.iter().any(|f| f.0 == e.as_str()))
     {
-        return Err(format!(
-            "unknown face '{unknown}' (faces: top, bottom, left, right, front, back)"
-        ));
+        return Err(FamilyError::UnknownFace(unknown.clone()));
     }
     // Lines: (face name, normal axis, sign, closing axis, closing sign, line axis).
     let mut lines = Vec::new();
@@ -155,9 +184,7 @@ pub fn face_family(
         }
     }
     if lines.is_empty() {
-        return Err(format!(
-            "no face of a {size:?} m box fits a {GRIPPER_MAX_OPENING} m gripper opening"
-        ));
+        return Err(FamilyError::NoFaceFits { size });
     }
     let margin = 0.01;
     // Share `count` equally among the faces, then equally among each face's lines; the

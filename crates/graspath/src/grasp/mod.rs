@@ -8,4 +8,4 @@ pub mod hand;
 pub mod model;
 
 pub use candidates::{read_candidates, Candidate, CandidateError};
-pub use families::{edge_family, face_family, yaw_family, GRIPPER_MAX_OPENING};
+pub use families::{edge_family, face_family, yaw_family, FamilyError, GRIPPER_MAX_OPENING};

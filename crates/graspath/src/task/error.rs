@@ -1,9 +1,14 @@
 //! The one error type of tasks: the task (its file or name), the field's path in the task-file
-//! schema, and what is wrong.
+//! schema, what is wrong, and — when another part of graspath found the problem (a URDF that
+//! does not load, a candidate file, a cloud) — that error as its source.
+
+use std::error::Error;
+use std::sync::Arc;
 
 /// An error in a task: the file (or the name given to the builder), the field's path (empty for
-/// the whole document) and what is wrong.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+/// the whole document), what is wrong, and the underlying error when there is one
+/// ([`std::error::Error::source`]).
+#[derive(Debug, Clone, thiserror::Error)]
 #[error("{file}: {}{message}", field_prefix(.field))]
 pub struct TaskError {
     /// The task file, or the task's name.
@@ -12,6 +17,16 @@ pub struct TaskError {
     pub field: String,
     /// What is wrong.
     pub message: String,
+    /// The error that caused this one (a robot, candidate, model or cloud error).
+    #[source]
+    pub source: Option<Arc<dyn Error + Send + Sync + 'static>>,
+}
+
+impl PartialEq for TaskError {
+    /// Equal when the file, field and message are; the sources are not compared.
+    fn eq(&self, other: &Self) -> bool {
+        (&self.file, &self.field, &self.message) == (&other.file, &other.field, &other.message)
+    }
 }
 
 fn field_prefix(field: &str) -> String {
@@ -33,6 +48,21 @@ impl TaskError {
             file: file.into(),
             field: field.into(),
             message: message.into(),
+            source: None,
+        }
+    }
+
+    /// An error about `field` of `file` caused by `source`; the message is the source's.
+    pub fn caused_by(
+        file: impl Into<String>,
+        field: impl Into<String>,
+        source: impl Error + Send + Sync + 'static,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            field: field.into(),
+            message: source.to_string(),
+            source: Some(Arc::new(source)),
         }
     }
 }

@@ -193,7 +193,10 @@ fn setup_arms(
     let urdf = match &robot.urdf {
         Some(p) => {
             let full: PathBuf = base_dir.join(p);
-            Some(UrdfRobot::from_file(&full).map_err(|e| err("robot.urdf", e.to_string()))?)
+            Some(
+                UrdfRobot::from_file(&full)
+                    .map_err(|e| TaskError::caused_by(source, "robot.urdf", e))?,
+            )
         }
         None => None,
     };
@@ -229,7 +232,7 @@ fn setup_arms(
                 };
                 robot
                     .chain(base, tip, tool)
-                    .map_err(|e| err(&field, e.to_string()))?
+                    .map_err(|e| TaskError::caused_by(source, &field, e))?
             }
             None => {
                 if arm_file.is_some_and(|a| a.base.is_some() || a.tip.is_some()) {
@@ -244,7 +247,7 @@ fn setup_arms(
                     .map_err(|e: String| err(&format!("arms[{k}]"), e))?;
                 let mut spec = baxter_spec(arm);
                 spec.tip_from_tool = tool;
-                Chain::from_spec(&spec).map_err(|e| err(&field, e.to_string()))?
+                Chain::from_spec(&spec).map_err(|e| TaskError::caused_by(source, &field, e))?
             }
         };
         arms.push((name.clone(), chain, world_from_base));
@@ -287,9 +290,8 @@ fn setup_candidates(
         return generated_candidates(generate, source, base_dir, limits);
     }
     match (&file.candidates.file, &file.candidates.family) {
-        (Some(path), None) => {
-            read_candidates(&base_dir.join(path)).map_err(|e| err("candidates.file", e.to_string()))
-        }
+        (Some(path), None) => read_candidates(&base_dir.join(path))
+            .map_err(|e| TaskError::caused_by(source, "candidates.file", e)),
         (None, Some(family)) => {
             let shape = shape.ok_or_else(|| {
                 err(
@@ -363,7 +365,7 @@ fn setup_candidates(
                     )
                 }
             }
-            .map_err(|m| err(field, m))
+            .map_err(|e| TaskError::caused_by(source, field, e))
         }
         (Some(_), Some(_)) => Err(err(
             "candidates",
@@ -389,10 +391,10 @@ fn generated_candidates(
             .map_err(|m| err("candidates.generate.max_candidates", m))?;
     }
     let model = GraspModel::read(&base_dir.join(&g.model))
-        .map_err(|e| err("candidates.generate.model", e.to_string()))?;
+        .map_err(|e| TaskError::caused_by(source, "candidates.generate.model", e))?;
     let cloud_path = base_dir.join(&g.cloud);
     let cloud = load_cloud_argument(&cloud_path)
-        .map_err(|e| err("candidates.generate.cloud", e.to_string()))?;
+        .map_err(|e| TaskError::caused_by(source, "candidates.generate.cloud", e))?;
     let defaults = GenerateOptions::default();
     let options = GenerateOptions {
         seed: g.seed.unwrap_or(0),
@@ -408,7 +410,7 @@ fn generated_candidates(
         &cloud_path.display().to_string(),
         &|_| {},
     )
-    .map_err(|e| err("candidates.generate", e.to_string()))?;
+    .map_err(|e| TaskError::caused_by(source, "candidates.generate", e))?;
     if let Some(n) = g.max_candidates {
         generated.truncate(n);
     }

@@ -77,9 +77,10 @@ fn origin(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
     )
 }
 
-fn fixed(name: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
+fn fixed(name: &str, child: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
     JointSpec {
         name: name.to_string(),
+        child_link: child.to_string(),
         kind: JointKind::Fixed,
         parent_from_joint: origin(xyz, rpy),
         axis: Vector3::x(),
@@ -89,9 +90,16 @@ fn fixed(name: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
     }
 }
 
-fn revolute(name: String, xyz: [f64; 3], rpy: [f64; 3], limits: (f64, f64)) -> JointSpec {
+fn revolute(
+    name: String,
+    child: String,
+    xyz: [f64; 3],
+    rpy: [f64; 3],
+    limits: (f64, f64),
+) -> JointSpec {
     JointSpec {
         name,
+        child_link: child,
         kind: JointKind::Revolute,
         parent_from_joint: origin(xyz, rpy),
         axis: Vector3::z(),
@@ -110,38 +118,58 @@ pub fn baxter_spec(arm: Arm) -> ChainSpec {
         Arm::Right => -1.0,
     };
     let a = PUBLISHED_RIGHT_ANGLE;
-    let arm_joints: [(&str, [f64; 3], [f64; 3]); 7] = [
-        ("s0", [0.055695, 0.0, 0.011038], [0.0, 0.0, 0.0]),
-        ("s1", [0.069, 0.0, 0.27035], [-a, 0.0, 0.0]),
-        ("e0", [0.102, 0.0, 0.0], [a, 0.0, a]),
-        ("e1", [0.069, 0.0, 0.26242], [-a, -a, 0.0]),
-        ("w0", [0.10359, 0.0, 0.0], [a, 0.0, a]),
-        ("w1", [0.01, 0.0, 0.2707], [-a, -a, 0.0]),
-        ("w2", [0.115975, 0.0, 0.0], [a, 0.0, a]),
+    let arm_joints: [(&str, &str, [f64; 3], [f64; 3]); 7] = [
+        (
+            "s0",
+            "upper_shoulder",
+            [0.055695, 0.0, 0.011038],
+            [0.0, 0.0, 0.0],
+        ),
+        (
+            "s1",
+            "lower_shoulder",
+            [0.069, 0.0, 0.27035],
+            [-a, 0.0, 0.0],
+        ),
+        ("e0", "upper_elbow", [0.102, 0.0, 0.0], [a, 0.0, a]),
+        ("e1", "lower_elbow", [0.069, 0.0, 0.26242], [-a, -a, 0.0]),
+        ("w0", "upper_forearm", [0.10359, 0.0, 0.0], [a, 0.0, a]),
+        ("w1", "lower_forearm", [0.01, 0.0, 0.2707], [-a, -a, 0.0]),
+        ("w2", "wrist", [0.115975, 0.0, 0.0], [a, 0.0, a]),
     ];
     let mut joints = vec![
-        fixed("torso_t0", [0.0; 3], [0.0; 3]),
+        fixed("torso_t0", "torso", [0.0; 3], [0.0; 3]),
         fixed(
             &format!("{side}_torso_arm_mount"),
+            &format!("{side}_arm_mount"),
             [0.024645, mirror * 0.219645, 0.118588],
             [0.0, 0.0, mirror * 0.7854],
         ),
     ];
-    for ((name, xyz, rpy), limits) in arm_joints.into_iter().zip(BAXTER_LIMITS) {
-        joints.push(revolute(format!("{side}_{name}"), xyz, rpy, limits));
+    for ((name, child, xyz, rpy), limits) in arm_joints.into_iter().zip(BAXTER_LIMITS) {
+        joints.push(revolute(
+            format!("{side}_{name}"),
+            format!("{side}_{child}"),
+            xyz,
+            rpy,
+            limits,
+        ));
     }
     joints.push(fixed(
         &format!("{side}_hand_joint"),
+        &format!("{side}_hand_link"),
         [0.0, 0.0, 0.11355],
         [0.0; 3],
     ));
     joints.push(fixed(
         &format!("{side}_gripper_base_joint"),
+        &format!("{side}_gripper_base_link"),
         [0.0, 0.0, 0.025],
         [0.0; 3],
     ));
     joints.push(fixed(
         &format!("{side}_endpoint"),
+        &format!("{side}_gripper"),
         [0.0, 0.0, 0.1327],
         [0.0; 3],
     ));

@@ -72,6 +72,16 @@ pub enum RobotError {
         /// Length given.
         got: usize,
     },
+    /// A link-frame buffer of the wrong length.
+    #[error("the frame buffer has {got} entries but the chain '{chain}' has {expected} links")]
+    WrongLinkCount {
+        /// Chain name (`base->tip`).
+        chain: String,
+        /// Link count of the chain.
+        expected: usize,
+        /// Length given.
+        got: usize,
+    },
     /// A joint value is NaN or infinite.
     #[error("q[{index}] is not a finite number")]
     NonFiniteJoint {

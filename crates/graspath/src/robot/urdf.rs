@@ -216,6 +216,7 @@ impl UrdfRobot {
             .transpose()?;
         Ok(JointSpec {
             name: joint.name.clone(),
+            child_link: joint.child.link.clone(),
             kind,
             parent_from_joint,
             axis,

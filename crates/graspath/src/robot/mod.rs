@@ -9,16 +9,21 @@
 
 pub mod builtin;
 mod chain;
+mod collision;
 mod error;
 mod ik;
+mod source;
 mod spec;
 mod trajectory_ik;
 mod trig;
 mod urdf;
+mod urdf_scan;
 
 pub use chain::{Chain, FixedChain, MotionKind};
+pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{solve_ik, IkFailure, IkFailureReason, IkOptions, IkSolution};
+pub use source::{RobotModel, RobotSource};
 pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
 pub use trajectory_ik::{
     solve_trajectory, JointPath, TrajectoryFailure, TrajectoryFailureReason, TrajectoryIkOptions,

@@ -251,3 +251,36 @@ fn builtin_baxter_primitives_sit_where_the_description_puts_them() {
         assert_eq!(builtin[0].shapes[k].geometry, element.geometry);
     }
 }
+
+#[test]
+fn hand_meshes_resolve_through_the_robot_source() {
+    use graspath::grasp::hand::{hand_from_robot, Shape as HandShape};
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir.path().join("share/pkg/cube.obj"), CUBE_OBJ);
+    let urdf = dir.path().join("hand/hand.urdf");
+    write(
+        &urdf,
+        r#"<robot name="h"><link name="palm"><collision><geometry><mesh filename="package://pkg/cube.obj"/></geometry></collision></link></robot>"#,
+    );
+    let source = RobotSource::Urdf {
+        path: urdf.clone(),
+        search_paths: vec![dir.path().join("share")],
+    };
+    let hand = hand_from_robot(&source.load().unwrap(), "palm").unwrap();
+    assert!(matches!(
+        hand.links[0].shapes[0].shape,
+        HandShape::ConvexMesh { .. }
+    ));
+    // Without the search path the error names the hand file, the link and the paths tried.
+    let err = hand_from_robot(&RobotSource::urdf(&urdf).load().unwrap(), "palm")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("hand.urdf: link 'palm', collision mesh 'package://pkg/cube.obj': not found"),
+        "{err}"
+    );
+    let err = hand_from_robot(&RobotSource::builtin("baxter").load().unwrap(), "palm")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("built-in"), "{err}");
+}

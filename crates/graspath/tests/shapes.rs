@@ -103,13 +103,16 @@ fn nearest(samples: &[Point3<f64>], p: &Point3<f64>) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// A test-side membership oracle.
+type Inside = Box<dyn Fn(&Point3<f64>) -> bool>;
+
 /// The shapes under test with their sampled surfaces, the spacing bound (m) of the samples
 /// and a test-side membership oracle.
 struct Case {
     shape: Shape,
     surface: Vec<Point3<f64>>,
     spacing: f64,
-    inside: Box<dyn Fn(&Point3<f64>) -> bool>,
+    inside: Inside,
 }
 
 fn cases() -> Vec<Case> {

@@ -78,7 +78,7 @@ impl RobotSource {
                     source_name: robot.source_name().to_string(),
                     kind: Kind::Urdf {
                         meshes: MeshResolver::from_env(&base_dir, search_paths.clone()),
-                        robot,
+                        robot: Box::new(robot),
                     },
                 })
             }
@@ -90,7 +90,7 @@ impl RobotSource {
 enum Kind {
     Baxter,
     Urdf {
-        robot: UrdfRobot,
+        robot: Box<UrdfRobot>,
         meshes: MeshResolver,
     },
 }

@@ -55,6 +55,8 @@ struct LinkSlot {
     segment: Option<usize>,
     rotation: Matrix3<f64>,
     translation: Vector3<f64>,
+    /// The offset is exactly the identity (a joint axis already along `z`): copy the frame.
+    identity: bool,
 }
 
 /// A serial kinematic chain from a base link to a tip link (plus an optional tool offset),
@@ -99,10 +101,15 @@ impl Chain {
         let mut has_mimic = false;
         // The transform from the last aligned frame (or the base) to the current link frame.
         let mut pending = Isometry3::<f64>::identity();
-        let slot = |segment: Option<usize>, pending: &Isometry3<f64>| LinkSlot {
-            segment,
-            rotation: pending.rotation.to_rotation_matrix().into_inner(),
-            translation: pending.translation.vector,
+        let slot = |segment: Option<usize>, pending: &Isometry3<f64>| {
+            let rotation = pending.rotation.to_rotation_matrix().into_inner();
+            let translation = pending.translation.vector;
+            LinkSlot {
+                segment,
+                rotation,
+                translation,
+                identity: rotation == Matrix3::identity() && translation == Vector3::zeros(),
+            }
         };
         let mut link_names = vec![spec.base_link.clone()];
         let mut link_slots = vec![slot(None, &pending)];
@@ -264,6 +271,11 @@ impl Chain {
         let mut emit = |c: &[[f64; 3]; 3], p: &[f64; 3], k: &mut usize, segment: Option<usize>| {
             while *k < slots.len() && slots[*k].segment == segment {
                 let slot = &slots[*k];
+                if slot.identity {
+                    out[*k] = pose_from_columns(c, p);
+                    *k += 1;
+                    continue;
+                }
                 let (r, t) = (&slot.rotation, &slot.translation);
                 let offset = combine(&c[0], t[0], &c[1], t[1], &c[2], t[2]);
                 let origin = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];

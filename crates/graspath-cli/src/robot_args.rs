@@ -3,8 +3,7 @@
 use crate::bad_input;
 use anyhow::Result;
 use clap::Args;
-use graspath::robot::builtin::{baxter, baxter_with_tool, Arm};
-use graspath::robot::{Chain, UrdfRobot};
+use graspath::robot::{Chain, RobotSource};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use std::path::PathBuf;
 
@@ -57,7 +56,7 @@ impl RobotArgs {
         )))
     }
 
-    /// Loads the chain the options name.
+    /// Loads the chain the options name, through the library's one robot resolver.
     pub fn load(&self) -> Result<Chain> {
         let tool = self.tool()?;
         match (&self.urdf, &self.robot) {
@@ -65,16 +64,11 @@ impl RobotArgs {
                 let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
                     return Err(bad_input!("--urdf needs --base LINK and --tip LINK"));
                 };
-                Ok(UrdfRobot::from_file(path)?.chain(base, tip, tool)?)
+                Ok(RobotSource::urdf(path).load()?.chain(base, tip, tool)?)
             }
-            (None, Some(name)) if name == "baxter" => {
-                let arm: Arm = self.arm.parse().map_err(|e| bad_input!("--arm: {e}"))?;
-                Ok(match tool {
-                    Some(tool) => baxter_with_tool(arm, tool)?,
-                    None => baxter(arm),
-                })
-            }
-            (None, Some(other)) => Err(bad_input!("--robot: unknown built-in robot '{other}' (built in: baxter)")),
+            (None, Some(name)) => Ok(RobotSource::builtin(name.as_str())
+                .load()?
+                .named_chain(&self.arm, tool)?),
             _ => Err(bad_input!("choose a robot: --robot baxter --arm left|right, or --urdf FILE --base LINK --tip LINK")),
         }
     }

@@ -6,7 +6,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::robot::{load_urdf_chain, Chain};
-use nalgebra::Matrix6xX;
+use nalgebra::{IsometryMatrix3, Matrix6xX};
 use std::hint::black_box;
 use std::path::PathBuf;
 
@@ -44,9 +44,33 @@ fn bench_dynamic(c: &mut Criterion, name: &str, chain: &Chain) {
     });
 }
 
+/// The tip pose alone and every link frame, on the same configurations: the link-frame pass
+/// should stay in the tip pass's speed class.
+fn bench_frames(c: &mut Criterion, name: &str, chain: &Chain) {
+    let qs = configurations(chain);
+    let mut k = 0;
+    c.bench_function(&format!("fk_tip/{name}"), |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            black_box(chain.pose(black_box(&qs[k])).expect("valid configuration"))
+        })
+    });
+    let mut frames = vec![IsometryMatrix3::identity(); chain.link_names().len()];
+    c.bench_function(&format!("fk_link_frames/{name}"), |b| {
+        b.iter(|| {
+            k = (k + 1) % qs.len();
+            chain
+                .link_frames_into(black_box(&qs[k]), &mut frames)
+                .expect("valid configuration");
+            black_box(&frames);
+        })
+    });
+}
+
 fn kinematics(c: &mut Criterion) {
     let left = baxter(Arm::Left);
     bench_dynamic(c, "baxter_left", &left);
+    bench_frames(c, "baxter_left", &left);
     let fixed = left.fixed::<7>().expect("7 joints");
     let qs: Vec<[f64; 7]> = configurations(&left)
         .into_iter()
@@ -84,7 +108,10 @@ fn kinematics(c: &mut Criterion) {
         ("ur5", "ur5_robot.urdf", "base_link", "tool0"),
     ] {
         match load_urdf_chain(&shared.join(file), base, tip, None) {
-            Ok(chain) => bench_dynamic(c, name, &chain),
+            Ok(chain) => {
+                bench_dynamic(c, name, &chain);
+                bench_frames(c, name, &chain);
+            }
             Err(e) => eprintln!("skipping {name}: {e}"),
         }
     }

@@ -4,7 +4,7 @@
 use graspath::geometry::pose_from_rows;
 use graspath::grasp::hand::{hand_from_urdf, HandError, Shape};
 use graspath::grasp::model::{train_file, GraspModel, ModelError};
-use graspath::robot::UrdfRobot;
+use graspath::robot::{MeshResolver, UrdfRobot};
 use nalgebra::{Point3, Vector3};
 use std::path::PathBuf;
 
@@ -15,7 +15,8 @@ fn data() -> PathBuf {
 #[test]
 fn urdf_hand_has_its_joints_links_and_mimic_fingers() {
     let robot = UrdfRobot::from_file(&data().join("three_finger_hand.urdf")).expect("urdf");
-    let hand = hand_from_urdf(&robot, "palm", &data()).expect("hand");
+    let meshes = MeshResolver::from_env(&data(), Vec::new());
+    let hand = hand_from_urdf(&robot, "palm", &meshes).expect("hand");
     let names: Vec<&str> = hand.joints.iter().map(|j| j.name.as_str()).collect();
     assert_eq!(names, ["a_joint", "bc_joint"]);
     assert_eq!(hand.links.len(), 4);
@@ -37,7 +38,7 @@ fn urdf_hand_has_its_joints_links_and_mimic_fingers() {
     );
     assert!((radial(tip(c)) - expected).abs() < 1e-6);
     assert!((radial(tip(b)) - radial(tip(c))).abs() < 1e-6);
-    let err = hand_from_urdf(&robot, "wrist", &data()).unwrap_err();
+    let err = hand_from_urdf(&robot, "wrist", &meshes).unwrap_err();
     assert!(
         matches!(err, HandError::UnknownRoot { .. }) && err.to_string().contains("palm"),
         "{err}"

@@ -231,6 +231,7 @@ fn a_seed_outside_the_limits_is_clamped_first() {
 fn mixed_chain() -> Chain {
     let joint = |name: &str, kind, xyz: [f64; 3], axis: Vector3<f64>, lo: f64, hi: f64| JointSpec {
         name: name.into(),
+        child_link: String::new(),
         kind,
         parent_from_joint: Isometry3::translation(xyz[0], xyz[1], xyz[2]),
         axis,

@@ -2,27 +2,13 @@
 
 mod common;
 
-use graspath::robot::{load_urdf_chain, parse_urdf_chain, RobotError, UrdfRobot};
+use graspath::robot::{
+    load_urdf_chain, parse_urdf_chain, MeshResolver, RobotError, RobotSource, UrdfRobot,
+};
 use std::io::Write;
 
 fn two_links(joint: &str) -> String {
     format!(r#"<robot name="r"><link name="base"/><link name="tip"/>{joint}</robot>"#)
-}
-
-#[test]
-fn malformed_xml_names_the_file() {
-    let err = parse_urdf_chain(
-        "<robot name=\"r\"><link name=\"a\">",
-        "broken.urdf",
-        "a",
-        "a",
-    )
-    .unwrap_err();
-    assert!(matches!(err, RobotError::Parse { .. }), "{err:?}");
-    assert!(
-        err.to_string().starts_with("broken.urdf: not a valid URDF"),
-        "{err}"
-    );
 }
 
 #[test]
@@ -138,4 +124,187 @@ fn package_mesh_paths_do_not_stop_kinematics() {
     </robot>"#;
     let chain = parse_urdf_chain(urdf, "m.urdf", "base", "tip").unwrap();
     assert_eq!(chain.dof(), 1);
+}
+
+const LIMIT: &str = r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#;
+
+/// Bad URDF text, and fragments the one error must contain (the file name always).
+#[test]
+fn bad_urdf_table() {
+    let joint = |kind: &str, extra: &str| {
+        two_links(&format!(
+            r#"<joint name="j" type="{kind}"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>{extra}</joint>"#
+        ))
+    };
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        (
+            "unclosed root",
+            "<robot name=\"r\">\n  <link name=\"a\">".into(),
+            vec!["bad.urdf:2:3", "malformed XML", "<link> is never closed"],
+        ),
+        (
+            "mismatched end tag",
+            "<robot name=\"r\">\n<link name=\"a\"></joint>\n</robot>".into(),
+            vec!["bad.urdf:2:", "malformed XML"],
+        ),
+        (
+            "broken attribute",
+            "<robot name=\"r\">\n\n   <link name=a/></robot>".into(),
+            vec!["bad.urdf:3:4", "in <link>"],
+        ),
+        (
+            "empty file",
+            String::new(),
+            vec!["bad.urdf:1:1", "no root element"],
+        ),
+        (
+            "revolute without limit",
+            joint("revolute", ""),
+            vec![
+                "joint 'j'",
+                "field 'limit'",
+                "revolute joint needs a <limit",
+                "line 1",
+            ],
+        ),
+        (
+            "prismatic without limit",
+            joint("prismatic", ""),
+            vec!["joint 'j'", "prismatic joint needs a <limit"],
+        ),
+        (
+            "child of two joints",
+            format!(
+                r#"<robot name="r"><link name="base"/><link name="mid"/><link name="tip"/>
+                <joint name="a" type="fixed"><parent link="base"/><child link="tip"/></joint>
+                <joint name="b" type="revolute"><parent link="mid"/><child link="tip"/>{LIMIT}</joint></robot>"#
+            ),
+            vec!["link 'tip' is the child of two joints, 'a' and 'b'"],
+        ),
+        (
+            "inverted limits",
+            joint(
+                "revolute",
+                r#"<limit lower="1" upper="-1" effort="1" velocity="1"/>"#,
+            ),
+            vec!["joint 'j'", "field 'limit'", "not an interval"],
+        ),
+    ];
+    for (what, text, fragments) in cases {
+        let err = match UrdfRobot::from_xml(&text, "bad.urdf") {
+            Ok(robot) => robot.chain("base", "tip", None).map(|_| ()).unwrap_err(),
+            Err(e) => e,
+        };
+        let message = err.to_string();
+        assert!(message.contains("bad.urdf"), "{what}: {message}");
+        for fragment in fragments {
+            assert!(
+                message.contains(fragment),
+                "{what}: '{fragment}' not in: {message}"
+            );
+        }
+    }
+    // A continuous joint needs no limit; a fixed one neither.
+    assert!(parse_urdf_chain(&joint("continuous", ""), "ok.urdf", "base", "tip").is_ok());
+    assert!(parse_urdf_chain(&joint("revolute", LIMIT), "ok.urdf", "base", "tip").is_ok());
+}
+
+fn mesh_robot(filename: &str) -> String {
+    format!(
+        r#"<robot name="m"><link name="base"/>
+        <link name="arm"><collision><origin xyz="0 0 0.1"/><geometry><mesh filename="{filename}" scale="2 2 2"/></geometry></collision></link>
+        <joint name="j" type="fixed"><parent link="base"/><child link="arm"/></joint></robot>"#
+    )
+}
+
+/// Bad collision elements and meshes that cannot be found: the URDF, the link and the
+/// paths tried are named.
+#[test]
+fn bad_collision_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let resolver = MeshResolver {
+        base_dir: dir.path().join("robot/urdf"),
+        search_paths: vec![dir.path().join("extra")],
+        ros_package_path: vec![dir.path().join("ros")],
+        ament_prefix_path: vec![dir.path().join("ament")],
+    };
+    let collision = |geometry: &str| {
+        format!(
+            r#"<robot name="c"><link name="base"><collision><geometry>{geometry}</geometry></collision></link></robot>"#
+        )
+    };
+    let extra = dir.path().join("extra").display().to_string();
+    let ros = dir.path().join("ros").display().to_string();
+    let ament = dir.path().join("ament").display().to_string();
+    let cases: Vec<(&str, String, Vec<String>)> = vec![
+        (
+            "package mesh missing",
+            mesh_robot("package://arm_pkg/meshes/arm.stl"),
+            vec![
+                "link 'arm'".into(),
+                "collision mesh 'package://arm_pkg/meshes/arm.stl': not found".into(),
+                format!("{extra}/arm_pkg/meshes/arm.stl"),
+                format!("{extra}/share/arm_pkg/meshes/arm.stl"),
+                format!("{ros}/arm_pkg/meshes/arm.stl"),
+                format!("{ament}/share/arm_pkg/meshes/arm.stl"),
+                "ROS_PACKAGE_PATH".into(),
+            ],
+        ),
+        (
+            "relative mesh missing",
+            mesh_robot("meshes/arm.obj"),
+            vec!["robot/urdf/meshes/arm.obj".into()],
+        ),
+        (
+            "unsupported scheme",
+            mesh_robot("http://example.invalid/arm.stl"),
+            vec!["unsupported URI scheme".into()],
+        ),
+        (
+            "negative box",
+            collision(r#"<box size="0.1 -0.2 0.3"/>"#),
+            vec!["link 'base', collision 0".into(), "box.size[1]".into()],
+        ),
+        (
+            "zero sphere",
+            collision(r#"<sphere radius="0"/>"#),
+            vec!["sphere.radius".into()],
+        ),
+        (
+            "zero cylinder length",
+            collision(r#"<cylinder radius="0.1" length="0"/>"#),
+            vec!["cylinder.length".into()],
+        ),
+    ];
+    for (what, text, fragments) in cases {
+        let robot = UrdfRobot::from_xml(&text, "c.urdf").unwrap();
+        let message = robot.collisions(&resolver).unwrap_err().to_string();
+        assert!(message.starts_with("c.urdf: "), "{what}: {message}");
+        for fragment in fragments {
+            assert!(
+                message.contains(&fragment),
+                "{what}: '{fragment}' not in: {message}"
+            );
+        }
+    }
+}
+
+#[test]
+fn unknown_robots_and_chains_get_suggestions() {
+    let err = RobotSource::builtin("baxtr").load().unwrap_err();
+    assert!(matches!(err, RobotError::UnknownRobot { .. }));
+    assert!(err.to_string().contains("did you mean: baxter?"), "{err}");
+    let model = RobotSource::builtin("baxter").load().unwrap();
+    let err = model.named_chain("lef", None).unwrap_err();
+    assert!(err.to_string().contains("did you mean: left?"), "{err}");
+    let err = model.chain("base", "left_wrsit", None).unwrap_err();
+    assert!(err.to_string().contains("left_wrist"), "{err}");
+    let err = model.chain("left_wrist", "right_wrist", None).unwrap_err();
+    assert!(matches!(err, RobotError::TipNotBelowBase { .. }), "{err}");
+    let err = RobotSource::urdf("/nonexistent/r.urdf").load().unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("/nonexistent/r.urdf: cannot read"),
+        "{err}"
+    );
 }

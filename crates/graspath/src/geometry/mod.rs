@@ -1,5 +1,5 @@
-//! Rigid-body geometry: poses, SE(3) exponential and logarithm, pose interpolation and
-//! quaternion helpers.
+//! Rigid-body geometry: poses, SE(3) exponential and logarithm, pose interpolation,
+//! quaternion helpers and the one shape vocabulary ([`shape`]).
 //!
 //! Conventions (used throughout the crate): metres and radians; a transform is named
 //! `a_from_b` and maps coordinates in frame `b` to frame `a`; transforms compose right to left
@@ -11,6 +11,7 @@ mod matrix;
 mod pose_spec;
 mod quaternion;
 mod se3;
+pub mod shape;
 
 pub use interpolate::{interpolate_decoupled, interpolate_screw};
 pub use matrix::{pose_from_rows, pose_to_rows, PoseError, ROTATION_TOLERANCE};

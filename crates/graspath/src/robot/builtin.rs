@@ -11,8 +11,10 @@
 #![allow(clippy::approx_constant)]
 
 use super::chain::Chain;
+use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
 use super::error::RobotError;
 use super::spec::{ChainSpec, JointKind, JointSpec};
+use crate::geometry::shape::Shape;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::fmt;
 use std::str::FromStr;
@@ -77,9 +79,10 @@ fn origin(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
     )
 }
 
-fn fixed(name: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
+fn fixed(name: &str, child: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
     JointSpec {
         name: name.to_string(),
+        child_link: child.to_string(),
         kind: JointKind::Fixed,
         parent_from_joint: origin(xyz, rpy),
         axis: Vector3::x(),
@@ -89,9 +92,16 @@ fn fixed(name: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
     }
 }
 
-fn revolute(name: String, xyz: [f64; 3], rpy: [f64; 3], limits: (f64, f64)) -> JointSpec {
+fn revolute(
+    name: String,
+    child: String,
+    xyz: [f64; 3],
+    rpy: [f64; 3],
+    limits: (f64, f64),
+) -> JointSpec {
     JointSpec {
         name,
+        child_link: child,
         kind: JointKind::Revolute,
         parent_from_joint: origin(xyz, rpy),
         axis: Vector3::z(),
@@ -110,38 +120,58 @@ pub fn baxter_spec(arm: Arm) -> ChainSpec {
         Arm::Right => -1.0,
     };
     let a = PUBLISHED_RIGHT_ANGLE;
-    let arm_joints: [(&str, [f64; 3], [f64; 3]); 7] = [
-        ("s0", [0.055695, 0.0, 0.011038], [0.0, 0.0, 0.0]),
-        ("s1", [0.069, 0.0, 0.27035], [-a, 0.0, 0.0]),
-        ("e0", [0.102, 0.0, 0.0], [a, 0.0, a]),
-        ("e1", [0.069, 0.0, 0.26242], [-a, -a, 0.0]),
-        ("w0", [0.10359, 0.0, 0.0], [a, 0.0, a]),
-        ("w1", [0.01, 0.0, 0.2707], [-a, -a, 0.0]),
-        ("w2", [0.115975, 0.0, 0.0], [a, 0.0, a]),
+    let arm_joints: [(&str, &str, [f64; 3], [f64; 3]); 7] = [
+        (
+            "s0",
+            "upper_shoulder",
+            [0.055695, 0.0, 0.011038],
+            [0.0, 0.0, 0.0],
+        ),
+        (
+            "s1",
+            "lower_shoulder",
+            [0.069, 0.0, 0.27035],
+            [-a, 0.0, 0.0],
+        ),
+        ("e0", "upper_elbow", [0.102, 0.0, 0.0], [a, 0.0, a]),
+        ("e1", "lower_elbow", [0.069, 0.0, 0.26242], [-a, -a, 0.0]),
+        ("w0", "upper_forearm", [0.10359, 0.0, 0.0], [a, 0.0, a]),
+        ("w1", "lower_forearm", [0.01, 0.0, 0.2707], [-a, -a, 0.0]),
+        ("w2", "wrist", [0.115975, 0.0, 0.0], [a, 0.0, a]),
     ];
     let mut joints = vec![
-        fixed("torso_t0", [0.0; 3], [0.0; 3]),
+        fixed("torso_t0", "torso", [0.0; 3], [0.0; 3]),
         fixed(
             &format!("{side}_torso_arm_mount"),
+            &format!("{side}_arm_mount"),
             [0.024645, mirror * 0.219645, 0.118588],
             [0.0, 0.0, mirror * 0.7854],
         ),
     ];
-    for ((name, xyz, rpy), limits) in arm_joints.into_iter().zip(BAXTER_LIMITS) {
-        joints.push(revolute(format!("{side}_{name}"), xyz, rpy, limits));
+    for ((name, child, xyz, rpy), limits) in arm_joints.into_iter().zip(BAXTER_LIMITS) {
+        joints.push(revolute(
+            format!("{side}_{name}"),
+            format!("{side}_{child}"),
+            xyz,
+            rpy,
+            limits,
+        ));
     }
     joints.push(fixed(
         &format!("{side}_hand_joint"),
+        &format!("{side}_hand_link"),
         [0.0, 0.0, 0.11355],
         [0.0; 3],
     ));
     joints.push(fixed(
         &format!("{side}_gripper_base_joint"),
+        &format!("{side}_gripper_base_link"),
         [0.0, 0.0, 0.025],
         [0.0; 3],
     ));
     joints.push(fixed(
         &format!("{side}_endpoint"),
+        &format!("{side}_gripper"),
         [0.0, 0.0, 0.1327],
         [0.0; 3],
     ));
@@ -164,4 +194,174 @@ pub fn baxter_with_tool(arm: Arm, tip_from_tool: Isometry3<f64>) -> Result<Chain
     let mut spec = baxter_spec(arm);
     spec.tip_from_tool = Some(tip_from_tool);
     Chain::from_spec(&spec)
+}
+
+/// `parent_from_collision` of a collision element published on a fixed sibling link, moved
+/// onto the revolute link beside it: both joints leave the same parent, differ by a
+/// translation along the revolute axis, and the element is a cylinder about that axis, so the
+/// result does not depend on the joint angle.
+fn onto_revolute_link(
+    parent_from_revolute: &Isometry3<f64>,
+    parent_from_fixed: &Isometry3<f64>,
+    fixed_from_collision: &Isometry3<f64>,
+) -> Isometry3<f64> {
+    parent_from_revolute.inverse() * parent_from_fixed * fixed_from_collision
+}
+
+/// Baxter's collision geometry, link by link (both arms, torso, pedestal, head), from the
+/// `<collision>` elements of the published description (`baxter_description`, as in
+/// `../shared/robots/baxter.urdf`); link names are that file's.
+///
+/// * **Published primitives, as written**: the arm links' cylinders (radius 0.06 m; the hand
+///   0.04 m; the gripper base 0.029 m) with their origins, and the two head spheres (radius
+///   0.22 m) of `collision_head_link_1/2`, which hang on `base` at `(0.11, 0, 0.75)` and are
+///   given here on `base` directly.
+/// * **The upper-arm and forearm cylinders** that the description puts on the fixed links
+///   `{arm}_upper_elbow_visual` and `{arm}_upper_forearm_visual` are given on
+///   `{arm}_upper_elbow` and `{arm}_upper_forearm`: the fixed and revolute joints share their
+///   parent and differ by a shift along the revolute axis, which is the cylinders' axis, so
+///   the placement is the same at every joint angle.
+/// * **Approximations** where the description has a mesh: the torso
+///   (`base_link_collision.DAE`) is a 0.30 × 0.30 × 0.66 m box centred at `(−0.065, 0, 0.29)`
+///   in the torso frame (from `z = −0.04` to the neck at 0.62, behind the arm mounts); the
+///   pedestal (`pedestal_link_collision.DAE`) is a 0.30 × 0.30 × 0.88 m column below it
+///   (`z` from −0.93 to −0.05) and a 0.75 × 0.75 × 0.08 m foot at the floor (`z` from −0.93
+///   to −0.85), both on `torso` (the pedestal link is fixed to the torso at the identity).
+/// * Left out: the 1 mm placeholder spheres of `head`, `screen` and `sonar_ring`, and the
+///   gripper fingers, which belong to the hand model ([`crate::grasp::hand`]).
+pub fn baxter_collisions() -> Vec<LinkCollisions> {
+    let a = PUBLISHED_RIGHT_ANGLE;
+    let cylinder =
+        |name: &str, radius: f64, length: f64, xyz: [f64; 3], rpy: [f64; 3]| CollisionShape {
+            name: Some(name.to_string()),
+            link_from_collision: origin(xyz, rpy),
+            geometry: CollisionGeometry::Shape(
+                Shape::cylinder(radius, length).expect("published sizes are positive"),
+            ),
+        };
+    let boxed = |name: &str, size: [f64; 3], xyz: [f64; 3]| CollisionShape {
+        name: Some(name.to_string()),
+        link_from_collision: origin(xyz, [0.0; 3]),
+        geometry: CollisionGeometry::Shape(Shape::cuboid(size).expect("positive sizes")),
+    };
+    let sphere = |name: &str, xyz: [f64; 3]| CollisionShape {
+        name: Some(name.to_string()),
+        link_from_collision: origin(xyz, [0.0; 3]),
+        geometry: CollisionGeometry::Shape(Shape::sphere(0.22).expect("positive radius")),
+    };
+    let mut out = vec![
+        LinkCollisions {
+            link: "base".into(),
+            shapes: vec![
+                sphere("collision_head_link_1", [0.11 - 0.07, -0.04, 0.75]),
+                sphere("collision_head_link_2", [0.11 - 0.07, 0.04, 0.75]),
+            ],
+        },
+        LinkCollisions {
+            link: "torso".into(),
+            shapes: vec![
+                boxed(
+                    "torso (approximation)",
+                    [0.30, 0.30, 0.66],
+                    [-0.065, 0.0, 0.29],
+                ),
+                boxed(
+                    "pedestal column (approximation)",
+                    [0.30, 0.30, 0.88],
+                    [-0.065, 0.0, -0.49],
+                ),
+                boxed(
+                    "pedestal foot (approximation)",
+                    [0.75, 0.75, 0.08],
+                    [-0.065, 0.0, -0.89],
+                ),
+            ],
+        },
+    ];
+    let elbow_visual = onto_revolute_link(
+        &origin([0.102, 0.0, 0.0], [a, 0.0, a]),
+        &origin([0.107, 0.0, 0.0], [a, 0.0, a]),
+        &origin([0.0, 0.0, 0.1365], [0.0; 3]),
+    );
+    let forearm_visual = onto_revolute_link(
+        &origin([0.10359, 0.0, 0.0], [a, 0.0, a]),
+        &origin([0.088, 0.0, 0.0], [a, 0.0, a]),
+        &origin([0.0, 0.0, 0.136], [0.0; 3]),
+    );
+    let moved = |name: &str, length: f64, pose: &Isometry3<f64>| CollisionShape {
+        name: Some(name.to_string()),
+        link_from_collision: *pose,
+        geometry: CollisionGeometry::Shape(
+            Shape::cylinder(0.06, length).expect("published sizes are positive"),
+        ),
+    };
+    for side in ["left", "right"] {
+        let link = |name: &str, shapes: Vec<CollisionShape>| LinkCollisions {
+            link: format!("{side}_{name}"),
+            shapes,
+        };
+        out.extend([
+            link(
+                "upper_shoulder",
+                vec![cylinder(
+                    "upper_shoulder",
+                    0.06,
+                    0.2722,
+                    [0.0, 0.0, 0.1361],
+                    [0.0; 3],
+                )],
+            ),
+            link(
+                "lower_shoulder",
+                vec![cylinder("lower_shoulder", 0.06, 0.12, [0.0; 3], [0.0; 3])],
+            ),
+            link(
+                "upper_elbow",
+                vec![
+                    cylinder("upper_elbow", 0.06, 0.107, [0.0, 0.0, -0.0535], [0.0; 3]),
+                    moved("upper_elbow_visual", 0.273, &elbow_visual),
+                ],
+            ),
+            link(
+                "lower_elbow",
+                vec![cylinder("lower_elbow", 0.06, 0.10, [0.0; 3], [0.0; 3])],
+            ),
+            link(
+                "upper_forearm",
+                vec![
+                    cylinder("upper_forearm", 0.06, 0.088, [0.0, 0.0, -0.044], [0.0; 3]),
+                    moved("upper_forearm_visual", 0.272, &forearm_visual),
+                ],
+            ),
+            link(
+                "lower_forearm",
+                vec![cylinder("lower_forearm", 0.06, 0.10, [0.0; 3], [0.0; 3])],
+            ),
+            link(
+                "wrist",
+                vec![cylinder("wrist", 0.06, 0.165, [0.0; 3], [0.0; 3])],
+            ),
+            link(
+                "hand_link",
+                vec![cylinder(
+                    "hand",
+                    0.04,
+                    0.0464,
+                    [0.0, 0.0, -0.0232],
+                    [0.0; 3],
+                )],
+            ),
+            link(
+                "gripper_base_link",
+                vec![cylinder(
+                    "gripper_base",
+                    0.029,
+                    0.1,
+                    [0.0; 3],
+                    [-a, 3.14159265359, 0.0],
+                )],
+            ),
+        ]);
+    }
+    out
 }

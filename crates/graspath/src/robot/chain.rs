@@ -48,6 +48,17 @@ struct Drive {
     offset: f64,
 }
 
+/// Where a link's frame sits: on the aligned frame after moving segment `segment` (`None`: the
+/// base frame), at the constant offset `aligned_from_link`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LinkSlot {
+    segment: Option<usize>,
+    rotation: Matrix3<f64>,
+    translation: Vector3<f64>,
+    /// The offset is exactly the identity (a joint axis already along `z`): copy the frame.
+    identity: bool,
+}
+
 /// A serial kinematic chain from a base link to a tip link (plus an optional tool offset),
 /// ready for fast forward kinematics. Cheap to share between threads (`Sync`, no interior state).
 #[derive(Debug, Clone, PartialEq)]
@@ -64,6 +75,9 @@ pub struct Chain {
     drives: Option<Vec<Drive>>,
     tail_rotation: Matrix3<f64>,
     tail_translation: Vector3<f64>,
+    /// Every link from the base to the tip, in chain order.
+    link_names: Vec<String>,
+    link_slots: Vec<LinkSlot>,
 }
 
 /// A rotation taking the `z` axis onto the unit vector `axis`.
@@ -87,10 +101,31 @@ impl Chain {
         let mut has_mimic = false;
         // The transform from the last aligned frame (or the base) to the current link frame.
         let mut pending = Isometry3::<f64>::identity();
+        let slot = |segment: Option<usize>, pending: &Isometry3<f64>| {
+            let rotation = pending.rotation.to_rotation_matrix().into_inner();
+            let translation = pending.translation.vector;
+            LinkSlot {
+                segment,
+                rotation,
+                translation,
+                identity: rotation == Matrix3::identity() && translation == Vector3::zeros(),
+            }
+        };
+        let mut link_names = vec![spec.base_link.clone()];
+        let mut link_slots = vec![slot(None, &pending)];
+        let child_name = |joint: &super::spec::JointSpec| {
+            if joint.child_link.is_empty() {
+                format!("{}_child", joint.name)
+            } else {
+                joint.child_link.clone()
+            }
+        };
         for joint in &spec.joints {
             let motion = match joint.kind {
                 JointKind::Fixed => {
                     pending *= joint.parent_from_joint;
+                    link_names.push(child_name(joint));
+                    link_slots.push(slot(segments.len().checked_sub(1), &pending));
                     continue;
                 }
                 JointKind::Revolute | JointKind::Continuous => MotionKind::Revolute,
@@ -138,6 +173,8 @@ impl Chain {
                 translation: placement.translation.vector,
                 kind: motion,
             });
+            link_names.push(child_name(joint));
+            link_slots.push(slot(Some(segments.len() - 1), &pending));
         }
         if segments.len() > MAX_JOINTS {
             return Err(RobotError::BadJoint {
@@ -160,7 +197,132 @@ impl Chain {
             drives: has_mimic.then_some(drives),
             tail_rotation: tail.rotation.to_rotation_matrix().into_inner(),
             tail_translation: tail.translation.vector,
+            link_names,
+            link_slots,
         })
+    }
+
+    /// The links of the chain in order, base first, tip link last (the tool frame is not a
+    /// link). [`Chain::link_frames_into`] writes one frame per entry.
+    pub fn link_names(&self) -> &[String] {
+        &self.link_names
+    }
+
+    /// The index of link `name` in [`Chain::link_names`].
+    pub fn link_index(&self, name: &str) -> Option<usize> {
+        self.link_names.iter().position(|n| n == name)
+    }
+
+    /// Every link frame at configuration `q` (rad / m), in one forward pass: `out[k]` receives
+    /// `base_from_link` of link `k` of [`Chain::link_names`] (base frame, m). `out` must have
+    /// exactly one entry per link. Nothing is allocated.
+    ///
+    /// ```
+    /// use graspath::robot::builtin::{baxter, Arm};
+    /// use nalgebra::IsometryMatrix3;
+    /// let chain = baxter(Arm::Left);
+    /// let mut frames = vec![IsometryMatrix3::identity(); chain.link_names().len()];
+    /// chain.link_frames_into(&[0.0; 7], &mut frames)?;
+    /// let wrist = chain.link_index("left_wrist").expect("a link of the chain");
+    /// assert!(frames[wrist].translation.vector.norm() > 0.5);
+    /// # Ok::<(), graspath::robot::RobotError>(())
+    /// ```
+    pub fn link_frames_into(
+        &self,
+        q: &[f64],
+        out: &mut [IsometryMatrix3<f64>],
+    ) -> Result<(), RobotError> {
+        self.check_configuration(q)?;
+        if out.len() != self.link_slots.len() {
+            return Err(RobotError::WrongLinkCount {
+                chain: self.name(),
+                expected: self.link_slots.len(),
+                got: out.len(),
+            });
+        }
+        match &self.drives {
+            None => self.link_frames_unchecked(|i| q[i], out),
+            Some(d) => {
+                self.link_frames_unchecked(|i| d[i].multiplier * q[d[i].source] + d[i].offset, out)
+            }
+        }
+        Ok(())
+    }
+
+    /// Every link frame at `q`, newly allocated (see [`Chain::link_frames_into`]).
+    pub fn link_frames(&self, q: &[f64]) -> Result<Vec<IsometryMatrix3<f64>>, RobotError> {
+        let mut out = vec![IsometryMatrix3::identity(); self.link_slots.len()];
+        self.link_frames_into(q, &mut out)?;
+        Ok(out)
+    }
+
+    /// The forward pass of [`forward_scalar`] that also emits each link frame as soon as the
+    /// aligned frame it hangs on is known.
+    #[inline(always)]
+    fn link_frames_unchecked(
+        &self,
+        joint_value: impl Fn(usize) -> f64,
+        out: &mut [IsometryMatrix3<f64>],
+    ) {
+        let mut c = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let mut p = [0.0; 3];
+        let slots = &self.link_slots;
+        let mut k = 0;
+        let mut emit = |c: &[[f64; 3]; 3], p: &[f64; 3], k: &mut usize, segment: Option<usize>| {
+            while *k < slots.len() && slots[*k].segment == segment {
+                let slot = &slots[*k];
+                if slot.identity {
+                    out[*k] = pose_from_columns(c, p);
+                    *k += 1;
+                    continue;
+                }
+                let (r, t) = (&slot.rotation, &slot.translation);
+                let offset = combine(&c[0], t[0], &c[1], t[1], &c[2], t[2]);
+                let origin = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
+                let rotation = [0, 1, 2]
+                    .map(|j| combine(&c[0], r[(0, j)], &c[1], r[(1, j)], &c[2], r[(2, j)]));
+                out[*k] = pose_from_columns(&rotation, &origin);
+                *k += 1;
+            }
+        };
+        emit(&c, &p, &mut k, None);
+        for (i, segment) in self.segments.iter().enumerate() {
+            let s = &segment.rotation;
+            let t = &segment.translation;
+            let offset = combine(&c[0], t[0], &c[1], t[1], &c[2], t[2]);
+            p = [p[0] + offset[0], p[1] + offset[1], p[2] + offset[2]];
+            let x = combine(&c[0], s[(0, 0)], &c[1], s[(1, 0)], &c[2], s[(2, 0)]);
+            let y = combine(&c[0], s[(0, 1)], &c[1], s[(1, 1)], &c[2], s[(2, 1)]);
+            let z = combine(&c[0], s[(0, 2)], &c[1], s[(1, 2)], &c[2], s[(2, 2)]);
+            let value = joint_value(i);
+            match segment.kind {
+                MotionKind::Revolute => {
+                    let (sin, cos) = super::trig::sin_cos(value);
+                    c = [
+                        [
+                            x[0] * cos + y[0] * sin,
+                            x[1] * cos + y[1] * sin,
+                            x[2] * cos + y[2] * sin,
+                        ],
+                        [
+                            y[0] * cos - x[0] * sin,
+                            y[1] * cos - x[1] * sin,
+                            y[2] * cos - x[2] * sin,
+                        ],
+                        z,
+                    ];
+                }
+                MotionKind::Prismatic => {
+                    c = [x, y, z];
+                    p = [
+                        p[0] + z[0] * value,
+                        p[1] + z[1] * value,
+                        p[2] + z[2] * value,
+                    ];
+                }
+            }
+            emit(&c, &p, &mut k, Some(i));
+        }
     }
 
     /// The number of independent joints (the length of `q`).

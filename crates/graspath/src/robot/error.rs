@@ -26,6 +26,98 @@ pub enum RobotError {
         /// The parser's message.
         message: String,
     },
+    /// The XML itself is malformed (an unclosed or mismatched tag, a broken attribute, ...).
+    #[error("{source_name}:{line}:{column}: malformed XML: {message}")]
+    Xml {
+        /// The file.
+        source_name: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column (characters).
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// A link is the child of more than one joint (a URDF must be a tree).
+    #[error("{source_name}: link '{link}' is the child of two joints, '{first}' and '{second}' (a URDF robot is a tree)")]
+    TwoParents {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// The first joint naming it as child.
+        first: String,
+        /// The second joint naming it as child.
+        second: String,
+    },
+    /// A collision element cannot be used (a non-positive size, a non-finite origin, ...).
+    #[error("{source_name}: link '{link}', collision {index}: {message}")]
+    BadCollision {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// Index of the `<collision>` element within the link (0-based).
+        index: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A collision mesh was not found at any of the places its URI may point to.
+    #[error("{source_name}: link '{link}', collision mesh '{uri}': not found; tried {}{}", display_paths(.tried), mesh_hint(.uri))]
+    MeshNotFound {
+        /// The URDF file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// The mesh URI as written (`package://...`, `model://...`, a path).
+        uri: String,
+        /// Every path tried, in order.
+        tried: Vec<std::path::PathBuf>,
+    },
+    /// A collision mesh URI of a scheme that cannot be resolved to a file.
+    #[error("{source_name}: link '{link}', collision mesh '{uri}': unsupported URI scheme (use package://, model://, file:// or a path)")]
+    MeshScheme {
+        /// The URDF file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// The URI.
+        uri: String,
+    },
+    /// A collision mesh file was found but could not be read.
+    #[error("{source_name}: link '{link}', collision mesh {}: {message}", .path.display())]
+    MeshLoad {
+        /// The URDF file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// The mesh file.
+        path: std::path::PathBuf,
+        /// The reader's message.
+        message: String,
+    },
+    /// A built-in robot name that does not exist.
+    #[error("unknown built-in robot '{name}' (built in: {}){}", .known.join(", "), suggestion_text(.suggestions))]
+    UnknownRobot {
+        /// The name given.
+        name: String,
+        /// The built-in robots.
+        known: Vec<String>,
+        /// Close names.
+        suggestions: Vec<String>,
+    },
+    /// A named chain (arm) the robot does not have.
+    #[error("{source_name}: no chain named '{chain}' (chains: {}){}", if .known.is_empty() { "none; give base and tip links".to_string() } else { .known.join(", ") }, suggestion_text(.suggestions))]
+    UnknownChain {
+        /// The robot.
+        source_name: String,
+        /// The name given.
+        chain: String,
+        /// The named chains.
+        known: Vec<String>,
+        /// Close names.
+        suggestions: Vec<String>,
+    },
     /// A link name that the robot does not have.
     #[error("{source_name}: no link named '{link}' (given as the {role} link){}", suggestion_text(.suggestions))]
     UnknownLink {
@@ -72,6 +164,16 @@ pub enum RobotError {
         /// Length given.
         got: usize,
     },
+    /// A link-frame buffer of the wrong length.
+    #[error("the frame buffer has {got} entries but the chain '{chain}' has {expected} links")]
+    WrongLinkCount {
+        /// Chain name (`base->tip`).
+        chain: String,
+        /// Link count of the chain.
+        expected: usize,
+        /// Length given.
+        got: usize,
+    },
     /// A joint value is NaN or infinite.
     #[error("q[{index}] is not a finite number")]
     NonFiniteJoint {
@@ -113,5 +215,24 @@ fn suggestion_text(suggestions: &[String]) -> String {
         String::new()
     } else {
         format!("; did you mean: {}?", suggestions.join(", "))
+    }
+}
+
+fn display_paths(paths: &[std::path::PathBuf]) -> String {
+    if paths.is_empty() {
+        return "no place (no search path applies)".into();
+    }
+    paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn mesh_hint(uri: &str) -> &'static str {
+    if uri.starts_with("package://") || uri.starts_with("model://") {
+        " (set ROS_PACKAGE_PATH or AMENT_PREFIX_PATH, or give a search path)"
+    } else {
+        ""
     }
 }

@@ -9,17 +9,22 @@
 
 pub mod builtin;
 mod chain;
+mod collision;
 mod error;
 mod ik;
+mod source;
 mod spec;
 mod trig;
 mod urdf;
+mod urdf_scan;
 
 pub use chain::{Chain, FixedChain, MotionKind};
+pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{
     solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution, JointPath, TrajectoryIkOptions,
     TrajectoryIkResult,
 };
+pub use source::{RobotModel, RobotSource};
 pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};

@@ -33,6 +33,10 @@ pub struct Mimic {
 pub struct JointSpec {
     /// Joint name.
     pub name: String,
+    /// The link the joint moves (URDF `<child>`): its frame is the joint frame after the
+    /// motion. Empty when unknown; [`crate::robot::Chain::link_names`] then names it after the
+    /// joint.
+    pub child_link: String,
     /// The kind of motion.
     pub kind: JointKind,
     /// The joint frame in the parent link frame (URDF `<origin>`), metres.

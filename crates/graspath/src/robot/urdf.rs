@@ -1,11 +1,16 @@
 //! Loading chains from URDF files (through `urdf-rs`).
 //!
-//! Only kinematics is read: link geometry is ignored, so `package://` mesh paths never stop a
-//! robot from loading. A `.xacro` file is refused with the command that expands it.
+//! Loading checks the file strictly: malformed XML is reported with its line and column, a
+//! revolute or prismatic joint needs its `<limit>` (the URDF specification requires it), and
+//! a link may be the child of one joint only. Collision geometry is read on request
+//! ([`UrdfRobot::collisions`]), so `package://` mesh paths never slow down or stop chain
+//! building. A `.xacro` file is refused with the command that expands it.
 
 use super::chain::{unit_axis, Chain};
+use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 use super::error::RobotError;
 use super::spec::{ChainSpec, JointKind, JointSpec, Mimic};
+use crate::geometry::shape::Shape;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -38,10 +43,37 @@ impl UrdfRobot {
                 source_name: source_name.to_string(),
             });
         }
+        let scan = super::urdf_scan::scan(text, source_name)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| RobotError::Parse {
             source_name: source_name.to_string(),
             message: e.to_string(),
         })?;
+        let mut parent_of: HashMap<&str, &str> = HashMap::new();
+        for joint in &robot.joints {
+            if let Some(first) = parent_of.insert(&joint.child.link, &joint.name) {
+                return Err(RobotError::TwoParents {
+                    source_name: source_name.to_string(),
+                    link: joint.child.link.clone(),
+                    first: first.to_string(),
+                    second: joint.name.clone(),
+                });
+            }
+            let kind = match joint.joint_type {
+                urdf_rs::JointType::Revolute => "revolute",
+                urdf_rs::JointType::Prismatic => "prismatic",
+                _ => continue,
+            };
+            if let Some(&(line, false)) = scan.joints.get(&joint.name) {
+                return Err(RobotError::BadJoint {
+                    source_name: source_name.to_string(),
+                    joint: joint.name.clone(),
+                    field: "limit",
+                    message: format!(
+                        "a {kind} joint needs a <limit lower=.. upper=.. effort=.. velocity=../> element (line {line}; the URDF specification requires it)"
+                    ),
+                });
+            }
+        }
         Ok(Self {
             source_name: source_name.to_string(),
             robot,
@@ -56,6 +88,100 @@ impl UrdfRobot {
     /// The names of all links, in file order.
     pub fn link_names(&self) -> Vec<&str> {
         self.robot.links.iter().map(|l| l.name.as_str()).collect()
+    }
+
+    /// The file (or name) the robot was read from, for messages.
+    pub fn source_name(&self) -> &str {
+        &self.source_name
+    }
+
+    /// The collision elements of every link that has any, in file order. Primitives are
+    /// checked (positive sizes, finite origins); meshes are resolved to files through
+    /// `meshes` (an error names the link and every path tried) but not read.
+    pub fn collisions(&self, meshes: &MeshResolver) -> Result<Vec<LinkCollisions>, RobotError> {
+        let mut out = Vec::new();
+        for link in &self.robot.links {
+            if !link.collision.is_empty() {
+                out.push(self.link_collisions(&link.name, meshes)?);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The collision elements of link `link` (see [`UrdfRobot::collisions`]).
+    pub fn link_collisions(
+        &self,
+        link: &str,
+        meshes: &MeshResolver,
+    ) -> Result<LinkCollisions, RobotError> {
+        self.require_link(link, "collision")?;
+        let urdf_link = self
+            .robot
+            .links
+            .iter()
+            .find(|l| l.name == link)
+            .ok_or_else(|| RobotError::UnknownLink {
+                source_name: self.source_name.clone(),
+                link: link.to_string(),
+                role: "collision",
+                suggestions: Vec::new(),
+            })?;
+        let mut shapes = Vec::with_capacity(urdf_link.collision.len());
+        for (index, collision) in urdf_link.collision.iter().enumerate() {
+            let bad = |message: String| RobotError::BadCollision {
+                source_name: self.source_name.clone(),
+                link: link.to_string(),
+                index,
+                message,
+            };
+            let (xyz, rpy) = (collision.origin.xyz.0, collision.origin.rpy.0);
+            if xyz.iter().chain(&rpy).any(|v| !v.is_finite()) {
+                return Err(bad(format!(
+                    "origin is not finite: xyz {xyz:?}, rpy {rpy:?}"
+                )));
+            }
+            let shape = |r: Result<Shape, crate::geometry::shape::ShapeError>| {
+                r.map(CollisionGeometry::Shape)
+                    .map_err(|e| bad(e.to_string()))
+            };
+            let geometry = match &collision.geometry {
+                urdf_rs::Geometry::Box { size } => shape(Shape::cuboid(size.0))?,
+                urdf_rs::Geometry::Cylinder { radius, length } => {
+                    shape(Shape::cylinder(*radius, *length))?
+                }
+                urdf_rs::Geometry::Capsule { radius, length } => {
+                    shape(Shape::capsule(*radius, *length))?
+                }
+                urdf_rs::Geometry::Sphere { radius } => shape(Shape::sphere(*radius))?,
+                urdf_rs::Geometry::Mesh { filename, scale } => {
+                    let scale = scale.map(|v| v.0).unwrap_or([1.0; 3]);
+                    if scale.iter().any(|v| !v.is_finite() || *v == 0.0) {
+                        return Err(bad(format!(
+                            "mesh scale must be finite and non-zero, got {scale:?}"
+                        )));
+                    }
+                    CollisionGeometry::Mesh(MeshRef {
+                        source_name: self.source_name.clone(),
+                        link: link.to_string(),
+                        uri: filename.clone(),
+                        path: meshes.resolve(filename, &self.source_name, link)?,
+                        scale,
+                    })
+                }
+            };
+            shapes.push(CollisionShape {
+                name: collision.name.clone(),
+                link_from_collision: Isometry3::from_parts(
+                    Translation3::new(xyz[0], xyz[1], xyz[2]),
+                    UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+                ),
+                geometry,
+            });
+        }
+        Ok(LinkCollisions {
+            link: link.to_string(),
+            shapes,
+        })
     }
 
     /// The underlying parsed document (links with their geometry, joints, materials).
@@ -216,6 +342,7 @@ impl UrdfRobot {
             .transpose()?;
         Ok(JointSpec {
             name: joint.name.clone(),
+            child_link: joint.child.link.clone(),
             kind,
             parent_from_joint,
             axis,
@@ -247,7 +374,7 @@ pub fn parse_urdf_chain(
 }
 
 /// Up to five names closest to `name` (by edit distance, or sharing a substring).
-fn closest_names(name: &str, candidates: Vec<&str>) -> Vec<String> {
+pub(crate) fn closest_names(name: &str, candidates: Vec<&str>) -> Vec<String> {
     let mut scored: Vec<(usize, &str)> = candidates
         .into_iter()
         .map(|c| {

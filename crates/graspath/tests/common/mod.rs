@@ -38,6 +38,7 @@ pub fn ur5_like(limit: f64) -> Chain {
     let half_pi = std::f64::consts::FRAC_PI_2;
     let joint = |name: &str, xyz: [f64; 3], rpy: [f64; 3], axis: Vector3<f64>| JointSpec {
         name: name.into(),
+        child_link: format!("{name}_child"),
         kind: JointKind::Revolute,
         parent_from_joint: Isometry3::from_parts(
             Translation3::new(xyz[0], xyz[1], xyz[2]),

@@ -11,7 +11,7 @@ mod urdf;
 
 pub use baxter::{baxter_electric_gripper, BAXTER_GRIPPER_NAME};
 pub use shape::{Proximity, Shape};
-pub use urdf::{hand_from_urdf, HandError};
+pub use urdf::{hand_from_robot, hand_from_urdf, HandError};
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 

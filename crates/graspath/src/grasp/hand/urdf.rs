@@ -3,10 +3,9 @@
 
 use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape, Shape};
 use crate::cloud::read_mesh;
-use crate::robot::{RobotError, UrdfRobot};
+use crate::robot::{MeshResolver, RobotError, RobotModel, UrdfRobot};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
-use std::path::Path;
 
 /// Default kernel width of a revolute hand joint (rad; ≈ 0.9°).
 pub const REVOLUTE_SIGMA: f64 = 0.0157;
@@ -60,14 +59,28 @@ fn pose(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
     )
 }
 
+/// Builds a hand from a loaded robot model (see [`crate::robot::RobotSource`]): its URDF, with
+/// mesh URIs resolved by the model's search paths. A built-in robot has no hand links: use
+/// the built-in gripper ([`super::baxter_electric_gripper`]) instead.
+pub fn hand_from_robot(model: &RobotModel, root_link: &str) -> Result<Hand, HandError> {
+    match (model.urdf(), model.mesh_resolver()) {
+        (Some(robot), Some(meshes)) => hand_from_urdf(robot, root_link, meshes),
+        _ => Err(HandError::UnknownRoot {
+            source_name: model.source_name().to_string(),
+            link: root_link.to_string(),
+            links: "none: a built-in robot model has no hand links; give a URDF hand".into(),
+        }),
+    }
+}
+
 /// Builds a hand from a parsed URDF: `root_link`'s frame becomes the wrist frame and every link
 /// below it a hand link. Non-fixed joints without `<mimic>` become hand joints (continuous
-/// joints get limits ±π); mimic joints follow their leader. Mesh files are resolved relative to
-/// `base_dir` (`package://` URLs are refused with the path to give instead).
+/// joints get limits ±π); mimic joints follow their leader. Mesh URIs (`package://`,
+/// `model://`, paths relative to the URDF) are resolved through `meshes`, as for robot links.
 pub fn hand_from_urdf(
     robot: &UrdfRobot,
     root_link: &str,
-    base_dir: &Path,
+    meshes: &MeshResolver,
 ) -> Result<Hand, HandError> {
     let doc = robot.document();
     let source_name = format!("URDF robot '{}'", robot.name());
@@ -233,13 +246,8 @@ pub fn hand_from_urdf(
                     half_length: positive("cylinder length", *length)? / 2.0,
                 },
                 urdf_rs::Geometry::Mesh { filename, scale } => {
-                    if filename.contains("://") {
-                        return Err(geometry_error(format!(
-                            "mesh '{filename}' is a URL; give a path relative to the URDF file instead"
-                        )));
-                    }
-                    let mut mesh = read_mesh(&base_dir.join(filename))
-                        .map_err(|e| geometry_error(e.to_string()))?;
+                    let path = meshes.resolve(filename, robot.source_name(), name)?;
+                    let mut mesh = read_mesh(&path).map_err(|e| geometry_error(e.to_string()))?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
                     for v in &mut mesh.vertices {
                         *v = Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]);

@@ -28,8 +28,8 @@ use super::file::{
 use super::{ModelError, ModelParams};
 use crate::cloud::{compute_features, CloudSource, FeatureParams, PointCloud};
 use crate::geometry::{pose_from_rows, pose_to_rows};
-use crate::grasp::hand::{baxter_electric_gripper, hand_from_urdf, Hand, BAXTER_GRIPPER_NAME};
-use crate::robot::UrdfRobot;
+use crate::grasp::hand::{baxter_electric_gripper, hand_from_robot, Hand, BAXTER_GRIPPER_NAME};
+use crate::robot::RobotSource;
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 
@@ -62,10 +62,10 @@ impl HandSource {
                 format!("unknown built-in hand '{other}' (built in: {BAXTER_GRIPPER_NAME}; or give {{\"urdf\": FILE, \"root\": LINK}})"),
             )),
             HandSource::Urdf { urdf, root } => {
-                let path = base_dir.join(urdf);
-                let robot = UrdfRobot::from_file(&path).map_err(crate::grasp::hand::HandError::from)?;
-                let dir = path.parent().unwrap_or(Path::new("."));
-                Ok(hand_from_urdf(&robot, root, dir)?)
+                let model = RobotSource::urdf(base_dir.join(urdf))
+                    .load()
+                    .map_err(crate::grasp::hand::HandError::from)?;
+                Ok(hand_from_robot(&model, root)?)
             }
         }
     }

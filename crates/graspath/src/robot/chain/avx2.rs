@@ -345,6 +345,7 @@ mod tests {
             );
             specs.push(JointSpec {
                 name: format!("j{i}"),
+                child_link: format!("l{i}"),
                 kind,
                 parent_from_joint: Isometry3::from_parts(
                     Translation3::new(
@@ -469,6 +470,7 @@ mod tests {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
         let joint = |name: &str, mimic: Option<Mimic>| JointSpec {
             name: name.into(),
+            child_link: String::new(),
             kind: JointKind::Revolute,
             parent_from_joint: Isometry3::from_parts(
                 Translation3::new(0.1, 0.02, 0.3),

@@ -370,6 +370,7 @@ mod tests {
         use crate::robot::{ChainSpec, JointKind, JointSpec};
         let joint = |name: &str, kind| JointSpec {
             name: name.into(),
+            child_link: String::new(),
             kind,
             parent_from_joint: Isometry3::translation(0.0, 0.0, 0.1),
             axis: nalgebra::Vector3::z(),

@@ -1,0 +1,173 @@
+//! Link collision geometry: the shapes a link carries (from URDF `<collision>` elements or a
+//! built-in model's published primitives), each placed in its link frame, and the resolution
+//! of mesh URIs to files.
+//!
+//! Mesh URIs: `package://PKG/REL` and `model://PKG/REL` are looked up, in order, under each
+//! explicit search path `D` (as `D/PKG/REL` and `D/share/PKG/REL`), under each
+//! `ROS_PACKAGE_PATH` entry `R` (`R/PKG/REL`, and `R/REL` when `R` is itself named `PKG`),
+//! under each `AMENT_PREFIX_PATH` entry `P` (`P/share/PKG/REL`), and finally in the URDF's own
+//! folder and its ancestors (an ancestor named `PKG`, as `ANCESTOR/REL`). `file:///ABS` is the
+//! absolute path; a plain relative path is relative to the URDF's folder. Resolving only
+//! checks that a file exists; meshes are read on request ([`MeshRef::load`]), never while
+//! chains are built.
+
+use super::error::RobotError;
+use crate::geometry::shape::{Shape, TriMesh};
+use nalgebra::{Isometry3, Point3};
+use std::path::{Path, PathBuf};
+
+/// A collision mesh by reference: where it was found and how it is scaled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshRef {
+    /// The robot file that names the mesh (for messages).
+    pub source_name: String,
+    /// The link that carries it.
+    pub link: String,
+    /// The URI as written in the robot file.
+    pub uri: String,
+    /// The resolved file (OBJ or STL).
+    pub path: PathBuf,
+    /// Scale factors along the mesh's `x, y, z` (URDF `scale`; default 1).
+    pub scale: [f64; 3],
+}
+
+impl MeshRef {
+    /// Reads the mesh file (OBJ or STL, with the readers of [`crate::cloud`]) and applies the
+    /// scale: a triangle mesh in the collision frame (m).
+    pub fn load(&self) -> Result<TriMesh, RobotError> {
+        let fail = |message: String| RobotError::MeshLoad {
+            source_name: self.source_name.clone(),
+            link: self.link.clone(),
+            path: self.path.clone(),
+            message,
+        };
+        let mesh = crate::cloud::read_mesh(&self.path).map_err(|e| fail(e.to_string()))?;
+        let s = self.scale;
+        let vertices = mesh
+            .vertices
+            .iter()
+            .map(|v| Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]))
+            .collect();
+        TriMesh::new(vertices, mesh.triangles).map_err(|e| fail(e.to_string()))
+    }
+}
+
+/// The geometry of one collision element.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CollisionGeometry {
+    /// A primitive (box, cylinder, sphere, capsule), in the collision frame.
+    Shape(Shape),
+    /// A mesh file, read on request.
+    Mesh(MeshRef),
+}
+
+/// One collision element of a link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CollisionShape {
+    /// The element's `name` attribute, if any.
+    pub name: Option<String>,
+    /// The collision frame in the link frame (URDF `<collision><origin>`), m.
+    pub link_from_collision: Isometry3<f64>,
+    /// The geometry, in the collision frame.
+    pub geometry: CollisionGeometry,
+}
+
+/// The collision elements of one link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkCollisions {
+    /// The link's name.
+    pub link: String,
+    /// Its collision elements, in file order.
+    pub shapes: Vec<CollisionShape>,
+}
+
+/// Where mesh URIs are looked up (see the module documentation for the order).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeshResolver {
+    /// The folder of the robot file: plain relative paths start here.
+    pub base_dir: PathBuf,
+    /// Explicit search paths, tried first.
+    pub search_paths: Vec<PathBuf>,
+    /// `ROS_PACKAGE_PATH` entries.
+    pub ros_package_path: Vec<PathBuf>,
+    /// `AMENT_PREFIX_PATH` entries.
+    pub ament_prefix_path: Vec<PathBuf>,
+}
+
+impl MeshResolver {
+    /// A resolver for a robot file in `base_dir`, with explicit `search_paths` and the
+    /// `ROS_PACKAGE_PATH` and `AMENT_PREFIX_PATH` of the environment.
+    pub fn from_env(base_dir: &Path, search_paths: Vec<PathBuf>) -> Self {
+        let list = |var: &str| {
+            std::env::var_os(var)
+                .map(|v| {
+                    std::env::split_paths(&v)
+                        .filter(|p| !p.as_os_str().is_empty())
+                        .collect()
+                })
+                .unwrap_or_default()
+        };
+        Self {
+            base_dir: base_dir.to_path_buf(),
+            search_paths,
+            ros_package_path: list("ROS_PACKAGE_PATH"),
+            ament_prefix_path: list("AMENT_PREFIX_PATH"),
+        }
+    }
+
+    /// The files a URI may name, in the order they are tried; `None` for an unsupported
+    /// scheme (`http://`, ...).
+    pub fn candidates(&self, uri: &str) -> Option<Vec<PathBuf>> {
+        let package = uri
+            .strip_prefix("package://")
+            .or_else(|| uri.strip_prefix("model://"));
+        if let Some(rest) = package {
+            let (package, relative) = rest.split_once('/').unwrap_or((rest, ""));
+            let mut out = Vec::new();
+            for d in &self.search_paths {
+                out.push(d.join(package).join(relative));
+                out.push(d.join("share").join(package).join(relative));
+            }
+            for r in &self.ros_package_path {
+                out.push(r.join(package).join(relative));
+                if r.file_name().is_some_and(|n| n == package) {
+                    out.push(r.join(relative));
+                }
+            }
+            for p in &self.ament_prefix_path {
+                out.push(p.join("share").join(package).join(relative));
+            }
+            for ancestor in self.base_dir.ancestors() {
+                if ancestor.file_name().is_some_and(|n| n == package) {
+                    out.push(ancestor.join(relative));
+                }
+            }
+            return Some(out);
+        }
+        if let Some(path) = uri.strip_prefix("file://") {
+            return Some(vec![PathBuf::from(path)]);
+        }
+        if uri.contains("://") {
+            return None;
+        }
+        Some(vec![self.base_dir.join(uri)])
+    }
+
+    /// The first existing file a URI names, for link `link` of robot file `source_name`.
+    pub fn resolve(&self, uri: &str, source_name: &str, link: &str) -> Result<PathBuf, RobotError> {
+        let candidates = self.candidates(uri).ok_or_else(|| RobotError::MeshScheme {
+            source_name: source_name.to_string(),
+            link: link.to_string(),
+            uri: uri.to_string(),
+        })?;
+        match candidates.iter().find(|p| p.is_file()) {
+            Some(path) => Ok(path.clone()),
+            None => Err(RobotError::MeshNotFound {
+                source_name: source_name.to_string(),
+                link: link.to_string(),
+                uri: uri.to_string(),
+                tried: candidates,
+            }),
+        }
+    }
+}

@@ -1,0 +1,271 @@
+//! The one place that decides "built-in robot or URDF file": a [`RobotSource`] loads into a
+//! [`RobotModel`], which gives chains (by name for built-in arms, by base and tip link for any
+//! robot), its link names and its links' collision geometry.
+//!
+//! ```
+//! use graspath::robot::RobotSource;
+//! // From a task file's `robot: {builtin: baxter}` and `arms: left`:
+//! let model = RobotSource::builtin("baxter").load()?;
+//! let left = model.named_chain("left", None)?;
+//! assert_eq!(left.dof(), 7);
+//! // The same chain by its links.
+//! assert_eq!(model.chain("base", "left_gripper", None)?.dof(), 7);
+//! // A typo gets a suggestion.
+//! let err = RobotSource::builtin("baxtor").load().unwrap_err();
+//! assert!(err.to_string().contains("did you mean: baxter?"));
+//! // A URDF file: `RobotSource::urdf("robot.urdf").load()?.chain("base_link", "tool0", None)?`.
+//! # Ok::<(), graspath::robot::RobotError>(())
+//! ```
+
+use super::builtin::{baxter_collisions, baxter_spec, Arm, BAXTER_SOURCE};
+use super::chain::Chain;
+use super::collision::{LinkCollisions, MeshResolver};
+use super::error::RobotError;
+use super::spec::ChainSpec;
+use super::urdf::{closest_names, UrdfRobot};
+use nalgebra::Isometry3;
+use std::path::{Path, PathBuf};
+
+/// The built-in robots' names.
+pub const BUILTIN_ROBOTS: [&str; 1] = ["baxter"];
+
+/// Where a robot comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RobotSource {
+    /// A built-in model by name (`baxter`).
+    Builtin(String),
+    /// A URDF file; `search_paths` are tried first when resolving `package://` and
+    /// `model://` mesh URIs (then `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH`, the file's folder).
+    Urdf {
+        /// The URDF file.
+        path: PathBuf,
+        /// Extra folders for mesh lookup.
+        search_paths: Vec<PathBuf>,
+    },
+}
+
+impl RobotSource {
+    /// A built-in robot by name.
+    pub fn builtin(name: impl Into<String>) -> Self {
+        RobotSource::Builtin(name.into())
+    }
+
+    /// A URDF file without extra search paths.
+    pub fn urdf(path: impl Into<PathBuf>) -> Self {
+        RobotSource::Urdf {
+            path: path.into(),
+            search_paths: Vec::new(),
+        }
+    }
+
+    /// Loads the model: a built-in one is checked by name ("did you mean"), a URDF file is
+    /// read and checked (see [`UrdfRobot`]). Meshes are not read.
+    pub fn load(&self) -> Result<RobotModel, RobotError> {
+        match self {
+            RobotSource::Builtin(name) if name == "baxter" => Ok(RobotModel {
+                source_name: BAXTER_SOURCE.to_string(),
+                kind: Kind::Baxter,
+            }),
+            RobotSource::Builtin(name) => Err(RobotError::UnknownRobot {
+                name: name.clone(),
+                known: BUILTIN_ROBOTS.iter().map(|s| s.to_string()).collect(),
+                suggestions: closest_names(name, BUILTIN_ROBOTS.to_vec()),
+            }),
+            RobotSource::Urdf { path, search_paths } => {
+                let robot = UrdfRobot::from_file(path)?;
+                let base_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+                Ok(RobotModel {
+                    source_name: robot.source_name().to_string(),
+                    kind: Kind::Urdf {
+                        meshes: MeshResolver::from_env(&base_dir, search_paths.clone()),
+                        robot: Box::new(robot),
+                    },
+                })
+            }
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+enum Kind {
+    Baxter,
+    Urdf {
+        robot: Box<UrdfRobot>,
+        meshes: MeshResolver,
+    },
+}
+
+/// A loaded robot: chains, link names and link collision geometry. Cheap to keep; chains are
+/// built on request.
+#[derive(Debug, Clone)]
+pub struct RobotModel {
+    source_name: String,
+    kind: Kind,
+}
+
+impl RobotModel {
+    /// The robot's name: `baxter`, or the URDF `<robot name>`.
+    pub fn name(&self) -> &str {
+        match &self.kind {
+            Kind::Baxter => "baxter",
+            Kind::Urdf { robot, .. } => robot.name(),
+        }
+    }
+
+    /// The file or built-in model, for messages (`built-in baxter`, a path).
+    pub fn source_name(&self) -> &str {
+        &self.source_name
+    }
+
+    /// Whether this is a built-in model.
+    pub fn is_builtin(&self) -> bool {
+        matches!(self.kind, Kind::Baxter)
+    }
+
+    /// The parsed URDF, for a URDF robot.
+    pub fn urdf(&self) -> Option<&UrdfRobot> {
+        match &self.kind {
+            Kind::Urdf { robot, .. } => Some(robot),
+            Kind::Baxter => None,
+        }
+    }
+
+    /// Where the robot's mesh URIs are looked up (a URDF robot's; `None` for a built-in one).
+    pub fn mesh_resolver(&self) -> Option<&MeshResolver> {
+        match &self.kind {
+            Kind::Urdf { meshes, .. } => Some(meshes),
+            Kind::Baxter => None,
+        }
+    }
+
+    /// The chains known by name: `left` and `right` for Baxter, none for a URDF robot (give
+    /// base and tip links to [`RobotModel::chain`]).
+    pub fn chain_names(&self) -> Vec<String> {
+        match &self.kind {
+            Kind::Baxter => vec!["left".into(), "right".into()],
+            Kind::Urdf { .. } => Vec::new(),
+        }
+    }
+
+    /// The chain named `name` (see [`RobotModel::chain_names`]), with an optional tool offset
+    /// `tip_from_tool`.
+    pub fn named_chain(
+        &self,
+        name: &str,
+        tip_from_tool: Option<Isometry3<f64>>,
+    ) -> Result<Chain, RobotError> {
+        let known = self.chain_names();
+        let arm = match (&self.kind, name) {
+            (Kind::Baxter, "left") => Arm::Left,
+            (Kind::Baxter, "right") => Arm::Right,
+            _ => {
+                return Err(RobotError::UnknownChain {
+                    source_name: self.source_name.clone(),
+                    chain: name.to_string(),
+                    suggestions: closest_names(name, known.iter().map(String::as_str).collect()),
+                    known,
+                })
+            }
+        };
+        let mut spec = baxter_spec(arm);
+        spec.tip_from_tool = tip_from_tool;
+        Chain::from_spec(&spec)
+    }
+
+    /// The chain from `base_link` down to `tip_link`, with an optional tool offset. For the
+    /// built-in Baxter, any stretch of either arm's chain (`base` … `{arm}_gripper`).
+    pub fn chain(
+        &self,
+        base_link: &str,
+        tip_link: &str,
+        tip_from_tool: Option<Isometry3<f64>>,
+    ) -> Result<Chain, RobotError> {
+        match &self.kind {
+            Kind::Urdf { robot, .. } => robot.chain(base_link, tip_link, tip_from_tool),
+            Kind::Baxter => {
+                let mut spec = builtin_sub_chain(base_link, tip_link, &self.link_names())?;
+                spec.tip_from_tool = tip_from_tool;
+                Chain::from_spec(&spec)
+            }
+        }
+    }
+
+    /// Every link name (URDF: file order; built-in: base, then each arm's chain links).
+    pub fn link_names(&self) -> Vec<String> {
+        match &self.kind {
+            Kind::Urdf { robot, .. } => robot.link_names().iter().map(|s| s.to_string()).collect(),
+            Kind::Baxter => {
+                let mut names = Vec::new();
+                for arm in [Arm::Left, Arm::Right] {
+                    for name in Chain::from_spec(&baxter_spec(arm))
+                        .expect("the built-in Baxter model is valid")
+                        .link_names()
+                    {
+                        if !names.contains(name) {
+                            names.push(name.clone());
+                        }
+                    }
+                }
+                names
+            }
+        }
+    }
+
+    /// The collision geometry of every link that has any: a URDF robot's `<collision>`
+    /// elements (mesh URIs resolved, not read), or a built-in model's published primitives
+    /// ([`super::builtin::baxter_collisions`]).
+    pub fn collisions(&self) -> Result<Vec<LinkCollisions>, RobotError> {
+        match &self.kind {
+            Kind::Urdf { robot, meshes } => robot.collisions(meshes),
+            Kind::Baxter => Ok(baxter_collisions()),
+        }
+    }
+}
+
+/// The stretch `base_link → tip_link` of one of Baxter's arm chains.
+fn builtin_sub_chain(
+    base_link: &str,
+    tip_link: &str,
+    all_links: &[String],
+) -> Result<ChainSpec, RobotError> {
+    let unknown = |link: &str, role: &'static str| RobotError::UnknownLink {
+        source_name: BAXTER_SOURCE.to_string(),
+        link: link.to_string(),
+        role,
+        suggestions: closest_names(link, all_links.iter().map(String::as_str).collect()),
+    };
+    if !all_links.iter().any(|l| l == base_link) {
+        return Err(unknown(base_link, "base"));
+    }
+    if !all_links.iter().any(|l| l == tip_link) {
+        return Err(unknown(tip_link, "tip"));
+    }
+    for arm in [Arm::Left, Arm::Right] {
+        let mut spec = baxter_spec(arm);
+        // Link k of the chain is the child of joint k − 1 (link 0 is the base).
+        let position = |link: &str| {
+            if link == spec.base_link {
+                Some(0)
+            } else {
+                spec.joints
+                    .iter()
+                    .position(|j| j.child_link == link)
+                    .map(|k| k + 1)
+            }
+        };
+        if let (Some(b), Some(t)) = (position(base_link), position(tip_link)) {
+            if b <= t {
+                spec.joints = spec.joints[b..t].to_vec();
+                spec.base_link = base_link.to_string();
+                spec.tip_link = tip_link.to_string();
+                return Ok(spec);
+            }
+        }
+    }
+    Err(RobotError::TipNotBelowBase {
+        source_name: BAXTER_SOURCE.to_string(),
+        base: base_link.to_string(),
+        tip: tip_link.to_string(),
+        root: "base".into(),
+    })
+}

@@ -7,10 +7,10 @@
 //! poses stay in the **object frame** (`object_from_wrist`), so the viewer attaches them to the
 //! object. Poses are `[x, y, z, qx, qy, qz, qw]`. Coordinates are rounded to 0.1 mm.
 
+use graspath::geometry::shape::{Shape, Stem};
 use graspath::grasp::Candidate;
 use graspath::robot::Chain;
 use graspath::select::{ArmResult, Selection};
-use graspath::task::ObjectShape;
 use graspath::task::{ArmSetup, Norm, Task};
 use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
 use serde_json::{json, Value};
@@ -58,23 +58,30 @@ fn pose(p: &Isometry3<f64>) -> Value {
     ])
 }
 
-fn shape_json(shape: &ObjectShape) -> Value {
-    match *shape {
-        ObjectShape::Box { size } => json!({"type": "box", "size": size}),
-        ObjectShape::Cylinder { radius, length } => {
-            json!({"type": "cylinder", "radius": radius, "length": length})
+/// The object for the 3D view: a box, a cylinder or a T-shape with a round stem as they are;
+/// any other shape as its bounding box.
+fn shape_json(shape: &Shape) -> Value {
+    match shape {
+        Shape::Box(b) => json!({"type": "box", "size": b.size()}),
+        Shape::Cylinder(c) => {
+            json!({"type": "cylinder", "radius": c.radius(), "length": c.length()})
         }
-        ObjectShape::TShape {
-            bar,
-            handle_radius,
-            handle_length,
-        } => json!({
-            "type": "t_shape",
-            "bar": bar,
-            "handle_radius": handle_radius,
-            "handle_length": handle_length,
-        }),
+        Shape::TShape(t) => match t.stem() {
+            Stem::Cylinder(stem) => json!({
+                "type": "t_shape",
+                "bar": t.bar().size(),
+                "handle_radius": stem.radius(),
+                "handle_length": stem.length(),
+            }),
+            Stem::Box(_) => bounding_box_json(shape),
+        },
+        other => bounding_box_json(other),
     }
+}
+
+fn bounding_box_json(shape: &Shape) -> Value {
+    let aabb = shape.aabb();
+    json!({"type": "box", "size": (aabb.max - aabb.min).as_slice()})
 }
 
 /// The principal axes of the translational manipulability ellipsoid `Jv Jvᵀ` (base frame),

@@ -1,10 +1,11 @@
 //! A task built in code and the same task read from its YAML file give byte-identical results
 //! (the Python leg of this check is `test_array_task_equals_the_file` in the pytest suite).
 
+use graspath::geometry::shape::Shape;
 use graspath::grasp::edge_family;
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::select::select;
-use graspath::task::{JacobianRows, Norm, ObjectShape, Sampling, Step, Task, TimedStep};
+use graspath::task::{JacobianRows, Norm, Sampling, Step, Task, TimedStep};
 use graspath_report::{candidates_json, pairs_json, summary_json};
 use nalgebra::{Isometry3, Vector3};
 use std::path::PathBuf;
@@ -17,16 +18,14 @@ fn example(name: &str) -> PathBuf {
 
 /// `examples/pick_and_place_both.yaml`, written in code.
 fn pick_and_place_in_code(name: &str) -> Task {
-    let shape = ObjectShape::Box {
-        size: [0.06, 0.40, 0.10],
-    };
+    let shape = Shape::cuboid([0.06, 0.40, 0.10]).unwrap();
     let step =
         |label: &str, v: [f64; 3]| TimedStep::new(label, Step::translation(Vector3::from(v)));
     Task::builder(name)
         .robot_name("baxter")
         .arm("left", baxter(Arm::Left), Isometry3::identity())
         .arm("right", baxter(Arm::Right), Isometry3::identity())
-        .shape(shape)
+        .shape(shape.clone())
         .candidates(edge_family(&shape, 21, 0.02, 0.02).unwrap())
         .object_motion(
             Isometry3::translation(0.75, 0.0, -0.10),
@@ -79,12 +78,10 @@ trajectory: { steps: [ { lift: 0.2 } ] }
 "#;
     let file = graspath::task::TaskFile::parse(yaml, "t.yaml", "yaml").unwrap();
     let from_file = Task::from_file(&file, "t.yaml", std::path::Path::new(".")).unwrap();
-    let shape = ObjectShape::Box {
-        size: [0.06, 0.40, 0.10],
-    };
+    let shape = Shape::cuboid([0.06, 0.40, 0.10]).unwrap();
     let in_code = Task::builder("t.yaml")
         .arm("left", baxter(Arm::Left), Isometry3::identity())
-        .shape(shape)
+        .shape(shape.clone())
         .candidates(edge_family(&shape, 3, 0.02, 0.02).unwrap())
         .object_motion(
             Isometry3::translation(0.75, 0.0, -0.10),

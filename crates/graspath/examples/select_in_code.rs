@@ -3,17 +3,16 @@
 //!
 //! Run with `cargo run --release -p graspath --example select_in_code`.
 
+use graspath::geometry::shape::Shape;
 use graspath::grasp::edge_family;
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::select::select;
-use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
+use graspath::task::{Sampling, Step, Task, TimedStep};
 use nalgebra::{Isometry3, Vector3};
 
 fn main() -> graspath::Result<()> {
     // The object: a 6 × 40 × 10 cm cuboid 0.75 m in front of Baxter's base frame.
-    let shape = ObjectShape::Box {
-        size: [0.06, 0.40, 0.10],
-    };
+    let shape = Shape::cuboid([0.06, 0.40, 0.10])?;
     let world_from_object = Isometry3::translation(0.75, 0.0, -0.10);
     // 21 top grasps along the top edge, from the left-most (+y) to the right-most (−y) contact.
     let candidates = edge_family(&shape, 21, 0.02, 0.02)?;
@@ -28,7 +27,7 @@ fn main() -> graspath::Result<()> {
     let task = Task::builder("pick-and-place (in code)")
         .robot_name("baxter")
         .arm("left", baxter(Arm::Left), Isometry3::identity())
-        .shape(shape)
+        .shape(shape.clone())
         .candidates(candidates)
         .object_motion(world_from_object, steps, Sampling::PerStep(10))
         .build()?;

@@ -3,6 +3,7 @@
 
 use crate::cloud::CloudError;
 use crate::fsutil::OutputError;
+use crate::geometry::shape::ShapeError;
 use crate::geometry::{PoseError, PoseSpecError, QuaternionError};
 use crate::grasp::hand::HandError;
 use crate::grasp::model::ModelError;
@@ -24,6 +25,9 @@ pub enum Error {
     /// Four numbers that are not a unit quaternion.
     #[error(transparent)]
     Quaternion(#[from] QuaternionError),
+    /// A shape with sizes or a mesh that cannot be used.
+    #[error(transparent)]
+    Shape(#[from] ShapeError),
     /// A robot model, chain or configuration.
     #[error(transparent)]
     Robot(#[from] RobotError),

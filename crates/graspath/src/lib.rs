@@ -37,14 +37,15 @@
 //! use graspath::grasp::edge_family;
 //! use graspath::robot::builtin::{baxter, Arm};
 //! use graspath::select::select;
-//! use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
+//! use graspath::geometry::shape::Shape;
+//! use graspath::task::{Sampling, Step, Task, TimedStep};
 //! use nalgebra::{Isometry3, Vector3};
 //!
-//! let shape = ObjectShape::Box { size: [0.06, 0.40, 0.10] };
+//! let shape = Shape::cuboid([0.06, 0.40, 0.10]).unwrap();
 //! let lift = TimedStep::new("lift", Step::translation(Vector3::new(0.0, 0.0, 0.2)));
 //! let task = Task::builder("lift a box")
 //!     .arm("left", baxter(Arm::Left), Isometry3::identity())
-//!     .shape(shape)
+//!     .shape(shape.clone())
 //!     .candidates(edge_family(&shape, 5, 0.02, 0.02).unwrap())
 //!     .object_motion(Isometry3::translation(0.75, 0.0, -0.1), vec![lift], Sampling::PerStep(5))
 //!     .build()

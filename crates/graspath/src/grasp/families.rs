@@ -5,7 +5,7 @@
 //! The tool point sits `depth` inside the surface it approaches.
 
 use super::candidates::Candidate;
-use crate::task::ObjectShape;
+use crate::geometry::shape::Shape;
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
 /// Widest object the built-in Baxter electric gripper closes on (m).
@@ -70,14 +70,15 @@ pub enum FamilyError {
 /// (`+y`) to the right-most (`−y`) contact, approaching from above (`−z`) with the fingers
 /// closing across `x`; `margin` (m) kept from each end.
 pub fn edge_family(
-    shape: &ObjectShape,
+    shape: &Shape,
     count: usize,
     depth: f64,
     margin: f64,
 ) -> Result<Vec<Candidate>, FamilyError> {
-    let ObjectShape::Box { size } = *shape else {
+    let Shape::Box(cuboid) = shape else {
         return Err(FamilyError::NeedsBox { family: "edge" });
     };
+    let size = cuboid.size();
     if count == 0 {
         return Err(FamilyError::ZeroCount);
     }
@@ -109,7 +110,7 @@ pub fn edge_family(
 /// A top grasp on the shape's highest part (box top, cylinder top, T-shape handle) turned about
 /// the object's `z` axis: candidate `k` at yaw `start + k · step` (rad).
 pub fn yaw_family(
-    shape: &ObjectShape,
+    shape: &Shape,
     count: usize,
     start: f64,
     step: f64,
@@ -118,7 +119,7 @@ pub fn yaw_family(
     if count == 0 {
         return Err(FamilyError::ZeroCount);
     }
-    let top = shape.bounds().1.z;
+    let top = top_of(shape);
     let base = wrist_rotation(-Vector3::z(), Vector3::x());
     Ok((0..count)
         .map(|k| {
@@ -149,14 +150,15 @@ const FACES: [(&str, usize, f64); 6] = [
 /// points on the face's centre line along the other axis, `depth` inside the face. `count` is
 /// shared equally among the faces, then among each face's lines.
 pub fn face_family(
-    shape: &ObjectShape,
+    shape: &Shape,
     count: usize,
     exclude: &[String],
     depth: f64,
 ) -> Result<Vec<Candidate>, FamilyError> {
-    let ObjectShape::Box { size } = *shape else {
+    let Shape::Box(cuboid) = shape else {
         return Err(FamilyError::NeedsBox { family: "faces" });
     };
+    let size = cuboid.size();
     if let Some(unknown) = exclude
         .iter()
         .find(|e| !FACES.iter().any(|f| f.0 == e.as_str()))
@@ -236,9 +238,18 @@ pub fn face_family(
     Ok(out)
 }
 
+/// The height of the shape's top above its origin (m): the top of a T-shape's stem.
+fn top_of(shape: &Shape) -> f64 {
+    match shape {
+        Shape::TShape(t) => t.bar().size()[2] / 2.0 + t.stem().length(),
+        other => other.aabb().max.z,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::shape::TShape;
 
     fn approach(c: &Candidate) -> Vector3<f64> {
         c.object_from_wrist.rotation * Vector3::z()
@@ -249,9 +260,7 @@ mod tests {
 
     #[test]
     fn edge_runs_left_to_right_from_above() {
-        let shape = ObjectShape::Box {
-            size: [0.06, 0.3, 0.1],
-        };
+        let shape = Shape::cuboid([0.06, 0.3, 0.1]).unwrap();
         let c = edge_family(&shape, 5, 0.02, 0.02).unwrap();
         assert_eq!(c.len(), 5);
         let ys: Vec<f64> = c
@@ -269,11 +278,7 @@ mod tests {
 
     #[test]
     fn yaw_steps_are_exact() {
-        let shape = ObjectShape::TShape {
-            bar: [0.1, 0.3, 0.04],
-            handle_radius: 0.02,
-            handle_length: 0.12,
-        };
+        let shape = Shape::TShape(TShape::with_round_stem([0.1, 0.3, 0.04], 0.02, 0.12).unwrap());
         let c = yaw_family(&shape, 16, 0.0, 10f64.to_radians(), 0.02).unwrap();
         for (k, pair) in c.windows(2).enumerate() {
             let angle = pair[0]
@@ -287,19 +292,15 @@ mod tests {
 
     #[test]
     fn faces_cover_the_requested_count_and_respect_the_opening() {
-        let shape = ObjectShape::Box {
-            size: [0.06, 0.06, 0.2],
-        };
+        let size = [0.06, 0.06, 0.2];
+        let shape = Shape::cuboid(size).unwrap();
         let c = face_family(&shape, 1000, &["bottom".to_string()], 0.02).unwrap();
         assert_eq!(c.len(), 1000);
         for k in &c {
             let a = approach(k);
             assert!(a.z < 0.5, "nothing approaches from below: {a}");
             // The closing direction spans at most the gripper opening.
-            let extent = closing(k).abs().dot(&Vector3::from(match shape {
-                ObjectShape::Box { size } => size,
-                _ => unreachable!(),
-            }));
+            let extent = closing(k).abs().dot(&Vector3::from(size));
             assert!(extent <= GRIPPER_MAX_OPENING + 1e-12);
             // The tool point lies inside, `depth` behind the face it approaches.
             let p = Point3::from(k.object_from_wrist.translation.vector);

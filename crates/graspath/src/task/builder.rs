@@ -5,7 +5,7 @@
 use super::error::TaskError;
 use super::path::{ObjectPath, Sampling, TimedStep};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
-use super::shape::ObjectShape;
+use crate::geometry::shape::Shape;
 use crate::grasp::Candidate;
 use crate::robot::{Chain, IkOptions, TrajectoryIkOptions};
 use nalgebra::Isometry3;
@@ -28,14 +28,15 @@ pub struct ArmSetup {
 /// ```
 /// use graspath::grasp::edge_family;
 /// use graspath::robot::builtin::{baxter, Arm};
-/// use graspath::task::{ObjectShape, Sampling, Step, Task, TimedStep};
+/// use graspath::geometry::shape::Shape;
+/// use graspath::task::{Sampling, Step, Task, TimedStep};
 /// use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 ///
-/// let shape = ObjectShape::Box { size: [0.06, 0.40, 0.10] };
+/// let shape = Shape::cuboid([0.06, 0.40, 0.10]).unwrap();
 /// let lift = TimedStep::new("lift", Step::translation(Vector3::new(0.0, 0.0, 0.2)));
 /// let task = Task::builder("pick")
 ///     .arm("left", baxter(Arm::Left), Isometry3::identity())
-///     .shape(shape)
+///     .shape(shape.clone())
 ///     .candidates(edge_family(&shape, 5, 0.02, 0.02).unwrap())
 ///     .object_motion(
 ///         Isometry3::from_parts(Translation3::new(0.75, 0.0, -0.1), UnitQuaternion::identity()),
@@ -55,8 +56,8 @@ pub struct Task {
     pub robot_name: String,
     /// The arms used, in the order given.
     pub arms: Vec<ArmSetup>,
-    /// The object's shape, when given.
-    pub shape: Option<ObjectShape>,
+    /// The object's shape (object frame, m), when given: for candidate families and views.
+    pub shape: Option<Shape>,
     /// The grasp candidates (wrist poses in the object frame), shared with the results that
     /// refer to them.
     pub candidates: Vec<Arc<Candidate>>,
@@ -123,7 +124,7 @@ pub struct TaskBuilder {
     name: String,
     robot_name: Option<String>,
     arms: Vec<ArmSetup>,
-    shape: Option<ObjectShape>,
+    shape: Option<Shape>,
     candidates: Vec<Candidate>,
     path: Option<PathInput>,
     rows: JacobianRows,
@@ -190,7 +191,7 @@ impl TaskBuilder {
     }
 
     /// The object's shape (object frame, m).
-    pub fn shape(mut self, shape: ObjectShape) -> Self {
+    pub fn shape(mut self, shape: Shape) -> Self {
         self.shape = Some(shape);
         self
     }
@@ -315,9 +316,6 @@ impl TaskBuilder {
                     format!("arm '{}' is listed twice", arm.name),
                 ));
             }
-        }
-        if let Some(shape) = &self.shape {
-            check_shape(&self.name, shape)?;
         }
         check_count(
             "candidates",
@@ -466,19 +464,6 @@ impl TaskBuilder {
             ));
         }
         Ok(task)
-    }
-}
-
-/// `Ok` when every dimension of `shape` is a positive length.
-pub(crate) fn check_shape(task: &str, shape: &ObjectShape) -> Result<(), TaskError> {
-    if shape.is_valid() {
-        Ok(())
-    } else {
-        Err(TaskError::new(
-            task,
-            "object.shape",
-            "every dimension must be a positive length in metres",
-        ))
     }
 }
 

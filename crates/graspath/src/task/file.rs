@@ -5,7 +5,7 @@
 
 use super::error::TaskError;
 use super::settings::Limits;
-use super::shape::ObjectShape;
+use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -94,7 +94,7 @@ pub struct ObjectFile {
     pub pose: PoseSpec,
     /// A primitive shape (for candidate families, views and demos).
     #[serde(default)]
-    pub shape: Option<ObjectShape>,
+    pub shape: Option<Shape>,
 }
 
 /// Where candidates come from: exactly one of `file`, `family` or `generate`.

@@ -2,22 +2,21 @@
 //! [`TaskBuilder`], every value checked with the field it came from. The defaults and the
 //! checks shared with the other ways of building a task live in the builder.
 
-use super::builder::{check_count, check_shape, Task, TaskBuilder};
+use super::builder::{check_count, Task, TaskBuilder};
 use super::error::TaskError;
 use super::file::{
     ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, StepFile, TaskFile,
 };
 use super::path::{Sampling, Step, TimedStep};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm};
-use super::shape::ObjectShape;
 use crate::cloud::load_cloud_argument;
+use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{edge_family, face_family, read_candidates, yaw_family, Candidate};
-use crate::robot::builtin::{baxter_spec, Arm};
-use crate::robot::{Chain, UrdfRobot};
+use crate::robot::{Chain, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 impl Task {
     /// Reads and checks a task file (YAML or JSON). Relative paths inside it are relative to
@@ -53,9 +52,8 @@ pub fn builder_from_file(
         builder = builder.arm(name, chain, world_from_base);
     }
     let world_from_object = pose(&file.object.pose, source_name, "object.pose")?;
-    if let Some(shape) = file.object.shape {
-        check_shape(source_name, &shape)?;
-        builder = builder.shape(shape);
+    if let Some(shape) = &file.object.shape {
+        builder = builder.shape(shape.clone());
     }
     let candidates = setup_candidates(
         file,
@@ -148,15 +146,10 @@ fn setup_arms(
         .as_ref()
         .map(|t| pose(t, source, "robot.tool"))
         .transpose()?;
-    let available: Vec<String> = match (&robot.builtin, &robot.urdf) {
-        (Some(name), None) if name == "baxter" => vec!["left".into(), "right".into()],
-        (Some(name), None) => {
-            return Err(err(
-                "robot.builtin",
-                format!("unknown built-in robot '{name}' (built in: baxter)"),
-            ))
-        }
-        (None, Some(_)) => robot.chains.keys().cloned().collect(),
+    // The one robot-source resolver (shared with the CLI, Python and the hand loader).
+    let (robot_source, source_field) = match (&robot.builtin, &robot.urdf) {
+        (Some(name), None) => (RobotSource::builtin(name.as_str()), "robot.builtin"),
+        (None, Some(path)) => (RobotSource::urdf(base_dir.join(path)), "robot.urdf"),
         (Some(_), Some(_)) => {
             return Err(err("robot", "give either builtin or urdf, not both".into()))
         }
@@ -166,6 +159,14 @@ fn setup_arms(
                 "give builtin: baxter, or urdf: FILE with chains".into(),
             ))
         }
+    };
+    let model = robot_source
+        .load()
+        .map_err(|e| TaskError::caused_by(source, source_field, e))?;
+    let available: Vec<String> = if model.is_builtin() {
+        model.chain_names()
+    } else {
+        robot.chains.keys().cloned().collect()
     };
     if available.is_empty() {
         return Err(err(
@@ -190,16 +191,6 @@ fn setup_arms(
             ));
         }
     }
-    let urdf = match &robot.urdf {
-        Some(p) => {
-            let full: PathBuf = base_dir.join(p);
-            Some(
-                UrdfRobot::from_file(&full)
-                    .map_err(|e| TaskError::caused_by(source, "robot.urdf", e))?,
-            )
-        }
-        None => None,
-    };
     let mut arms = Vec::new();
     for (k, name) in names.iter().enumerate() {
         if !available.contains(name) {
@@ -224,46 +215,32 @@ fn setup_arms(
             Some(p) => pose(p, source, &format!("{field}.base_pose"))?,
             None => Isometry3::identity(),
         };
-        let chain = match &urdf {
-            Some(robot) => {
-                let a = arm_file.expect("URDF arms come from robot.chains");
-                let (Some(base), Some(tip)) = (&a.base, &a.tip) else {
-                    return Err(err(&field, "a URDF chain needs base and tip links".into()));
-                };
-                robot
-                    .chain(base, tip, tool)
-                    .map_err(|e| TaskError::caused_by(source, &field, e))?
+        let chain = if model.is_builtin() {
+            if arm_file.is_some_and(|a| a.base.is_some() || a.tip.is_some()) {
+                return Err(err(
+                    &field,
+                    "the built-in robot's chains are fixed; give only tool or base_pose".into(),
+                ));
             }
-            None => {
-                if arm_file.is_some_and(|a| a.base.is_some() || a.tip.is_some()) {
-                    return Err(err(
-                        &field,
-                        "the built-in Baxter's chains are fixed; give only tool or base_pose"
-                            .into(),
-                    ));
-                }
-                let arm: Arm = name
-                    .parse()
-                    .map_err(|e: String| err(&format!("arms[{k}]"), e))?;
-                let mut spec = baxter_spec(arm);
-                spec.tip_from_tool = tool;
-                Chain::from_spec(&spec).map_err(|e| TaskError::caused_by(source, &field, e))?
-            }
-        };
+            model.named_chain(name, tool)
+        } else {
+            let a = arm_file.expect("URDF arms come from robot.chains");
+            let (Some(base), Some(tip)) = (&a.base, &a.tip) else {
+                return Err(err(&field, "a URDF chain needs base and tip links".into()));
+            };
+            model.chain(base, tip, tool)
+        }
+        .map_err(|e| TaskError::caused_by(source, &field, e))?;
         arms.push((name.clone(), chain, world_from_base));
     }
-    let robot_name = urdf
-        .as_ref()
-        .map(|u| u.name().to_string())
-        .unwrap_or_else(|| "baxter".into());
-    Ok((robot_name, arms))
+    Ok((model.name().to_string(), arms))
 }
 
 fn setup_candidates(
     file: &TaskFile,
     source: &str,
     base_dir: &Path,
-    shape: Option<&ObjectShape>,
+    shape: Option<&Shape>,
     limits: &Limits,
 ) -> Result<Vec<Candidate>, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);

@@ -4,7 +4,6 @@
 //!   in [`Limits`]), or read from a task file by [`Task::load`];
 //! * [`ObjectPath`]: the desired object trajectory as waypoints (absolute poses or relative steps
 //!   `lift`, `move`, `rotate`, `place`), sampled in SE(3) with times;
-//! * [`ObjectShape`]: the object's primitive shape, for candidate families, clouds and views;
 //! * [`TaskFile`]: the documented task-file schema (YAML or JSON), parsed with every unknown field
 //!   rejected by its path;
 //! * the settings a task carries: [`JacobianRows`], [`Norm`], [`LikelihoodRule`],
@@ -16,7 +15,6 @@ mod file;
 mod load;
 mod path;
 mod settings;
-mod shape;
 
 pub use builder::{ArmSetup, Task, TaskBuilder};
 pub use error::TaskError;
@@ -28,4 +26,3 @@ pub use file::{
 pub use load::{builder_from_file, pose};
 pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
 pub use settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
-pub use shape::ObjectShape;

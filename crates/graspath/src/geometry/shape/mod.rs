@@ -66,6 +66,14 @@ pub enum ShapeError {
         /// The value given.
         value: f64,
     },
+    /// A shape's fields do not describe one shape (e.g. a T-shape without a stem).
+    #[error("{field}: {message}")]
+    Malformed {
+        /// The shape's field, e.g. `t_shape`.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A mesh cannot be used (too few points, no volume, an index out of range, ...).
     #[error("{field}: {message}")]
     BadMesh {

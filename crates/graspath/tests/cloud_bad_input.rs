@@ -408,7 +408,7 @@ const CASES: &[Case] = &[
     Case {
         name: "model whose hand link names a later parent",
         run: |d| load_model(d, edited_model(|m| m["hand"]["links"][1]["parent"] = json!(2))),
-        expect: &["model.json", "hand.links[1].parent", "before"],
+        expect: &["model.json", "hand.links[1].parent", "link 2 does not come before link 1"],
         refuse: &[],
     },
     Case {
@@ -462,6 +462,7 @@ fn every_bad_input_gives_its_message() {
             Err(_) => failures.push(format!("{}: panicked", case.name)),
             Ok(Ok(())) => failures.push(format!("{}: accepted", case.name)),
             Ok(Err(message)) => {
+                eprintln!("{}: {message}", case.name);
                 let missing: Vec<_> = case.expect.iter().filter(|f| !message.contains(*f)).collect();
                 let present: Vec<_> = case.refuse.iter().filter(|f| message.contains(*f)).collect();
                 if !missing.is_empty() || !present.is_empty() {
@@ -569,7 +570,8 @@ proptest! {
             Ok(kept) => prop_assert_eq!(kept.points, expected),
             Err(e) => {
                 prop_assert!(expected.is_empty());
-                prop_assert!(matches!(e, CloudError::AllFiltered { .. }));
+                let all_filtered = matches!(e, CloudError::AllFiltered { .. });
+                prop_assert!(all_filtered, "{}", e);
             }
         }
     }

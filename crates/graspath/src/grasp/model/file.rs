@@ -100,10 +100,16 @@ fn check_hand(hand: &Hand, source_name: &str) -> Result<(), ModelError> {
             (0, None) => {}
             (0, Some(_)) => return Err(fail(at("parent"), "link 0 is the root: no parent".into())),
             (_, Some(p)) if p < i => {}
-            (_, parent) => {
+            (_, Some(p)) => {
                 return Err(fail(
                     at("parent"),
-                    format!("{parent:?}: a link's parent must come before it"),
+                    format!("link {p} does not come before link {i}: parents must come first"),
+                ))
+            }
+            (_, None) => {
+                return Err(fail(
+                    at("parent"),
+                    "only link 0 (the root) has no parent".into(),
                 ))
             }
         }

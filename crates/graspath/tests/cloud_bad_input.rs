@@ -4,9 +4,9 @@
 //! options against brute-force oracles, and grasp generation on clouds with far outliers.
 
 use graspath::cloud::{
-    load_cloud_argument, load_cloud_filtered, pcd_bytes, read_mesh, sample_primitive,
-    write_cloud, CloudError, CropBox, OutlierOptions, PcdEncoding, PointCloud, Primitive,
-    SampleOptions, StatisticalOutliers,
+    load_cloud_argument, load_cloud_filtered, pcd_bytes, read_mesh, sample_primitive, write_cloud,
+    CloudError, CropBox, OutlierOptions, PcdEncoding, PointCloud, Primitive, SampleOptions,
+    StatisticalOutliers,
 };
 use graspath::grasp::model::{generate, train_file, GenerateOptions, GraspModel};
 use nalgebra::{Point3, Vector3};
@@ -28,7 +28,8 @@ fn small_cloud(n: usize) -> PointCloud {
     )
 }
 
-const PCD_HEAD: &str = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+const PCD_HEAD: &str =
+    "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
 
 /// A PCD header (from `VERSION` to `DATA`) with the given counts.
 fn pcd_header(width: u64, height: u64, points: u64, data: &str) -> Vec<u8> {
@@ -60,7 +61,8 @@ fn box_model() -> &'static GraspModel {
 
 /// The box model as JSON with one edit applied.
 fn edited_model(edit: impl FnOnce(&mut Value)) -> String {
-    let mut value: Value = serde_json::from_slice(&box_model().to_json().expect("json")).expect("value");
+    let mut value: Value =
+        serde_json::from_slice(&box_model().to_json().expect("json")).expect("value");
     edit(&mut value);
     value.to_string()
 }
@@ -117,12 +119,18 @@ const CASES: &[Case] = &[
         run: |d| {
             let (mut bytes, at) = compressed_pcd(40);
             // Announce 400 points in the header: the compressed data holds 40.
-            let text = String::from_utf8_lossy(&bytes[..at]).replace("WIDTH 40", "WIDTH 400").replace("POINTS 40", "POINTS 400");
+            let text = String::from_utf8_lossy(&bytes[..at])
+                .replace("WIDTH 40", "WIDTH 400")
+                .replace("POINTS 40", "POINTS 400");
             let mut patched = text.into_bytes();
             patched.extend_from_slice(&bytes.split_off(at));
             load(d, "short.pcd", &patched)
         },
-        expect: &["short.pcd", "uncompressed size", "400 points of 12 bytes need 4800"],
+        expect: &[
+            "short.pcd",
+            "uncompressed size",
+            "400 points of 12 bytes need 4800",
+        ],
         refuse: &["header"],
     },
     Case {
@@ -150,7 +158,8 @@ const CASES: &[Case] = &[
         run: |d| {
             let (bytes, at) = compressed_pcd(40);
             let mut cut = bytes.clone();
-            let compressed = u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
+            let compressed =
+                u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
             set_u32(&mut cut, at, compressed - 5);
             cut.truncate(cut.len() - 5);
             load(d, "cut.pcd", &cut)
@@ -166,8 +175,18 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "pcd POINTS 1e12",
-        run: |d| load(d, "big.pcd", &pcd_header(1_000_000_000_000, 1, 1_000_000_000_000, "binary")),
-        expect: &["big.pcd", "POINTS", "1000000000000 exceeds the limit of 50000000"],
+        run: |d| {
+            load(
+                d,
+                "big.pcd",
+                &pcd_header(1_000_000_000_000, 1, 1_000_000_000_000, "binary"),
+            )
+        },
+        expect: &[
+            "big.pcd",
+            "POINTS",
+            "1000000000000 exceeds the limit of 50000000",
+        ],
         refuse: &[],
     },
     Case {
@@ -177,7 +196,12 @@ const CASES: &[Case] = &[
             bytes.extend_from_slice(&[0u8; 120]);
             load(d, "few.pcd", &bytes)
         },
-        expect: &["few.pcd", "data", "1000 points of 12 bytes (12000 bytes)", "only 120 bytes"],
+        expect: &[
+            "few.pcd",
+            "data",
+            "1000 points of 12 bytes (12000 bytes)",
+            "only 120 bytes",
+        ],
         refuse: &[],
     },
     Case {
@@ -229,7 +253,9 @@ const CASES: &[Case] = &[
     // --- PLY -----------------------------------------------------------------------------
     Case {
         name: "ply vertex count 1e12",
-        run: |d| load(d, "big.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n"),
+        run: |d| {
+            load(d, "big.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n")
+        },
         expect: &["big.ply", "element vertex", "exceeds the limit of 50000000"],
         refuse: &[],
     },
@@ -240,12 +266,19 @@ const CASES: &[Case] = &[
             bytes.extend_from_slice(&[0u8; 24]);
             load(d, "few.ply", &bytes)
         },
-        expect: &["few.ply", "element vertex", "1000 elements of at least 12 bytes", "only 24 bytes"],
+        expect: &[
+            "few.ply",
+            "element vertex",
+            "1000 elements of at least 12 bytes",
+            "only 24 bytes",
+        ],
         refuse: &[],
     },
     Case {
         name: "ply ascii vertex count beyond the lines present",
-        run: |d| load(d, "lines.ply", b"ply\nformat ascii 1.0\nelement vertex 9\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n"),
+        run: |d| {
+            load(d, "lines.ply", b"ply\nformat ascii 1.0\nelement vertex 9\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n")
+        },
         expect: &["lines.ply", "element vertex", "9 elements", "only 1 lines"],
         refuse: &[],
     },
@@ -266,27 +299,46 @@ const CASES: &[Case] = &[
             let mut bytes = vec![0u8; 80];
             bytes.extend_from_slice(&4_000_000_000u32.to_le_bytes());
             bytes.extend_from_slice(&[0u8; 100]);
-            read_mesh(&put(d, "big.stl", &bytes)).map(drop).map_err(|e| e.to_string())
+            read_mesh(&put(d, "big.stl", &bytes))
+                .map(drop)
+                .map_err(|e| e.to_string())
         },
-        expect: &["big.stl", "triangle count", "4000000000 triangles", "184 bytes"],
+        expect: &[
+            "big.stl",
+            "triangle count",
+            "4000000000 triangles",
+            "184 bytes",
+        ],
         refuse: &[],
     },
     Case {
         name: "obj face with an index beyond the vertices",
-        run: |d| read_mesh(&put(d, "bad.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 99999999999\n")).map(drop).map_err(|e| e.to_string()),
+        run: |d| {
+            read_mesh(&put(d, "bad.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 99999999999\n"))
+                .map(drop)
+                .map_err(|e| e.to_string())
+        },
         expect: &["bad.obj", "line 3", "out of range"],
         refuse: &[],
     },
     // --- JSON cloud sources ---------------------------------------------------------------
     Case {
         name: "json primitive cloud with points 1e12",
-        run: |d| load(d, "cloud.json", br#"{"primitive": {"shape": {"sphere": {"radius": 0.05}}, "points": 1000000000000}}"#),
+        run: |d| {
+            load(d, "cloud.json", br#"{"primitive": {"shape": {"sphere": {"radius": 0.05}}, "points": 1000000000000}}"#)
+        },
         expect: &["cloud.json", "points", "1000000000000 exceeds the limit"],
         refuse: &[],
     },
     Case {
         name: "json primitive cloud with a negative radius",
-        run: |d| load(d, "neg.json", br#"{"primitive": {"shape": {"sphere": {"radius": -1}}}}"#),
+        run: |d| {
+            load(
+                d,
+                "neg.json",
+                br#"{"primitive": {"shape": {"sphere": {"radius": -1}}}}"#,
+            )
+        },
         expect: &["neg.json", "sphere.radius", "positive"],
         refuse: &[],
     },
@@ -294,7 +346,11 @@ const CASES: &[Case] = &[
         name: "json mesh cloud with negative noise",
         run: |d| {
             put(d, "m.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-            load(d, "mesh.json", br#"{"mesh": {"path": "m.obj", "noise": -0.1}}"#)
+            load(
+                d,
+                "mesh.json",
+                br#"{"mesh": {"path": "m.obj", "noise": -0.1}}"#,
+            )
         },
         expect: &["mesh.json", "noise", "non-negative"],
         refuse: &[],
@@ -302,124 +358,243 @@ const CASES: &[Case] = &[
     // --- outlier options --------------------------------------------------------------------
     Case {
         name: "negative max_range",
-        run: |d| filtered(d, &OutlierOptions { max_range: Some(-1.0), ..Default::default() }),
+        run: |d| {
+            filtered(
+                d,
+                &OutlierOptions {
+                    max_range: Some(-1.0),
+                    ..Default::default()
+                },
+            )
+        },
         expect: &["max_range", "positive distance", "-1"],
         refuse: &[],
     },
     Case {
         name: "crop box with min above max",
-        run: |d| filtered(d, &OutlierOptions {
-            crop_box: Some(CropBox { min: [0.0, 0.0, 1.0], max: [1.0, 1.0, 0.0] }),
-            ..Default::default()
-        }),
+        run: |d| {
+            filtered(
+                d,
+                &OutlierOptions {
+                    crop_box: Some(CropBox {
+                        min: [0.0, 0.0, 1.0],
+                        max: [1.0, 1.0, 0.0],
+                    }),
+                    ..Default::default()
+                },
+            )
+        },
         expect: &["crop_box", "axis z"],
         refuse: &[],
     },
     Case {
         name: "statistical removal with zero neighbours",
-        run: |d| filtered(d, &OutlierOptions {
-            statistical: Some(StatisticalOutliers { neighbours: 0, std_ratio: 1.0 }),
-            ..Default::default()
-        }),
+        run: |d| {
+            filtered(
+                d,
+                &OutlierOptions {
+                    statistical: Some(StatisticalOutliers {
+                        neighbours: 0,
+                        std_ratio: 1.0,
+                    }),
+                    ..Default::default()
+                },
+            )
+        },
         expect: &["statistical.neighbours", "at least 1"],
         refuse: &[],
     },
     Case {
         name: "statistical removal with a NaN ratio",
-        run: |d| filtered(d, &OutlierOptions {
-            statistical: Some(StatisticalOutliers { neighbours: 5, std_ratio: f64::NAN }),
-            ..Default::default()
-        }),
+        run: |d| {
+            filtered(
+                d,
+                &OutlierOptions {
+                    statistical: Some(StatisticalOutliers {
+                        neighbours: 5,
+                        std_ratio: f64::NAN,
+                    }),
+                    ..Default::default()
+                },
+            )
+        },
         expect: &["statistical.std_ratio", "finite"],
         refuse: &[],
     },
     Case {
         name: "sensor origin not finite",
-        run: |d| filtered(d, &OutlierOptions {
-            max_range: Some(1.0),
-            sensor_origin: Some([0.0, f64::INFINITY, 0.0]),
-            ..Default::default()
-        }),
+        run: |d| {
+            filtered(
+                d,
+                &OutlierOptions {
+                    max_range: Some(1.0),
+                    sensor_origin: Some([0.0, f64::INFINITY, 0.0]),
+                    ..Default::default()
+                },
+            )
+        },
         expect: &["sensor_origin", "finite"],
         refuse: &[],
     },
     Case {
         name: "every point removed by the crop box",
-        run: |d| filtered(d, &OutlierOptions {
-            crop_box: Some(CropBox { min: [5.0; 3], max: [6.0; 3] }),
-            ..Default::default()
-        }),
+        run: |d| {
+            filtered(
+                d,
+                &OutlierOptions {
+                    crop_box: Some(CropBox {
+                        min: [5.0; 3],
+                        max: [6.0; 3],
+                    }),
+                    ..Default::default()
+                },
+            )
+        },
         expect: &["c.ply", "no point is left", "30 outside the crop box"],
         refuse: &[],
     },
     Case {
         name: "unknown outlier option in a file",
-        run: |_| serde_json::from_str::<OutlierOptions>(r#"{"max_rnage": 2}"#).map(drop).map_err(|e| e.to_string()),
+        run: |_| {
+            serde_json::from_str::<OutlierOptions>(r#"{"max_rnage": 2}"#)
+                .map(drop)
+                .map_err(|e| e.to_string())
+        },
         expect: &["max_rnage", "max_range"],
         refuse: &[],
     },
     // --- model files ------------------------------------------------------------------------
     Case {
         name: "model with a negative kernel weight",
-        run: |d| load_model(d, edited_model(|m| m["contacts"][0]["samples"][3]["weight"] = json!(-0.5))),
-        expect: &["model.json", "contacts[0].samples[3].weight", "non-negative", "-0.5"],
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["contacts"][0]["samples"][3]["weight"] = json!(-0.5)),
+            )
+        },
+        expect: &[
+            "model.json",
+            "contacts[0].samples[3].weight",
+            "non-negative",
+            "-0.5",
+        ],
         refuse: &[],
     },
     Case {
         name: "model with a kernel weight of the wrong type",
-        run: |d| load_model(d, edited_model(|m| m["contacts"][0]["samples"][2]["weight"] = json!("heavy"))),
-        expect: &["model.json", "contacts[0].samples[2].weight", "invalid type"],
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["contacts"][0]["samples"][2]["weight"] = json!("heavy")),
+            )
+        },
+        expect: &[
+            "model.json",
+            "contacts[0].samples[2].weight",
+            "invalid type",
+        ],
         refuse: &["'model'"],
     },
     Case {
         name: "model with a null (NaN) curvature",
-        run: |d| load_model(d, edited_model(|m| m["contacts"][0]["samples"][0]["curvature"][1] = Value::Null)),
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["contacts"][0]["samples"][0]["curvature"][1] = Value::Null),
+            )
+        },
         expect: &["model.json", "contacts[0].samples[0].curvature[1]"],
         refuse: &["'model'"],
     },
     Case {
         name: "model with all kernel weights zero",
-        run: |d| load_model(d, edited_model(|m| {
-            for s in m["contacts"][0]["samples"].as_array_mut().expect("samples") {
-                s["weight"] = json!(0.0);
-            }
-        })),
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| {
+                    for s in m["contacts"][0]["samples"].as_array_mut().expect("samples") {
+                        s["weight"] = json!(0.0);
+                    }
+                }),
+            )
+        },
         expect: &["model.json", "contacts[0].samples", "zero"],
         refuse: &[],
     },
     Case {
         name: "model with a non-unit quaternion",
-        run: |d| load_model(d, edited_model(|m| m["contacts"][1]["samples"][0]["feature_from_link"]["rotation"] = json!([0.0, 0.0, 0.0, 3.0]))),
-        expect: &["model.json", "contacts[1].samples[0].feature_from_link.rotation", "unit quaternion"],
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| {
+                    m["contacts"][1]["samples"][0]["feature_from_link"]["rotation"] =
+                        json!([0.0, 0.0, 0.0, 3.0])
+                }),
+            )
+        },
+        expect: &[
+            "model.json",
+            "contacts[1].samples[0].feature_from_link.rotation",
+            "unit quaternion",
+        ],
         refuse: &[],
     },
     Case {
         name: "model with a link index beyond the hand",
-        run: |d| load_model(d, edited_model(|m| m["contacts"][0]["link_index"] = json!(99))),
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["contacts"][0]["link_index"] = json!(99)),
+            )
+        },
         expect: &["model.json", "contacts[0].link_index", "99"],
         refuse: &[],
     },
     Case {
         name: "model with 1e12 configuration kernels",
-        run: |d| load_model(d, edited_model(|m| m["configuration"]["kernels"] = json!(1_000_000_000_000u64))),
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["configuration"]["kernels"] = json!(1_000_000_000_000u64)),
+            )
+        },
         expect: &["model.json", "configuration.kernels", "1000000000000"],
         refuse: &[],
     },
     Case {
         name: "model whose hand link names a later parent",
-        run: |d| load_model(d, edited_model(|m| m["hand"]["links"][1]["parent"] = json!(2))),
-        expect: &["model.json", "hand.links[1].parent", "link 2 does not come before link 1"],
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["hand"]["links"][1]["parent"] = json!(2)),
+            )
+        },
+        expect: &[
+            "model.json",
+            "hand.links[1].parent",
+            "link 2 does not come before link 1",
+        ],
         refuse: &[],
     },
     Case {
         name: "model whose hand link is driven by a missing joint",
-        run: |d| load_model(d, edited_model(|m| m["hand"]["links"][1]["joint"]["joint"] = json!(7))),
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["hand"]["links"][1]["joint"]["joint"] = json!(7)),
+            )
+        },
         expect: &["model.json", "hand.links[1].joint.joint", "7"],
         refuse: &[],
     },
     Case {
         name: "model with a negative feature radius",
-        run: |d| load_model(d, edited_model(|m| m["features"]["normal_radius"] = json!(-0.01))),
+        run: |d| {
+            load_model(
+                d,
+                edited_model(|m| m["features"]["normal_radius"] = json!(-0.01)),
+            )
+        },
         expect: &["model.json", "features.normal_radius", "positive"],
         refuse: &[],
     },
@@ -432,7 +607,11 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "demonstration whose primitive cloud asks for 1e12 points",
-        run: |d| demo_with(d, |v| v["cloud"]["primitive"]["points"] = json!(1_000_000_000_000u64)),
+        run: |d| {
+            demo_with(d, |v| {
+                v["cloud"]["primitive"]["points"] = json!(1_000_000_000_000u64)
+            })
+        },
         expect: &["demo.json", "cloud.points", "exceeds the limit"],
         refuse: &[],
     },
@@ -444,9 +623,11 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "demonstration with a negative feature radius",
-        run: |d| demo_with(d, |v| {
-            v["features"] = json!({"normal_radius": -1.0, "curvature_radius": 0.015, "orientation": "away_from_centroid", "recompute_normals": false});
-        }),
+        run: |d| {
+            demo_with(d, |v| {
+                v["features"] = json!({"normal_radius": -1.0, "curvature_radius": 0.015, "orientation": "away_from_centroid", "recompute_normals": false});
+            })
+        },
         expect: &["demo.json", "features.normal_radius", "positive"],
         refuse: &[],
     },
@@ -463,8 +644,16 @@ fn every_bad_input_gives_its_message() {
             Ok(Ok(())) => failures.push(format!("{}: accepted", case.name)),
             Ok(Err(message)) => {
                 eprintln!("{}: {message}", case.name);
-                let missing: Vec<_> = case.expect.iter().filter(|f| !message.contains(*f)).collect();
-                let present: Vec<_> = case.refuse.iter().filter(|f| message.contains(*f)).collect();
+                let missing: Vec<_> = case
+                    .expect
+                    .iter()
+                    .filter(|f| !message.contains(*f))
+                    .collect();
+                let present: Vec<_> = case
+                    .refuse
+                    .iter()
+                    .filter(|f| message.contains(*f))
+                    .collect();
                 if !missing.is_empty() || !present.is_empty() {
                     failures.push(format!(
                         "{}: message {message:?} lacks {missing:?} or has {present:?}",
@@ -474,7 +663,13 @@ fn every_bad_input_gives_its_message() {
             }
         }
     }
-    assert!(failures.is_empty(), "{} of {} cases failed:\n{}", failures.len(), CASES.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n{}",
+        failures.len(),
+        CASES.len(),
+        failures.join("\n")
+    );
 }
 
 /// An organised PCD (WIDTH × HEIGHT with NaN holes) reads, and the holes are counted.
@@ -503,7 +698,13 @@ fn brute_mean_distance(points: &[Point3<f64>], i: usize, k: usize) -> f64 {
 fn random_scan(seed: u64, n: usize, far: usize) -> PointCloud {
     let mut rng = StdRng::seed_from_u64(seed);
     let mut points: Vec<Point3<f64>> = (0..n)
-        .map(|_| Point3::new(rng.random::<f64>() * 0.1, rng.random::<f64>() * 0.1, rng.random::<f64>() * 0.02))
+        .map(|_| {
+            Point3::new(
+                rng.random::<f64>() * 0.1,
+                rng.random::<f64>() * 0.1,
+                rng.random::<f64>() * 0.02,
+            )
+        })
         .collect();
     for _ in 0..far {
         let r = 10f64.powf(rng.random::<f64>() * 20.0);
@@ -582,14 +783,20 @@ proptest! {
 fn filters_keep_normals_with_their_points() {
     let cloud = PointCloud {
         points: (0..10).map(|i| Point3::new(i as f64, 0.0, 0.0)).collect(),
-        normals: Some((0..10).map(|i| Vector3::new(0.0, (i as f64).cos(), (i as f64).sin())).collect()),
+        normals: Some(
+            (0..10)
+                .map(|i| Vector3::new(0.0, (i as f64).cos(), (i as f64).sin()))
+                .collect(),
+        ),
     };
     let options = OutlierOptions {
         max_range: Some(4.5),
         ..Default::default()
     };
     let mut report = Default::default();
-    let kept = options.apply(cloud.clone(), &mut report, "line").expect("kept");
+    let kept = options
+        .apply(cloud.clone(), &mut report, "line")
+        .expect("kept");
     assert_eq!(kept.len(), 5);
     assert_eq!(report.beyond_max_range, 5);
     let normals = kept.normals.expect("normals");
@@ -663,7 +870,10 @@ fn generate_survives_far_outliers() {
         let best = candidates[0].object_from_wrist.translation.vector.norm();
         assert!(best < 0.5, "{what}: best wrist {best} m from the object");
         let options = OutlierOptions {
-            crop_box: Some(CropBox { min: [-1.0; 3], max: [1.0; 3] }),
+            crop_box: Some(CropBox {
+                min: [-1.0; 3],
+                max: [1.0; 3],
+            }),
             ..Default::default()
         };
         let mut report = Default::default();

@@ -38,13 +38,25 @@ pub struct GenerateArgs {
     max_candidates: Option<usize>,
     /// Keep only the points inside this box of the cloud's frame (m):
     /// XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
-    #[arg(long, value_name = "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX", value_delimiter = ',', num_args = 6, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX",
+        value_delimiter = ',',
+        num_args = 6,
+        allow_negative_numbers = true
+    )]
     crop_box: Option<Vec<f64>>,
     /// Remove the points farther than this from the sensor origin (m).
     #[arg(long, value_name = "M")]
     max_range: Option<f64>,
     /// The sensor origin in the cloud's frame (m), for --max-range: X,Y,Z [default: 0,0,0].
-    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', num_args = 3, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        value_delimiter = ',',
+        num_args = 3,
+        allow_negative_numbers = true
+    )]
     sensor_origin: Option<Vec<f64>>,
     /// Statistical outlier removal: k, the nearest neighbours whose mean distance is compared
     /// (turns the removal on; 20 when only --outlier-std-ratio is given).

@@ -149,10 +149,7 @@ impl OutlierOptions {
         }
         if let Some(s) = &self.statistical {
             if s.neighbours == 0 {
-                return Err(bad(
-                    "statistical.neighbours",
-                    "must be at least 1".into(),
-                ));
+                return Err(bad("statistical.neighbours", "must be at least 1".into()));
             }
             if !s.std_ratio.is_finite() {
                 return Err(bad(
@@ -178,7 +175,9 @@ impl OutlierOptions {
         let mut cloud = cloud;
         if let Some(b) = &self.crop_box {
             let before = cloud.len();
-            cloud = retain(cloud, |p| (0..3).all(|a| b.min[a] <= p[a] && p[a] <= b.max[a]));
+            cloud = retain(cloud, |p| {
+                (0..3).all(|a| b.min[a] <= p[a] && p[a] <= b.max[a])
+            });
             report.outside_crop_box += before - cloud.len();
         }
         if let Some(range) = self.max_range {

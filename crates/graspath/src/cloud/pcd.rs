@@ -104,10 +104,16 @@ fn check_layout(meta: &PcdMeta, data: &[u8], source_name: &str) -> Result<(), Cl
             if values > data.len() as u64 {
                 return Err(fail(
                     "COUNT",
-                    format!("one point has {values} values but only {} bytes of data follow", data.len()),
+                    format!(
+                        "one point has {values} values but only {} bytes of data follow",
+                        data.len()
+                    ),
                 ));
             }
-            let lines = data.split(|b| *b == b'\n').filter(|l| !l.is_empty()).count() as u64;
+            let lines = data
+                .split(|b| *b == b'\n')
+                .filter(|l| !l.is_empty())
+                .count() as u64;
             if lines < points {
                 return Err(fail(
                     "POINTS",
@@ -133,8 +139,10 @@ fn check_layout(meta: &PcdMeta, data: &[u8], source_name: &str) -> Result<(), Cl
                     "the file ends before the compressed and uncompressed sizes (8 bytes after DATA)".into(),
                 ));
             };
-            let compressed = u64::from(u32::from_le_bytes([sizes[0], sizes[1], sizes[2], sizes[3]]));
-            let uncompressed = u64::from(u32::from_le_bytes([sizes[4], sizes[5], sizes[6], sizes[7]]));
+            let compressed =
+                u64::from(u32::from_le_bytes([sizes[0], sizes[1], sizes[2], sizes[3]]));
+            let uncompressed =
+                u64::from(u32::from_le_bytes([sizes[4], sizes[5], sizes[6], sizes[7]]));
             let present = data.len() as u64 - 8;
             if compressed > present {
                 return Err(fail(

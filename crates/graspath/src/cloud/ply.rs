@@ -121,10 +121,17 @@ fn check_layout(bytes: &[u8], source_name: &str) -> Result<(), CloudError> {
             }
         }
     } else {
-        let lines = payload.split(|b| *b == b'\n').filter(|l| !l.trim_ascii().is_empty()).count() as u64;
+        let lines = payload
+            .split(|b| *b == b'\n')
+            .filter(|l| !l.trim_ascii().is_empty())
+            .count() as u64;
         let announced = elements.iter().fold(0u64, |n, e| n.saturating_add(e.1));
         if announced > lines {
-            let (name, count, _) = elements.iter().max_by_key(|e| e.1).cloned().unwrap_or_default();
+            let (name, count, _) = elements
+                .iter()
+                .max_by_key(|e| e.1)
+                .cloned()
+                .unwrap_or_default();
             return Err(CloudError::parse(
                 source_name,
                 format!("element {name}"),

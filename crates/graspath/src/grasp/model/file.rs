@@ -124,12 +124,20 @@ fn check_hand(hand: &Hand, source_name: &str) -> Result<(), ModelError> {
                 ),
             ));
         }
-        finite(source_name, &at("joint.multiplier"), &[joint.multiplier, joint.offset])?;
+        finite(
+            source_name,
+            &at("joint.multiplier"),
+            &[joint.multiplier, joint.offset],
+        )?;
         finite(source_name, &at("joint.axis"), joint.axis.as_slice())?;
         if joint.kind != HandJointKind::Fixed && joint.axis.norm() < 1e-9 {
             return Err(fail(at("joint.axis"), "must not be zero".into()));
         }
-        check_pose(source_name, &at("joint.parent_from_joint"), &joint.parent_from_joint)?;
+        check_pose(
+            source_name,
+            &at("joint.parent_from_joint"),
+            &joint.parent_from_joint,
+        )?;
         for (k, shape) in link.shapes.iter().enumerate() {
             check_pose(
                 source_name,
@@ -301,19 +309,23 @@ impl GraspModel {
                 if !(sample.weight.is_finite() && sample.weight >= 0.0) {
                     return Err(fail(
                         at("weight"),
-                        format!("a kernel weight must be a non-negative number, got {}", sample.weight),
+                        format!(
+                            "a kernel weight must be a non-negative number, got {}",
+                            sample.weight
+                        ),
                     ));
                 }
                 finite(source_name, &at("curvature"), &sample.curvature)?;
                 finite(source_name, &at("point"), &sample.point)?;
                 finite(source_name, &at("normal"), &sample.normal)?;
-                check_pose(source_name, &at("feature_from_link"), &sample.feature_from_link)?;
+                check_pose(
+                    source_name,
+                    &at("feature_from_link"),
+                    &sample.feature_from_link,
+                )?;
             }
             if !c.samples.iter().any(|s| s.weight > 0.0) {
-                return Err(fail(
-                    at("samples"),
-                    "every kernel weight is zero".into(),
-                ));
+                return Err(fail(at("samples"), "every kernel weight is zero".into()));
             }
         }
         let config = &self.configuration;
@@ -363,14 +375,14 @@ impl GraspModel {
                 &format!("approach[{i}].grasp_from_wrist"),
                 &w.grasp_from_wrist,
             )?;
-            finite(source_name, &format!("approach[{i}].hand_joints"), &w.hand_joints)?;
+            finite(
+                source_name,
+                &format!("approach[{i}].hand_joints"),
+                &w.hand_joints,
+            )?;
         }
-        crate::geometry::pose_from_rows(&self.demonstration.object_from_wrist).map_err(|e| {
-            fail(
-                "demonstration.object_from_wrist".into(),
-                e.to_string(),
-            )
-        })?;
+        crate::geometry::pose_from_rows(&self.demonstration.object_from_wrist)
+            .map_err(|e| fail("demonstration.object_from_wrist".into(), e.to_string()))?;
         if self.demonstration.hand_joints.len() != dof {
             return Err(fail(
                 "demonstration.hand_joints".into(),

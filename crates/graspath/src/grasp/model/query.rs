@@ -663,7 +663,11 @@ mod tests {
         assert!(density.grid.rows.len() <= n);
         // The kernels near the object keep their own cells (the origin is not dragged to
         // −1e20): 600 kernels in a 5 cm ball over 12.5 mm cells occupy well over 50.
-        assert!(density.grid.cell_x.len() > 50, "{}", density.grid.cell_x.len());
+        assert!(
+            density.grid.cell_x.len() > 50,
+            "{}",
+            density.grid.cell_x.len()
+        );
         let mut queries: Vec<Isometry3<f64>> = reference
             .iter()
             .map(|(k, _)| {

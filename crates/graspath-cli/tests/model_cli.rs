@@ -299,13 +299,13 @@ fn generate_flags_remove_outliers_and_report_them() {
         let a = k as f64 * 0.3;
         rows.push(format!("{} {} 0 0 0 1", 10.0 * a.cos(), 10.0 * a.sin()));
     }
-    let ply = dir.path().join("scan.ply");
+    let ply = dir.path().join("scan.pcd");
     std::fs::write(
         &ply,
         format!(
-            "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n{}\n",
-            rows.len(),
-            rows.join("\n")
+            "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\nPOINTS {n}\nDATA ascii\n{}\n",
+            rows.join("\n"),
+            n = rows.len(),
         ),
     )
     .expect("write");

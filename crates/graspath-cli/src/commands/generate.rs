@@ -42,20 +42,18 @@ pub struct GenerateArgs {
         long,
         value_name = "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX",
         value_delimiter = ',',
-        num_args = 6,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     crop_box: Option<Vec<f64>>,
     /// Remove the points farther than this from the sensor origin (m).
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     max_range: Option<f64>,
     /// The sensor origin in the cloud's frame (m), for --max-range: X,Y,Z [default: 0,0,0].
     #[arg(
         long,
         value_name = "X,Y,Z",
         value_delimiter = ',',
-        num_args = 3,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     sensor_origin: Option<Vec<f64>>,
     /// Statistical outlier removal: k, the nearest neighbours whose mean distance is compared
@@ -74,7 +72,16 @@ pub struct GenerateArgs {
 
 impl GenerateArgs {
     /// The outlier options given by the flags.
-    fn outliers(&self) -> OutlierOptions {
+    fn outliers(&self) -> Result<OutlierOptions> {
+        let count = |flag: &str, values: &Option<Vec<f64>>, n: usize| match values {
+            Some(v) if v.len() != n => Err(anyhow::anyhow!(
+                "{flag} needs {n} comma-separated numbers, got {}",
+                v.len()
+            )),
+            _ => Ok(()),
+        };
+        count("--crop-box", &self.crop_box, 6)?;
+        count("--sensor-origin", &self.sensor_origin, 3)?;
         let statistical = (self.outlier_neighbours.is_some() || self.outlier_std_ratio.is_some())
             .then(|| {
                 let defaults = StatisticalOutliers::default();
@@ -83,7 +90,7 @@ impl GenerateArgs {
                     std_ratio: self.outlier_std_ratio.unwrap_or(defaults.std_ratio),
                 }
             });
-        OutlierOptions {
+        Ok(OutlierOptions {
             crop_box: self.crop_box.as_ref().map(|v| CropBox {
                 min: [v[0], v[1], v[2]],
                 max: [v[3], v[4], v[5]],
@@ -91,14 +98,14 @@ impl GenerateArgs {
             max_range: self.max_range,
             sensor_origin: self.sensor_origin.as_ref().map(|v| [v[0], v[1], v[2]]),
             statistical,
-        }
+        })
     }
 }
 
 /// Runs the subcommand.
 pub fn run(args: &GenerateArgs) -> Result<()> {
     let model = GraspModel::read(&args.model)?;
-    let (cloud, cloud_report) = load_cloud_filtered(&args.cloud, &args.outliers())?;
+    let (cloud, cloud_report) = load_cloud_filtered(&args.cloud, &args.outliers()?)?;
     let source = args.cloud.display().to_string();
     if !args.quiet && cloud_report.kept() != cloud_report.read {
         eprintln!("note: {source}: {cloud_report}");

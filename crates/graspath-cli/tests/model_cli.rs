@@ -267,3 +267,101 @@ trajectory:
         );
     }
 }
+
+/// The outlier flags of `generate`: NaN points skipped and counted, background cropped, the
+/// counts reported; a bad value is one clear error naming the option.
+#[test]
+fn generate_flags_remove_outliers_and_report_them() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = trained(dir.path());
+    let mut rows = Vec::new();
+    // A 40 × 40 × 100 mm box surface on a grid, with exact outward normals.
+    for i in 0..20 {
+        for j in 0..20 {
+            let (u, v) = (
+                -0.02 + 0.04 * i as f64 / 19.0,
+                -0.05 + 0.1 * j as f64 / 19.0,
+            );
+            for (p, n) in [
+                ((0.02, u, v), (1, 0, 0)),
+                ((-0.02, u, v), (-1, 0, 0)),
+                ((u, 0.02, v), (0, 1, 0)),
+                ((u, -0.02, v), (0, -1, 0)),
+            ] {
+                rows.push(format!("{} {} {} {} {} {}", p.0, p.1, p.2, n.0, n.1, n.2));
+            }
+        }
+    }
+    for _ in 0..3 {
+        rows.push("nan nan nan 0 0 1".into());
+    }
+    for k in 0..20 {
+        let a = k as f64 * 0.3;
+        rows.push(format!("{} {} 0 0 0 1", 10.0 * a.cos(), 10.0 * a.sin()));
+    }
+    let ply = dir.path().join("scan.pcd");
+    std::fs::write(
+        &ply,
+        format!(
+            "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\nPOINTS {n}\nDATA ascii\n{}\n",
+            rows.join("\n"),
+            n = rows.len(),
+        ),
+    )
+    .expect("write");
+    let out = dir.path().join("c.json");
+    let mut args = vec![
+        "generate",
+        "--model",
+        s(&model),
+        "--cloud",
+        s(&ply),
+        "--out",
+        s(&out),
+        "--crop-box",
+        "-1,-1,-1,1,1,1",
+        "--max-range",
+        "5",
+        "--sensor-origin",
+        "0,0,-0.5",
+    ];
+    args.extend(SMALL);
+    let o = graspath(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "1623 points read, 1600 kept; removed: 3 NaN/infinite, 20 outside the crop box, 0 beyond the maximum range, 0 statistical outliers"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    assert!(out.exists());
+
+    let bad = dir.path().join("bad.json");
+    let mut args = vec![
+        "generate",
+        "--model",
+        s(&model),
+        "--cloud",
+        s(&ply),
+        "--out",
+        s(&bad),
+        "--max-range",
+        "-1",
+    ];
+    args.extend(SMALL);
+    fails(&args, "outlier removal", "max_range", &bad);
+    let mut args = vec![
+        "generate",
+        "--model",
+        s(&model),
+        "--cloud",
+        s(&ply),
+        "--out",
+        s(&bad),
+        "--outlier-neighbours",
+        "0",
+    ];
+    args.extend(SMALL);
+    fails(&args, "outlier removal", "statistical.neighbours", &bad);
+}

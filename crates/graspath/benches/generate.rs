@@ -1,15 +1,33 @@
 //! Grasp generation at the spec's default budget (50 000 seeds, 500 annealing steps, 5 000
 //! query kernels per link) for the built-in Baxter gripper on a 5 000-point cloud, plus the
-//! feature pipeline alone.
+//! feature pipeline alone; and generation on the T-shape cloud without outliers and with 200
+//! outliers at 10 m, 1 km and 1e20 m (the same clouds as `examples/outlier_clouds.rs`): the
+//! times must agree within ±20 %.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use graspath::cloud::{
-    compute_features, sample_primitive, FeatureParams, Primitive, SampleOptions,
+    compute_features, sample_primitive, FeatureParams, PointCloud, Primitive, SampleOptions,
 };
 use graspath::grasp::model::{generate, train_file, GenerateOptions};
+use nalgebra::{Point3, Vector3};
+use rand::{rngs::StdRng, SeedableRng};
+use rand_distr::{Distribution, StandardNormal};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
+
+/// The T-shape cloud plus `count` points at distance `distance` (m) in random directions.
+fn with_outliers(clean: &PointCloud, distance: f64, count: usize) -> PointCloud {
+    let mut cloud = clean.clone();
+    let mut rng = StdRng::seed_from_u64(17);
+    let normals = cloud.normals.as_mut().expect("normals");
+    for _ in 0..count {
+        let v = Vector3::<f64>::from_fn(|_, _| StandardNormal.sample(&mut rng)).normalize();
+        cloud.points.push(Point3::from(v * distance));
+        normals.push(-v);
+    }
+    cloud
+}
 
 fn bench(c: &mut Criterion) {
     let demo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/grasp/demo_box.json");
@@ -40,6 +58,40 @@ fn bench(c: &mut Criterion) {
             black_box(generate(&model, &cloud, &options, "cylinder", &|_| {}).expect("generate"))
         })
     });
+    group.finish();
+    let t_shape = sample_primitive(
+        &Primitive::TShape {
+            stem: [0.04, 0.045, 0.1],
+            bar: [0.16, 0.045, 0.04],
+        },
+        &SampleOptions {
+            points: 5000,
+            seed: 3,
+            ..Default::default()
+        },
+    )
+    .expect("t-shape");
+    let mut group = c.benchmark_group("generate_outliers");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20))
+        .warm_up_time(Duration::from_secs(1));
+    for (name, distance) in [("none", 0.0), ("10m", 10.0), ("1km", 1e3), ("1e20m", 1e20)] {
+        let cloud = if distance > 0.0 {
+            with_outliers(&t_shape, distance, 200)
+        } else {
+            t_shape.clone()
+        };
+        group.bench_function(format!("t_shape_outliers_{name}"), |b| {
+            b.iter(|| {
+                let options = GenerateOptions {
+                    seed: 1,
+                    ..GenerateOptions::default()
+                };
+                black_box(generate(&model, &cloud, &options, "t", &|_| {}).expect("generate"))
+            })
+        });
+    }
     group.finish();
     let mut group = c.benchmark_group("features");
     group.sample_size(10);

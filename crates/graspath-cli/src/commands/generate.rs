@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::cloud::load_cloud_argument;
+use graspath::cloud::{load_cloud_filtered, CropBox, OutlierOptions, StatisticalOutliers};
 use graspath::fsutil::{check_file_target, write_file, Existing};
 use graspath::grasp::model::{candidates_json, generate, GenerateOptions, GraspModel, Progress};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -41,9 +41,70 @@ pub struct GenerateArgs {
     /// Write at most this many candidates (all survivors of the staged selection by default).
     #[arg(long, value_name = "N")]
     max_candidates: Option<usize>,
+    /// Keep only the points inside this box of the cloud's frame (m):
+    /// XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
+    #[arg(
+        long,
+        value_name = "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    crop_box: Option<Vec<f64>>,
+    /// Remove the points farther than this from the sensor origin (m).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    max_range: Option<f64>,
+    /// The sensor origin in the cloud's frame (m), for --max-range: X,Y,Z [default: 0,0,0].
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    sensor_origin: Option<Vec<f64>>,
+    /// Statistical outlier removal: k, the nearest neighbours whose mean distance is compared
+    /// (turns the removal on; 20 when only --outlier-std-ratio is given).
+    #[arg(long, value_name = "K")]
+    outlier_neighbours: Option<usize>,
+    /// Statistical outlier removal: remove a point whose mean neighbour distance exceeds the
+    /// cloud's mean by more than this many standard deviations (turns the removal on; 2.0 when
+    /// only --outlier-neighbours is given).
+    #[arg(long, value_name = "ALPHA", allow_negative_numbers = true)]
+    outlier_std_ratio: Option<f64>,
     /// Print nothing on success and show no progress bar.
     #[arg(long)]
     quiet: bool,
+}
+
+impl GenerateArgs {
+    /// The outlier options given by the flags.
+    fn outliers(&self) -> Result<OutlierOptions> {
+        let count = |flag: &str, values: &Option<Vec<f64>>, n: usize| match values {
+            Some(v) if v.len() != n => Err(anyhow::anyhow!(
+                "{flag} needs {n} comma-separated numbers, got {}",
+                v.len()
+            )),
+            _ => Ok(()),
+        };
+        count("--crop-box", &self.crop_box, 6)?;
+        count("--sensor-origin", &self.sensor_origin, 3)?;
+        let statistical = (self.outlier_neighbours.is_some() || self.outlier_std_ratio.is_some())
+            .then(|| {
+                let defaults = StatisticalOutliers::default();
+                StatisticalOutliers {
+                    neighbours: self.outlier_neighbours.unwrap_or(defaults.neighbours),
+                    std_ratio: self.outlier_std_ratio.unwrap_or(defaults.std_ratio),
+                }
+            });
+        Ok(OutlierOptions {
+            crop_box: self.crop_box.as_ref().map(|v| CropBox {
+                min: [v[0], v[1], v[2]],
+                max: [v[3], v[4], v[5]],
+            }),
+            max_range: self.max_range,
+            sensor_origin: self.sensor_origin.as_ref().map(|v| [v[0], v[1], v[2]]),
+            statistical,
+        })
+    }
 }
 
 /// Runs the subcommand.
@@ -51,8 +112,11 @@ pub fn run(args: &GenerateArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     check_file_target(&args.out, existing)?;
     let model = GraspModel::read(&args.model)?;
-    let cloud = load_cloud_argument(&args.cloud)?;
+    let (cloud, cloud_report) = load_cloud_filtered(&args.cloud, &args.outliers()?)?;
     let source = args.cloud.display().to_string();
+    if !args.quiet && cloud_report.kept() != cloud_report.read {
+        eprintln!("note: {source}: {cloud_report}");
+    }
     if cloud.normals.is_none() && !args.quiet {
         eprintln!(
             "note: {source} has no normals; estimating them by PCA within {:.0} mm, oriented {}",

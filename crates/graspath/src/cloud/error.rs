@@ -54,6 +54,34 @@ pub enum CloudError {
         /// The supported extensions.
         expected: String,
     },
+    /// A count in a file or an option exceeds a documented limit.
+    #[error("{source_name}: {field}: {count} exceeds the limit of {limit}")]
+    TooLarge {
+        /// The file (or input).
+        source_name: String,
+        /// The header keyword, element or option holding the count.
+        field: String,
+        /// The count found.
+        count: u64,
+        /// The limit ([`super::MAX_CLOUD_POINTS`] or [`super::MAX_MESH_TRIANGLES`]).
+        limit: usize,
+    },
+    /// An outlier-removal option is invalid (see [`super::OutlierOptions`]).
+    #[error("outlier removal: {field}: {message}")]
+    BadFilter {
+        /// The option, e.g. `max_range` or `statistical.neighbours`.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Outlier removal left no point.
+    #[error("{source_name}: no point is left after outlier removal ({report})")]
+    AllFiltered {
+        /// The file.
+        source_name: String,
+        /// What each step removed.
+        report: super::CloudReport,
+    },
     /// A primitive or sampling option is invalid.
     #[error("{field}: {message}")]
     BadOption {
@@ -65,6 +93,20 @@ pub enum CloudError {
 }
 
 impl CloudError {
+    /// The error with a file named: a [`CloudError::BadOption`] (which names only the option)
+    /// becomes a [`CloudError::Parse`] at `source_name`, field `prefix` + the option. Other
+    /// errors already name their file and are returned unchanged.
+    pub fn in_file(self, source_name: &str, prefix: &str) -> Self {
+        match self {
+            Self::BadOption { field, message } => Self::Parse {
+                source_name: source_name.to_string(),
+                location: format!("{prefix}{field}"),
+                message,
+            },
+            other => other,
+        }
+    }
+
     pub(crate) fn io(source_name: &str, error: impl std::fmt::Display) -> Self {
         Self::Io {
             source_name: source_name.to_string(),

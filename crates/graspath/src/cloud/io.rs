@@ -2,8 +2,8 @@
 //! a mesh to sample, or a primitive to sample).
 
 use super::{
-    mesh::read_mesh, pcd, ply, primitives::sample_primitive, CloudError, PointCloud, Primitive,
-    SampleOptions,
+    mesh::read_mesh, pcd, ply, primitives::sample_primitive, CloudError, CloudReport,
+    OutlierOptions, PointCloud, Primitive, SampleOptions,
 };
 use std::path::{Path, PathBuf};
 
@@ -36,9 +36,18 @@ impl CloudFormat {
 
 /// Reads a `.ply` or `.pcd` cloud (NaN points dropped; an error if none is left).
 pub fn read_cloud(path: &Path) -> Result<PointCloud, CloudError> {
-    match CloudFormat::from_path(path)? {
-        CloudFormat::Ply => ply::read_ply(path),
-        CloudFormat::Pcd => pcd::read_pcd(path),
+    read_cloud_counted(path).map(|(cloud, _)| cloud)
+}
+
+/// [`read_cloud`], also returning how many points were skipped for a NaN or infinite
+/// coordinate.
+fn read_cloud_counted(path: &Path) -> Result<(PointCloud, usize), CloudError> {
+    let format = CloudFormat::from_path(path)?;
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| CloudError::io(&name, e))?;
+    match format {
+        CloudFormat::Ply => ply::read_ply_counted(&bytes, &name),
+        CloudFormat::Pcd => pcd::read_pcd_counted(&bytes, &name),
     }
 }
 
@@ -100,17 +109,43 @@ impl CloudSource {
 }
 
 /// Loads a cloud named on the command line: a `.ply`/`.pcd` file, or a `.json` file holding a
-/// [`CloudSource`] (paths in it relative to the JSON file).
+/// [`CloudSource`] (paths in it relative to the JSON file). Errors in the JSON's options name
+/// the JSON file and the option.
 pub fn load_cloud_argument(path: &Path) -> Result<PointCloud, CloudError> {
+    load_counted(path).map(|(cloud, _)| cloud)
+}
+
+fn load_counted(path: &Path) -> Result<(PointCloud, usize), CloudError> {
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if !is_json {
-        return read_cloud(path);
+        return read_cloud_counted(path);
     }
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| CloudError::io(&name, e))?;
     let source: CloudSource = serde_json::from_str(&text)
         .map_err(|e| CloudError::parse(&name, format!("line {}", e.line()), e.to_string()))?;
-    source.load(path.parent().unwrap_or(Path::new(".")))
+    let cloud = source
+        .load(path.parent().unwrap_or(Path::new(".")))
+        .map_err(|e| e.in_file(&name, ""))?;
+    Ok((cloud, 0))
+}
+
+/// [`load_cloud_argument`] followed by outlier removal ([`OutlierOptions::apply`]): the cloud
+/// and the counts of what was skipped (NaN or infinite points) and removed. The options are
+/// checked before the file is read.
+pub fn load_cloud_filtered(
+    path: &Path,
+    options: &OutlierOptions,
+) -> Result<(PointCloud, CloudReport), CloudError> {
+    options.check()?;
+    let (cloud, invalid) = load_counted(path)?;
+    let mut report = CloudReport {
+        read: cloud.len() + invalid,
+        invalid,
+        ..CloudReport::default()
+    };
+    let cloud = options.apply(cloud, &mut report, &path.display().to_string())?;
+    Ok((cloud, report))
 }

@@ -1,7 +1,7 @@
 //! Triangle meshes from OBJ and STL (ascii or binary) files, and area-weighted surface
 //! sampling.
 
-use super::{CloudError, PointCloud, SampleOptions};
+use super::{CloudError, PointCloud, SampleOptions, MAX_MESH_TRIANGLES};
 use nalgebra::{Point3, Vector3};
 use rand::{rngs::StdRng, RngExt, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -196,6 +196,14 @@ pub fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudErr
                         "a face needs three vertices",
                     ));
                 }
+                if mesh.triangles.len() + indices.len() - 2 > MAX_MESH_TRIANGLES {
+                    return Err(CloudError::TooLarge {
+                        source_name: source_name.to_string(),
+                        field: format!("{}: triangles", at()),
+                        count: (mesh.triangles.len() + indices.len() - 2) as u64,
+                        limit: MAX_MESH_TRIANGLES,
+                    });
+                }
                 for k in 1..indices.len() - 1 {
                     mesh.triangles
                         .push([indices[0], indices[k], indices[k + 1]]);
@@ -208,11 +216,32 @@ pub fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudErr
 }
 
 /// Parses an STL file, binary (80-byte header, u32 count, 50 bytes per triangle) or ascii
-/// (`solid ... facet ... vertex x y z ...`). Triangle winding is kept as stored.
+/// (`solid ... facet ... vertex x y z ...`). Triangle winding is kept as stored. At most
+/// [`MAX_MESH_TRIANGLES`] triangles.
 pub fn parse_stl(bytes: &[u8], source_name: &str) -> Result<TriangleMesh, CloudError> {
+    let looks_ascii = bytes.trim_ascii_start().starts_with(b"solid");
     if bytes.len() >= 84 {
         let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        if bytes.len() == 84 + 50 * count {
+        let expected = 84 + 50 * count as u64;
+        if expected == bytes.len() as u64 && count > MAX_MESH_TRIANGLES {
+            return Err(CloudError::TooLarge {
+                source_name: source_name.to_string(),
+                field: "triangle count".into(),
+                count: count as u64,
+                limit: MAX_MESH_TRIANGLES,
+            });
+        }
+        if !looks_ascii && expected != bytes.len() as u64 {
+            return Err(CloudError::parse(
+                source_name,
+                "triangle count",
+                format!(
+                    "the binary STL header announces {count} triangles ({expected} bytes) but the file has {} bytes",
+                    bytes.len()
+                ),
+            ));
+        }
+        if bytes.len() as u64 == expected {
             let mut mesh = TriangleMesh::default();
             for t in 0..count {
                 let base = 84 + 50 * t + 12;
@@ -247,7 +276,7 @@ pub fn parse_stl(bytes: &[u8], source_name: &str) -> Result<TriangleMesh, CloudE
         }
     }
     let text = String::from_utf8_lossy(bytes);
-    if !text.trim_start().starts_with("solid") {
+    if !looks_ascii {
         return Err(CloudError::parse(
             source_name,
             "header",
@@ -271,6 +300,14 @@ pub fn parse_stl(bytes: &[u8], source_name: &str) -> Result<TriangleMesh, CloudE
                         format!("line {}", number + 1),
                         format!("a facet has {} vertices, expected 3", pending.len()),
                     ));
+                }
+                if mesh.triangles.len() >= MAX_MESH_TRIANGLES {
+                    return Err(CloudError::TooLarge {
+                        source_name: source_name.to_string(),
+                        field: format!("line {}: triangles", number + 1),
+                        count: mesh.triangles.len() as u64 + 1,
+                        limit: MAX_MESH_TRIANGLES,
+                    });
                 }
                 mesh.triangles.push([pending[0], pending[1], pending[2]]);
                 pending.clear();

@@ -3,11 +3,17 @@
 //! local frames).
 //!
 //! Every cloud is expressed in one frame, the **object frame** (metres); normals are unit
-//! vectors in that frame. Points with a NaN or infinite coordinate are dropped when a file is
-//! read.
+//! vectors in that frame. Points with a NaN or infinite coordinate (the invalid points of an
+//! organised scan) are dropped when a file is read, and counted ([`CloudReport`]); outliers
+//! of real scans can be removed with [`OutlierOptions`] before features are computed.
+//!
+//! Reading is bounded: every count in a header (PCD `POINTS`, PLY element counts, binary STL
+//! triangle counts) and every sampling count is checked against the bytes present and against
+//! [`MAX_CLOUD_POINTS`] / [`MAX_MESH_TRIANGLES`] before anything is allocated for it.
 
 mod error;
 mod features;
+mod filter;
 mod io;
 mod mesh;
 mod neighbours;
@@ -20,8 +26,9 @@ pub use features::{
     compute_features, estimate_normals, principal_curvatures, surface_frame, Curvature,
     FeatureParams, NormalOrientation, SurfaceFeature,
 };
+pub use filter::{CloudReport, CropBox, OutlierOptions, StatisticalOutliers};
 pub use io::CloudSource;
-pub use io::{load_cloud_argument, read_cloud, write_cloud, CloudFormat};
+pub use io::{load_cloud_argument, load_cloud_filtered, read_cloud, write_cloud, CloudFormat};
 pub use mesh::{read_mesh, TriangleMesh};
 pub use neighbours::PointIndex;
 pub use pcd::{pcd_bytes, read_pcd, read_pcd_bytes, write_pcd, PcdEncoding};
@@ -29,6 +36,14 @@ pub use ply::{ply_bytes, read_ply, read_ply_bytes, write_ply, PlyEncoding};
 pub use primitives::{sample_primitive, Primitive, SampleOptions};
 
 use nalgebra::{Point3, Vector3};
+
+/// The most points a cloud may have (50 million, about 1.2 GB of positions): a PCD `POINTS`,
+/// a PLY `vertex` count or a sampling `points` option above it is refused before anything is
+/// allocated.
+pub const MAX_CLOUD_POINTS: usize = 50_000_000;
+
+/// The most triangles a mesh file may have (20 million).
+pub const MAX_MESH_TRIANGLES: usize = 20_000_000;
 
 /// A point cloud in the object frame (metres), optionally with one unit normal per point.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -137,11 +152,12 @@ impl PointCloud {
     }
 }
 
-/// Drops invalid points of a cloud just read from `source_name`; an error when nothing is left.
+/// Drops invalid points of a cloud just read from `source_name` and counts them; an error when
+/// nothing is left.
 pub(crate) fn finish_read(
     mut cloud: PointCloud,
     source_name: &str,
-) -> Result<PointCloud, CloudError> {
+) -> Result<(PointCloud, usize), CloudError> {
     let total = cloud.points.len();
     if total == 0 {
         return Err(CloudError::Empty {
@@ -155,7 +171,7 @@ pub(crate) fn finish_read(
             count: dropped,
         });
     }
-    Ok(cloud)
+    Ok((cloud, dropped))
 }
 
 #[cfg(test)]

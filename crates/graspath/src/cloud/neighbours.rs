@@ -63,6 +63,23 @@ impl PointIndex {
         out
     }
 
+    /// The distances (m) from `query` to its `n` nearest indexed points (fewer when the index
+    /// holds fewer), in increasing order; a point at `query` itself counts, at distance 0.
+    pub fn nearest_distances(&self, query: &Point3<f64>, n: usize) -> Vec<f64> {
+        let (Some(tree), Some(n)) = (&self.tree, std::num::NonZeroUsize::new(n)) else {
+            return Vec::new();
+        };
+        let mut distances: Vec<f64> = tree
+            .query(&[query.x, query.y, query.z])
+            .nearest_n::<SquaredEuclidean<f64>>(n)
+            .execute()
+            .iter()
+            .map(|r| r.distance.sqrt())
+            .collect();
+        distances.sort_unstable_by(f64::total_cmp);
+        distances
+    }
+
     /// The nearest point's index and its distance (m), or `None` for an empty index.
     pub fn nearest(&self, query: &Point3<f64>) -> Option<(usize, f64)> {
         let tree = self.tree.as_ref()?;

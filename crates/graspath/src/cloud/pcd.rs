@@ -6,9 +6,11 @@
 //! `normal_x normal_y normal_z` (PCL's names) are read as normals when all three are present.
 //! Invalid (NaN) points, as in organised clouds, are dropped.
 
-use super::{finish_read, CloudError, PointCloud};
+use super::{finish_read, CloudError, PointCloud, MAX_CLOUD_POINTS};
 use nalgebra::{Point3, Vector3};
-use pcd_rs::{DataKind, DynRecord, DynWriter, Field, FieldDef, Schema, ValueKind, WriterInit};
+use pcd_rs::{
+    DataKind, DynRecord, DynWriter, Field, FieldDef, PcdMeta, Schema, ValueKind, WriterInit,
+};
 use std::path::Path;
 
 /// How a PCD file is written.
@@ -37,25 +39,166 @@ fn first_value(field: &Field) -> Option<f64> {
     })
 }
 
-/// The number of header lines, up to and including `DATA`.
-fn header_lines(bytes: &[u8]) -> usize {
-    let mut count = 0;
-    for line in bytes.split(|b| *b == b'\n') {
-        count += 1;
-        if line.trim_ascii_start().starts_with(b"DATA") {
-            return count;
-        }
-    }
-    count
+/// The byte size of one record, or `None` when it overflows.
+fn record_bytes(meta: &PcdMeta) -> Option<u64> {
+    meta.field_defs.iter().try_fold(0u64, |total, f| {
+        (f.kind.byte_size() as u64)
+            .checked_mul(f.count)
+            .and_then(|b| total.checked_add(b))
+    })
 }
 
-/// Reads a PCD point cloud from bytes; `source_name` names it in errors.
+/// Largest ratio of decompressed to compressed bytes an LZF stream can reach: a three-byte
+/// back reference expands to at most 264 bytes.
+const LZF_MAX_EXPANSION: u64 = 88;
+
+/// Checks the header's counts against each other, against [`MAX_CLOUD_POINTS`] and against
+/// the bytes that follow the header, before anything is allocated for the points.
+/// `data` is everything after the `DATA` line.
+fn check_layout(meta: &PcdMeta, data: &[u8], source_name: &str) -> Result<(), CloudError> {
+    let fail = |location: &str, message: String| CloudError::parse(source_name, location, message);
+    let points = meta.num_points;
+    match meta.width.checked_mul(meta.height) {
+        Some(n) if n == points => {}
+        product => {
+            return Err(fail(
+                "WIDTH",
+                format!(
+                    "WIDTH × HEIGHT = {} × {} = {} but POINTS is {points}; they must agree",
+                    meta.width,
+                    meta.height,
+                    product.map_or("more than 2^64".to_string(), |n| n.to_string()),
+                ),
+            ))
+        }
+    }
+    if points > MAX_CLOUD_POINTS as u64 {
+        return Err(CloudError::TooLarge {
+            source_name: source_name.to_string(),
+            field: "POINTS".into(),
+            count: points,
+            limit: MAX_CLOUD_POINTS,
+        });
+    }
+    if points == 0 {
+        return Ok(());
+    }
+    let record = record_bytes(meta).ok_or_else(|| {
+        fail(
+            "COUNT",
+            "the sizes × counts of one point overflow 64 bits".into(),
+        )
+    })?;
+    let needed = points.checked_mul(record).ok_or_else(|| {
+        fail(
+            "POINTS",
+            format!("{points} points of {record} bytes overflow 64 bits"),
+        )
+    })?;
+    match meta.data {
+        DataKind::Ascii => {
+            let values = meta
+                .field_defs
+                .iter()
+                .fold(0u64, |n, f| n.saturating_add(f.count));
+            if values > data.len() as u64 {
+                return Err(fail(
+                    "COUNT",
+                    format!(
+                        "one point has {values} values but only {} bytes of data follow",
+                        data.len()
+                    ),
+                ));
+            }
+            let lines = data
+                .split(|b| *b == b'\n')
+                .filter(|l| !l.is_empty())
+                .count() as u64;
+            if lines < points {
+                return Err(fail(
+                    "POINTS",
+                    format!("the header announces {points} points but only {lines} lines of data follow"),
+                ));
+            }
+        }
+        DataKind::Binary => {
+            if (data.len() as u64) < needed {
+                return Err(fail(
+                    "data",
+                    format!(
+                        "the header announces {points} points of {record} bytes ({needed} bytes) but only {} bytes follow the header",
+                        data.len()
+                    ),
+                ));
+            }
+        }
+        DataKind::BinaryCompressed => {
+            let Some(sizes) = data.get(..8) else {
+                return Err(fail(
+                    "compressed data",
+                    "the file ends before the compressed and uncompressed sizes (8 bytes after DATA)".into(),
+                ));
+            };
+            let compressed =
+                u64::from(u32::from_le_bytes([sizes[0], sizes[1], sizes[2], sizes[3]]));
+            let uncompressed =
+                u64::from(u32::from_le_bytes([sizes[4], sizes[5], sizes[6], sizes[7]]));
+            let present = data.len() as u64 - 8;
+            if compressed > present {
+                return Err(fail(
+                    "compressed size",
+                    format!("the compressed size field says {compressed} bytes but only {present} bytes follow it (a truncated file?)"),
+                ));
+            }
+            if uncompressed != needed {
+                return Err(fail(
+                    "uncompressed size",
+                    format!(
+                        "the uncompressed size field says {uncompressed} bytes but {points} points of {record} bytes need {needed}"
+                    ),
+                ));
+            }
+            if uncompressed > compressed.saturating_mul(LZF_MAX_EXPANSION) {
+                return Err(fail(
+                    "compressed size",
+                    format!(
+                        "{compressed} compressed bytes cannot hold {uncompressed} bytes (LZF expands at most {LZF_MAX_EXPANSION}×)"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads a PCD point cloud from bytes; `source_name` names it in errors. Counts in the
+/// header are checked against the data before anything is allocated (see [`MAX_CLOUD_POINTS`]).
 pub fn read_pcd_bytes(bytes: &[u8], source_name: &str) -> Result<PointCloud, CloudError> {
-    let reader = pcd_rs::DynReader::from_bytes(bytes).map_err(|e| match e {
+    read_pcd_counted(bytes, source_name).map(|(cloud, _)| cloud)
+}
+
+/// [`read_pcd_bytes`], also returning how many points were skipped for a NaN or infinite
+/// coordinate (the invalid points of an organised cloud).
+pub(crate) fn read_pcd_counted(
+    bytes: &[u8],
+    source_name: &str,
+) -> Result<(PointCloud, usize), CloudError> {
+    let header_error = |e: pcd_rs::Error| match e {
         pcd_rs::Error::ParseError { line, desc } => {
             CloudError::parse(source_name, format!("line {line}"), desc)
         }
         other => CloudError::parse(source_name, "header", other.to_string()),
+    };
+    let mut cursor = std::io::Cursor::new(bytes);
+    let meta = PcdMeta::from_reader(&mut cursor).map_err(header_error)?;
+    let data_offset = cursor.position() as usize;
+    check_layout(&meta, &bytes[data_offset..], source_name)?;
+    let data_start = bytes[..data_offset].iter().filter(|b| **b == b'\n').count();
+    let reader = pcd_rs::DynReader::from_bytes(bytes).map_err(|e| match e {
+        pcd_rs::Error::ParseError { line: 0, desc } => {
+            CloudError::parse(source_name, "compressed data", desc)
+        }
+        other => header_error(other),
     })?;
     let meta = reader.meta().clone();
     let names: Vec<&str> = meta.field_defs.iter().map(|f| f.name.as_str()).collect();
@@ -72,7 +215,6 @@ pub fn read_pcd_bytes(bytes: &[u8], source_name: &str) -> Result<PointCloud, Clo
         (Some(a), Some(b), Some(c)) => Some([a, b, c]),
         _ => None,
     };
-    let data_start = header_lines(bytes);
     let mut points = Vec::with_capacity(meta.num_points as usize);
     let mut normals = Vec::new();
     for (index, record) in reader.enumerate() {

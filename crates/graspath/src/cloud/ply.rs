@@ -3,7 +3,7 @@
 //! The `vertex` element must have scalar properties `x`, `y`, `z`; `nx`, `ny`, `nz` are read
 //! as normals when all three are present. Any scalar type is accepted.
 
-use super::{finish_read, CloudError, PointCloud};
+use super::{finish_read, CloudError, PointCloud, MAX_CLOUD_POINTS};
 use nalgebra::{Point3, Vector3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{
@@ -37,8 +37,126 @@ fn scalar(p: &Property) -> Option<f64> {
     })
 }
 
-/// Reads a PLY point cloud from bytes; `source_name` names it in errors.
+/// The byte size of a PLY scalar type name, `None` for an unknown name.
+fn type_size(name: &str) -> Option<u64> {
+    Some(match name {
+        "char" | "uchar" | "int8" | "uint8" => 1,
+        "short" | "ushort" | "int16" | "uint16" => 2,
+        "int" | "uint" | "int32" | "uint32" | "float" | "float32" => 4,
+        "double" | "float64" => 8,
+        _ => return None,
+    })
+}
+
+/// Checks every element count of the header against [`MAX_CLOUD_POINTS`] and against the
+/// bytes after `end_header` (binary: count × the element's smallest size; ascii: one line
+/// per element at least), before the parser allocates anything. Headers this cannot read
+/// are left to the parser's own errors.
+fn check_layout(bytes: &[u8], source_name: &str) -> Result<(), CloudError> {
+    let mut binary = None;
+    // (name, count, smallest bytes per element)
+    let mut elements: Vec<(String, u64, u64)> = Vec::new();
+    let mut offset = 0;
+    let mut payload = None;
+    for line in bytes.split(|b| *b == b'\n') {
+        offset += line.len() + 1;
+        let text = String::from_utf8_lossy(line);
+        let mut tokens = text.split_ascii_whitespace();
+        match tokens.next() {
+            Some("format") => binary = Some(tokens.next() != Some("ascii")),
+            Some("element") => {
+                let name = tokens.next().unwrap_or("").to_string();
+                let Some(count) = tokens.next().and_then(|t| t.parse::<u64>().ok()) else {
+                    return Ok(());
+                };
+                elements.push((name, count, 0));
+            }
+            Some("property") => {
+                let size = match tokens.next() {
+                    // A list holds at least its count.
+                    Some("list") => tokens.next().and_then(type_size),
+                    other => other.and_then(type_size),
+                };
+                // A type this does not know: the parser reports it.
+                let Some(size) = size else { return Ok(()) };
+                if let Some(last) = elements.last_mut() {
+                    last.2 += size;
+                }
+            }
+            Some("end_header") => {
+                payload = Some(bytes.get(offset..).unwrap_or(&[]));
+                break;
+            }
+            _ => {}
+        }
+    }
+    let (Some(payload), Some(binary)) = (payload, binary) else {
+        return Ok(());
+    };
+    for (name, count, _) in &elements {
+        if *count > MAX_CLOUD_POINTS as u64 {
+            return Err(CloudError::TooLarge {
+                source_name: source_name.to_string(),
+                field: format!("element {name}"),
+                count: *count,
+                limit: MAX_CLOUD_POINTS,
+            });
+        }
+    }
+    if binary {
+        let mut needed: u64 = 0;
+        for (name, count, size) in &elements {
+            // count ≤ MAX_CLOUD_POINTS and size ≤ 8 per property: no overflow in practice;
+            // saturate anyway.
+            needed = needed.saturating_add(count.saturating_mul((*size).max(1)));
+            if needed > payload.len() as u64 {
+                return Err(CloudError::parse(
+                    source_name,
+                    format!("element {name}"),
+                    format!(
+                        "the header announces {count} elements of at least {size} bytes, but only {} bytes of data follow the header",
+                        payload.len()
+                    ),
+                ));
+            }
+        }
+    } else {
+        let lines = payload
+            .split(|b| *b == b'\n')
+            .filter(|l| !l.trim_ascii().is_empty())
+            .count() as u64;
+        let announced = elements.iter().fold(0u64, |n, e| n.saturating_add(e.1));
+        if announced > lines {
+            let (name, count, _) = elements
+                .iter()
+                .max_by_key(|e| e.1)
+                .cloned()
+                .unwrap_or_default();
+            return Err(CloudError::parse(
+                source_name,
+                format!("element {name}"),
+                format!(
+                    "the header announces {announced} elements ({count} of '{name}') but only {lines} lines of data follow"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Reads a PLY point cloud from bytes; `source_name` names it in errors. Element counts in
+/// the header are checked against the data before parsing (see [`MAX_CLOUD_POINTS`]).
 pub fn read_ply_bytes(bytes: &[u8], source_name: &str) -> Result<PointCloud, CloudError> {
+    read_ply_counted(bytes, source_name).map(|(cloud, _)| cloud)
+}
+
+/// [`read_ply_bytes`], also returning how many points were skipped for a NaN or infinite
+/// coordinate.
+pub(crate) fn read_ply_counted(
+    bytes: &[u8],
+    source_name: &str,
+) -> Result<(PointCloud, usize), CloudError> {
+    check_layout(bytes, source_name)?;
     let parser = Parser::<DefaultElement>::new();
     let mut cursor = std::io::Cursor::new(bytes);
     let ply = parser.read_ply(&mut cursor).map_err(|e| {

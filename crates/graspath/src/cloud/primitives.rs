@@ -3,7 +3,7 @@
 //! noise and an optional single-view simulation (only points seen from a viewpoint are kept,
 //! with self-occlusion traced).
 
-use super::{CloudError, PointCloud};
+use super::{CloudError, PointCloud, MAX_CLOUD_POINTS};
 use nalgebra::{Point3, Vector3};
 use rand::{rngs::StdRng, RngExt, SeedableRng};
 use rand_distr::{Distribution, Normal, StandardNormal};
@@ -44,7 +44,8 @@ pub enum Primitive {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SampleOptions {
-    /// The number of points in the cloud (after the view filter).
+    /// The number of points in the cloud (after the view filter; 5 000 by default, at most
+    /// [`MAX_CLOUD_POINTS`]).
     pub points: usize,
     /// Seed of the random draws.
     pub seed: u64,
@@ -71,6 +72,15 @@ impl SampleOptions {
             return Err(CloudError::BadOption {
                 field: "points".into(),
                 message: "must be at least 1".into(),
+            });
+        }
+        if self.points > MAX_CLOUD_POINTS {
+            return Err(CloudError::BadOption {
+                field: "points".into(),
+                message: format!(
+                    "{} exceeds the limit of {MAX_CLOUD_POINTS} points",
+                    self.points
+                ),
             });
         }
         if !(self.noise.is_finite() && self.noise >= 0.0) {

@@ -24,7 +24,7 @@ use super::configuration::ConfigurationSpec;
 use super::contact::ContactModel;
 use super::{ModelError, ModelParams};
 use crate::cloud::FeatureParams;
-use crate::grasp::hand::Hand;
+use crate::grasp::hand::{Hand, HandJointKind};
 use nalgebra::Isometry3;
 use std::path::Path;
 
@@ -32,6 +32,138 @@ use std::path::Path;
 pub const MODEL_FORMAT: &str = "graspath-grasp-model";
 /// The model file version this library reads and writes.
 pub const MODEL_FORMAT_VERSION: u32 = 1;
+
+/// The most hand-configuration kernels a model file may ask for (one million).
+pub const MAX_CONFIGURATION_KERNELS: usize = 1_000_000;
+
+/// Largest deviation of a stored rotation's quaternion norm from 1.
+const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// An error unless every value is finite.
+fn finite(source_name: &str, field: &str, values: &[f64]) -> Result<(), ModelError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(ModelError::field(
+            source_name,
+            format!("{field}[{i}]"),
+            format!("must be a finite number, got {}", values[i]),
+        )),
+    }
+}
+
+/// An error unless the pose's translation is finite and its rotation a unit quaternion.
+fn check_pose(source_name: &str, field: &str, pose: &Isometry3<f64>) -> Result<(), ModelError> {
+    finite(
+        source_name,
+        &format!("{field}.translation"),
+        pose.translation.vector.as_slice(),
+    )?;
+    let q = pose.rotation.coords;
+    finite(source_name, &format!("{field}.rotation"), q.as_slice())?;
+    let norm = q.norm();
+    if (norm - 1.0).abs() > UNIT_TOLERANCE {
+        return Err(ModelError::field(
+            source_name,
+            format!("{field}.rotation"),
+            format!("must be a unit quaternion [x, y, z, w], its norm is {norm}"),
+        ));
+    }
+    Ok(())
+}
+
+/// The hand's structure: parents before children, joint indices in range, finite numbers,
+/// limits in order, positive widths, unit rotations, non-zero axes.
+fn check_hand(hand: &Hand, source_name: &str) -> Result<(), ModelError> {
+    let fail = |field: String, message: String| ModelError::field(source_name, field, message);
+    if hand.links.is_empty() {
+        return Err(fail("hand.links".into(), "the hand has no link".into()));
+    }
+    for (i, j) in hand.joints.iter().enumerate() {
+        let at = format!("hand.joints[{i}]");
+        finite(source_name, &at, &[j.lower, j.upper, j.sigma])?;
+        if j.lower > j.upper {
+            return Err(fail(
+                at,
+                format!("lower limit {} exceeds upper limit {}", j.lower, j.upper),
+            ));
+        }
+        if j.sigma <= 0.0 {
+            return Err(fail(
+                format!("{at}.sigma"),
+                format!("must be positive, got {}", j.sigma),
+            ));
+        }
+    }
+    for (i, link) in hand.links.iter().enumerate() {
+        let at = |field: &str| format!("hand.links[{i}].{field}");
+        match (i, link.parent) {
+            (0, None) => {}
+            (0, Some(_)) => return Err(fail(at("parent"), "link 0 is the root: no parent".into())),
+            (_, Some(p)) if p < i => {}
+            (_, Some(p)) => {
+                return Err(fail(
+                    at("parent"),
+                    format!("link {p} does not come before link {i}: parents must come first"),
+                ))
+            }
+            (_, None) => {
+                return Err(fail(
+                    at("parent"),
+                    "only link 0 (the root) has no parent".into(),
+                ))
+            }
+        }
+        let joint = &link.joint;
+        if joint.kind != HandJointKind::Fixed && joint.joint >= hand.joints.len() {
+            return Err(fail(
+                at("joint.joint"),
+                format!(
+                    "{} is not a hand joint ({} joints)",
+                    joint.joint,
+                    hand.joints.len()
+                ),
+            ));
+        }
+        finite(
+            source_name,
+            &at("joint.multiplier"),
+            &[joint.multiplier, joint.offset],
+        )?;
+        finite(source_name, &at("joint.axis"), joint.axis.as_slice())?;
+        if joint.kind != HandJointKind::Fixed && joint.axis.norm() < 1e-9 {
+            return Err(fail(at("joint.axis"), "must not be zero".into()));
+        }
+        check_pose(
+            source_name,
+            &at("joint.parent_from_joint"),
+            &joint.parent_from_joint,
+        )?;
+        for (k, shape) in link.shapes.iter().enumerate() {
+            check_pose(
+                source_name,
+                &at(&format!("shapes[{k}].link_from_shape")),
+                &shape.link_from_shape,
+            )?;
+            if let crate::grasp::hand::Shape::ConvexMesh { mesh, .. } = &shape.shape {
+                let n = mesh.vertices.len();
+                if mesh.triangles.iter().flatten().any(|v| *v as usize >= n) {
+                    return Err(fail(
+                        at(&format!("shapes[{k}].shape")),
+                        format!("a triangle names a vertex beyond the mesh's {n}"),
+                    ));
+                }
+            }
+            let r = shape.shape.bounding_radius();
+            if !(r.is_finite() && r >= 0.0) {
+                return Err(fail(
+                    at(&format!("shapes[{k}].shape")),
+                    "sizes must be finite and non-negative".into(),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
 
 /// One waypoint of the demonstrated approach, relative to the grasp.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -119,62 +251,149 @@ impl GraspModel {
                 })
             }
         }
-        let model: GraspModel = serde_json::from_value(value)
-            .map_err(|e| ModelError::field(source_name, "model", e.to_string()))?;
+        let model: GraspModel = serde_path_to_error::deserialize(value).map_err(|e| {
+            let field = e.path().to_string();
+            ModelError::field(source_name, field, e.into_inner().to_string())
+        })?;
         model.check(source_name)?;
         Ok(model)
     }
 
-    /// Consistency checks that serde cannot express.
+    /// Consistency checks that serde cannot express: every number finite and in its range
+    /// (kernel weights ≥ 0 with at least one positive per contact, widths > 0), rotations
+    /// unit quaternions, indices in range, counts within [`MAX_CONFIGURATION_KERNELS`].
     pub fn check(&self, source_name: &str) -> Result<(), ModelError> {
+        let fail = |field: String, message: String| ModelError::field(source_name, field, message);
+        check_hand(&self.hand, source_name)?;
         let dof = self.hand.dof();
+        for (field, v) in [
+            ("features.normal_radius", self.features.normal_radius),
+            ("features.curvature_radius", self.features.curvature_radius),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(fail(
+                    field.into(),
+                    format!("must be a positive length in metres, got {v}"),
+                ));
+            }
+        }
+        if let crate::cloud::NormalOrientation::Viewpoint(v) = self.features.orientation {
+            finite(source_name, "features.orientation.viewpoint", &v)?;
+        }
         if self.contacts.is_empty() {
-            return Err(ModelError::field(
-                source_name,
-                "contacts",
-                "no contact model",
-            ));
+            return Err(fail("contacts".into(), "no contact model".into()));
         }
         self.parameters.check(source_name)?;
         for (k, c) in self.contacts.iter().enumerate() {
+            let at = |field: &str| format!("contacts[{k}].{field}");
             if c.sigma_r.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
-                return Err(ModelError::field(
-                    source_name,
-                    format!("contacts[{k}].sigma_r"),
-                    "must be positive",
+                return Err(fail(at("sigma_r"), "must be positive".into()));
+            }
+            if c.link_index >= self.hand.links.len() {
+                return Err(fail(
+                    at("link_index"),
+                    format!(
+                        "{} is not a link of the hand ({} links)",
+                        c.link_index,
+                        self.hand.links.len()
+                    ),
                 ));
             }
-            if c.link_index >= self.hand.links.len() || c.samples.is_empty() {
-                return Err(ModelError::field(
+            finite(source_name, &at("curvature_mean"), &c.curvature_mean)?;
+            finite(source_name, &at("contact_centroid"), &c.contact_centroid)?;
+            if c.samples.is_empty() {
+                return Err(fail(at("samples"), "no samples".into()));
+            }
+            for (j, sample) in c.samples.iter().enumerate() {
+                let at = |field: &str| format!("contacts[{k}].samples[{j}].{field}");
+                if !(sample.weight.is_finite() && sample.weight >= 0.0) {
+                    return Err(fail(
+                        at("weight"),
+                        format!(
+                            "a kernel weight must be a non-negative number, got {}",
+                            sample.weight
+                        ),
+                    ));
+                }
+                finite(source_name, &at("curvature"), &sample.curvature)?;
+                finite(source_name, &at("point"), &sample.point)?;
+                finite(source_name, &at("normal"), &sample.normal)?;
+                check_pose(
                     source_name,
-                    format!("contacts[{k}]"),
-                    "bad link index or no samples",
-                ));
+                    &at("feature_from_link"),
+                    &sample.feature_from_link,
+                )?;
+            }
+            if !c.samples.iter().any(|s| s.weight > 0.0) {
+                return Err(fail(at("samples"), "every kernel weight is zero".into()));
             }
         }
-        if self.configuration.sigma.len() != dof
-            || self.configuration.path.is_empty()
-            || self.configuration.path.iter().any(|h| h.len() != dof)
-            || self
-                .configuration
-                .sigma
-                .iter()
-                .any(|s| !(s.is_finite() && *s > 0.0))
+        let config = &self.configuration;
+        if config.sigma.len() != dof
+            || config.path.is_empty()
+            || config.path.iter().any(|h| h.len() != dof)
+            || config.sigma.iter().any(|s| !(s.is_finite() && *s > 0.0))
         {
-            return Err(ModelError::field(
-                source_name,
-                "configuration",
+            return Err(fail(
+                "configuration".into(),
                 format!("path and sigma must have {dof} values per entry (the hand's joints) and positive widths"),
             ));
         }
+        for (i, h) in config.path.iter().enumerate() {
+            finite(source_name, &format!("configuration.path[{i}]"), h)?;
+        }
+        if !(config.beta.is_finite() && config.beta >= 0.0) {
+            return Err(fail(
+                "configuration.beta".into(),
+                format!("must be non-negative, got {}", config.beta),
+            ));
+        }
+        if !(config.cutoff.is_finite() && config.cutoff > 0.0) {
+            return Err(fail(
+                "configuration.cutoff".into(),
+                format!("must be positive, got {}", config.cutoff),
+            ));
+        }
+        if config.kernels == 0 || config.kernels > MAX_CONFIGURATION_KERNELS {
+            return Err(fail(
+                "configuration.kernels".into(),
+                format!(
+                    "must be between 1 and {MAX_CONFIGURATION_KERNELS}, got {}",
+                    config.kernels
+                ),
+            ));
+        }
         if self.approach.is_empty() || self.approach.iter().any(|w| w.hand_joints.len() != dof) {
-            return Err(ModelError::field(
-                source_name,
-                "approach",
+            return Err(fail(
+                "approach".into(),
                 format!("needs waypoints with {dof} hand joints"),
             ));
         }
-        Ok(())
+        for (i, w) in self.approach.iter().enumerate() {
+            check_pose(
+                source_name,
+                &format!("approach[{i}].grasp_from_wrist"),
+                &w.grasp_from_wrist,
+            )?;
+            finite(
+                source_name,
+                &format!("approach[{i}].hand_joints"),
+                &w.hand_joints,
+            )?;
+        }
+        crate::geometry::pose_from_rows(&self.demonstration.object_from_wrist)
+            .map_err(|e| fail("demonstration.object_from_wrist".into(), e.to_string()))?;
+        if self.demonstration.hand_joints.len() != dof {
+            return Err(fail(
+                "demonstration.hand_joints".into(),
+                format!("needs {dof} values (the hand's joints)"),
+            ));
+        }
+        finite(
+            source_name,
+            "demonstration.hand_joints",
+            &self.demonstration.hand_joints,
+        )
     }
 
     /// Reads a model file.

@@ -115,8 +115,17 @@ impl Demonstration {
     pub fn read(path: &Path) -> Result<Self, ModelError> {
         let name = path.display().to_string();
         let text = ModelError::read_text(path)?;
-        let demo: Demonstration = serde_json::from_str(&text)
-            .map_err(|e| ModelError::field(&name, format!("line {}", e.line()), e.to_string()))?;
+        let mut json = serde_json::Deserializer::from_str(&text);
+        let demo: Demonstration = serde_path_to_error::deserialize(&mut json).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            let field = if path.is_empty() || path == "." {
+                format!("line {}", inner.line())
+            } else {
+                path
+            };
+            ModelError::field(&name, field, inner.to_string())
+        })?;
         if demo.format != DEMONSTRATION_FORMAT {
             return Err(ModelError::field(
                 &name,
@@ -141,7 +150,10 @@ pub fn train_file(path: &Path) -> Result<GraspModel, ModelError> {
     let demo = Demonstration::read(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let hand = demo.hand.load(base, &name)?;
-    let cloud = demo.cloud.load(base)?;
+    let cloud = demo
+        .cloud
+        .load(base)
+        .map_err(|e| e.in_file(&name, "cloud."))?;
     train(&demo, hand, &cloud, &name)
 }
 
@@ -206,7 +218,8 @@ pub fn train(
         .unwrap_or_else(|| ModelParams::for_hand(&hand));
     params.check(source_name)?;
     let feature_params = demo.features.unwrap_or_default();
-    let features = compute_features(cloud, &feature_params, source_name)?;
+    let features = compute_features(cloud, &feature_params, source_name)
+        .map_err(|e| e.in_file(source_name, "features."))?;
     let grasp_index = demo.waypoints.len() - 1;
     let grasp_wrist = wrists[grasp_index];
     let grasp_joints = &demo.waypoints[grasp_index].hand_joints;

@@ -5,6 +5,7 @@
 
 use super::error::TaskError;
 use super::settings::Limits;
+use crate::cloud::OutlierOptions;
 use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
 use serde::{Deserialize, Serialize};
@@ -135,6 +136,10 @@ pub struct GenerateFile {
     /// Keep at most this many candidates, best first (default: all).
     #[serde(default)]
     pub max_candidates: Option<usize>,
+    /// Outlier handling for clouds from real sensors (crop box, max range, statistical
+    /// outlier removal; `docs/clouds.md`). Default: only non-finite points are skipped.
+    #[serde(default)]
+    pub outliers: Option<OutlierOptions>,
 }
 
 /// Parametric candidate families.

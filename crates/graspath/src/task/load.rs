@@ -9,7 +9,7 @@ use super::file::{
 };
 use super::path::{Sampling, Step, TimedStep};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm};
-use crate::cloud::load_cloud_argument;
+use crate::cloud::load_cloud_filtered;
 use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
@@ -370,8 +370,9 @@ fn generated_candidates(
     let model = GraspModel::read(&base_dir.join(&g.model))
         .map_err(|e| TaskError::caused_by(source, "candidates.generate.model", e))?;
     let cloud_path = base_dir.join(&g.cloud);
-    let cloud = load_cloud_argument(&cloud_path)
-        .map_err(|e| TaskError::caused_by(source, "candidates.generate.cloud", e))?;
+    let (cloud, _report) =
+        load_cloud_filtered(&cloud_path, &g.outliers.clone().unwrap_or_default())
+            .map_err(|e| TaskError::caused_by(source, "candidates.generate.cloud", e))?;
     let defaults = GenerateOptions::default();
     let options = GenerateOptions {
         seed: g.seed.unwrap_or(0),

@@ -41,6 +41,15 @@ pub struct GenerateOptions {
     pub seed: u64,
 }
 
+/// The largest number of seeds `generate` accepts (200 × the default).
+pub const MAX_GENERATE_SEEDS: usize = 10_000_000;
+/// The largest number of annealing steps (200 × the default).
+pub const MAX_GENERATE_STEPS: usize = 100_000;
+/// The largest number of query kernels per link (200 × the default).
+pub const MAX_QUERY_KERNELS: usize = 1_000_000;
+/// The largest number of draws per seed.
+pub const MAX_GENERATE_TRIES: usize = 1_000;
+
 impl Default for GenerateOptions {
     fn default() -> Self {
         Self {
@@ -318,6 +327,20 @@ pub fn generate(
             "keep_fraction",
             "must be in (0, 1]",
         ));
+    }
+    for (name, value, limit) in [
+        ("seeds", options.seeds, MAX_GENERATE_SEEDS),
+        ("steps", options.steps, MAX_GENERATE_STEPS),
+        ("query_kernels", options.query_kernels, MAX_QUERY_KERNELS),
+        ("tries", options.tries, MAX_GENERATE_TRIES),
+    ] {
+        if value > limit {
+            return Err(ModelError::field(
+                "options",
+                name,
+                format!("{value} is more than the limit {limit} (each costs memory and time)"),
+            ));
+        }
     }
     progress(Progress::Preparing);
     let evaluator = Evaluator::new(

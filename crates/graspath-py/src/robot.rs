@@ -13,10 +13,10 @@ use graspath::manipulability::{
     inverse_condition, inverse_condition_squared, singular_values, task_relevant,
     velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
 };
-use graspath::robot::builtin::{baxter_spec, Arm};
+
 use graspath::robot::{
-    solve_ik, solve_trajectory, Chain, IkOptions, IkSolution, RobotError, TrajectoryIkOptions,
-    UrdfRobot,
+    solve_ik, solve_trajectory, Chain, IkOptions, IkSolution, RobotError, RobotSource,
+    TrajectoryIkOptions, UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
@@ -168,10 +168,9 @@ impl PyRobot {
     #[staticmethod]
     #[pyo3(signature = (arm = "left", tool = None))]
     fn baxter(arm: &str, tool: Option<FloatArray<'_>>) -> PyResult<Self> {
-        let arm: Arm = arm.parse().map_err(error)?;
-        let mut spec = baxter_spec(arm);
-        spec.tip_from_tool = tool_pose(tool)?;
-        Ok(Self::new(Chain::from_spec(&spec).map_err(error)?))
+        let tool = tool_pose(tool)?;
+        let model = RobotSource::builtin("baxter").load().map_err(error)?;
+        Ok(Self::new(model.named_chain(arm, tool).map_err(error)?))
     }
 
     /// The chain ``base_link`` → ``tip_link`` of a URDF file, optionally with a tool offset
@@ -185,9 +184,9 @@ impl PyRobot {
         tool: Option<FloatArray<'_>>,
     ) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let robot = UrdfRobot::from_file(&path).map_err(error)?;
+        let model = RobotSource::urdf(path).load().map_err(error)?;
         Ok(Self::new(
-            robot.chain(base_link, tip_link, tool).map_err(error)?,
+            model.chain(base_link, tip_link, tool).map_err(error)?,
         ))
     }
 

@@ -77,6 +77,11 @@ pub fn set_over_limit_handler(handler: impl Fn(String) + Send + Sync + 'static) 
     let _ = HANDLER.set(Box::new(handler));
 }
 
+/// Marks this thread as reporting a finding (its allocations pass unchecked) or not.
+pub fn set_reporting(on: bool) {
+    let _ = REPORTING.try_with(|r| r.set(on));
+}
+
 fn reporting() -> bool {
     REPORTING.try_with(Cell::get).unwrap_or(true)
 }
@@ -100,7 +105,8 @@ pub fn caller_frames(max: usize) -> Vec<String> {
         let skip = [
             "std::", "core::", "alloc::", "<alloc::", "<core::", "<std::", "graspath_fuzz::alloc",
             "<graspath_fuzz::alloc", "graspath_fuzz::exec", "<graspath_fuzz::exec", "__rust",
-            "rust_", "<unknown>",
+            "rust_", "<unknown>", "__restore_rt", "rayon_core::", "<rayon_core::", "rayon::",
+            "<rayon::", "crossbeam",
         ];
         if skip.iter().any(|s| symbol.starts_with(s)) {
             continue;
@@ -121,6 +127,24 @@ pub fn caller_frames(max: usize) -> Vec<String> {
     frames
 }
 
+/// The frame that identifies a failure (the first one in graspath itself, else the first
+/// one), and the frames to print: up to that frame and two of its callers.
+pub fn key_frames(frames: &[String]) -> (String, String) {
+    let key = frames
+        .iter()
+        .position(|f| f.starts_with("graspath::") || f.starts_with("<graspath::"))
+        .unwrap_or(0);
+    let end = frames.len().min(key + 3);
+    let shown = if key > 1 {
+        let mut v = vec![frames[0].clone(), "…".to_string()];
+        v.extend_from_slice(&frames[key..end]);
+        v
+    } else {
+        frames[..end].to_vec()
+    };
+    (frames.get(key).cloned().unwrap_or_default(), shown.join(" < "))
+}
+
 #[cold]
 fn over_limit(size: usize, live: usize) {
     if HANDLER.get().is_none() {
@@ -137,11 +161,11 @@ fn over_limit(size: usize, live: usize) {
             total_limit()
         )
     };
-    let frames = caller_frames(3);
+    let (_, frames) = key_frames(&caller_frames(32));
     let message = if frames.is_empty() {
         what
     } else {
-        format!("{what} at {}", frames.join(" < "))
+        format!("{what} at {frames}")
     };
     if let Some(handler) = HANDLER.get() {
         handler(message);

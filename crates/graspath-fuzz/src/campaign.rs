@@ -165,6 +165,18 @@ pub fn replay(settings: &Settings, target: &Target, input: &[u8]) -> Result<Opti
     Ok(Some(failure))
 }
 
+/// Replays a hang recorded without its place, up to twice; the first failure that says more
+/// (a hang with frames, or a bound crossed on the way).
+fn refine_hang(settings: &Settings, target: &Target, input: &[u8]) -> Option<Failure> {
+    (0..2).find_map(|_| {
+        let failure = replay(settings, target, input).ok()??;
+        (failure.signature != "hang").then(|| Failure {
+            message: format!("{} (on replay of a hang)", failure.message),
+            ..failure
+        })
+    })
+}
+
 fn crash_failure(status: &std::process::ExitStatus, stderr: &str) -> Failure {
     use std::os::unix::process::ExitStatusExt;
     let how = match (status.code(), status.signal()) {
@@ -352,6 +364,13 @@ pub fn run_target(settings: &Settings, target: &Target) -> Result<TargetReport> 
                 .ok()
                 .and_then(|t| Failure::from_record(&t))
                 .unwrap_or_else(|| crash_failure(&status, &stderr))
+        };
+        let failure = if failure.signature == "hang" {
+            // The watchdog could not see where the execution was (the thread may have been
+            // interrupted inside the allocator): replay it to learn more.
+            refine_hang(settings, target, &input).unwrap_or(failure)
+        } else {
+            failure
         };
         recorder.record(failure, index, input)?;
         next = index + 1;

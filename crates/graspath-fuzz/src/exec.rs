@@ -3,8 +3,12 @@
 //! * **panic**: the target runs under `catch_unwind`; a panic hook records the message and
 //!   location (from any thread, e.g. a rayon worker), and the input is saved by the worker.
 //! * **hang**: a watchdog thread checks every 20 ms how long the current execution has run;
-//!   past the time limit it writes the finding to the death file and exits the process with
-//!   [`EXIT_HANG`] (a running thread cannot be stopped safely).
+//!   past the time limit it interrupts the executing thread with `SIGUSR1`, whose handler
+//!   records where that thread is (the first frames of the code under test, for the
+//!   signature), then writes the finding to the death file and exits the process with
+//!   [`EXIT_HANG`] (a running thread cannot be stopped safely). If the handler cannot finish
+//!   within a second (it allocates, and the thread may have been interrupted inside the
+//!   allocator), the finding is written without the frames.
 //! * **allocation**: the counting allocator ([`crate::alloc`]) calls the handler installed
 //!   here, which writes the finding to the death file and exits with [`EXIT_ALLOC`].
 //!
@@ -105,6 +109,38 @@ pub fn one_line(text: &str) -> String {
 
 static LAST_PANIC: Mutex<Option<(String, String)>> = Mutex::new(None);
 
+/// Where the interrupted thread was, as set by [`on_sigusr1`] (a leaked `String`).
+static HANG_FRAMES: std::sync::atomic::AtomicPtr<String> = std::sync::atomic::AtomicPtr::new(std::ptr::null_mut());
+
+extern "C" fn on_sigusr1(_: libc::c_int) {
+    // Not async-signal-safe (it allocates), but the process exits right after; the watchdog
+    // does not wait for it for more than a second.
+    crate::alloc::set_reporting(true);
+    let frames = crate::alloc::caller_frames(32).join("\n");
+    HANG_FRAMES.store(Box::into_raw(Box::new(frames)), Ordering::Release);
+}
+
+/// Interrupts `thread` and returns where it is (the first frames of the code under test).
+fn frames_of(thread: libc::pthread_t) -> Option<String> {
+    // SAFETY: installing a handler for SIGUSR1, which nothing else in this process uses, and
+    // signalling a thread that is alive (the executing thread, blocked in the execution).
+    unsafe {
+        let handler: extern "C" fn(libc::c_int) = on_sigusr1;
+        libc::signal(libc::SIGUSR1, handler as libc::sighandler_t);
+        libc::pthread_kill(thread, libc::SIGUSR1);
+    }
+    let waited = Instant::now();
+    while waited.elapsed() < Duration::from_secs(1) {
+        let p = HANG_FRAMES.load(Ordering::Acquire);
+        if !p.is_null() {
+            // SAFETY: the pointer comes from Box::into_raw in the handler and is taken once.
+            return Some(*unsafe { Box::from_raw(p) });
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    None
+}
+
 /// A path shortened to what identifies it: from the crate directory on
 /// (`graspath/src/cloud/pcd.rs`, `pcd-rs-0.13.0/src/reader.rs`).
 fn short_path(file: &str) -> String {
@@ -164,7 +200,8 @@ impl Executor {
         crate::alloc::set_over_limit_handler(move |message| {
             let signature = match message.split_once(" at ") {
                 Some((_, frames)) => {
-                    format!("alloc at {}", frames.split(" < ").next().unwrap_or(frames))
+                    let list: Vec<String> = frames.split(" < ").map(str::to_string).collect();
+                    format!("alloc at {}", crate::alloc::key_frames(&list).0)
                 }
                 None => "alloc".to_string(),
             };
@@ -176,6 +213,8 @@ impl Executor {
         let watched = Arc::clone(&started_ms);
         let death_for_hang = death.to_path_buf();
         let limit_ms = timeout.as_millis() as u64;
+        // SAFETY: pthread_self has no preconditions.
+        let executing = unsafe { libc::pthread_self() };
         std::thread::Builder::new()
             .name("watchdog".into())
             .spawn(move || loop {
@@ -183,12 +222,21 @@ impl Executor {
                 let started = watched.load(Ordering::Acquire);
                 let now = epoch.elapsed().as_millis() as u64 + 1;
                 if started != 0 && now.saturating_sub(started) > limit_ms {
+                    let frames = frames_of(executing).filter(|f| !f.is_empty());
+                    let (signature, place) = match &frames {
+                        Some(f) => {
+                            let list: Vec<String> = f.lines().map(str::to_string).collect();
+                            let (key, shown) = crate::alloc::key_frames(&list);
+                            (format!("hang in {key}"), format!(" in {shown}"))
+                        }
+                        None => ("hang".to_string(), String::new()),
+                    };
                     write_death(
                         &death_for_hang,
                         &Failure {
                             kind: Kind::Hang,
-                            signature: "hang".into(),
-                            message: format!("no result after {limit_ms} ms (time limit)"),
+                            signature,
+                            message: format!("no result after {limit_ms} ms (time limit){place}"),
                         },
                     );
                     std::process::exit(EXIT_HANG);

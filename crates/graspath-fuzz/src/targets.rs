@@ -93,7 +93,7 @@ impl Ctx {
     pub fn new() -> std::io::Result<Self> {
         let dir = Self::dir_of(std::process::id());
         std::fs::create_dir_all(&dir)?;
-        let cloud = small_cloud(true);
+        let cloud = box_cloud(2000, true);
         std::fs::write(dir.join("robot.urdf"), SMALL_ROBOT_URDF)?;
         std::fs::write(dir.join("three_finger_hand.urdf"), HAND_URDF)?;
         std::fs::write(dir.join("mesh.obj"), CUBE_OBJ)?;
@@ -272,7 +272,7 @@ static TARGETS: &[Target] = &[
         seeds: cloud_json_seeds,
         structured: None,
         run: |ctx, bytes| check_cloud(load_cloud_argument(&ctx.file("cloud_source.json", bytes))),
-        ci_execs: 1500,
+        ci_execs: 800,
     },
     Target {
         name: "task_yaml",
@@ -321,7 +321,7 @@ static TARGETS: &[Target] = &[
         seeds: |ctx| ctx.model().and_then(|m| m.to_json().ok()).into_iter().collect(),
         structured: None,
         run: run_model,
-        ci_execs: 400,
+        ci_execs: 200,
     },
     Target {
         name: "generate",
@@ -330,7 +330,7 @@ static TARGETS: &[Target] = &[
         seeds: generate_seeds,
         structured: Some(|rng| draw(&pcd_file(), rng)),
         run: run_generate,
-        ci_execs: 400,
+        ci_execs: 200,
     },
     Target {
         name: "demo",
@@ -339,7 +339,7 @@ static TARGETS: &[Target] = &[
         seeds: demo_seeds,
         structured: None,
         run: run_demo,
-        ci_execs: 150,
+        ci_execs: 100,
     },
     Target {
         name: "kinematics",
@@ -548,8 +548,13 @@ fn run_ik_trajectory(ctx: &Ctx, bytes: &[u8]) {
 
 /// A small box cloud with outward normals (300 points).
 pub fn small_cloud(normals: bool) -> PointCloud {
+    box_cloud(300, normals)
+}
+
+/// The demonstration's box (0.05 × 0.04 × 0.14 m) sampled with `points` points.
+fn box_cloud(points: usize, normals: bool) -> PointCloud {
     let shape = Primitive::Box { size: [0.05, 0.04, 0.14] };
-    let options = SampleOptions { points: 300, seed: 2, ..SampleOptions::default() };
+    let options = SampleOptions { points, seed: 2, ..SampleOptions::default() };
     let mut cloud = sample_primitive(&shape, &options).unwrap_or_else(|_| {
         PointCloud::from_points(vec![Point3::origin(), Point3::new(0.01, 0.0, 0.0)])
     });
@@ -655,12 +660,12 @@ fn demo_seeds(_: &Ctx) -> Vec<Vec<u8>> {
     // The same demonstrations with small clouds (cheaper executions reach more of training).
     let small: Vec<Vec<u8>> = seeds
         .iter()
-        .map(|s| String::from_utf8_lossy(s).replace("\"points\": 5000", "\"points\": 300").replace("\"points\": 4000", "\"points\": 300").into_bytes())
+        .map(|s| String::from_utf8_lossy(s).replace("\"points\": 5000", "\"points\": 1500").replace("\"points\": 4000", "\"points\": 1500").into_bytes())
         .collect();
     seeds.extend(small);
     seeds.push(br#"{"format": "graspath-demonstration", "version": 1, "hand": "baxter_electric_gripper",
  "cloud": {"file": "cloud.pcd"},
- "waypoints": [{"object_from_wrist": [[0,1,0,0],[1,0,0,0],[0,0,-1,0.12],[0,0,0,1]], "hand_joints": [0.05]}]}"#.to_vec());
+ "waypoints": [{"object_from_wrist": [[0,1,0,0],[1,0,0,0],[0,0,-1,0.03],[0,0,0,1]], "hand_joints": [0.05]}]}"#.to_vec());
     seeds
 }
 
@@ -757,6 +762,29 @@ mod tests {
         for target in all() {
             let seeds = (target.seeds)(&ctx);
             assert!(!seeds.is_empty(), "{} has no seeds", target.name);
+        }
+    }
+}
+
+#[cfg(test)]
+mod seed_tests {
+    use super::*;
+
+    /// Mutating valid inputs reaches past the parsers: the seeds themselves must be accepted.
+    #[test]
+    fn demo_and_task_seeds_are_valid_inputs() {
+        let ctx = Ctx::new().expect("work directory");
+        for (k, seed) in demo_seeds(&ctx).iter().enumerate() {
+            let path = ctx.file(&format!("seed{k}.json"), seed);
+            if let Err(e) = graspath::grasp::model::train_file(&path) {
+                panic!("demo seed {k}: {e}");
+            }
+        }
+        for (k, seed) in task_json_seeds(&ctx).iter().enumerate().take(7) {
+            let path = ctx.file(&format!("seed{k}.json"), seed);
+            if let Err(e) = graspath::select::Task::load(&path) {
+                panic!("task seed {k}: {e}");
+            }
         }
     }
 }

@@ -10,6 +10,11 @@
 //! and starts a new worker at the next input. Without a handler (the parent, the replay of a
 //! clean input) crossing a bound just passes the request on to the system allocator.
 //!
+//! While a signal handler captures where its thread is (the watchdog's hang report; the thread
+//! may have been interrupted inside `malloc`), that thread's allocations come from a static
+//! bump arena and its frees are ignored, so that the handler never re-enters the system
+//! allocator's locks. Arena blocks are never freed (the process exits right after a report).
+//!
 //! Install it in a binary with `#[global_allocator] static A: LimitAlloc = LimitAlloc;`.
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -34,10 +39,46 @@ thread_local! {
     /// Set while this thread reports a finding: its allocations are neither checked nor
     /// reported again.
     static REPORTING: Cell<bool> = const { Cell::new(false) };
+    /// Set while this thread runs a signal handler: its allocations come from the arena.
+    static IN_HANDLER: Cell<bool> = const { Cell::new(false) };
 }
 
 /// The counting allocator (see the module documentation).
 pub struct LimitAlloc;
+
+const ARENA_SIZE: usize = 64 << 20;
+
+struct Arena(std::cell::UnsafeCell<[u8; ARENA_SIZE]>);
+
+// SAFETY: disjoint ranges of the arena are handed out through an atomic bump pointer.
+unsafe impl Sync for Arena {}
+
+static ARENA: Arena = Arena(std::cell::UnsafeCell::new([0; ARENA_SIZE]));
+static ARENA_USED: AtomicUsize = AtomicUsize::new(0);
+
+/// Whether `ptr` is a block of the reporting arena (such blocks are never freed).
+fn in_arena(ptr: *mut u8) -> bool {
+    let base = ARENA.0.get() as usize;
+    (base..base + ARENA_SIZE).contains(&(ptr as usize))
+}
+
+/// A block of the reporting arena (null when it is exhausted).
+fn arena_alloc(layout: Layout) -> *mut u8 {
+    let base = ARENA.0.get() as usize;
+    let mut used = ARENA_USED.load(Ordering::Relaxed);
+    loop {
+        let start = (base + used).next_multiple_of(layout.align()) - base;
+        let end = start + layout.size();
+        if end > ARENA_SIZE {
+            return std::ptr::null_mut();
+        }
+        match ARENA_USED.compare_exchange(used, end, Ordering::AcqRel, Ordering::Relaxed) {
+            // The arena is zero-initialised and never reused, so blocks are zeroed too.
+            Ok(_) => return (base + start) as *mut u8,
+            Err(now) => used = now,
+        }
+    }
+}
 
 /// Bytes currently allocated through [`LimitAlloc`].
 pub fn live_bytes() -> usize {
@@ -77,18 +118,29 @@ pub fn set_over_limit_handler(handler: impl Fn(String) + Send + Sync + 'static) 
     let _ = HANDLER.set(Box::new(handler));
 }
 
-/// Marks this thread as reporting a finding (its allocations pass unchecked) or not.
-pub fn set_reporting(on: bool) {
-    let _ = REPORTING.try_with(|r| r.set(on));
+/// Marks this thread as running a signal handler (its allocations come from the arena and
+/// pass unchecked, its frees are ignored) or not.
+pub fn set_in_handler(on: bool) {
+    let _ = IN_HANDLER.try_with(|r| r.set(on));
+}
+
+fn in_handler() -> bool {
+    IN_HANDLER.try_with(Cell::get).unwrap_or(false)
 }
 
 fn reporting() -> bool {
-    REPORTING.try_with(Cell::get).unwrap_or(true)
+    REPORTING.try_with(Cell::get).unwrap_or(false) || in_handler()
 }
 
 /// The first frames of the current backtrace that belong to the code under test.
 pub fn caller_frames(max: usize) -> Vec<String> {
-    let trace = std::backtrace::Backtrace::force_capture().to_string();
+    frames_of_trace(&std::backtrace::Backtrace::force_capture(), max)
+}
+
+/// The first frames of a captured backtrace that belong to the code under test (symbols are
+/// resolved here, which allocates much more than the capture itself).
+pub fn frames_of_trace(trace: &std::backtrace::Backtrace, max: usize) -> Vec<String> {
+    let trace = trace.to_string();
     let mut frames = Vec::new();
     for line in trace.lines() {
         let line = line.trim();
@@ -103,12 +155,31 @@ pub fn caller_frames(max: usize) -> Vec<String> {
         // The allocator's own frames and the standard library are skipped; the first frame
         // of the harness (the target function) ends the caller's part of the stack.
         let skip = [
-            "std::", "core::", "alloc::", "<alloc::", "<core::", "<std::", "graspath_fuzz::alloc",
-            "<graspath_fuzz::alloc", "graspath_fuzz::exec", "<graspath_fuzz::exec", "__rust",
-            "rust_", "<unknown>", "__restore_rt", "rayon_core::", "<rayon_core::", "rayon::",
-            "<rayon::", "crossbeam",
+            "std::",
+            "core::",
+            "alloc::",
+            "<alloc::",
+            "<core::",
+            "<std::",
+            "graspath_fuzz::alloc",
+            "<graspath_fuzz::alloc",
+            "graspath_fuzz::exec",
+            "<graspath_fuzz::exec",
+            "__rust",
+            "rust_",
+            "<unknown>",
+            "__restore_rt",
+            "rayon_core::",
+            "<rayon_core::",
+            "rayon::",
+            "<rayon::",
+            "crossbeam",
         ];
-        if skip.iter().any(|s| symbol.starts_with(s)) {
+        if skip.iter().any(|s| symbol.starts_with(s))
+            || [" as alloc::", " as core::", " as std::"]
+                .iter()
+                .any(|s| symbol.contains(s))
+        {
             continue;
         }
         if symbol.contains("graspath_fuzz") || symbol == "main" || symbol.starts_with("<&dyn") {
@@ -128,21 +199,26 @@ pub fn caller_frames(max: usize) -> Vec<String> {
 }
 
 /// The frame that identifies a failure (the first one in graspath itself, else the first
-/// one), and the frames to print: up to that frame and two of its callers.
+/// one), and the frames to print: up to that frame and two of its callers (at most eight,
+/// the middle elided).
 pub fn key_frames(frames: &[String]) -> (String, String) {
     let key = frames
         .iter()
         .position(|f| f.starts_with("graspath::") || f.starts_with("<graspath::"))
         .unwrap_or(0);
     let end = frames.len().min(key + 3);
-    let shown = if key > 1 {
-        let mut v = vec![frames[0].clone(), "…".to_string()];
-        v.extend_from_slice(&frames[key..end]);
-        v
-    } else {
+    let shown = if end <= 8 {
         frames[..end].to_vec()
+    } else {
+        let mut v = frames[..3].to_vec();
+        v.push("…".to_string());
+        v.extend_from_slice(&frames[end - 5..end]);
+        v
     };
-    (frames.get(key).cloned().unwrap_or_default(), shown.join(" < "))
+    (
+        frames.get(key).cloned().unwrap_or_default(),
+        shown.join(" < "),
+    )
 }
 
 #[cold]
@@ -192,9 +268,13 @@ fn added(size: usize) {
     }
 }
 
-// SAFETY: every request is passed unchanged to `System`; the counters are side bookkeeping.
+// SAFETY: every request is passed unchanged to `System`, except while the thread reports,
+// when blocks come from the arena (never freed) — see the module documentation.
 unsafe impl GlobalAlloc for LimitAlloc {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if in_handler() {
+            return arena_alloc(layout);
+        }
         check(layout.size());
         let p = unsafe { System.alloc(layout) };
         if !p.is_null() {
@@ -204,6 +284,9 @@ unsafe impl GlobalAlloc for LimitAlloc {
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        if in_handler() {
+            return arena_alloc(layout);
+        }
         check(layout.size());
         let p = unsafe { System.alloc_zeroed(layout) };
         if !p.is_null() {
@@ -213,11 +296,35 @@ unsafe impl GlobalAlloc for LimitAlloc {
     }
 
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        if in_handler() || in_arena(ptr) {
+            return;
+        }
         unsafe { System.dealloc(ptr, layout) };
         LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
     }
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if in_handler() {
+            // SAFETY: the caller guarantees a valid layout for `new_size`.
+            let new_layout = unsafe { Layout::from_size_align_unchecked(new_size, layout.align()) };
+            let p = arena_alloc(new_layout);
+            if !p.is_null() {
+                // SAFETY: both blocks are valid for the copied length and do not overlap.
+                unsafe { std::ptr::copy_nonoverlapping(ptr, p, layout.size().min(new_size)) };
+            }
+            return p;
+        }
+        if in_arena(ptr) {
+            // A block from a report, grown by another thread: move it to the system heap.
+            // SAFETY: the caller guarantees a valid layout for `new_size`.
+            let new_layout = unsafe { Layout::from_size_align_unchecked(new_size, layout.align()) };
+            let p = unsafe { self.alloc(new_layout) };
+            if !p.is_null() {
+                // SAFETY: both blocks are valid for the copied length and do not overlap.
+                unsafe { std::ptr::copy_nonoverlapping(ptr, p, layout.size().min(new_size)) };
+            }
+            return p;
+        }
         if new_size > layout.size() {
             if new_size > SINGLE_LIMIT.load(Ordering::Relaxed) {
                 check(new_size);

@@ -184,7 +184,12 @@ fn crash_failure(status: &std::process::ExitStatus, stderr: &str) -> Failure {
         (None, Some(signal)) => format!("signal {signal}"),
         _ => "unknown status".to_string(),
     };
-    let last = stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("").trim();
+    let last = stderr
+        .lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("")
+        .trim();
     let cause = if stderr.contains("has overflowed its stack") {
         "stack overflow"
     } else {
@@ -267,7 +272,11 @@ pub fn run_target(settings: &Settings, target: &Target) -> Result<TargetReport> 
     let budget = settings.seconds.map(Duration::from_secs_f64);
     let stall = Duration::from_millis(settings.timeout_ms * 3) + Duration::from_secs(60);
     let started = Instant::now();
-    let mut recorder = Recorder { settings, target, findings: BTreeMap::new() };
+    let mut recorder = Recorder {
+        settings,
+        target,
+        findings: BTreeMap::new(),
+    };
     let mut next = 0u64;
     while next < end {
         let remaining = match budget {
@@ -319,8 +328,10 @@ pub fn run_target(settings: &Settings, target: &Target) -> Result<TargetReport> 
                         "D" => finished = Some(number),
                         "F" => {
                             let stem = work.join(format!("panic-{}-{number}", target.name));
-                            let input = std::fs::read(stem.with_extension("in")).unwrap_or_default();
-                            let record = std::fs::read_to_string(stem.with_extension("rec")).unwrap_or_default();
+                            let input =
+                                std::fs::read(stem.with_extension("in")).unwrap_or_default();
+                            let record = std::fs::read_to_string(stem.with_extension("rec"))
+                                .unwrap_or_default();
                             let _ = std::fs::remove_file(stem.with_extension("in"));
                             let _ = std::fs::remove_file(stem.with_extension("rec"));
                             if let Some(failure) = Failure::from_record(&record) {
@@ -381,11 +392,16 @@ pub fn run_target(settings: &Settings, target: &Target) -> Result<TargetReport> 
         if settings.minimise_seconds > 0.0 {
             let deadline = Instant::now() + Duration::from_secs_f64(settings.minimise_seconds);
             let signature = report.signature.clone();
-            let minimised = ddmin(&input, deadline, |candidate| {
-                matches!(replay(settings, target, candidate), Ok(Some(f)) if f.signature == signature)
-            });
-            if matches!(replay(settings, target, &minimised), Ok(Some(f)) if f.signature == signature) {
-                let path = report.reproducer.with_extension(format!("min.{}", target.extension));
+            let minimised = ddmin(
+                &input,
+                deadline,
+                |candidate| matches!(replay(settings, target, candidate), Ok(Some(f)) if f.signature == signature),
+            );
+            if matches!(replay(settings, target, &minimised), Ok(Some(f)) if f.signature == signature)
+            {
+                let path = report
+                    .reproducer
+                    .with_extension(format!("min.{}", target.extension));
                 std::fs::write(&path, &minimised)?;
                 report.minimised_len = Some(minimised.len());
                 report.minimised = Some(path);
@@ -508,7 +524,12 @@ pub fn worker_main(
 
 /// Replays one input file; returns the process exit code (0: no finding; [`EXIT_PANIC`]: a
 /// panic, recorded in `death`; fatal findings exit from inside the oracles).
-pub fn replay_main(settings: &Settings, target: &Target, input: &Path, death: &Path) -> Result<i32> {
+pub fn replay_main(
+    settings: &Settings,
+    target: &Target,
+    input: &Path,
+    death: &Path,
+) -> Result<i32> {
     let bytes = std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
     let ctx = Ctx::new().context("cannot create the work directory")?;
     let mut executor = Executor::new(

@@ -81,7 +81,12 @@ pub struct Failure {
 impl Failure {
     /// The three-line form written to death files.
     pub fn to_record(&self) -> String {
-        format!("{}\n{}\n{}\n", self.kind.name(), self.signature, one_line(&self.message))
+        format!(
+            "{}\n{}\n{}\n",
+            self.kind.name(),
+            self.signature,
+            one_line(&self.message)
+        )
     }
 
     /// Parses [`Failure::to_record`].
@@ -99,7 +104,13 @@ impl Failure {
 pub fn one_line(text: &str) -> String {
     let flat: String = text
         .chars()
-        .map(|c| if c == '\n' || c == '\t' || c == '\r' { ' ' } else { c })
+        .map(|c| {
+            if c == '\n' || c == '\t' || c == '\r' {
+                ' '
+            } else {
+                c
+            }
+        })
         .collect();
     match flat.char_indices().nth(600) {
         Some((at, _)) => format!("{}…", &flat[..at]),
@@ -109,15 +120,21 @@ pub fn one_line(text: &str) -> String {
 
 static LAST_PANIC: Mutex<Option<(String, String)>> = Mutex::new(None);
 
-/// Where the interrupted thread was, as set by [`on_sigusr1`] (a leaked `String`).
-static HANG_FRAMES: std::sync::atomic::AtomicPtr<String> = std::sync::atomic::AtomicPtr::new(std::ptr::null_mut());
+/// Where the interrupted thread was, as set by [`on_sigusr1`] (a leaked, unresolved
+/// backtrace).
+static HANG_TRACE: std::sync::atomic::AtomicPtr<std::backtrace::Backtrace> =
+    std::sync::atomic::AtomicPtr::new(std::ptr::null_mut());
 
 extern "C" fn on_sigusr1(_: libc::c_int) {
-    // Not async-signal-safe (it allocates), but the process exits right after; the watchdog
-    // does not wait for it for more than a second.
-    crate::alloc::set_reporting(true);
-    let frames = crate::alloc::caller_frames(32).join("\n");
-    HANG_FRAMES.store(Box::into_raw(Box::new(frames)), Ordering::Release);
+    // Not async-signal-safe, but close: the stack is only walked here (its few allocations
+    // come from the reporting arena, never from malloc, whose lock the interrupted code may
+    // hold); symbols are resolved by the watchdog thread. The process exits right after, and
+    // the watchdog waits at most a second.
+    crate::alloc::set_in_handler(true);
+    let trace = Box::new(std::backtrace::Backtrace::force_capture());
+    HANG_TRACE.store(Box::into_raw(trace), Ordering::Release);
+    // The interrupted code resumes until the watchdog exits: back to the system heap.
+    crate::alloc::set_in_handler(false);
 }
 
 /// Interrupts `thread` and returns where it is (the first frames of the code under test).
@@ -131,10 +148,12 @@ fn frames_of(thread: libc::pthread_t) -> Option<String> {
     }
     let waited = Instant::now();
     while waited.elapsed() < Duration::from_secs(1) {
-        let p = HANG_FRAMES.load(Ordering::Acquire);
+        let p = HANG_TRACE.load(Ordering::Acquire);
         if !p.is_null() {
-            // SAFETY: the pointer comes from Box::into_raw in the handler and is taken once.
-            return Some(*unsafe { Box::from_raw(p) });
+            // SAFETY: the pointer comes from Box::into_raw in the handler and is read once;
+            // it is leaked (the handler's arena memory must not reach `free`).
+            let trace: &std::backtrace::Backtrace = unsafe { &*p };
+            return Some(crate::alloc::frames_of_trace(trace, 32).join("\n"));
         }
         std::thread::sleep(Duration::from_millis(10));
     }
@@ -160,7 +179,10 @@ pub fn install_panic_hook() {
             .unwrap_or_else(|| "unknown location".into());
         // A panic located in the standard library (capacity overflow, a failed allocation
         // size computation) is identified by the code that called it.
-        if ["alloc/", "core/", "std/"].iter().any(|p| location.starts_with(p)) {
+        if ["alloc/", "core/", "std/"]
+            .iter()
+            .any(|p| location.starts_with(p))
+        {
             if let Some(caller) = crate::alloc::caller_frames(1).first() {
                 location = format!("{location} in {caller}");
             }
@@ -201,11 +223,22 @@ impl Executor {
             let signature = match message.split_once(" at ") {
                 Some((_, frames)) => {
                     let list: Vec<String> = frames.split(" < ").map(str::to_string).collect();
-                    format!("alloc at {}", crate::alloc::key_frames(&list).0)
+                    let key = crate::alloc::key_frames(&list).0;
+                    match list.first() {
+                        Some(first) if *first != key => format!("alloc at {first} in {key}"),
+                        _ => format!("alloc at {key}"),
+                    }
                 }
                 None => "alloc".to_string(),
             };
-            write_death(&death_for_alloc, &Failure { kind: Kind::Alloc, signature, message });
+            write_death(
+                &death_for_alloc,
+                &Failure {
+                    kind: Kind::Alloc,
+                    signature,
+                    message,
+                },
+            );
             std::process::exit(EXIT_ALLOC);
         });
         let started_ms = Arc::new(AtomicU64::new(0));
@@ -252,10 +285,17 @@ impl Executor {
 
     /// Runs `input` (number `index`) on `target`; a caught panic is returned, any other
     /// finding ends the process.
-    pub fn execute(&mut self, target: &Target, ctx: &Ctx, index: u64, input: &[u8]) -> Option<Failure> {
+    pub fn execute(
+        &mut self,
+        target: &Target,
+        ctx: &Ctx,
+        index: u64,
+        input: &[u8],
+    ) -> Option<Failure> {
         self.buffer.clear();
         self.buffer.extend_from_slice(&index.to_le_bytes());
-        self.buffer.extend_from_slice(&(input.len() as u64).to_le_bytes());
+        self.buffer
+            .extend_from_slice(&(input.len() as u64).to_le_bytes());
         self.buffer.extend_from_slice(input);
         // If the input cannot be saved, a crash would be reported without it: stop instead.
         if let Err(e) = self.current.write_all_at(&self.buffer, 0) {
@@ -265,8 +305,10 @@ impl Executor {
         if let Ok(mut last) = LAST_PANIC.lock() {
             *last = None;
         }
-        self.started_ms
-            .store(self.epoch.elapsed().as_millis() as u64 + 1, Ordering::Release);
+        self.started_ms.store(
+            self.epoch.elapsed().as_millis() as u64 + 1,
+            Ordering::Release,
+        );
         let result = std::panic::catch_unwind(AssertUnwindSafe(|| (target.run)(ctx, input)));
         self.started_ms.store(0, Ordering::Release);
         result.err().map(|_| {
@@ -315,6 +357,9 @@ mod tests {
             short_path("/root/.cargo/registry/src/index/pcd-rs-0.13.0/src/reader.rs"),
             "pcd-rs-0.13.0/src/reader.rs"
         );
-        assert_eq!(short_path("crates/graspath/src/cloud/pcd.rs"), "graspath/src/cloud/pcd.rs");
+        assert_eq!(
+            short_path("crates/graspath/src/cloud/pcd.rs"),
+            "graspath/src/cloud/pcd.rs"
+        );
     }
 }

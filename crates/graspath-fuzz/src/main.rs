@@ -122,13 +122,18 @@ fn run() -> Result<ExitCode> {
             .map(|name| {
                 targets::by_name(name).ok_or_else(|| {
                     let names: Vec<&str> = targets::all().iter().map(|t| t.name).collect();
-                    anyhow::anyhow!("--target: unknown target '{name}' (targets: all, {})", names.join(", "))
+                    anyhow::anyhow!(
+                        "--target: unknown target '{name}' (targets: all, {})",
+                        names.join(", ")
+                    )
                 })
             })
             .collect::<Result<_>>()?
     };
     if args.worker {
-        let [target] = chosen.as_slice() else { bail!("a worker runs one target") };
+        let [target] = chosen.as_slice() else {
+            bail!("a worker runs one target")
+        };
         campaign::worker_main(
             &settings,
             target,
@@ -139,8 +144,13 @@ fn run() -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     if let Some(input) = &args.replay {
-        let [target] = chosen.as_slice() else { bail!("a replay runs one target") };
-        let death = args.death.clone().unwrap_or_else(|| input.with_extension("death"));
+        let [target] = chosen.as_slice() else {
+            bail!("a replay runs one target")
+        };
+        let death = args
+            .death
+            .clone()
+            .unwrap_or_else(|| input.with_extension("death"));
         let code = campaign::replay_main(&settings, target, input, &death)?;
         return Ok(ExitCode::from(code as u8));
     }
@@ -159,5 +169,9 @@ fn run() -> Result<ExitCode> {
         "total: {total} executions; {new} new findings; summary in {}",
         settings.findings.join("summary.json").display()
     );
-    Ok(if new == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(if new == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }

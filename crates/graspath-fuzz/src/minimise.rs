@@ -5,7 +5,11 @@ use std::time::Instant;
 
 /// Shrinks `input` while `reproduces` holds, removing chunks of halving size (ddmin's
 /// complement step), then single bytes. Stops at `deadline` with the best input so far.
-pub fn ddmin(input: &[u8], deadline: Instant, mut reproduces: impl FnMut(&[u8]) -> bool) -> Vec<u8> {
+pub fn ddmin(
+    input: &[u8],
+    deadline: Instant,
+    mut reproduces: impl FnMut(&[u8]) -> bool,
+) -> Vec<u8> {
     let mut current = input.to_vec();
     let mut parts = 2usize;
     while current.len() >= 2 && Instant::now() < deadline {

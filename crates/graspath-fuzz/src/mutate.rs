@@ -90,7 +90,11 @@ pub fn number_spans(bytes: &[u8]) -> Vec<(usize, usize)> {
 fn random_range(rng: &mut Rng, len: usize) -> (usize, usize) {
     let start = rng.below(len + 1);
     // Mostly short ranges, sometimes long ones.
-    let max = if rng.chance(1, 4) { len - start } else { (len - start).min(16) };
+    let max = if rng.chance(1, 4) {
+        len - start
+    } else {
+        (len - start).min(16)
+    };
     (start, start + rng.below(max + 1))
 }
 
@@ -120,7 +124,11 @@ pub fn mutate_once(rng: &mut Rng, data: &mut Vec<u8>, corpus: &[Vec<u8>]) {
             let (a, b) = random_range(rng, len);
             let copy = data[a..b].to_vec();
             let at = rng.below(data.len() + 1);
-            let times = if rng.chance(1, 8) { 1 + rng.below(64) } else { 1 };
+            let times = if rng.chance(1, 8) {
+                1 + rng.below(64)
+            } else {
+                1
+            };
             for _ in 0..times {
                 data.splice(at..at, copy.iter().copied());
             }
@@ -211,7 +219,10 @@ mod tests {
     #[test]
     fn number_spans_find_tokens_but_not_names() {
         let text = b"POINTS 12\nx1 -3.5e-2 ab7 .5";
-        let spans: Vec<&[u8]> = number_spans(text).iter().map(|&(a, b)| &text[a..b]).collect();
+        let spans: Vec<&[u8]> = number_spans(text)
+            .iter()
+            .map(|&(a, b)| &text[a..b])
+            .collect();
         assert_eq!(spans, vec![&b"12"[..], b"-3.5e-2", b".5"]);
     }
 

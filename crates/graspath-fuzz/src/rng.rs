@@ -21,7 +21,8 @@ impl Rng {
             h ^= u64::from(b);
             h = h.wrapping_mul(0x0100_0000_01b3);
         }
-        let mut rng = Self::new(seed ^ h.rotate_left(17) ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let mut rng =
+            Self::new(seed ^ h.rotate_left(17) ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         rng.next_u64();
         rng
     }
@@ -69,7 +70,9 @@ mod tests {
 
     #[test]
     fn same_seed_same_stream_and_targets_differ() {
-        let a: Vec<u64> = (0..4).map(|_| Rng::for_input(1, "pcd", 7).next_u64()).collect();
+        let a: Vec<u64> = (0..4)
+            .map(|_| Rng::for_input(1, "pcd", 7).next_u64())
+            .collect();
         assert!(a.windows(2).all(|w| w[0] == w[1]));
         assert_ne!(
             Rng::for_input(1, "pcd", 7).next_u64(),

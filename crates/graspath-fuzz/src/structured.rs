@@ -108,8 +108,7 @@ struct UrdfJoint {
 fn urdf_geometry() -> impl Strategy<Value = String> {
     prop_oneof![
         (size(), size(), size()).prop_map(|(a, b, c)| format!("<box size=\"{a} {b} {c}\"/>")),
-        (size(), size())
-            .prop_map(|(r, l)| format!("<cylinder radius=\"{r}\" length=\"{l}\"/>")),
+        (size(), size()).prop_map(|(r, l)| format!("<cylinder radius=\"{r}\" length=\"{l}\"/>")),
         size().prop_map(|r| format!("<sphere radius=\"{r}\"/>")),
         triple().prop_map(|s| format!(
             "<mesh filename=\"package://robot/meshes/part.stl\" scale=\"{s}\"/>"
@@ -165,7 +164,11 @@ fn urdf_joint(links: usize) -> impl Strategy<Value = UrdfJoint> {
         )
 }
 
-fn render_urdf(name: &str, links: &[Option<(String, String, String)>], joints: &[UrdfJoint]) -> String {
+fn render_urdf(
+    name: &str,
+    links: &[Option<(String, String, String)>],
+    joints: &[UrdfJoint],
+) -> String {
     let n = links.len();
     let link_name = |i: usize| {
         if i < n {
@@ -261,8 +264,10 @@ fn yaml_pose() -> impl Strategy<Value = String> {
 
 fn yaml_shape() -> impl Strategy<Value = String> {
     prop_oneof![
-        (size(), size(), size()).prop_map(|(a, b, c)| format!("{{ box: {{ size: [{a}, {b}, {c}] }} }}")),
-        (size(), size()).prop_map(|(r, l)| format!("{{ cylinder: {{ radius: {r}, length: {l} }} }}")),
+        (size(), size(), size())
+            .prop_map(|(a, b, c)| format!("{{ box: {{ size: [{a}, {b}, {c}] }} }}")),
+        (size(), size())
+            .prop_map(|(r, l)| format!("{{ cylinder: {{ radius: {r}, length: {l} }} }}")),
         (size(), size(), size(), size(), size()).prop_map(|(a, b, c, r, l)| format!(
             "{{ t_shape: {{ bar: [{a}, {b}, {c}], handle_radius: {r}, handle_length: {l} }} }}"
         )),
@@ -271,8 +276,12 @@ fn yaml_shape() -> impl Strategy<Value = String> {
 
 fn yaml_candidates() -> impl Strategy<Value = String> {
     prop_oneof![
-        (count(1..40), proptest::option::of(num()), proptest::option::of(num())).prop_map(
-            |(c, d, m)| {
+        (
+            count(1..40),
+            proptest::option::of(num()),
+            proptest::option::of(num())
+        )
+            .prop_map(|(c, d, m)| {
                 let mut s = format!("{{ family: {{ edge: {{ count: {c}");
                 if let Some(d) = d {
                     s.push_str(&format!(", depth: {d}"));
@@ -281,8 +290,7 @@ fn yaml_candidates() -> impl Strategy<Value = String> {
                     s.push_str(&format!(", margin: {m}"));
                 }
                 s + " } } }"
-            }
-        ),
+            }),
         (count(1..40), num(), proptest::option::of(num())).prop_map(|(c, step, start)| {
             let mut s = format!("{{ family: {{ yaw: {{ count: {c}, step_deg: {step}");
             if let Some(start) = start {
@@ -290,8 +298,13 @@ fn yaml_candidates() -> impl Strategy<Value = String> {
             }
             s + " } } }"
         }),
-        (count(1..20), select(&["[]", "[top]", "[bottom, x+]", "[nonsense]"]))
-            .prop_map(|(c, ex)| format!("{{ family: {{ faces: {{ count: {c}, exclude: {ex} }} }} }}")),
+        (
+            count(1..20),
+            select(&["[]", "[top]", "[bottom, x+]", "[nonsense]"])
+        )
+            .prop_map(|(c, ex)| format!(
+                "{{ family: {{ faces: {{ count: {c}, exclude: {ex} }} }} }}"
+            )),
         select(&["candidates.json", "candidates.csv", "missing.json"])
             .prop_map(|f| format!("{{ file: {f} }}")),
     ]
@@ -363,7 +376,12 @@ pub fn task_yaml() -> impl Strategy<Value = String> {
             proptest::option::weighted(0.3, num()),
             proptest::option::weighted(0.3, count(1..20)),
             proptest::option::weighted(0.3, num()),
-            select(&["product", "ignore", "{ weighted: { weight: 0.5 } }", "{ weighted: { weight: -1 } }"]),
+            select(&[
+                "product",
+                "ignore",
+                "{ weighted: { weight: 0.5 } }",
+                "{ weighted: { weight: -1 } }",
+            ]),
         ),
         (
             proptest::option::weighted(0.3, num()),
@@ -401,7 +419,9 @@ pub fn task_yaml() -> impl Strategy<Value = String> {
                     s.push_str(&format!("  samples_per_step: {n}\n"));
                 }
                 if let Some((t, r)) = spacing {
-                    s.push_str(&format!("  spacing: {{ translation: {t}, rotation_deg: {r} }}\n"));
+                    s.push_str(&format!(
+                        "  spacing: {{ translation: {t}, rotation_deg: {r} }}\n"
+                    ));
                 }
                 s.push_str("  steps:\n");
                 for step in &steps {
@@ -411,7 +431,9 @@ pub fn task_yaml() -> impl Strategy<Value = String> {
                 if let Some(l) = length_scale {
                     s.push_str(&format!(", length_scale: {l}"));
                 }
-                s.push_str(&format!(" }}\nselection: {{ norm: {norm}, likelihood: {likelihood}"));
+                s.push_str(&format!(
+                    " }}\nselection: {{ norm: {norm}, likelihood: {likelihood}"
+                ));
                 if let Some(m) = mu0 {
                     s.push_str(&format!(", mu0: {m}"));
                 }
@@ -453,7 +475,17 @@ struct PcdField {
 
 fn pcd_field() -> impl Strategy<Value = PcdField> {
     (
-        select(&["x", "y", "z", "normal_x", "normal_y", "normal_z", "rgb", "intensity", "_"]),
+        select(&[
+            "x",
+            "y",
+            "z",
+            "normal_x",
+            "normal_y",
+            "normal_z",
+            "rgb",
+            "intensity",
+            "_",
+        ]),
         prop_oneof![6 => Just("4"), 1 => select(&["8", "1", "2", "0", "3", "16"])],
         prop_oneof![6 => Just("F"), 1 => select(&["I", "U", "X", "f"])],
         prop_oneof![8 => Just("1"), 1 => select(&["0", "3", "4294967295", "1000000000000", "-1"])],
@@ -481,9 +513,24 @@ pub fn lzf_literals(raw: &[u8]) -> Vec<u8> {
 /// (ascii numbers, binary records, or an LZF stream whose announced sizes may lie).
 pub fn pcd_file() -> impl Strategy<Value = Vec<u8>> {
     let standard = Just(vec![
-        PcdField { name: "x", size: "4", kind: "F", count: "1" },
-        PcdField { name: "y", size: "4", kind: "F", count: "1" },
-        PcdField { name: "z", size: "4", kind: "F", count: "1" },
+        PcdField {
+            name: "x",
+            size: "4",
+            kind: "F",
+            count: "1",
+        },
+        PcdField {
+            name: "y",
+            size: "4",
+            kind: "F",
+            count: "1",
+        },
+        PcdField {
+            name: "z",
+            size: "4",
+            kind: "F",
+            count: "1",
+        },
     ]);
     (
         prop_oneof![3 => standard, 2 => vec(pcd_field(), 1..7)],
@@ -581,11 +628,17 @@ mod tests {
         // Structure-aware generation is only useful if much of it gets past the parser.
         let mut rng = Rng::new(1);
         let urdf_ok = (0..200)
-            .filter(|_| graspath::robot::UrdfRobot::from_xml(&draw(&urdf_document(), &mut rng), "g.urdf").is_ok())
+            .filter(|_| {
+                graspath::robot::UrdfRobot::from_xml(&draw(&urdf_document(), &mut rng), "g.urdf")
+                    .is_ok()
+            })
             .count();
         assert!(urdf_ok > 60, "{urdf_ok} of 200 URDF documents parsed");
         let task_ok = (0..200)
-            .filter(|_| graspath::task::TaskFile::parse(&draw(&task_yaml(), &mut rng), "g.yaml", "yaml").is_ok())
+            .filter(|_| {
+                graspath::task::TaskFile::parse(&draw(&task_yaml(), &mut rng), "g.yaml", "yaml")
+                    .is_ok()
+            })
             .count();
         assert!(task_ok > 60, "{task_ok} of 200 task files parsed");
         // The PCD reader dependency panics on some inconsistent files (a fuzz finding); count

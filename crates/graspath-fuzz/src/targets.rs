@@ -12,9 +12,8 @@
 use crate::rng::Rng;
 use crate::structured::{draw, pcd_file, task_yaml, urdf_document};
 use graspath::cloud::{
-    load_cloud_argument, pcd_bytes, read_mesh, ply_bytes, read_pcd_bytes,
-    read_ply_bytes, sample_primitive, PcdEncoding, PlyEncoding, PointCloud, Primitive,
-    SampleOptions,
+    load_cloud_argument, pcd_bytes, ply_bytes, read_mesh, read_pcd_bytes, read_ply_bytes,
+    sample_primitive, PcdEncoding, PlyEncoding, PointCloud, Primitive, SampleOptions,
 };
 use graspath::geometry::pose_from_rows;
 use graspath::grasp::model::{
@@ -98,9 +97,18 @@ impl Ctx {
         std::fs::write(dir.join("three_finger_hand.urdf"), HAND_URDF)?;
         std::fs::write(dir.join("mesh.obj"), CUBE_OBJ)?;
         std::fs::write(dir.join("mesh.stl"), binary_stl(CUBE_OBJ))?;
-        std::fs::write(dir.join("cloud.ply"), ply_bytes(&cloud, PlyEncoding::Ascii).unwrap_or_default())?;
-        std::fs::write(dir.join("cloud.pcd"), pcd_bytes(&cloud, PcdEncoding::Binary).unwrap_or_default())?;
-        std::fs::write(dir.join("candidates.json"), candidate_json_seeds()[0].as_bytes())?;
+        std::fs::write(
+            dir.join("cloud.ply"),
+            ply_bytes(&cloud, PlyEncoding::Ascii).unwrap_or_default(),
+        )?;
+        std::fs::write(
+            dir.join("cloud.pcd"),
+            pcd_bytes(&cloud, PcdEncoding::Binary).unwrap_or_default(),
+        )?;
+        std::fs::write(
+            dir.join("candidates.json"),
+            candidate_json_seeds()[0].as_bytes(),
+        )?;
         std::fs::write(dir.join("candidates.csv"), CANDIDATES_CSV)?;
         Ok(Self {
             dir,
@@ -149,11 +157,21 @@ impl Ctx {
     fn trained_model(&self) -> &Result<GraspModel, String> {
         self.model.get_or_init(|| {
             let path = examples_dir().join("grasp/demo_box.json");
-            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let text =
+                std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
             let demo: Demonstration = serde_json::from_str(&text).map_err(|e| e.to_string())?;
-            let hand = demo.hand.load(&self.dir, "demo_box.json").map_err(|e| e.to_string())?;
-            let shape = Primitive::Box { size: [0.05, 0.04, 0.14] };
-            let options = SampleOptions { points: 2000, seed: 1, ..SampleOptions::default() };
+            let hand = demo
+                .hand
+                .load(&self.dir, "demo_box.json")
+                .map_err(|e| e.to_string())?;
+            let shape = Primitive::Box {
+                size: [0.05, 0.04, 0.14],
+            };
+            let options = SampleOptions {
+                points: 2000,
+                seed: 1,
+                ..SampleOptions::default()
+            };
             let cloud = sample_primitive(&shape, &options).map_err(|e| e.to_string())?;
             train(&demo, hand, &cloud, "demo_box.json").map_err(|e| e.to_string())
         })
@@ -379,13 +397,20 @@ fn load_task(path: &Path) {
 /// Successful cloud reads must hold only finite points, and unit normals when present.
 fn check_cloud<E>(result: Result<PointCloud, E>) {
     let Ok(cloud) = result else { return };
-    assert!(!cloud.points.is_empty(), "invariant: a cloud read without error has points");
+    assert!(
+        !cloud.points.is_empty(),
+        "invariant: a cloud read without error has points"
+    );
     assert!(
         cloud.points.iter().all(|p| p.iter().all(|c| c.is_finite())),
         "invariant: a cloud read without error has only finite points"
     );
     if let Some(normals) = &cloud.normals {
-        assert_eq!(normals.len(), cloud.points.len(), "invariant: one normal per point");
+        assert_eq!(
+            normals.len(),
+            cloud.points.len(),
+            "invariant: one normal per point"
+        );
         assert!(
             normals.iter().all(|n| (n.norm() - 1.0).abs() < 1e-6),
             "invariant: normals are unit vectors"
@@ -394,13 +419,18 @@ fn check_cloud<E>(result: Result<PointCloud, E>) {
 }
 
 fn sample_mesh(mesh: &graspath::cloud::TriangleMesh) {
-    let options = SampleOptions { points: 64, ..SampleOptions::default() };
+    let options = SampleOptions {
+        points: 64,
+        ..SampleOptions::default()
+    };
     check_cloud(mesh.sample(&options, "fuzz mesh"));
 }
 
 fn run_urdf(ctx: &Ctx, bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes);
-    let Ok(robot) = UrdfRobot::from_xml(&text, "fuzz.urdf") else { return };
+    let Ok(robot) = UrdfRobot::from_xml(&text, "fuzz.urdf") else {
+        return;
+    };
     let doc = robot.document();
     let children: std::collections::HashSet<&str> =
         doc.joints.iter().map(|j| j.child.link.as_str()).collect();
@@ -415,7 +445,9 @@ fn run_urdf(ctx: &Ctx, bytes: &[u8]) {
     for base in &roots {
         let _ = graspath::grasp::hand::hand_from_urdf(&robot, base, &ctx.dir);
         for tip in &links {
-            let Ok(chain) = robot.chain(base, tip, None) else { continue };
+            let Ok(chain) = robot.chain(base, tip, None) else {
+                continue;
+            };
             let q = chain.mid_configuration();
             let _ = chain.within_limits(&q);
             let mut jacobian = nalgebra::Matrix6xX::zeros(chain.dof());
@@ -423,7 +455,11 @@ fn run_urdf(ctx: &Ctx, bytes: &[u8]) {
                 let _ = yoshikawa(&jacobian, JacobianPart::Full);
                 let _ = inverse_condition(&jacobian, JacobianPart::Full);
                 let target = nalgebra::convert(pose);
-                let options = IkOptions { max_time: None, max_iterations: 50, ..IkOptions::default() };
+                let options = IkOptions {
+                    max_time: None,
+                    max_iterations: 50,
+                    ..IkOptions::default()
+                };
                 let _ = solve_ik(&chain, &target, &q, &options);
             }
         }
@@ -444,7 +480,9 @@ fn tiny_generate_options() -> GenerateOptions {
 
 fn run_model(_: &Ctx, bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes);
-    let Ok(model) = GraspModel::from_json(&text, "fuzz_model.json") else { return };
+    let Ok(model) = GraspModel::from_json(&text, "fuzz_model.json") else {
+        return;
+    };
     let cloud = small_cloud(true);
     if let Ok(candidates) = generate(&model, &cloud, &tiny_generate_options(), "fuzz", &|_| {}) {
         let _ = candidates_json(&candidates, "fuzz");
@@ -457,7 +495,9 @@ fn run_generate(ctx: &Ctx, bytes: &[u8]) {
     } else {
         read_pcd_bytes(bytes, "fuzz.pcd")
     };
-    let (Ok(cloud), Some(model)) = (cloud, ctx.model()) else { return };
+    let (Ok(cloud), Some(model)) = (cloud, ctx.model()) else {
+        return;
+    };
     let _ = generate(model, &cloud, &tiny_generate_options(), "fuzz", &|_| {});
 }
 
@@ -499,8 +539,12 @@ fn run_kinematics(ctx: &Ctx, bytes: &[u8]) {
     let chain = ctx.baxter();
     let mut jacobian = nalgebra::Matrix6xX::zeros(chain.dof());
     for line in json_lines(bytes) {
-        let Ok(input) = serde_json::from_str::<KinematicsLine>(line) else { return };
-        let Ok(_pose) = chain.pose_and_jacobian_into(&input.q, &mut jacobian) else { return };
+        let Ok(input) = serde_json::from_str::<KinematicsLine>(line) else {
+            return;
+        };
+        let Ok(_pose) = chain.pose_and_jacobian_into(&input.q, &mut jacobian) else {
+            return;
+        };
         let _ = yoshikawa(&jacobian, JacobianPart::Full);
         let _ = yoshikawa(&jacobian, JacobianPart::Translation);
         let _ = inverse_condition(&jacobian, JacobianPart::Full);
@@ -514,10 +558,18 @@ fn run_ik(ctx: &Ctx, bytes: &[u8]) {
     let seed = chain.mid_configuration();
     let options = IkOptions::default();
     for line in json_lines(bytes) {
-        let Ok(input) = serde_json::from_str::<PoseLine>(line) else { return };
-        let Ok(target) = pose_from_rows(&input.pose) else { return };
+        let Ok(input) = serde_json::from_str::<PoseLine>(line) else {
+            return;
+        };
+        let Ok(target) = pose_from_rows(&input.pose) else {
+            return;
+        };
         if let Ok(solution) = solve_ik(chain, &target, &seed, &options) {
-            let _ = serde_json::to_string(&(solution.q, solution.position_error, solution.rotation_error));
+            let _ = serde_json::to_string(&(
+                solution.q,
+                solution.position_error,
+                solution.rotation_error,
+            ));
         }
     }
 }
@@ -525,15 +577,29 @@ fn run_ik(ctx: &Ctx, bytes: &[u8]) {
 /// Mirrors `graspath ik --trajectory` with the CLI's defaults (step 0.5, 4 branches).
 fn run_ik_trajectory(ctx: &Ctx, bytes: &[u8]) {
     let chain = ctx.baxter();
-    let Ok(text) = std::str::from_utf8(bytes) else { return };
-    let Ok(input) = serde_json::from_str::<TrajectoryInput>(text) else { return };
-    let Ok(poses) = input.poses.iter().map(pose_from_rows).collect::<Result<Vec<_>, _>>() else { return };
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return;
+    };
+    let Ok(input) = serde_json::from_str::<TrajectoryInput>(text) else {
+        return;
+    };
+    let Ok(poses) = input
+        .poses
+        .iter()
+        .map(pose_from_rows)
+        .collect::<Result<Vec<_>, _>>()
+    else {
+        return;
+    };
     if poses.is_empty() {
         return;
     }
     let defaults = TrajectoryIkOptions::default();
     let options = TrajectoryIkOptions {
-        ik: IkOptions { max_time: None, ..IkOptions::default() },
+        ik: IkOptions {
+            max_time: None,
+            ..IkOptions::default()
+        },
         max_joint_step: 0.5,
         branches: 4,
         ..defaults
@@ -553,8 +619,14 @@ pub fn small_cloud(normals: bool) -> PointCloud {
 
 /// The demonstration's box (0.05 × 0.04 × 0.14 m) sampled with `points` points.
 fn box_cloud(points: usize, normals: bool) -> PointCloud {
-    let shape = Primitive::Box { size: [0.05, 0.04, 0.14] };
-    let options = SampleOptions { points, seed: 2, ..SampleOptions::default() };
+    let shape = Primitive::Box {
+        size: [0.05, 0.04, 0.14],
+    };
+    let options = SampleOptions {
+        points,
+        seed: 2,
+        ..SampleOptions::default()
+    };
     let mut cloud = sample_primitive(&shape, &options).unwrap_or_else(|_| {
         PointCloud::from_points(vec![Point3::origin(), Point3::new(0.01, 0.0, 0.0)])
     });
@@ -566,14 +638,22 @@ fn box_cloud(points: usize, normals: bool) -> PointCloud {
 
 fn tiny_cloud(normals: bool) -> PointCloud {
     PointCloud {
-        points: vec![Point3::new(0.0, 0.0, 0.0), Point3::new(0.01, -0.02, 0.5), Point3::new(-1.5, 2.0, 1e-3)],
+        points: vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(0.01, -0.02, 0.5),
+            Point3::new(-1.5, 2.0, 1e-3),
+        ],
         normals: normals.then(|| vec![Vector3::z(), Vector3::x(), Vector3::new(0.0, 0.6, 0.8)]),
     }
 }
 
 fn ply_seeds(_: &Ctx) -> Vec<Vec<u8>> {
     let mut seeds = Vec::new();
-    for encoding in [PlyEncoding::Ascii, PlyEncoding::BinaryLittleEndian, PlyEncoding::BinaryBigEndian] {
+    for encoding in [
+        PlyEncoding::Ascii,
+        PlyEncoding::BinaryLittleEndian,
+        PlyEncoding::BinaryBigEndian,
+    ] {
         for normals in [false, true] {
             seeds.extend(ply_bytes(&tiny_cloud(normals), encoding).ok());
         }
@@ -584,7 +664,11 @@ fn ply_seeds(_: &Ctx) -> Vec<Vec<u8>> {
 
 fn pcd_seeds(_: &Ctx) -> Vec<Vec<u8>> {
     let mut seeds = Vec::new();
-    for encoding in [PcdEncoding::Ascii, PcdEncoding::Binary, PcdEncoding::BinaryCompressed] {
+    for encoding in [
+        PcdEncoding::Ascii,
+        PcdEncoding::Binary,
+        PcdEncoding::BinaryCompressed,
+    ] {
         for normals in [false, true] {
             seeds.extend(pcd_bytes(&tiny_cloud(normals), encoding).ok());
         }
@@ -604,7 +688,9 @@ fn generate_seeds(ctx: &Ctx) -> Vec<Vec<u8>> {
 }
 
 fn read_dir_files(dir: &Path, extension: &str) -> Vec<Vec<u8>> {
-    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
     let mut paths: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == extension))
@@ -633,7 +719,12 @@ fn task_json_seeds(ctx: &Ctx) -> Vec<Vec<u8>> {
     task_yaml_seeds(ctx)
         .iter()
         .filter_map(|yaml| {
-            let file = graspath::task::TaskFile::parse(std::str::from_utf8(yaml).ok()?, "seed.yaml", "yaml").ok()?;
+            let file = graspath::task::TaskFile::parse(
+                std::str::from_utf8(yaml).ok()?,
+                "seed.yaml",
+                "yaml",
+            )
+            .ok()?;
             serde_json::to_vec_pretty(&file).ok()
         })
         .collect()
@@ -643,7 +734,9 @@ fn cloud_json_seeds(_: &Ctx) -> Vec<Vec<u8>> {
     let mut seeds = read_dir_files(&examples_dir().join("grasp"), "json");
     // Only the cloud sources (the demonstrations are the `demo` target's seeds).
     seeds.retain(|s| !s.windows(13).any(|w| w == b"demonstration"));
-    seeds.push(br#"{"mesh": {"path": "mesh.obj", "points": 200, "seed": 4, "noise": 0.001}}"#.to_vec());
+    seeds.push(
+        br#"{"mesh": {"path": "mesh.obj", "points": 200, "seed": 4, "noise": 0.001}}"#.to_vec(),
+    );
     seeds.push(br#"{"mesh": {"path": "mesh.stl", "points": 100, "view": [2, 2, 2]}}"#.to_vec());
     seeds.push(br#"{"file": "cloud.pcd"}"#.to_vec());
     seeds.push(br#"{"file": "cloud.ply"}"#.to_vec());
@@ -660,7 +753,12 @@ fn demo_seeds(_: &Ctx) -> Vec<Vec<u8>> {
     // The same demonstrations with small clouds (cheaper executions reach more of training).
     let small: Vec<Vec<u8>> = seeds
         .iter()
-        .map(|s| String::from_utf8_lossy(s).replace("\"points\": 5000", "\"points\": 1500").replace("\"points\": 4000", "\"points\": 1500").into_bytes())
+        .map(|s| {
+            String::from_utf8_lossy(s)
+                .replace("\"points\": 5000", "\"points\": 1500")
+                .replace("\"points\": 4000", "\"points\": 1500")
+                .into_bytes()
+        })
         .collect();
     seeds.extend(small);
     seeds.push(br#"{"format": "graspath-demonstration", "version": 1, "hand": "baxter_electric_gripper",
@@ -681,7 +779,8 @@ fn candidate_json_seeds() -> Vec<String> {
 }
 
 const CANDIDATES_CSV: &str = "id,label,x,y,z,qx,qy,qz,qw,likelihood,contact_x,contact_y,contact_z\n0,top,0,0,0.1,1,0,0,0,0.5,0,0,0.03\n1,side,0.05,0,0,0,0.7071068,0,0.7071068,0.25,0.03,0,0\n";
-const CANDIDATES_CSV_LIKELIHOOD: &str = "x,y,z,qx,qy,qz,qw,log_likelihood\n0,0,0.1,0,0,0,1,-2\n0.01,0.02,0.1,0,0,1,0,-3\n";
+const CANDIDATES_CSV_LIKELIHOOD: &str =
+    "x,y,z,qx,qy,qz,qw,log_likelihood\n0,0,0.1,0,0,0,1,-2\n0.01,0.02,0.1,0,0,1,0,-3\n";
 
 const KINEMATICS_LINES: &str = "{\"q\":[0,0,0,0,0,0,0]}\n{\"q\":[0.1,-0.5,0.3,1.2,-0.4,0.8,0.2]}\n\n{\"q\":[-1.7,-2.1,-3.0,-0.05,-3.0,-1.5,-3.0]}\n";
 
@@ -707,7 +806,11 @@ fn obj_triangles(obj: &str) -> Vec<[Point3<f64>; 3]> {
                 let n = vertices.len() as i64;
                 let face: Vec<Point3<f64>> = tokens
                     .filter_map(|t| t.split('/').next()?.parse::<i64>().ok())
-                    .filter_map(|i| vertices.get(if i < 0 { n + i } else { i - 1 } as usize).copied())
+                    .filter_map(|i| {
+                        vertices
+                            .get(if i < 0 { n + i } else { i - 1 } as usize)
+                            .copied()
+                    })
                     .collect();
                 for k in 1..face.len().saturating_sub(1) {
                     triangles.push([face[0], face[k], face[k + 1]]);

@@ -11,7 +11,15 @@ use std::process::Command;
 fn ci_slice_finds_nothing_unknown() {
     let findings = tempfile::tempdir().expect("temporary directory");
     let output = Command::new(env!("CARGO_BIN_EXE_graspath-fuzz"))
-        .args(["--ci-slice", "--seed", "1", "--timeout-ms", "2000", "--minimise-seconds", "0"])
+        .args([
+            "--ci-slice",
+            "--seed",
+            "1",
+            "--timeout-ms",
+            "2000",
+            "--minimise-seconds",
+            "0",
+        ])
         .arg("--findings")
         .arg(findings.path())
         .output()
@@ -32,11 +40,19 @@ fn ci_slice_finds_nothing_unknown() {
     assert_eq!(reports.len(), targets::all().len());
     for (report, target) in reports.iter().zip(targets::all()) {
         assert_eq!(report["target"], target.name);
-        assert_eq!(report["execs"].as_u64(), Some(target.ci_execs), "{}", target.name);
+        assert_eq!(
+            report["execs"].as_u64(),
+            Some(target.ci_execs),
+            "{}",
+            target.name
+        );
     }
     let mut unknown = Vec::new();
     let mut met = Vec::new();
-    for finding in reports.iter().flat_map(|r| r["findings"].as_array().expect("findings")) {
+    for finding in reports
+        .iter()
+        .flat_map(|r| r["findings"].as_array().expect("findings"))
+    {
         let line = format!(
             "{} {}: {} ({})",
             finding["target"].as_str().unwrap_or(""),
@@ -48,8 +64,14 @@ fn ci_slice_finds_nothing_unknown() {
             Some(issue) => {
                 println!("tolerated known finding [{issue}]: {line}");
                 met.push((
-                    finding["known"]["target"].as_str().unwrap_or("").to_string(),
-                    finding["known"]["fragment"].as_str().unwrap_or("").to_string(),
+                    finding["known"]["target"]
+                        .as_str()
+                        .unwrap_or("")
+                        .to_string(),
+                    finding["known"]["fragment"]
+                        .as_str()
+                        .unwrap_or("")
+                        .to_string(),
                 ));
             }
             None => unknown.push(line),
@@ -57,8 +79,15 @@ fn ci_slice_finds_nothing_unknown() {
     }
     for k in KNOWN_FINDINGS {
         if !met.iter().any(|(t, f)| t == k.target && f == k.fragment) {
-            println!("known finding not met by this slice: {} '{}' [{}]", k.target, k.fragment, k.issue);
+            println!(
+                "known finding not met by this slice: {} '{}' [{}]",
+                k.target, k.fragment, k.issue
+            );
         }
     }
-    assert!(unknown.is_empty(), "new fuzz findings:\n{}", unknown.join("\n"));
+    assert!(
+        unknown.is_empty(),
+        "new fuzz findings:\n{}",
+        unknown.join("\n")
+    );
 }

@@ -106,6 +106,12 @@ pub const KNOWN_FINDINGS: &[KnownFinding] = &[
         fragment: "pcd-rs-0.13.0/src/reader.rs:151",
         issue: ISSUE_COUNTS,
     },
+    // PLY: an element count with no payload behind it is looped over.
+    KnownFinding {
+        target: "ply",
+        fragment: "ply_rs_bw::parser::Parser<E>::__read_",
+        issue: ISSUE_COUNTS,
+    },
     // JSON cloud sources: `points` drives the allocation and the sampling time.
     KnownFinding {
         target: "cloud_json",

@@ -161,6 +161,21 @@ pub const KNOWN_FINDINGS: &[KnownFinding] = &[
         issue: NEW,
     },
     KnownFinding {
+        target: "urdf",
+        fragment: "Singular value was NaN",
+        issue: NEW,
+    },
+    KnownFinding {
+        target: "urdf",
+        fragment: "graspath::manipulability::indices::singular_values",
+        issue: NEW,
+    },
+    KnownFinding {
+        target: "urdf",
+        fragment: "graspath/src/robot/ik/kernel.rs:430",
+        issue: NEW,
+    },
+    KnownFinding {
         target: "ply",
         fragment: "invariant: normals are unit vectors",
         issue: NEW,

@@ -156,6 +156,21 @@ pub const KNOWN_FINDINGS: &[KnownFinding] = &[
     },
     // Found by this fuzzer and not covered by issue 13's list.
     KnownFinding {
+        target: "model",
+        fragment: "graspath::grasp::model::configuration::ConfigurationModel::new",
+        issue: NEW,
+    },
+    KnownFinding {
+        target: "model",
+        fragment: "min > max, or either was NaN",
+        issue: NEW,
+    },
+    KnownFinding {
+        target: "model",
+        fragment: "graspath/src/grasp/hand/mod.rs:151",
+        issue: NEW,
+    },
+    KnownFinding {
         target: "urdf",
         fragment: "Cannot compute the SVD of an empty matrix",
         issue: NEW,

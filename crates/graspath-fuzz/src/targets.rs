@@ -1,0 +1,894 @@
+//! The fuzz targets: one per input path of the library and the CLI. Each has a seed corpus
+//! (the files under `examples/` plus small files written with the library's own writers), an
+//! optional structure-aware generator, and a function that feeds one input to the code under
+//! test. Results (`Ok` or a typed error) are accepted; the oracles watch for panics, hangs and
+//! allocations (see [`crate::exec`]). A few invariants of successful reads are checked too
+//! (clouds hold only finite points and unit normals).
+//!
+//! Parsers that only take a path get the bytes written to a file in the per-process work
+//! directory ([`Ctx::dir`]), which also holds the small files a document may name
+//! (`robot.urdf`, `candidates.json`, `mesh.obj`, `cloud.pcd`, `three_finger_hand.urdf`, ...).
+
+use crate::rng::Rng;
+use crate::structured::{draw, pcd_file, task_yaml, urdf_document};
+use graspath::cloud::{
+    load_cloud_argument, pcd_bytes, ply_bytes, read_mesh, read_pcd_bytes, read_ply_bytes,
+    sample_primitive, PcdEncoding, PlyEncoding, PointCloud, Primitive, SampleOptions,
+};
+use graspath::geometry::pose_from_rows;
+use graspath::grasp::model::{
+    candidates_json, generate, train, Demonstration, GenerateOptions, GraspModel,
+};
+use graspath::grasp::read_candidates;
+use graspath::manipulability::{inverse_condition, yoshikawa, JacobianPart};
+use graspath::robot::builtin::{baxter, Arm};
+use graspath::robot::{
+    solve_ik, solve_trajectory, Chain, IkOptions, TrajectoryIkOptions, UrdfRobot,
+};
+use nalgebra::{Point3, Vector3};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The repository's `examples/` folder (seed corpus).
+pub fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// The shared robot models, when present (extra URDF seeds).
+pub fn shared_robots_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../../shared/robots")
+}
+
+const HAND_URDF: &str = include_str!("../../graspath/tests/data/three_finger_hand.urdf");
+const THREE_FINGER_DEMO: &str = include_str!("../../graspath/tests/data/three_finger_demo.json");
+
+/// Where per-process files go: `/dev/shm` when it exists (a file write there costs
+/// microseconds, against milliseconds on some disks), else the system's temporary directory.
+pub fn scratch_root() -> PathBuf {
+    let shm = Path::new("/dev/shm");
+    if shm.is_dir() {
+        shm.to_path_buf()
+    } else {
+        std::env::temp_dir()
+    }
+}
+
+/// A three-link arm (base → l1 → tip, two revolute joints) named by generated task files.
+pub const SMALL_ROBOT_URDF: &str = r#"<?xml version="1.0"?>
+<robot name="small">
+  <link name="base"/>
+  <link name="l1"/>
+  <link name="tip"/>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.3" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2.5" upper="2.5" effort="10" velocity="1"/>
+  </joint>
+  <joint name="j2" type="revolute">
+    <parent link="l1"/><child link="tip"/>
+    <origin xyz="0.4 0 0" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="10" velocity="1"/>
+  </joint>
+</robot>
+"#;
+
+const CUBE_OBJ: &str = "# unit cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+
+const QUAD_OBJ: &str = "v 0 0 0\nv 0.1 0 0\nv 0.1 0.1 0\nv 0 0.1 0\nvn 0 0 1\nvt 0 0\nf 1/1/1 2/1/1 3/1/1 4/1/1\nf -4 -3 -2\n";
+
+/// The shared state of one worker process: its work directory and the chains and model the
+/// targets use.
+pub struct Ctx {
+    /// The per-process work directory (input files and the support files they name).
+    pub dir: PathBuf,
+    model: OnceLock<Result<GraspModel, String>>,
+    baxter: OnceLock<Chain>,
+}
+
+impl Ctx {
+    /// Creates the work directory `<scratch>/graspath-fuzz-<pid>` with its support files.
+    pub fn new() -> std::io::Result<Self> {
+        let dir = Self::dir_of(std::process::id());
+        std::fs::create_dir_all(&dir)?;
+        let cloud = box_cloud(2000, true);
+        std::fs::write(dir.join("robot.urdf"), SMALL_ROBOT_URDF)?;
+        std::fs::write(dir.join("three_finger_hand.urdf"), HAND_URDF)?;
+        std::fs::write(dir.join("mesh.obj"), CUBE_OBJ)?;
+        std::fs::write(dir.join("mesh.stl"), binary_stl(CUBE_OBJ))?;
+        std::fs::write(
+            dir.join("cloud.ply"),
+            ply_bytes(&cloud, PlyEncoding::Ascii).unwrap_or_default(),
+        )?;
+        std::fs::write(
+            dir.join("cloud.pcd"),
+            pcd_bytes(&cloud, PcdEncoding::Binary).unwrap_or_default(),
+        )?;
+        std::fs::write(
+            dir.join("candidates.json"),
+            candidate_json_seeds()[0].as_bytes(),
+        )?;
+        std::fs::write(dir.join("candidates.csv"), CANDIDATES_CSV)?;
+        Ok(Self {
+            dir,
+            model: OnceLock::new(),
+            baxter: OnceLock::new(),
+        })
+    }
+
+    /// The work directory of process `pid`.
+    pub fn dir_of(pid: u32) -> PathBuf {
+        scratch_root().join(format!("graspath-fuzz-{pid}"))
+    }
+
+    /// Writes `bytes` to `name` in the work directory and returns its path.
+    pub fn file(&self, name: &str, bytes: &[u8]) -> PathBuf {
+        let path = self.dir.join(name);
+        // A failed write shows up as a read error in the target, which is not a finding.
+        let _ = std::fs::write(&path, bytes);
+        path
+    }
+
+    /// Builds what `target` needs (the trained model, the Baxter chain) before executions are
+    /// timed.
+    pub fn warm_up(&self, target: &Target) {
+        let _ = self.baxter();
+        if target.name == "model" || target.name == "generate" {
+            let _ = self.model();
+        }
+    }
+
+    fn baxter(&self) -> &Chain {
+        self.baxter.get_or_init(|| baxter(Arm::Left))
+    }
+
+    /// A small grasp model trained from the box demonstration on a 2000-point cloud (`None`
+    /// when training fails; [`Ctx::model_error`] says why).
+    pub fn model(&self) -> Option<&GraspModel> {
+        self.trained_model().as_ref().ok()
+    }
+
+    /// Why the fixed model could not be trained, if it could not.
+    pub fn model_error(&self) -> Option<&str> {
+        self.trained_model().as_ref().err().map(String::as_str)
+    }
+
+    fn trained_model(&self) -> &Result<GraspModel, String> {
+        self.model.get_or_init(|| {
+            let path = examples_dir().join("grasp/demo_box.json");
+            let text =
+                std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let demo: Demonstration = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+            let hand = demo
+                .hand
+                .load(&self.dir, "demo_box.json")
+                .map_err(|e| e.to_string())?;
+            let shape = Primitive::Box {
+                size: [0.05, 0.04, 0.14],
+            };
+            let options = SampleOptions {
+                points: 2000,
+                seed: 1,
+                ..SampleOptions::default()
+            };
+            let cloud = sample_primitive(&shape, &options).map_err(|e| e.to_string())?;
+            train(&demo, hand, &cloud, "demo_box.json").map_err(|e| e.to_string())
+        })
+    }
+}
+
+impl Drop for Ctx {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// A fuzz target.
+pub struct Target {
+    /// Its name on the command line.
+    pub name: &'static str,
+    /// What it feeds.
+    pub description: &'static str,
+    /// The extension of reproducer files.
+    pub extension: &'static str,
+    /// The seed corpus.
+    pub seeds: fn(&Ctx) -> Vec<Vec<u8>>,
+    /// A structure-aware generator, when the target has one.
+    pub structured: Option<fn(&mut Rng) -> Vec<u8>>,
+    /// Feeds one input to the code under test.
+    pub run: fn(&Ctx, &[u8]),
+    /// Executions of the deterministic CI slice.
+    pub ci_execs: u64,
+}
+
+/// Every target, in a fixed order.
+pub fn all() -> &'static [Target] {
+    TARGETS
+}
+
+/// The target named `name`.
+pub fn by_name(name: &str) -> Option<&'static Target> {
+    TARGETS.iter().find(|t| t.name == name)
+}
+
+/// Input `index` of `target` in a campaign seeded with `seed`: a structure-aware document
+/// (half of the inputs, when the target has a generator, a third of those mutated further) or
+/// a mutated seed.
+pub fn generate_input(target: &Target, corpus: &[Vec<u8>], seed: u64, index: u64) -> Vec<u8> {
+    let mut rng = Rng::for_input(seed, target.name, index);
+    if let Some(structured) = target.structured {
+        if rng.chance(1, 2) {
+            let mut data = structured(&mut rng);
+            if rng.chance(1, 3) {
+                crate::mutate::mutate_once(&mut rng, &mut data, corpus);
+            }
+            return data;
+        }
+    }
+    crate::mutate::mutate(&mut rng, corpus)
+}
+
+static TARGETS: &[Target] = &[
+    Target {
+        name: "urdf",
+        description: "UrdfRobot::from_xml, every root-to-link chain (FK, Jacobian, IK at the mid configuration), hand_from_urdf",
+        extension: "urdf",
+        seeds: urdf_seeds,
+        structured: Some(|rng| draw(&urdf_document(), rng).into_bytes()),
+        run: run_urdf,
+        ci_execs: 3000,
+    },
+    Target {
+        name: "ply",
+        description: "read_ply_bytes (ascii, binary little and big endian)",
+        extension: "ply",
+        seeds: ply_seeds,
+        structured: None,
+        run: |_, bytes| check_cloud(read_ply_bytes(bytes, "fuzz.ply")),
+        ci_execs: 3000,
+    },
+    Target {
+        name: "pcd",
+        description: "read_pcd_bytes (ascii, binary, binary_compressed)",
+        extension: "pcd",
+        seeds: pcd_seeds,
+        structured: Some(|rng| draw(&pcd_file(), rng)),
+        run: |_, bytes| check_cloud(read_pcd_bytes(bytes, "fuzz.pcd")),
+        ci_execs: 3000,
+    },
+    Target {
+        name: "obj",
+        description: "read_mesh on a .obj file, then area-weighted sampling of 64 points",
+        extension: "obj",
+        seeds: |_| vec![CUBE_OBJ.into(), QUAD_OBJ.into()],
+        structured: None,
+        run: |ctx, bytes| {
+            if let Ok(mesh) = read_mesh(&ctx.file("fuzz.obj", bytes)) {
+                sample_mesh(&mesh);
+            }
+        },
+        ci_execs: 3000,
+    },
+    Target {
+        name: "stl",
+        description: "read_mesh on a .stl file (ascii and binary), then area-weighted sampling of 64 points",
+        extension: "stl",
+        seeds: |_| vec![ascii_stl(CUBE_OBJ).into_bytes(), binary_stl(CUBE_OBJ), binary_stl(QUAD_OBJ)],
+        structured: None,
+        run: |ctx, bytes| {
+            if let Ok(mesh) = read_mesh(&ctx.file("fuzz.stl", bytes)) {
+                sample_mesh(&mesh);
+            }
+        },
+        ci_execs: 3000,
+    },
+    Target {
+        name: "cloud_json",
+        description: "load_cloud_argument on a .json cloud source (primitive, mesh or file)",
+        extension: "json",
+        seeds: cloud_json_seeds,
+        structured: None,
+        run: |ctx, bytes| check_cloud(load_cloud_argument(&ctx.file("cloud_source.json", bytes))),
+        ci_execs: 800,
+    },
+    Target {
+        name: "task_yaml",
+        description: "task loading from YAML (robot, candidates, sampled path, settings)",
+        extension: "yaml",
+        seeds: task_yaml_seeds,
+        structured: Some(|rng| draw(&task_yaml(), rng).into_bytes()),
+        run: |ctx, bytes| load_task(&ctx.file("task.yaml", bytes)),
+        ci_execs: 2000,
+    },
+    Target {
+        name: "task_json",
+        description: "task loading from JSON",
+        extension: "json",
+        seeds: task_json_seeds,
+        structured: None,
+        run: |ctx, bytes| load_task(&ctx.file("task.json", bytes)),
+        ci_execs: 2000,
+    },
+    Target {
+        name: "candidates_json",
+        description: "read_candidates on a .json file (wrapped and bare, matrix and quaternion forms)",
+        extension: "json",
+        seeds: |_| candidate_json_seeds().into_iter().map(String::into_bytes).collect(),
+        structured: None,
+        run: |ctx, bytes| {
+            let _ = read_candidates(&ctx.file("fuzz_candidates.json", bytes));
+        },
+        ci_execs: 3000,
+    },
+    Target {
+        name: "candidates_csv",
+        description: "read_candidates on a .csv file",
+        extension: "csv",
+        seeds: |_| vec![CANDIDATES_CSV.into(), CANDIDATES_CSV_LIKELIHOOD.into()],
+        structured: None,
+        run: |ctx, bytes| {
+            let _ = read_candidates(&ctx.file("fuzz_candidates.csv", bytes));
+        },
+        ci_execs: 3000,
+    },
+    Target {
+        name: "model",
+        description: "GraspModel::from_json, then a small generate() on a 300-point box cloud",
+        extension: "json",
+        seeds: |ctx| ctx.model().and_then(|m| m.to_json().ok()).into_iter().collect(),
+        structured: None,
+        run: run_model,
+        ci_execs: 200,
+    },
+    Target {
+        name: "generate",
+        description: "a PLY or PCD cloud read, then a small generate() with a fixed trained model",
+        extension: "cloud",
+        seeds: generate_seeds,
+        structured: Some(|rng| draw(&pcd_file(), rng)),
+        run: run_generate,
+        ci_execs: 200,
+    },
+    Target {
+        name: "demo",
+        description: "a demonstration file: Demonstration::read, hand and cloud loading, training",
+        extension: "json",
+        seeds: demo_seeds,
+        structured: None,
+        run: run_demo,
+        ci_execs: 100,
+    },
+    Target {
+        name: "kinematics",
+        description: "`graspath kinematics` JSON Lines {\"q\":[...]} on Baxter's left arm",
+        extension: "jsonl",
+        seeds: |_| vec![KINEMATICS_LINES.into()],
+        structured: None,
+        run: run_kinematics,
+        ci_execs: 3000,
+    },
+    Target {
+        name: "ik",
+        description: "`graspath ik` JSON Lines {\"pose\":[[4x4]]} on Baxter's left arm (5 ms per pose)",
+        extension: "jsonl",
+        seeds: |_| vec![IK_LINES.into()],
+        structured: None,
+        run: run_ik,
+        ci_execs: 1000,
+    },
+    Target {
+        name: "ik_trajectory",
+        description: "`graspath ik --trajectory` document {\"poses\":[...]} on Baxter's left arm",
+        extension: "json",
+        seeds: |_| vec![IK_TRAJECTORY.into()],
+        structured: None,
+        run: run_ik_trajectory,
+        ci_execs: 300,
+    },
+];
+
+/// Loads a task file. The one place that names the task loader, so that a move of `Task`
+/// (e.g. to `graspath::task`) changes one line.
+fn load_task(path: &Path) {
+    let _ = graspath::task::Task::load(path);
+}
+
+/// Successful cloud reads must hold only finite points, and unit normals when present.
+fn check_cloud<E>(result: Result<PointCloud, E>) {
+    let Ok(cloud) = result else { return };
+    assert!(
+        !cloud.points.is_empty(),
+        "invariant: a cloud read without error has points"
+    );
+    assert!(
+        cloud.points.iter().all(|p| p.iter().all(|c| c.is_finite())),
+        "invariant: a cloud read without error has only finite points"
+    );
+    if let Some(normals) = &cloud.normals {
+        assert_eq!(
+            normals.len(),
+            cloud.points.len(),
+            "invariant: one normal per point"
+        );
+        assert!(
+            normals.iter().all(|n| (n.norm() - 1.0).abs() < 1e-6),
+            "invariant: normals are unit vectors"
+        );
+    }
+}
+
+fn sample_mesh(mesh: &graspath::cloud::TriangleMesh) {
+    let options = SampleOptions {
+        points: 64,
+        ..SampleOptions::default()
+    };
+    check_cloud(mesh.sample(&options, "fuzz mesh"));
+}
+
+fn run_urdf(ctx: &Ctx, bytes: &[u8]) {
+    let text = String::from_utf8_lossy(bytes);
+    let Ok(robot) = UrdfRobot::from_xml(&text, "fuzz.urdf") else {
+        return;
+    };
+    let doc = robot.document();
+    let children: std::collections::HashSet<&str> =
+        doc.joints.iter().map(|j| j.child.link.as_str()).collect();
+    let roots: Vec<&str> = doc
+        .links
+        .iter()
+        .map(|l| l.name.as_str())
+        .filter(|l| !children.contains(l))
+        .take(2)
+        .collect();
+    let links: Vec<&str> = doc.links.iter().map(|l| l.name.as_str()).take(12).collect();
+    let meshes = graspath::robot::MeshResolver::from_env(&ctx.dir, Vec::new());
+    for base in &roots {
+        let _ = graspath::grasp::hand::hand_from_urdf(&robot, base, &meshes);
+        for tip in &links {
+            let Ok(chain) = robot.chain(base, tip, None) else {
+                continue;
+            };
+            let q = chain.mid_configuration();
+            let _ = chain.within_limits(&q);
+            let mut jacobian = nalgebra::Matrix6xX::zeros(chain.dof());
+            if let Ok(pose) = chain.pose_and_jacobian_into(&q, &mut jacobian) {
+                let _ = yoshikawa(&jacobian, JacobianPart::Full);
+                let _ = inverse_condition(&jacobian, JacobianPart::Full);
+                let target = nalgebra::convert(pose);
+                let options = IkOptions {
+                    max_time: None,
+                    max_iterations: 50,
+                    ..IkOptions::default()
+                };
+                let _ = solve_ik(&chain, &target, &q, &options);
+            }
+        }
+    }
+}
+
+fn tiny_generate_options() -> GenerateOptions {
+    GenerateOptions {
+        seeds: 8,
+        steps: 4,
+        first_stage_steps: 2,
+        query_kernels: 64,
+        tries: 1,
+        keep_fraction: 0.5,
+        seed: 0,
+    }
+}
+
+fn run_model(_: &Ctx, bytes: &[u8]) {
+    let text = String::from_utf8_lossy(bytes);
+    let Ok(model) = GraspModel::from_json(&text, "fuzz_model.json") else {
+        return;
+    };
+    let cloud = small_cloud(true);
+    if let Ok(candidates) = generate(&model, &cloud, &tiny_generate_options(), "fuzz", &|_| {}) {
+        let _ = candidates_json(&candidates, "fuzz");
+    }
+}
+
+fn run_generate(ctx: &Ctx, bytes: &[u8]) {
+    let cloud = if bytes.starts_with(b"ply") {
+        read_ply_bytes(bytes, "fuzz.ply")
+    } else {
+        read_pcd_bytes(bytes, "fuzz.pcd")
+    };
+    let (Ok(cloud), Some(model)) = (cloud, ctx.model()) else {
+        return;
+    };
+    let _ = generate(model, &cloud, &tiny_generate_options(), "fuzz", &|_| {});
+}
+
+fn run_demo(ctx: &Ctx, bytes: &[u8]) {
+    let _ = graspath::grasp::model::train_file(&ctx.file("demo.json", bytes));
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KinematicsLine {
+    q: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PoseLine {
+    pose: [[f64; 4]; 4],
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TrajectoryInput {
+    poses: Vec<[[f64; 4]; 4]>,
+}
+
+/// The non-blank lines of a JSON Lines input, as the CLI reads them (`BufRead::lines`: a line
+/// that is not UTF-8 ends the input with an error).
+fn json_lines(bytes: &[u8]) -> impl Iterator<Item = &str> {
+    bytes
+        .split(|b| *b == b'\n')
+        .map_while(|line| std::str::from_utf8(line).ok())
+        .map(|line| line.strip_suffix('\r').unwrap_or(line))
+        .filter(|line| !line.trim().is_empty())
+}
+
+/// Mirrors `graspath kinematics` (crates/graspath-cli/src/commands/kinematics.rs), whose input
+/// types are private to the binary.
+fn run_kinematics(ctx: &Ctx, bytes: &[u8]) {
+    let chain = ctx.baxter();
+    let mut jacobian = nalgebra::Matrix6xX::zeros(chain.dof());
+    for line in json_lines(bytes) {
+        let Ok(input) = serde_json::from_str::<KinematicsLine>(line) else {
+            return;
+        };
+        let Ok(_pose) = chain.pose_and_jacobian_into(&input.q, &mut jacobian) else {
+            return;
+        };
+        let _ = yoshikawa(&jacobian, JacobianPart::Full);
+        let _ = yoshikawa(&jacobian, JacobianPart::Translation);
+        let _ = inverse_condition(&jacobian, JacobianPart::Full);
+        let _ = chain.within_limits(&input.q);
+    }
+}
+
+/// Mirrors `graspath ik` on JSON Lines with the CLI's defaults (seed `mid`, 5 ms per pose).
+fn run_ik(ctx: &Ctx, bytes: &[u8]) {
+    let chain = ctx.baxter();
+    let seed = chain.mid_configuration();
+    let options = IkOptions::default();
+    for line in json_lines(bytes) {
+        let Ok(input) = serde_json::from_str::<PoseLine>(line) else {
+            return;
+        };
+        let Ok(target) = pose_from_rows(&input.pose) else {
+            return;
+        };
+        if let Ok(solution) = solve_ik(chain, &target, &seed, &options) {
+            let _ = serde_json::to_string(&(
+                solution.q,
+                solution.position_error,
+                solution.rotation_error,
+            ));
+        }
+    }
+}
+
+/// Mirrors `graspath ik --trajectory` with the CLI's defaults (step 0.5, 4 branches).
+fn run_ik_trajectory(ctx: &Ctx, bytes: &[u8]) {
+    let chain = ctx.baxter();
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return;
+    };
+    let Ok(input) = serde_json::from_str::<TrajectoryInput>(text) else {
+        return;
+    };
+    let Ok(poses) = input
+        .poses
+        .iter()
+        .map(pose_from_rows)
+        .collect::<Result<Vec<_>, _>>()
+    else {
+        return;
+    };
+    if poses.is_empty() {
+        return;
+    }
+    let defaults = TrajectoryIkOptions::default();
+    let options = TrajectoryIkOptions {
+        ik: IkOptions {
+            max_time: None,
+            ..IkOptions::default()
+        },
+        max_joint_step: 0.5,
+        branches: 4,
+        ..defaults
+    };
+    if let Ok(result) = solve_trajectory(chain, &poses, &chain.mid_configuration(), &options) {
+        let _ = serde_json::to_string(&result);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Seeds
+
+/// A small box cloud with outward normals (300 points).
+pub fn small_cloud(normals: bool) -> PointCloud {
+    box_cloud(300, normals)
+}
+
+/// The demonstration's box (0.05 × 0.04 × 0.14 m) sampled with `points` points.
+fn box_cloud(points: usize, normals: bool) -> PointCloud {
+    let shape = Primitive::Box {
+        size: [0.05, 0.04, 0.14],
+    };
+    let options = SampleOptions {
+        points,
+        seed: 2,
+        ..SampleOptions::default()
+    };
+    let mut cloud = sample_primitive(&shape, &options).unwrap_or_else(|_| {
+        PointCloud::from_points(vec![Point3::origin(), Point3::new(0.01, 0.0, 0.0)])
+    });
+    if !normals {
+        cloud.normals = None;
+    }
+    cloud
+}
+
+fn tiny_cloud(normals: bool) -> PointCloud {
+    PointCloud {
+        points: vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(0.01, -0.02, 0.5),
+            Point3::new(-1.5, 2.0, 1e-3),
+        ],
+        normals: normals.then(|| vec![Vector3::z(), Vector3::x(), Vector3::new(0.0, 0.6, 0.8)]),
+    }
+}
+
+fn ply_seeds(_: &Ctx) -> Vec<Vec<u8>> {
+    let mut seeds = Vec::new();
+    for encoding in [
+        PlyEncoding::Ascii,
+        PlyEncoding::BinaryLittleEndian,
+        PlyEncoding::BinaryBigEndian,
+    ] {
+        for normals in [false, true] {
+            seeds.extend(ply_bytes(&tiny_cloud(normals), encoding).ok());
+        }
+    }
+    seeds.push(b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n3 0 1 1\n".to_vec());
+    seeds
+}
+
+fn pcd_seeds(_: &Ctx) -> Vec<Vec<u8>> {
+    let mut seeds = Vec::new();
+    for encoding in [
+        PcdEncoding::Ascii,
+        PcdEncoding::Binary,
+        PcdEncoding::BinaryCompressed,
+    ] {
+        for normals in [false, true] {
+            seeds.extend(pcd_bytes(&tiny_cloud(normals), encoding).ok());
+        }
+    }
+    // An organised cloud (WIDTH × HEIGHT) with a NaN point, as depth cameras write.
+    seeds.push(b"# .PCD v0.7\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n0 0 1 255\nnan nan nan 0\n0.1 0 1 255\n0.1 0.1 1 255\n".to_vec());
+    seeds
+}
+
+fn generate_seeds(ctx: &Ctx) -> Vec<Vec<u8>> {
+    let cloud = small_cloud(true);
+    let mut seeds: Vec<Vec<u8>> = pcd_seeds(ctx);
+    seeds.extend(pcd_bytes(&cloud, PcdEncoding::Ascii).ok());
+    seeds.extend(ply_bytes(&cloud, PlyEncoding::Ascii).ok());
+    seeds.extend(ply_bytes(&cloud, PlyEncoding::BinaryLittleEndian).ok());
+    seeds
+}
+
+fn read_dir_files(dir: &Path, extension: &str) -> Vec<Vec<u8>> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == extension))
+        .collect();
+    paths.sort();
+    paths.iter().filter_map(|p| std::fs::read(p).ok()).collect()
+}
+
+fn urdf_seeds(_: &Ctx) -> Vec<Vec<u8>> {
+    let mut seeds = vec![SMALL_ROBOT_URDF.into(), HAND_URDF.into()];
+    seeds.extend(read_dir_files(&shared_robots_dir(), "urdf"));
+    let mut rng = Rng::new(0x5eed);
+    seeds.extend((0..4).map(|_| draw(&urdf_document(), &mut rng).into_bytes()));
+    seeds
+}
+
+fn task_yaml_seeds(_: &Ctx) -> Vec<Vec<u8>> {
+    let mut seeds = read_dir_files(&examples_dir(), "yaml");
+    let mut rng = Rng::new(0x7a5c);
+    seeds.extend((0..4).map(|_| draw(&task_yaml(), &mut rng).into_bytes()));
+    seeds
+}
+
+/// The example tasks converted to JSON with the library's own parser and serde.
+fn task_json_seeds(ctx: &Ctx) -> Vec<Vec<u8>> {
+    task_yaml_seeds(ctx)
+        .iter()
+        .filter_map(|yaml| {
+            let file = graspath::task::TaskFile::parse(
+                std::str::from_utf8(yaml).ok()?,
+                "seed.yaml",
+                "yaml",
+            )
+            .ok()?;
+            serde_json::to_vec_pretty(&file).ok()
+        })
+        .collect()
+}
+
+fn cloud_json_seeds(_: &Ctx) -> Vec<Vec<u8>> {
+    let mut seeds = read_dir_files(&examples_dir().join("grasp"), "json");
+    // Only the cloud sources (the demonstrations are the `demo` target's seeds).
+    seeds.retain(|s| !s.windows(13).any(|w| w == b"demonstration"));
+    seeds.push(
+        br#"{"mesh": {"path": "mesh.obj", "points": 200, "seed": 4, "noise": 0.001}}"#.to_vec(),
+    );
+    seeds.push(br#"{"mesh": {"path": "mesh.stl", "points": 100, "view": [2, 2, 2]}}"#.to_vec());
+    seeds.push(br#"{"file": "cloud.pcd"}"#.to_vec());
+    seeds.push(br#"{"file": "cloud.ply"}"#.to_vec());
+    seeds.push(br#"{"primitive": {"shape": {"sphere": {"radius": 0.05}}, "points": 300, "view": [0, 0, 1]}}"#.to_vec());
+    seeds
+}
+
+fn demo_seeds(_: &Ctx) -> Vec<Vec<u8>> {
+    let mut seeds = Vec::new();
+    if let Ok(text) = std::fs::read(examples_dir().join("grasp/demo_box.json")) {
+        seeds.push(text);
+    }
+    seeds.push(THREE_FINGER_DEMO.into());
+    // The same demonstrations with small clouds (cheaper executions reach more of training).
+    let small: Vec<Vec<u8>> = seeds
+        .iter()
+        .map(|s| {
+            String::from_utf8_lossy(s)
+                .replace("\"points\": 5000", "\"points\": 1500")
+                .replace("\"points\": 4000", "\"points\": 1500")
+                .into_bytes()
+        })
+        .collect();
+    seeds.extend(small);
+    seeds.push(br#"{"format": "graspath-demonstration", "version": 1, "hand": "baxter_electric_gripper",
+ "cloud": {"file": "cloud.pcd"},
+ "waypoints": [{"object_from_wrist": [[0,1,0,0],[1,0,0,0],[0,0,-1,0.03],[0,0,0,1]], "hand_joints": [0.05]}]}"#.to_vec());
+    seeds
+}
+
+fn candidate_json_seeds() -> Vec<String> {
+    vec![
+        r#"{"format": "graspath-candidates", "version": 1, "frame": "object", "candidates": [
+  {"id": 0, "label": "top", "object_from_wrist": [[1,0,0,0],[0,-1,0,0],[0,0,-1,0.1],[0,0,0,1]], "likelihood": 0.5, "contact": [0, 0, 0.03]},
+  {"id": 1, "xyz": [0.02, 0, 0.1], "quaternion": [1, 0, 0, 0], "log_likelihood": -1.5, "contact": null, "hand_joints": [0.04]}
+]}"#
+        .to_string(),
+        r#"[{"xyz": [0, 0, 0.12], "quaternion": [0, 1, 0, 0]}, {"xyz": [0.01, 0, 0.12], "quaternion": [0, 0.7071068, 0.7071068, 0]}]"#.to_string(),
+    ]
+}
+
+const CANDIDATES_CSV: &str = "id,label,x,y,z,qx,qy,qz,qw,likelihood,contact_x,contact_y,contact_z\n0,top,0,0,0.1,1,0,0,0,0.5,0,0,0.03\n1,side,0.05,0,0,0,0.7071068,0,0.7071068,0.25,0.03,0,0\n";
+const CANDIDATES_CSV_LIKELIHOOD: &str =
+    "x,y,z,qx,qy,qz,qw,log_likelihood\n0,0,0.1,0,0,0,1,-2\n0.01,0.02,0.1,0,0,1,0,-3\n";
+
+const KINEMATICS_LINES: &str = "{\"q\":[0,0,0,0,0,0,0]}\n{\"q\":[0.1,-0.5,0.3,1.2,-0.4,0.8,0.2]}\n\n{\"q\":[-1.7,-2.1,-3.0,-0.05,-3.0,-1.5,-3.0]}\n";
+
+const IK_LINES: &str = "{\"pose\":[[0,0,1,0.7],[0,1,0,0.3],[-1,0,0,0.1],[0,0,0,1]]}\n{\"pose\":[[1,0,0,0.5],[0,-1,0,0.2],[0,0,-1,-0.1],[0,0,0,1]]}\n";
+
+const IK_TRAJECTORY: &str = "{\"poses\":[[[1,0,0,0.6],[0,-1,0,0.3],[0,0,-1,0.0],[0,0,0,1]],[[1,0,0,0.6],[0,-1,0,0.32],[0,0,-1,0.0],[0,0,0,1]],[[1,0,0,0.6],[0,-1,0,0.34],[0,0,-1,0.02],[0,0,0,1]]]}\n";
+
+/// The triangles of a simple OBJ text (`v x y z` and `f i j k ...` with 1-based or negative
+/// indices, polygons fanned), for the STL seeds.
+fn obj_triangles(obj: &str) -> Vec<[Point3<f64>; 3]> {
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for line in obj.lines() {
+        let mut tokens = line.split_whitespace();
+        match tokens.next() {
+            Some("v") => {
+                let c: Vec<f64> = tokens.filter_map(|t| t.parse().ok()).collect();
+                if c.len() >= 3 {
+                    vertices.push(Point3::new(c[0], c[1], c[2]));
+                }
+            }
+            Some("f") => {
+                let n = vertices.len() as i64;
+                let face: Vec<Point3<f64>> = tokens
+                    .filter_map(|t| t.split('/').next()?.parse::<i64>().ok())
+                    .filter_map(|i| {
+                        vertices
+                            .get(if i < 0 { n + i } else { i - 1 } as usize)
+                            .copied()
+                    })
+                    .collect();
+                for k in 1..face.len().saturating_sub(1) {
+                    triangles.push([face[0], face[k], face[k + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    triangles
+}
+
+/// A binary STL (80-byte header, u32 count, 50 bytes per triangle) of an OBJ's triangles.
+pub fn binary_stl(obj: &str) -> Vec<u8> {
+    let triangles = obj_triangles(obj);
+    let mut out = vec![0u8; 80];
+    out[..11].copy_from_slice(b"graspath fz");
+    out.extend_from_slice(&(triangles.len() as u32).to_le_bytes());
+    for t in &triangles {
+        out.extend_from_slice(&[0u8; 12]);
+        for p in t {
+            for c in p.iter() {
+                out.extend_from_slice(&(*c as f32).to_le_bytes());
+            }
+        }
+        out.extend_from_slice(&[0u8; 2]);
+    }
+    out
+}
+
+/// An ascii STL of an OBJ's triangles.
+pub fn ascii_stl(obj: &str) -> String {
+    let mut out = "solid fuzz\n".to_string();
+    for t in obj_triangles(obj) {
+        out.push_str("  facet normal 0 0 0\n    outer loop\n");
+        for p in t {
+            out.push_str(&format!("      vertex {} {} {}\n", p.x, p.y, p.z));
+        }
+        out.push_str("    endloop\n  endfacet\n");
+    }
+    out.push_str("endsolid fuzz\n");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_target_has_seeds_and_the_model_trains() {
+        let ctx = Ctx::new().expect("work directory");
+        assert_eq!(ctx.model_error(), None, "the fixed model must train");
+        for target in all() {
+            let seeds = (target.seeds)(&ctx);
+            assert!(!seeds.is_empty(), "{} has no seeds", target.name);
+        }
+    }
+}
+
+#[cfg(test)]
+mod seed_tests {
+    use super::*;
+
+    /// Mutating valid inputs reaches past the parsers: the seeds themselves must be accepted.
+    #[test]
+    fn demo_and_task_seeds_are_valid_inputs() {
+        let ctx = Ctx::new().expect("work directory");
+        for (k, seed) in demo_seeds(&ctx).iter().enumerate() {
+            let path = ctx.file(&format!("seed{k}.json"), seed);
+            if let Err(e) = graspath::grasp::model::train_file(&path) {
+                panic!("demo seed {k}: {e}");
+            }
+        }
+        for (k, seed) in task_json_seeds(&ctx).iter().enumerate().take(7) {
+            let path = ctx.file(&format!("seed{k}.json"), seed);
+            if let Err(e) = graspath::task::Task::load(&path) {
+                panic!("task seed {k}: {e}");
+            }
+        }
+    }
+}

@@ -66,9 +66,14 @@ impl RobotArgs {
                 };
                 Ok(RobotSource::urdf(path).load()?.chain(base, tip, tool)?)
             }
-            (None, Some(name)) => Ok(RobotSource::builtin(name.as_str())
-                .load()?
-                .named_chain(&self.arm, tool)?),
+            (None, Some(name)) => {
+                let model = RobotSource::builtin(name.as_str())
+                    .load()
+                    .map_err(|e| bad_input!("--robot: {e}"))?;
+                Ok(model
+                    .named_chain(&self.arm, tool)
+                    .map_err(|e| bad_input!("--arm: {e}"))?)
+            }
             _ => Err(bad_input!("choose a robot: --robot baxter --arm left|right, or --urdf FILE --base LINK --tip LINK")),
         }
     }

@@ -640,9 +640,12 @@ mod tests {
                     .is_ok()
             })
             .count();
-        assert!(task_ok > 60, "{task_ok} of 200 task files parsed");
-        // The PCD reader dependency panics on some inconsistent files (a fuzz finding); count
-        // those as not parsed.
+        // Shapes are checked while parsing (a negative size is a parse error), so fewer of the
+        // extreme documents get through than URDFs do.
+        assert!(task_ok > 40, "{task_ok} of 200 task files parsed");
+        // The PCD reader now refuses every header whose counts disagree (WIDTH × HEIGHT,
+        // POINTS, the bytes present), which most generated headers do; a few still get through
+        // to the payload decoders. A panic counts as not parsed.
         let pcd_ok = (0..400)
             .filter(|_| {
                 let file = draw(&pcd_file(), &mut rng);
@@ -650,7 +653,7 @@ mod tests {
                     .unwrap_or(false)
             })
             .count();
-        assert!(pcd_ok > 20, "{pcd_ok} of 400 PCD files parsed");
+        assert!(pcd_ok > 5, "{pcd_ok} of 400 PCD files parsed");
     }
 
     #[test]

@@ -185,7 +185,7 @@ const CASES: &[Case] = &[
         expect: &[
             "big.pcd",
             "POINTS",
-            "1000000000000 exceeds the limit of 50000000",
+            "1000000000000 exceeds the limit of 20000000",
         ],
         refuse: &[],
     },
@@ -256,7 +256,7 @@ const CASES: &[Case] = &[
         run: |d| {
             load(d, "big.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n")
         },
-        expect: &["big.ply", "element vertex", "exceeds the limit of 50000000"],
+        expect: &["big.ply", "element vertex", "exceeds the limit of 20000000"],
         refuse: &[],
     },
     Case {

@@ -37,10 +37,10 @@ pub use primitives::{sample_primitive, Primitive, SampleOptions};
 
 use nalgebra::{Point3, Vector3};
 
-/// The most points a cloud may have (50 million, about 1.2 GB of positions): a PCD `POINTS`,
+/// The most points a cloud may have (20 million, 480 MB of positions and as much of normals): a PCD `POINTS`,
 /// a PLY `vertex` count or a sampling `points` option above it is refused before anything is
 /// allocated.
-pub const MAX_CLOUD_POINTS: usize = 50_000_000;
+pub const MAX_CLOUD_POINTS: usize = 20_000_000;
 
 /// The most triangles a mesh file may have (20 million).
 pub const MAX_MESH_TRIANGLES: usize = 20_000_000;
@@ -105,12 +105,20 @@ impl PointCloud {
                     .points
                     .iter()
                     .zip(normals)
-                    .filter(|(p, n)| {
-                        p.iter().all(|c| c.is_finite())
-                            && n.iter().all(|c| c.is_finite())
-                            && n.norm() > 1e-12
+                    .filter_map(|(p, n)| {
+                        if !(p.iter().all(|c| c.is_finite()) && n.iter().all(|c| c.is_finite())) {
+                            return None;
+                        }
+                        let norm = n.norm();
+                        let unit = if norm.is_finite() {
+                            (norm > 1e-12).then(|| n / norm)?
+                        } else {
+                            // A huge normal: scaled by its largest component first, so that
+                            // its norm does not overflow.
+                            (n / n.amax()).normalize()
+                        };
+                        Some((*p, unit))
                     })
-                    .map(|(p, n)| (*p, n.normalize()))
                     .unzip();
                 self.points = points;
                 self.normals = Some(normals);

@@ -40,6 +40,9 @@ pub enum Primitive {
     },
 }
 
+/// The largest noise standard deviation (m): beyond it the cloud no longer shows the shape.
+pub const MAX_NOISE: f64 = 1.0;
+
 /// How many points to draw, the seed, noise and the simulated viewpoint.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -83,10 +86,10 @@ impl SampleOptions {
                 ),
             });
         }
-        if !(self.noise.is_finite() && self.noise >= 0.0) {
+        if !(self.noise.is_finite() && (0.0..=MAX_NOISE).contains(&self.noise)) {
             return Err(CloudError::BadOption {
                 field: "noise".into(),
-                message: format!("must be a non-negative length, got {}", self.noise),
+                message: format!("must be a length in [0, {MAX_NOISE}] m, got {}", self.noise),
             });
         }
         if let Some(v) = self.view {

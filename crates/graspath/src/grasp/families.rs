@@ -58,6 +58,14 @@ pub enum FamilyError {
     /// A face name that is not one of the six.
     #[error("unknown face '{0}' (faces: top, bottom, left, right, front, back)")]
     UnknownFace(String),
+    /// A yaw family's start or step is not an angle within one turn either way.
+    #[error("{field} must be within ±360 degrees, got {degrees}")]
+    AngleOutOfRange {
+        /// `start_deg` or `step_deg`.
+        field: &'static str,
+        /// The value given (degrees).
+        degrees: f64,
+    },
     /// Every face is wider than the gripper opens.
     #[error("no face of a {size:?} m box fits a {GRIPPER_MAX_OPENING} m gripper opening")]
     NoFaceFits {
@@ -118,6 +126,14 @@ pub fn yaw_family(
 ) -> Result<Vec<Candidate>, FamilyError> {
     if count == 0 {
         return Err(FamilyError::ZeroCount);
+    }
+    for (field, angle) in [("start_deg", start), ("step_deg", step)] {
+        if !(angle.is_finite() && angle.abs() <= 2.0 * std::f64::consts::PI) {
+            return Err(FamilyError::AngleOutOfRange {
+                field,
+                degrees: angle.to_degrees(),
+            });
+        }
     }
     let top = top_of(shape);
     let base = wrist_rotation(-Vector3::z(), Vector3::x());

@@ -59,6 +59,50 @@ struct LinkSlot {
     identity: bool,
 }
 
+/// The largest distance (m) between consecutive joint frames: a larger offset is a unit
+/// mistake (millimetres) or a corrupt file, and would overflow the kinematics.
+pub const MAX_JOINT_OFFSET: f64 = 1000.0;
+
+/// Checks what the kinematics needs of one joint: a finite origin within
+/// [`MAX_JOINT_OFFSET`], and finite limits `lower ≤ upper` on a revolute or prismatic joint
+/// (only a continuous joint is unbounded).
+fn check_joint(spec: &ChainSpec, joint: &super::spec::JointSpec) -> Result<(), RobotError> {
+    let bad = |field: &'static str, message: String| RobotError::BadJoint {
+        source_name: spec.source_name.clone(),
+        joint: joint.name.clone(),
+        field,
+        message,
+    };
+    let t = joint.parent_from_joint.translation.vector;
+    let q = joint.parent_from_joint.rotation.coords;
+    if t.iter().chain(q.iter()).any(|v| !v.is_finite()) {
+        return Err(bad("origin", "must be finite".into()));
+    }
+    if t.amax() > MAX_JOINT_OFFSET {
+        return Err(bad(
+            "origin/@xyz",
+            format!(
+                "{:?} is more than {MAX_JOINT_OFFSET} m from the parent frame (are the units metres?)",
+                t.as_slice()
+            ),
+        ));
+    }
+    let bounded = matches!(joint.kind, JointKind::Revolute | JointKind::Prismatic);
+    if bounded
+        && joint.mimic.is_none()
+        && !(joint.lower.is_finite() && joint.upper.is_finite() && joint.lower <= joint.upper)
+    {
+        return Err(bad(
+            "limit",
+            format!(
+                "lower {} and upper {} must be finite with lower <= upper",
+                joint.lower, joint.upper
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// A serial kinematic chain from a base link to a tip link (plus an optional tool offset),
 /// ready for fast forward kinematics. Cheap to share between threads (`Sync`, no interior state).
 #[derive(Debug, Clone, PartialEq)]
@@ -121,6 +165,7 @@ impl Chain {
             }
         };
         for joint in &spec.joints {
+            check_joint(spec, joint)?;
             let motion = match joint.kind {
                 JointKind::Fixed => {
                     pending *= joint.parent_from_joint;
@@ -175,6 +220,17 @@ impl Chain {
             });
             link_names.push(child_name(joint));
             link_slots.push(slot(Some(segments.len() - 1), &pending));
+        }
+        if segments.is_empty() {
+            return Err(RobotError::BadJoint {
+                source_name: spec.source_name.clone(),
+                joint: spec.tip_link.clone(),
+                field: "joint",
+                message: format!(
+                    "the chain {} -> {} has no moving joint",
+                    spec.base_link, spec.tip_link
+                ),
+            });
         }
         if segments.len() > MAX_JOINTS {
             return Err(RobotError::BadJoint {

@@ -161,7 +161,7 @@ fn bad_inputs_give_one_clear_error_and_no_output() {
             "--out".into(),
             s(&out).into(),
         ];
-        v.extend(SMALL.iter().map(|a| a.to_string()));
+        v.extend(SMALL.iter().map(ToString::to_string));
         v
     };
     let run_fail = |args: Vec<String>, file: &str, what: &str| {

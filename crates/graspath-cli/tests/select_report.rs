@@ -68,7 +68,7 @@ fn report_files_are_written_deterministically() {
     // No temporary files are left behind.
     let leftovers: Vec<_> = std::fs::read_dir(&a)
         .unwrap()
-        .filter_map(|e| e.ok())
+        .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");

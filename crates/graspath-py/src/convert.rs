@@ -55,7 +55,7 @@ pub fn shape_text(shape: &[usize]) -> String {
             "({})",
             shape
                 .iter()
-                .map(|d| d.to_string())
+                .map(ToString::to_string)
                 .collect::<Vec<_>>()
                 .join(", ")
         ),

@@ -109,7 +109,7 @@ fn batch_into(
             .zip(q.par_chunks(dof * BATCH_CHUNK))
             .try_for_each(|(poses, rows)| {
                 chain.for_each_pose(rows, |k, pose| {
-                    write_matrix_pose(&mut poses[16 * k..16 * (k + 1)], pose)
+                    write_matrix_pose(&mut poses[16 * k..16 * (k + 1)], pose);
                 })
             });
     };

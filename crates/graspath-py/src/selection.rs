@@ -91,7 +91,11 @@ impl PySelection {
             .map(|s| s.candidate.id as i64)
             .collect();
         dict.set_item("id", PyArray1::from_vec(py, ids))?;
-        let feasible: Vec<bool> = result.scores.iter().map(|s| s.feasible()).collect();
+        let feasible: Vec<bool> = result
+            .scores
+            .iter()
+            .map(graspath::select::CandidateScore::feasible)
+            .collect();
         dict.set_item("feasible", PyArray1::from_vec(py, feasible))?;
         let ranks: Vec<i64> = result
             .rankings

@@ -56,7 +56,7 @@ fn bench(c: &mut Criterion) {
                 ..GenerateOptions::default()
             };
             black_box(generate(&model, &cloud, &options, "cylinder", &|_| {}).expect("generate"))
-        })
+        });
     });
     group.finish();
     let t_shape = sample_primitive(
@@ -89,7 +89,7 @@ fn bench(c: &mut Criterion) {
                     ..GenerateOptions::default()
                 };
                 black_box(generate(&model, &cloud, &options, "t", &|_| {}).expect("generate"))
-            })
+            });
         });
     }
     group.finish();
@@ -100,7 +100,7 @@ fn bench(c: &mut Criterion) {
             recompute_normals: true,
             ..FeatureParams::default()
         };
-        b.iter(|| black_box(compute_features(&cloud, &params, "cylinder").expect("features")))
+        b.iter(|| black_box(compute_features(&cloud, &params, "cylinder").expect("features")));
     });
     group.finish();
 }

@@ -54,7 +54,7 @@ fn bench_ik(c: &mut Criterion) {
         b.iter(|| {
             next = (next + 1) % targets.len();
             black_box(solve_ik(&chain, &targets[next], &mid, &options).expect("valid"))
-        })
+        });
     });
 
     let poses = trajectory(&chain);
@@ -68,7 +68,7 @@ fn bench_ik(c: &mut Criterion) {
             |b| {
                 b.iter(|| {
                     black_box(solve_trajectory(&chain, &poses, &mid, &options).expect("valid"))
-                })
+                });
             },
         );
     }
@@ -79,7 +79,7 @@ fn bench_ik(c: &mut Criterion) {
         ..TrajectoryIkOptions::default()
     };
     c.bench_function("ik/baxter_trajectory_50_samples_seeded_at_start", |b| {
-        b.iter(|| black_box(solve_trajectory(&chain, &poses, &start, &options).expect("valid")))
+        b.iter(|| black_box(solve_trajectory(&chain, &poses, &start, &options).expect("valid")));
     });
 }
 

@@ -40,7 +40,7 @@ fn bench_dynamic(c: &mut Criterion, name: &str, chain: &Chain) {
                 .pose_and_jacobian_into(black_box(&qs[k]), &mut jacobian)
                 .expect("valid configuration");
             black_box((pose, &jacobian));
-        })
+        });
     });
 }
 
@@ -53,7 +53,7 @@ fn bench_frames(c: &mut Criterion, name: &str, chain: &Chain) {
         b.iter(|| {
             k = (k + 1) % qs.len();
             black_box(chain.pose(black_box(&qs[k])).expect("valid configuration"))
-        })
+        });
     });
     let mut frames = vec![IsometryMatrix3::identity(); chain.link_names().len()];
     c.bench_function(&format!("fk_link_frames/{name}"), |b| {
@@ -63,7 +63,7 @@ fn bench_frames(c: &mut Criterion, name: &str, chain: &Chain) {
                 .link_frames_into(black_box(&qs[k]), &mut frames)
                 .expect("valid configuration");
             black_box(&frames);
-        })
+        });
     });
 }
 
@@ -81,7 +81,7 @@ fn kinematics(c: &mut Criterion) {
         b.iter(|| {
             k = (k + 1) % qs.len();
             black_box(fixed.pose_and_jacobian(black_box(&qs[k])))
-        })
+        });
     });
     // A batch of 1024 configurations through `for_each_pose_and_jacobian` (four per vector
     // lane group on AVX2 processors); criterion reports the time per configuration.
@@ -99,7 +99,7 @@ fn kinematics(c: &mut Criterion) {
             })
             .expect("valid configurations");
             black_box(sum)
-        })
+        });
     });
     group.finish();
     let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/robots");

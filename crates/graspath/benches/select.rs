@@ -22,7 +22,7 @@ fn workload(c: &mut Criterion) {
     let mut group = c.benchmark_group("select");
     group.sample_size(10);
     group.bench_function("workload_1000_faces_left_arm", |b| {
-        b.iter(|| black_box(select(black_box(&task), &|| {})))
+        b.iter(|| black_box(select(black_box(&task), &|| {})));
     });
     group.finish();
 }

@@ -45,7 +45,7 @@ fn parse_args() -> Result<Args, String> {
         let mut value = || it.next().ok_or(format!("{flag} needs a value"));
         match flag.as_str() {
             "--samples" => {
-                args.samples = value()?.parse().map_err(|e| format!("--samples: {e}"))?
+                args.samples = value()?.parse().map_err(|e| format!("--samples: {e}"))?;
             }
             "--robot" => args.robot = value()?,
             "--seed" => args.seed = value()?.parse().map_err(|e| format!("--seed: {e}"))?,
@@ -53,12 +53,12 @@ fn parse_args() -> Result<Args, String> {
             "--max-time-ms" => {
                 args.max_time_ms = value()?
                     .parse()
-                    .map_err(|e| format!("--max-time-ms: {e}"))?
+                    .map_err(|e| format!("--max-time-ms: {e}"))?;
             }
             "--max-iterations" => {
                 args.max_iterations = value()?
                     .parse()
-                    .map_err(|e| format!("--max-iterations: {e}"))?
+                    .map_err(|e| format!("--max-iterations: {e}"))?;
             }
             other => return Err(format!("unknown option {other}")),
         }

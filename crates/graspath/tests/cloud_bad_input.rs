@@ -528,7 +528,7 @@ const CASES: &[Case] = &[
                 d,
                 edited_model(|m| {
                     m["contacts"][1]["samples"][0]["feature_from_link"]["rotation"] =
-                        json!([0.0, 0.0, 0.0, 3.0])
+                        json!([0.0, 0.0, 0.0, 3.0]);
                 }),
             )
         },
@@ -609,7 +609,7 @@ const CASES: &[Case] = &[
         name: "demonstration whose primitive cloud asks for 1e12 points",
         run: |d| {
             demo_with(d, |v| {
-                v["cloud"]["primitive"]["points"] = json!(1_000_000_000_000u64)
+                v["cloud"]["primitive"]["points"] = json!(1_000_000_000_000u64);
             })
         },
         expect: &["demo.json", "cloud.points", "exceeds the limit"],

@@ -108,7 +108,7 @@ fn primitives_meshes_and_every_kind_of_search_path() {
             panic!("mesh")
         };
         assert_eq!(mesh.path, file, "{uri}");
-        let tri = mesh.load().unwrap();
+        let tri = graspath::cloud::load_collision_mesh(mesh).unwrap();
         assert!(tri.is_closed());
         // The 2 m cube scaled by ½: a 1 m cube, centre 0.5 m deep.
         let sd = Shape::TriangleMesh(tri);
@@ -131,7 +131,9 @@ fn primitives_meshes_and_every_kind_of_search_path() {
     let CollisionGeometry::Mesh(mesh) = &links[0].shapes[2].geometry else {
         panic!("mesh")
     };
-    let err = mesh.load().unwrap_err().to_string();
+    let err = graspath::cloud::load_collision_mesh(mesh)
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("m.urdf: link 'base', collision mesh") && err.contains("cube.obj"),
         "{err}"

@@ -2,6 +2,8 @@
 //! sampling.
 
 use super::{CloudError, PointCloud, SampleOptions, MAX_MESH_TRIANGLES};
+use crate::geometry::shape::TriMesh;
+use crate::robot::{MeshRef, RobotError};
 use nalgebra::{Point3, Vector3};
 use rand::{rngs::StdRng, RngExt, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -111,6 +113,25 @@ impl TriangleMesh {
         }
         Ok(cloud)
     }
+}
+
+/// A robot link's collision mesh ([`MeshRef`], resolved from its URDF) read and scaled: a
+/// triangle mesh in the collision frame (m). Errors name the robot file, the link and the mesh.
+pub fn load_collision_mesh(mesh: &MeshRef) -> Result<TriMesh, RobotError> {
+    let fail = |message: String| RobotError::MeshLoad {
+        source_name: mesh.source_name.clone(),
+        link: mesh.link.clone(),
+        path: mesh.path.clone(),
+        message,
+    };
+    let read = read_mesh(&mesh.path).map_err(|e| fail(e.to_string()))?;
+    let s = mesh.scale;
+    let vertices = read
+        .vertices
+        .iter()
+        .map(|v| Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]))
+        .collect();
+    TriMesh::new(vertices, read.triangles).map_err(|e| fail(e.to_string()))
 }
 
 /// Reads an `.obj` or `.stl` (ascii or binary) mesh.

@@ -29,7 +29,7 @@ pub use features::{
 pub use filter::{CloudReport, CropBox, OutlierOptions, StatisticalOutliers};
 pub use io::CloudSource;
 pub use io::{load_cloud_argument, load_cloud_filtered, read_cloud, write_cloud, CloudFormat};
-pub use mesh::{read_mesh, TriangleMesh};
+pub use mesh::{load_collision_mesh, read_mesh, TriangleMesh};
 pub use neighbours::PointIndex;
 pub use pcd::{pcd_bytes, read_pcd, read_pcd_bytes, write_pcd, PcdEncoding};
 pub use ply::{ply_bytes, read_ply, read_ply_bytes, write_ply, PlyEncoding};

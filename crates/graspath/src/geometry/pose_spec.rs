@@ -237,7 +237,8 @@ mod tests {
 
     #[test]
     fn a_nearly_unit_quaternion_is_normalised_exactly() {
-        let q = unit_quaternion_xyzw([0.0, 0.0, 0.7071, 0.7071]).unwrap();
+        // A 0.6/0.8 rotation about z written 0.04 % too long.
+        let q = unit_quaternion_xyzw([0.0, 0.0, 0.6 * 1.0004, 0.8 * 1.0004]).unwrap();
         assert!((q.coords.norm() - 1.0).abs() < 1e-15);
         let axis = q.axis().unwrap();
         assert!((axis.into_inner() - Vector3::z()).norm() < 1e-12);

@@ -299,7 +299,7 @@ impl Chain {
         match &self.drives {
             None => self.link_frames_unchecked(|i| q[i], out),
             Some(d) => {
-                self.link_frames_unchecked(|i| d[i].multiplier * q[d[i].source] + d[i].offset, out)
+                self.link_frames_unchecked(|i| d[i].multiplier * q[d[i].source] + d[i].offset, out);
             }
         }
         Ok(())
@@ -920,5 +920,5 @@ pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Option<Vector3<f64>> {
     if axis.iter().any(|c| !c.is_finite()) {
         return None;
     }
-    Unit::try_new(*axis, 1e-9).map(|u| u.into_inner())
+    Unit::try_new(*axis, 1e-9).map(Unit::into_inner)
 }

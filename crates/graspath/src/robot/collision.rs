@@ -8,12 +8,12 @@
 //! under each `AMENT_PREFIX_PATH` entry `P` (`P/share/PKG/REL`), and finally in the URDF's own
 //! folder and its ancestors (an ancestor named `PKG`, as `ANCESTOR/REL`). `file:///ABS` is the
 //! absolute path; a plain relative path is relative to the URDF's folder. Resolving only
-//! checks that a file exists; meshes are read on request ([`MeshRef::load`]), never while
-//! chains are built.
+//! checks that a file exists; meshes are read on request (`cloud::load_collision_mesh`), never
+//! while chains are built.
 
 use super::error::RobotError;
-use crate::geometry::shape::{Shape, TriMesh};
-use nalgebra::{Isometry3, Point3};
+use crate::geometry::shape::Shape;
+use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 
 /// A collision mesh by reference: where it was found and how it is scaled.
@@ -29,27 +29,6 @@ pub struct MeshRef {
     pub path: PathBuf,
     /// Scale factors along the mesh's `x, y, z` (URDF `scale`; default 1).
     pub scale: [f64; 3],
-}
-
-impl MeshRef {
-    /// Reads the mesh file (OBJ or STL, with the readers of [`crate::cloud`]) and applies the
-    /// scale: a triangle mesh in the collision frame (m).
-    pub fn load(&self) -> Result<TriMesh, RobotError> {
-        let fail = |message: String| RobotError::MeshLoad {
-            source_name: self.source_name.clone(),
-            link: self.link.clone(),
-            path: self.path.clone(),
-            message,
-        };
-        let mesh = crate::cloud::read_mesh(&self.path).map_err(|e| fail(e.to_string()))?;
-        let s = self.scale;
-        let vertices = mesh
-            .vertices
-            .iter()
-            .map(|v| Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]))
-            .collect();
-        TriMesh::new(vertices, mesh.triangles).map_err(|e| fail(e.to_string()))
-    }
 }
 
 /// The geometry of one collision element.

@@ -68,7 +68,7 @@ impl RobotSource {
             }),
             RobotSource::Builtin(name) => Err(RobotError::UnknownRobot {
                 name: name.clone(),
-                known: BUILTIN_ROBOTS.iter().map(|s| s.to_string()).collect(),
+                known: BUILTIN_ROBOTS.iter().map(ToString::to_string).collect(),
                 suggestions: closest_names(name, BUILTIN_ROBOTS.to_vec()),
             }),
             RobotSource::Urdf { path, search_paths } => {
@@ -193,7 +193,9 @@ impl RobotModel {
     /// Every link name (URDF: file order; built-in: base, then each arm's chain links).
     pub fn link_names(&self) -> Vec<String> {
         match &self.kind {
-            Kind::Urdf { robot, .. } => robot.link_names().iter().map(|s| s.to_string()).collect(),
+            Kind::Urdf { robot, .. } => {
+                robot.link_names().iter().map(ToString::to_string).collect()
+            }
             Kind::Baxter => {
                 let mut names = Vec::new();
                 for arm in [Arm::Left, Arm::Right] {

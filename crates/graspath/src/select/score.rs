@@ -373,7 +373,7 @@ mod tests {
                     .map(|d| d.as_full());
                 match (expected, got) {
                     (Some(e), Some(g)) => {
-                        assert!((e - g).norm() < 1e-9, "{mode:?} sample {i}: {e} vs {g}")
+                        assert!((e - g).norm() < 1e-9, "{mode:?} sample {i}: {e} vs {g}");
                     }
                     (None, None) => assert!(
                         matches!(mode, JacobianRows::Rotation),

@@ -300,7 +300,7 @@ fn sample_counts(
                 .collect();
             let count = 1.0 + counts.iter().sum::<f64>();
             // NaN (an infinite step over an infinite spacing) is refused too.
-            if !(count <= max_samples as f64) {
+            if count.is_nan() || count > max_samples as f64 {
                 return Err(too_many(count));
             }
             Ok(counts.into_iter().map(|n| n as usize).collect())

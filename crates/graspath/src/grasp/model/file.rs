@@ -230,11 +230,14 @@ impl GraspModel {
                     "expected \"{MODEL_FORMAT}\", found {}",
                     value
                         .get("format")
-                        .map_or("nothing".to_string(), |v| v.to_string())
+                        .map_or("nothing".to_string(), ToString::to_string)
                 ),
             ));
         }
-        match value.get("format_version").and_then(|v| v.as_u64()) {
+        match value
+            .get("format_version")
+            .and_then(serde_json::Value::as_u64)
+        {
             Some(v) if v == u64::from(MODEL_FORMAT_VERSION) => {}
             other => {
                 return Err(ModelError::Version {
@@ -243,7 +246,7 @@ impl GraspModel {
                         || {
                             value
                                 .get("format_version")
-                                .map_or("none".into(), |v| v.to_string())
+                                .map_or("none".into(), ToString::to_string)
                         },
                         |v| v.to_string(),
                     ),

@@ -418,7 +418,7 @@ pub fn generate(
     };
     let n1 = states.len();
     let after_first = stage(states, 0..first, 2, &|done| {
-        progress(Progress::FirstStage(done, n1))
+        progress(Progress::FirstStage(done, n1));
     });
     let mut states: Vec<State> = after_first
         .into_iter()
@@ -436,7 +436,7 @@ pub fn generate(
     }
     let n2 = states.len();
     let after_second = stage(states, first..steps, 3, &|done| {
-        progress(Progress::SecondStage(done, n2))
+        progress(Progress::SecondStage(done, n2));
     });
     let mut candidates: Vec<(usize, Candidate)> = after_second
         .into_iter()

@@ -285,11 +285,11 @@ const CASES: &[Case] = &[
     Case {
         name: "ply face count beyond the bytes present",
         run: |d| {
-            let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 40000000\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
+            let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 10000000\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
             bytes.extend_from_slice(&[0u8; 12]);
             load(d, "faces.ply", &bytes)
         },
-        expect: &["faces.ply", "element face", "40000000 elements"],
+        expect: &["faces.ply", "element face", "10000000 elements"],
         refuse: &[],
     },
     // --- meshes ----------------------------------------------------------------------------
@@ -352,7 +352,7 @@ const CASES: &[Case] = &[
                 br#"{"mesh": {"path": "m.obj", "noise": -0.1}}"#,
             )
         },
-        expect: &["mesh.json", "noise", "non-negative"],
+        expect: &["mesh.json", "noise", "must be a length in [0, 1] m"],
         refuse: &[],
     },
     // --- outlier options --------------------------------------------------------------------

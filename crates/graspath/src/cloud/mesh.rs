@@ -70,7 +70,9 @@ impl TriangleMesh {
         let mut attempts = 0usize;
         while cloud.points.len() < options.points {
             attempts += 1;
-            if attempts > 200 * options.points + 1000 {
+            // Fewer than one draw in 200 facing the viewpoint: give up early, not after
+            // 200 × points draws.
+            if attempts > 200 * cloud.points.len() + 1000 {
                 return Err(CloudError::BadOption {
                     field: "view".into(),
                     message: format!("{source_name}: almost no surface faces the viewpoint"),

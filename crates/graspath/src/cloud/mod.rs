@@ -33,7 +33,7 @@ pub use mesh::{load_collision_mesh, read_mesh, TriangleMesh};
 pub use neighbours::PointIndex;
 pub use pcd::{pcd_bytes, read_pcd, read_pcd_bytes, write_pcd, PcdEncoding};
 pub use ply::{ply_bytes, read_ply, read_ply_bytes, write_ply, PlyEncoding};
-pub use primitives::{sample_primitive, Primitive, SampleOptions};
+pub use primitives::{sample_primitive, Primitive, SampleOptions, MAX_SAMPLED_POINTS};
 
 use nalgebra::{Point3, Vector3};
 

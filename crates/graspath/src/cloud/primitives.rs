@@ -3,7 +3,7 @@
 //! noise and an optional single-view simulation (only points seen from a viewpoint are kept,
 //! with self-occlusion traced).
 
-use super::{CloudError, PointCloud, MAX_CLOUD_POINTS};
+use super::{CloudError, PointCloud};
 use nalgebra::{Point3, Vector3};
 use rand::{rngs::StdRng, RngExt, SeedableRng};
 use rand_distr::{Distribution, Normal, StandardNormal};
@@ -39,6 +39,10 @@ pub enum Primitive {
         bar: [f64; 3],
     },
 }
+
+/// The most points a cloud sampled from a primitive or a mesh may have: grasp generation never
+/// needs more than a few tens of thousands, and sampling time grows with the count.
+pub const MAX_SAMPLED_POINTS: usize = 1_000_000;
 
 /// The largest noise standard deviation (m): beyond it the cloud no longer shows the shape.
 pub const MAX_NOISE: f64 = 1.0;
@@ -77,11 +81,11 @@ impl SampleOptions {
                 message: "must be at least 1".into(),
             });
         }
-        if self.points > MAX_CLOUD_POINTS {
+        if self.points > MAX_SAMPLED_POINTS {
             return Err(CloudError::BadOption {
                 field: "points".into(),
                 message: format!(
-                    "{} exceeds the limit of {MAX_CLOUD_POINTS} points",
+                    "{} exceeds the limit of {MAX_SAMPLED_POINTS} points",
                     self.points
                 ),
             });

@@ -2,6 +2,10 @@
 
 use nalgebra::{DMatrix, Dim, Matrix, Storage, Vector3, Vector6, U6};
 
+/// Iterations after which an SVD is declared not to converge (it takes a few dozen for a 6×7
+/// Jacobian).
+const SVD_MAX_ITERATIONS: usize = 10_000;
+
 /// Which rows of the Jacobian an index uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JacobianPart {
@@ -41,12 +45,24 @@ pub fn singular_values<C: Dim, S: Storage<f64, U6, C>>(
 ) -> Vec<f64> {
     let m = part_matrix(jacobian, part);
     let rows = m.nrows();
-    let mut values: Vec<f64> = m
-        .svd(false, false)
-        .singular_values
+    if m.ncols() == 0 {
+        // No joint: every direction is singular.
+        return vec![0.0; rows];
+    }
+    // A non-finite Jacobian (or one whose SVD does not converge, at overflowing magnitudes)
+    // has no singular values: NaN, never a panic or an endless loop.
+    let svd = m
         .iter()
-        .copied()
-        .collect();
+        .all(|v| v.is_finite())
+        .then(|| {
+            m.clone()
+                .try_svd(false, false, f64::EPSILON, SVD_MAX_ITERATIONS)
+        })
+        .flatten();
+    let Some(svd) = svd else {
+        return vec![f64::NAN; rows];
+    };
+    let mut values: Vec<f64> = svd.singular_values.iter().copied().collect();
     values.sort_by(|a, b| b.total_cmp(a));
     values.resize(rows, 0.0);
     values
@@ -68,7 +84,9 @@ pub fn inverse_condition<C: Dim, S: Storage<f64, U6, C>>(
 ) -> f64 {
     let s = singular_values(jacobian, part);
     let (max, min) = (s[0], s[s.len() - 1]);
-    if max > 0.0 {
+    if max.is_nan() {
+        f64::NAN
+    } else if max > 0.0 {
         min / max
     } else {
         0.0
@@ -135,7 +153,15 @@ pub fn velocity_transmission_ratio<C: Dim, S: Storage<f64, U6, C>>(
         Direction::Rotation(u) => (JacobianPart::Rotation, u.iter().copied().collect()),
     };
     let m = part_matrix(jacobian, part);
-    let svd = m.svd(true, false);
+    if m.ncols() == 0 {
+        return 0.0;
+    }
+    if !m.iter().all(|v| v.is_finite()) {
+        return f64::NAN;
+    }
+    let Some(svd) = m.try_svd(true, false, f64::EPSILON, SVD_MAX_ITERATIONS) else {
+        return f64::NAN;
+    };
     let Some(left) = svd.u else { return 0.0 };
     let largest = svd.singular_values.max();
     let mut quadratic = 0.0;

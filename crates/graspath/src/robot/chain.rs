@@ -221,17 +221,6 @@ impl Chain {
             link_names.push(child_name(joint));
             link_slots.push(slot(Some(segments.len() - 1), &pending));
         }
-        if segments.is_empty() {
-            return Err(RobotError::BadJoint {
-                source_name: spec.source_name.clone(),
-                joint: spec.tip_link.clone(),
-                field: "joint",
-                message: format!(
-                    "the chain {} -> {} has no moving joint",
-                    spec.base_link, spec.tip_link
-                ),
-            });
-        }
         if segments.len() > MAX_JOINTS {
             return Err(RobotError::BadJoint {
                 source_name: spec.source_name.clone(),

@@ -209,7 +209,7 @@ class TestErrors:
             left.task_relevant(np.zeros(7), np.ones(6), part="translation")
 
     def test_unknown_arm_and_links(self, shared):
-        with pytest.raises(graspath.GraspathError, match="unknown arm 'middle'"):
+        with pytest.raises(graspath.GraspathError, match=r"no chain named 'middle' \(chains: left, right\)"):
             graspath.Robot.baxter("middle")
         with pytest.raises(graspath.GraspathError, match="no link named 'left_grippr'.*did you mean: left_gripper"):
             graspath.Robot.from_urdf(shared / "robots" / "baxter.urdf", "base", "left_grippr")

@@ -2,6 +2,9 @@
 //! (YAML) and PCD files (header and payload) whose values are drawn with a bias towards
 //! extremes — zero, negative, NaN, infinities, 1e300, 2³² and 10¹² counts, missing and
 //! duplicated elements — so that parsing succeeds often enough to reach the code behind it.
+//!
+//! One file on purpose (about 700 lines): three generators sharing the same extreme-value
+//! strategies.
 
 use crate::rng::Rng;
 use proptest::collection::vec;

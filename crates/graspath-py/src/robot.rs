@@ -4,6 +4,9 @@
 //!
 //! Frames and units as in the library: every pose and Jacobian is in the chain **base frame**;
 //! metres and radians; the Jacobian has rows `[v; ω]` (Pinocchio's `LOCAL_WORLD_ALIGNED`).
+//!
+//! One file on purpose (about 800 lines): it is the whole `Robot` class, whose methods PyO3
+//! requires in one `#[pymethods]` block.
 
 use crate::convert::{
     array, check_finite, error, poses, rows, shape_text, single_pose, write_matrix_pose, FloatArray,

@@ -2,6 +2,10 @@
 
 use nalgebra::{DMatrix, Dim, Matrix, Storage, Vector3, Vector6, U6};
 
+/// The SVD's convergence tolerance: nalgebra's own default (5 ε), so the values are those of
+/// `Matrix::svd` to the last bit.
+const SVD_EPSILON: f64 = 5.0 * f64::EPSILON;
+
 /// Iterations after which an SVD is declared not to converge (it takes a few dozen for a 6×7
 /// Jacobian).
 const SVD_MAX_ITERATIONS: usize = 10_000;
@@ -56,7 +60,7 @@ pub fn singular_values<C: Dim, S: Storage<f64, U6, C>>(
         .all(|v| v.is_finite())
         .then(|| {
             m.clone()
-                .try_svd(false, false, f64::EPSILON, SVD_MAX_ITERATIONS)
+                .try_svd(false, false, SVD_EPSILON, SVD_MAX_ITERATIONS)
         })
         .flatten();
     let Some(svd) = svd else {
@@ -159,7 +163,7 @@ pub fn velocity_transmission_ratio<C: Dim, S: Storage<f64, U6, C>>(
     if !m.iter().all(|v| v.is_finite()) {
         return f64::NAN;
     }
-    let Some(svd) = m.try_svd(true, false, f64::EPSILON, SVD_MAX_ITERATIONS) else {
+    let Some(svd) = m.try_svd(true, false, SVD_EPSILON, SVD_MAX_ITERATIONS) else {
         return f64::NAN;
     };
     let Some(left) = svd.u else { return 0.0 };
@@ -195,6 +199,32 @@ pub fn velocity_transmission_ratio<C: Dim, S: Storage<f64, U6, C>>(
 mod tests {
     use super::*;
     use nalgebra::{Matrix6, Matrix6xX};
+
+    #[test]
+    fn degenerate_jacobians_give_values_not_panics() {
+        // No joint: every direction is singular (σ = 0), so the indices are 0.
+        let none = Matrix6xX::<f64>::zeros(0);
+        assert_eq!(singular_values(&none, JacobianPart::Full), vec![0.0; 6]);
+        assert_eq!(inverse_condition(&none, JacobianPart::Full), 0.0);
+        assert_eq!(yoshikawa(&none, JacobianPart::Translation), 0.0);
+        let u = Vector3::x();
+        assert_eq!(
+            velocity_transmission_ratio(&none, &Direction::Translation(u)),
+            0.0
+        );
+        // A non-finite or overflowing Jacobian has no singular values: NaN, never a panic.
+        for bad in [f64::NAN, f64::INFINITY, 1e308] {
+            let mut j = Matrix6xX::<f64>::from_element(7, 1.0);
+            j[(2, 3)] = bad;
+            j[(4, 1)] = -bad;
+            let values = singular_values(&j, JacobianPart::Full);
+            assert_eq!(values.len(), 6);
+            if !bad.is_finite() {
+                assert!(values.iter().all(|v| v.is_nan()), "{bad}: {values:?}");
+                assert!(inverse_condition(&j, JacobianPart::Full).is_nan());
+            }
+        }
+    }
 
     fn jacobian() -> Matrix6xX<f64> {
         Matrix6xX::from_fn(7, |r, c| {

@@ -1,6 +1,9 @@
 //! Query densities: for each involved link, weighted pose kernels of the link on a new object,
 //! built by placing demonstrated link-to-surface relations on object features of similar
 //! curvature (spec §3), and their fast evaluation through a sparse uniform grid.
+//!
+//! One file on purpose (about 700 lines, a third of them tests against brute force): building a
+//! link's kernels and the sparse grid that evaluates them are one data structure.
 
 use super::contact::{curvature_bandwidth, ContactModel};
 use super::kernel::{item_rng, sample_pose_kernel};

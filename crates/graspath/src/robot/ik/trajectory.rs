@@ -25,6 +25,9 @@
 //!
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
 //! so results are identical from run to run and at any thread count.
+//!
+//! One file on purpose (about 600 lines): the branch search and the per-sample recovery ladder
+//! share the tracker's state.
 
 use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use super::{

@@ -1,11 +1,11 @@
 //! Python bindings of graspath: the native module `graspath._graspath`, re-exported by the
 //! Python package `graspath` (see `python/graspath/__init__.py` and the type stubs beside it).
 //!
-//! * [`robot::PyRobot`] (`graspath.Robot`): URDF chains and the built-in Baxter arms; forward
+//! * `robot::PyRobot` (`graspath.Robot`): URDF chains and the built-in Baxter arms; forward
 //!   kinematics, Jacobians, indices and IK for one configuration or a batch (numpy in and out,
 //!   batches in parallel with rayon, the GIL released).
-//! * [`task::PyTask`] (`graspath.Task`): tasks from files, text, dicts or arrays.
-//! * [`selection::select`] / [`selection::PySelection`] (`graspath.select`,
+//! * `task::PyTask` (`graspath.Task`): tasks from files, text, dicts or arrays.
+//! * `selection::select` / `selection::PySelection` (`graspath.select`,
 //!   `graspath.Selection`): scoring and ranking, with the records the CLI writes.
 //!
 //! Every library error becomes a `graspath.GraspathError` (a subclass of `ValueError`) with
@@ -18,7 +18,7 @@
 //! so the bindings do not offer it. When the library gains it, bind it in a new module
 //! `src/grasp_model.rs` (a `GraspModel` class: `train(cloud (n, 3|6), demo_grasp (4, 4))`,
 //! `generate(cloud, count, seed) -> (k, 4, 4) poses + likelihoods`), register it in
-//! [`_graspath`] below, add it to `python/graspath/__init__.py` and the stubs, and feed its
+//! `_graspath` below, add it to `python/graspath/__init__.py` and the stubs, and feed its
 //! output to `Task.from_arrays(candidates=..., likelihoods=...)`, which already takes
 //! candidates with likelihoods.
 #![warn(missing_docs)]

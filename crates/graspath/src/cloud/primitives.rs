@@ -52,7 +52,7 @@ pub const MAX_NOISE: f64 = 1.0;
 #[serde(default, deny_unknown_fields)]
 pub struct SampleOptions {
     /// The number of points in the cloud (after the view filter; 5 000 by default, at most
-    /// [`MAX_CLOUD_POINTS`]).
+    /// [`MAX_SAMPLED_POINTS`]).
     pub points: usize,
     /// Seed of the random draws.
     pub seed: u64,

@@ -232,7 +232,11 @@ const CASES: &[Case] = &[
             bytes.extend_from_slice(&[0u8; 16]);
             load(d, "pad.pcd", &bytes)
         },
-        expect: &["pad.pcd", "data", "only 16 bytes"],
+        expect: &[
+            "pad.pcd",
+            "POINTS",
+            "more than the limit of 1073741824 bytes",
+        ],
         refuse: &[],
     },
     Case {

@@ -52,6 +52,10 @@ fn record_bytes(meta: &PcdMeta) -> Option<u64> {
 /// back reference expands to at most 264 bytes.
 const LZF_MAX_EXPANSION: u64 = 88;
 
+/// The most bytes a PCD payload may decode to (1 GiB): points × the record size, checked before
+/// anything is decompressed or allocated (a record may hold many fields).
+pub const MAX_PCD_PAYLOAD_BYTES: u64 = 1 << 30;
+
 /// Checks the header's counts against each other, against [`MAX_CLOUD_POINTS`] and against
 /// the bytes that follow the header, before anything is allocated for the points.
 /// `data` is everything after the `DATA` line.
@@ -81,7 +85,9 @@ fn check_layout(meta: &PcdMeta, data: &[u8], source_name: &str) -> Result<(), Cl
         });
     }
     if points == 0 {
-        return Ok(());
+        // Nothing to decode, and a cloud needs points: refuse here, before the payload
+        // decoder trusts a size field.
+        return Err(fail("POINTS", "the cloud has no points (POINTS 0)".into()));
     }
     let record = record_bytes(meta).ok_or_else(|| {
         fail(
@@ -95,6 +101,14 @@ fn check_layout(meta: &PcdMeta, data: &[u8], source_name: &str) -> Result<(), Cl
             format!("{points} points of {record} bytes overflow 64 bits"),
         )
     })?;
+    if needed > MAX_PCD_PAYLOAD_BYTES {
+        return Err(fail(
+            "POINTS",
+            format!(
+                "{points} points of {record} bytes are {needed} bytes, more than the limit of {MAX_PCD_PAYLOAD_BYTES} bytes"
+            ),
+        ));
+    }
     match meta.data {
         DataKind::Ascii => {
             let values = meta

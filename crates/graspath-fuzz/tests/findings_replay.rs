@@ -16,7 +16,8 @@ fn every_recorded_finding_is_fixed() {
         let name = target.file_name().unwrap().to_string_lossy().into_owned();
         for file in std::fs::read_dir(&target).unwrap() {
             let file = file.unwrap().path();
-            if !file.to_string_lossy().contains(".min.") {
+            let path = file.to_string_lossy();
+            if !path.contains(".min.") || path.ends_with(".current") {
                 continue;
             }
             let out = death.path().join(format!("death-{replayed}"));

@@ -66,6 +66,7 @@ pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
 pub mod manipulability;
+pub mod random;
 pub mod robot;
 pub mod select;
 pub mod task;

@@ -36,6 +36,7 @@ use super::{
 };
 use crate::failure::{Failure, FailureReason};
 use crate::geometry::interpolate_decoupled;
+use crate::random::splitmix64;
 use crate::robot::chain::{Chain, MAX_JOINTS};
 use crate::robot::error::RobotError;
 use nalgebra::Isometry3;
@@ -213,14 +214,6 @@ fn largest_step(a: &[f64], b: &[f64]) -> (usize, f64) {
         )
 }
 
-/// A 64-bit mix (SplitMix64's finaliser) to derive independent seeds per branch and sample.
-fn mix(mut x: u64) -> u64 {
-    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    x ^ (x >> 31)
-}
-
 /// Restarts near the previous solution tried before a sample is declared failed.
 const LOCAL_RESTARTS: usize = 2;
 /// Random restarts anywhere in the limits, to tell a discontinuity from unreachability.
@@ -240,7 +233,9 @@ impl Tracker<'_> {
     }
 
     fn rng(&self, branch: usize, sample: usize) -> Xoshiro256PlusPlus {
-        let seed = mix(self.options.ik.random_seed ^ mix((branch as u64) << 32 | sample as u64));
+        let seed = splitmix64(
+            self.options.ik.random_seed ^ splitmix64((branch as u64) << 32 | sample as u64),
+        );
         Xoshiro256PlusPlus::seed_from_u64(seed)
     }
 

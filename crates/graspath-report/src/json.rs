@@ -13,8 +13,11 @@ use serde_json::{json, Map, Value};
 #[derive(Serialize)]
 struct FailureRecord<'a> {
     reason: &'a str,
+    phase: &'a str,
     sample: usize,
     detail: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bodies: Option<&'a [String; 2]>,
 }
 
 #[derive(Serialize)]
@@ -43,6 +46,12 @@ struct CandidateRecord<'a> {
     inverse_condition_squared_at_grasp: Option<f64>,
     feasible_branches: usize,
     joint_trajectory: &'a [Vec<f64>],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clearance: Option<f64>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    approach_trajectory: &'a [Vec<f64>],
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    retreat_trajectory: &'a [Vec<f64>],
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -66,8 +75,10 @@ pub fn candidates_json(selection: &Selection) -> Value {
                 feasible: score.feasible(),
                 failure: score.failure.as_ref().map(|f| FailureRecord {
                     reason: f.reason.as_str(),
+                    phase: f.phase.as_str(),
                     sample: f.sample,
                     detail: &f.detail,
+                    bodies: f.bodies.as_ref(),
                 }),
                 rejected: ranking.rejected.as_deref(),
                 rank: ranking.rank,
@@ -84,6 +95,9 @@ pub fn candidates_json(selection: &Selection) -> Value {
                 inverse_condition_squared_at_grasp: score.inverse_condition_squared_at_grasp,
                 feasible_branches: score.feasible_branches,
                 joint_trajectory: &score.joint_trajectory,
+                clearance: score.clearance,
+                approach_trajectory: &score.approach,
+                retreat_trajectory: &score.retreat,
             };
             records.push(serde_json::to_value(record).expect("records serialise"));
         }

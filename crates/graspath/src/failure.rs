@@ -20,11 +20,18 @@ pub enum FailureReason {
     IterationLimit,
     /// A single IK solve ran out of its time budget.
     TimeLimit,
+    /// Two bodies come closer than allowed: the arm, its hand or the carried object against
+    /// the scene, itself, the object or the other arm.
+    Collision,
+    /// The object is wider across the fingers than the gripper opens.
+    GripperWidth,
+    /// The clearance along the motion is below `selection.min_clearance`.
+    Clearance,
 }
 
 impl FailureReason {
     /// The one spelling: `unreachable`, `joint_limit`, `discontinuity`, `iteration_limit`,
-    /// `time_limit`.
+    /// `time_limit`, `collision`, `gripper_width`, `clearance`.
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Unreachable => "unreachable",
@@ -32,6 +39,9 @@ impl FailureReason {
             Self::Discontinuity => "discontinuity",
             Self::IterationLimit => "iteration_limit",
             Self::TimeLimit => "time_limit",
+            Self::Collision => "collision",
+            Self::GripperWidth => "gripper_width",
+            Self::Clearance => "clearance",
         }
     }
 }
@@ -42,19 +52,74 @@ impl fmt::Display for FailureReason {
     }
 }
 
-/// The first sample along a path that could not be followed, and why.
+/// The phases of a candidate's whole motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Phase {
+    /// From the pre-grasp pose straight in to the grasp (the grasp itself is the path's
+    /// sample 0).
+    Approach,
+    /// The object's path, from the grasp (sample 0) to the place.
+    #[default]
+    Path,
+    /// After the place, the hand backing away from the object.
+    Retreat,
+}
+
+impl Phase {
+    /// The one spelling: `approach`, `path`, `retreat`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Approach => "approach",
+            Self::Path => "path",
+            Self::Retreat => "retreat",
+        }
+    }
+}
+
+impl fmt::Display for Phase {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The first sample along a motion that could not be followed, and why.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Failure {
     /// Why it failed.
     pub reason: FailureReason,
-    /// Index of the first failing sample (0 = the grasp pose).
+    /// The phase of the motion it failed in.
+    #[serde(default)]
+    pub phase: Phase,
+    /// Index of the first failing sample within its phase (path: 0 = the grasp pose).
     pub sample: usize,
-    /// A sentence with the numbers: the joint and value at fault, the jump, or the residual.
+    /// A sentence with the numbers: the joint and value at fault, the jump, the residual, or
+    /// the distance of the two bodies.
     pub detail: String,
+    /// For collisions: the two bodies (`link left_wrist`, `obstacle wall`, `table`, `object`,
+    /// `hand l_finger`, `right arm: link ...`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<[String; 2]>,
+}
+
+impl Failure {
+    /// A failure on the object's path at `sample`, without bodies.
+    pub fn new(reason: FailureReason, sample: usize, detail: impl Into<String>) -> Self {
+        Self {
+            reason,
+            phase: Phase::Path,
+            sample,
+            detail: detail.into(),
+            bodies: None,
+        }
+    }
 }
 
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.phase != Phase::Path {
+            write!(f, "{} ", self.phase)?;
+        }
         write!(
             f,
             "sample {}: {}: {}",
@@ -75,6 +140,9 @@ mod tests {
             FailureReason::Discontinuity,
             FailureReason::IterationLimit,
             FailureReason::TimeLimit,
+            FailureReason::Collision,
+            FailureReason::GripperWidth,
+            FailureReason::Clearance,
         ] {
             let json = serde_json::to_string(&reason).unwrap();
             assert_eq!(json, format!("\"{}\"", reason.as_str()));

@@ -60,6 +60,7 @@
 #![warn(missing_docs)]
 
 pub mod cloud;
+pub mod collision;
 mod error;
 pub mod failure;
 pub mod fsutil;

@@ -23,6 +23,9 @@ use nalgebra::{
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+mod sweep;
+
+pub use sweep::SweepBound;
 
 /// Largest number of moving joints in one chain (mimic followers included).
 pub const MAX_JOINTS: usize = 64;

@@ -18,7 +18,7 @@ mod trig;
 mod urdf;
 mod urdf_scan;
 
-pub use chain::{Chain, FixedChain, MotionKind};
+pub use chain::{Chain, FixedChain, MotionKind, SweepBound};
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{

@@ -35,6 +35,13 @@ fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> O
     if norms.evaluated == 0 {
         return Some("the object never moves: no sample to evaluate".into());
     }
+    if let (Some(min), Some(clearance)) = (options.min_clearance, score.clearance) {
+        if clearance < min {
+            return Some(format!(
+                "clearance {clearance:.4} m is below min_clearance = {min} m"
+            ));
+        }
+    }
     match options.mu0 {
         Some(mu0) if norms.linf > mu0 => {
             Some(format!("mu_linf = {:.4} exceeds mu0 = {mu0}", norms.linf))

@@ -1,7 +1,7 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
 use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
-use super::score::{score_candidates, CandidateScore, ScoringSetup};
+use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::task::Task;
 
 /// One arm's results.
@@ -60,6 +60,13 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
                 rows: task.rows,
                 ik: &task.ik,
                 compare_branches: task.compare_branches,
+                world: WorldSetup {
+                    approach: task.approach.as_ref(),
+                    retreat: task.retreat.as_ref(),
+                    gripper: task.gripper.as_ref(),
+                    collisions: task.collisions.as_ref(),
+                    object: task.object_body.as_deref(),
+                },
             };
             let scores = score_candidates(&setup, &task.candidates, progress);
             let rankings = rank_candidates(&scores, &task.selection);

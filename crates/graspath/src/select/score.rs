@@ -2,8 +2,11 @@
 //! trajectory IK, `M_T` at every sample, the norms over the path, and the classical indices at
 //! the grasp for comparison.
 
+use crate::collision::{
+    signed_distance, ArmInScene, Body, CollisionHit, CollisionOptions, WholeMotion,
+};
 pub use crate::failure::Failure;
-use crate::failure::FailureReason;
+use crate::failure::{FailureReason, Phase};
 use crate::geometry::se3_log;
 use crate::grasp::Candidate;
 use crate::manipulability::{
@@ -11,7 +14,7 @@ use crate::manipulability::{
     SampleIndex,
 };
 use crate::robot::{solve_ik, solve_trajectory, Chain, TrajectoryIkOptions};
-use crate::task::{ArmSetup, JacobianRows, ObjectPath};
+use crate::task::{ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, Stroke};
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -38,6 +41,13 @@ pub struct CandidateScore {
     pub inverse_condition_squared_at_grasp: Option<f64>,
     /// Joint configurations along the path (rad / m), one per sample, of the chosen branch.
     pub joint_trajectory: Vec<Vec<f64>>,
+    /// Joint configurations of the approach, before the grasp (empty without an approach).
+    pub approach: Vec<Vec<f64>>,
+    /// Joint configurations of the retreat, after the place (empty without a retreat).
+    pub retreat: Vec<Vec<f64>>,
+    /// The smallest distance between the robot (hand and carried object included) and the
+    /// scene at any sample of the motion (m), when the task has a scene.
+    pub clearance: Option<f64>,
     /// How many distinct feasible IK branches were found.
     pub feasible_branches: usize,
 }
@@ -138,7 +148,7 @@ fn index_along(
 }
 
 /// What scoring needs besides the candidate: the arm, the object path, which rows of `J` enter
-/// `M_T`, and the IK settings.
+/// `M_T`, the IK settings, and what the task knows of its world.
 #[derive(Debug, Clone, Copy)]
 pub struct ScoringSetup<'a> {
     /// The arm that grasps.
@@ -151,6 +161,68 @@ pub struct ScoringSetup<'a> {
     pub ik: &'a TrajectoryIkOptions,
     /// Track every IK branch and keep the best (else the first feasible branch is scored).
     pub compare_branches: bool,
+    /// The tool's approach to the grasp and retreat after the place, the gripper, and the
+    /// collision checks (all `None`: the motion is the object's path in empty space).
+    pub world: WorldSetup<'a>,
+}
+
+/// What a task knows of its world ([`Task`](crate::task::Task)'s `approach`, `retreat`,
+/// `gripper`, `collisions` and object body).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WorldSetup<'a> {
+    /// The approach before the grasp.
+    pub approach: Option<&'a Stroke>,
+    /// The retreat after the place.
+    pub retreat: Option<&'a Stroke>,
+    /// The gripper (width check).
+    pub gripper: Option<&'a Gripper>,
+    /// Collision checks.
+    pub collisions: Option<&'a Collisions>,
+    /// The object's body, object frame.
+    pub object: Option<&'a Body>,
+}
+
+impl WorldSetup<'_> {
+    fn approach_samples(&self) -> usize {
+        self.approach.map_or(0, |s| s.samples)
+    }
+
+    fn retreat_samples(&self) -> usize {
+        self.retreat.map_or(0, |s| s.samples)
+    }
+
+    /// The phase and in-phase index of whole-motion sample `i` along a path of `n` samples.
+    fn phase_of(&self, i: usize, n: usize) -> (Phase, usize) {
+        let a = self.approach_samples();
+        if i < a {
+            (Phase::Approach, i)
+        } else if i < a + n {
+            (Phase::Path, i - a)
+        } else {
+            (Phase::Retreat, i - a - n)
+        }
+    }
+
+    /// The tool poses of the whole motion in the world frame: approach, path, retreat.
+    fn tool_poses(
+        &self,
+        path: &ObjectPath,
+        object_from_wrist: &Isometry3<f64>,
+    ) -> Vec<Isometry3<f64>> {
+        let poses: Vec<&Isometry3<f64>> = path.poses().collect();
+        let mut out =
+            Vec::with_capacity(poses.len() + self.approach_samples() + self.retreat_samples());
+        if let (Some(stroke), Some(first)) = (self.approach, poses.first()) {
+            let grasp = *first * object_from_wrist;
+            out.extend((0..stroke.samples).map(|k| grasp * stroke.offset(k)));
+        }
+        out.extend(poses.iter().map(|p| *p * object_from_wrist));
+        if let (Some(stroke), Some(last)) = (self.retreat, poses.last()) {
+            let place = *last * object_from_wrist;
+            out.extend((1..=stroke.samples).map(|k| place * stroke.offset(stroke.samples - k)));
+        }
+        out
+    }
 }
 
 /// Scores every candidate for one arm and hands each result to `consume` as soon as its chunk
@@ -158,10 +230,11 @@ pub struct ScoringSetup<'a> {
 /// out without holding them all. Chunks are scored in parallel (rayon); the results do not
 /// depend on the thread count. `progress` is called once per finished candidate.
 ///
-/// IK tracks one branch from the grasp pose; only when it fails are up to `ik.branches`
-/// distinct initial solutions searched and tracked. With `compare_branches`, every branch is
-/// tracked and the one with the best norm is kept (slower, and the ranking then reflects the
-/// best redundancy resolution rather than the first one found).
+/// IK tracks one branch from the first pose of the motion; only when it fails (or collides)
+/// are up to `ik.branches` distinct initial solutions searched and tracked. With
+/// `compare_branches`, every branch is tracked and the one with the best norm is kept (slower,
+/// and the ranking then reflects the best redundancy resolution rather than the first one
+/// found).
 pub fn for_each_score(
     setup: &ScoringSetup<'_>,
     candidates: &[Arc<Candidate>],
@@ -195,6 +268,35 @@ pub fn score_candidates(
     scores
 }
 
+/// The gripper-width check: the open fingers at the grasp must not press into the object.
+fn gripper_width_failure(world: &WorldSetup<'_>, candidate: &Candidate) -> Option<Failure> {
+    let (gripper, object) = (world.gripper?, world.object?);
+    let tolerance = world
+        .collisions
+        .map_or(CollisionOptions::default().touch_tolerance, |c| {
+            c.options.touch_tolerance
+        });
+    for (name, wrist_from_finger, shape) in gripper.finger_shapes() {
+        let finger = Body::from_shape(format!("hand {name}"), &shape);
+        let object_from_finger = candidate.object_from_wrist * wrist_from_finger;
+        let depth = signed_distance(&finger, &object_from_finger, object, &Isometry3::identity());
+        if depth < -tolerance {
+            return Some(Failure {
+                reason: FailureReason::GripperWidth,
+                phase: Phase::Path,
+                sample: 0,
+                detail: format!(
+                    "the object is wider across the fingers than the {:.3} m opening: the {name} \
+                     would press {:.4} m into it",
+                    gripper.opening, -depth
+                ),
+                bodies: Some([format!("hand {name}"), "object".into()]),
+            });
+        }
+    }
+    None
+}
+
 fn score_one(
     setup: &ScoringSetup<'_>,
     candidate: &Arc<Candidate>,
@@ -207,9 +309,17 @@ fn score_one(
         rows: mode,
         ik,
         compare_branches,
+        world,
     } = *setup;
     let chain = &arm.chain;
-    let targets = wrist_trajectory(path, &arm.world_from_base, &candidate.object_from_wrist);
+    let n = path.samples.len();
+    let before = world.approach_samples();
+    let base_from_world = arm.world_from_base.inverse();
+    let targets: Vec<Isometry3<f64>> = world
+        .tool_poses(path, &candidate.object_from_wrist)
+        .iter()
+        .map(|p| base_from_world * p)
+        .collect();
     let seed = chain.mid_configuration();
     let mut jacobian = Matrix6xX::zeros(chain.dof());
     let mut score = CandidateScore {
@@ -221,77 +331,136 @@ fn score_one(
         inverse_condition_at_grasp: None,
         inverse_condition_squared_at_grasp: None,
         joint_trajectory: Vec::new(),
+        approach: Vec::new(),
+        retreat: Vec::new(),
+        clearance: None,
         feasible_branches: 0,
     };
-    // Track one branch first; search for more only when it fails, or when every branch is
-    // to be compared.
+    if let Some(failure) = gripper_width_failure(&world, candidate) {
+        score.failure = Some(failure);
+        return score;
+    }
+    let located = |mut failure: Failure| {
+        let (phase, sample) = world.phase_of(failure.sample, n);
+        failure.phase = phase;
+        failure.sample = sample;
+        failure
+    };
+    let checker = match (world.collisions, &arm.bodies) {
+        (Some(c), Some(bodies)) => Some(ArmInScene {
+            arm: bodies,
+            world_from_base: &arm.world_from_base,
+            scene: &c.scene,
+            object: world.object,
+            options: &c.options,
+        }),
+        _ => None,
+    };
+    let first_pose = path
+        .poses()
+        .next()
+        .copied()
+        .unwrap_or_else(Isometry3::identity);
+    let last_pose = path.poses().last().copied().unwrap_or(first_pose);
+    // Track one branch first; search for more only when it fails or collides, or when every
+    // branch is to be compared.
     let first_try = TrajectoryIkOptions {
         branches: if compare_branches { ik.branches } else { 1 },
         ..ik.clone()
     };
-    let mut result = solve_trajectory(chain, &targets, &seed, &first_try);
-    // Another branch can only help when the grasp pose itself was solved.
-    let grasp_solved = matches!(&result, Ok(r) if r.branches.is_empty()
-        && r.failure.as_ref().is_some_and(|f| f.sample > 0));
-    if !compare_branches && ik.branches > 1 && grasp_solved {
-        result = solve_trajectory(chain, &targets, &seed, ik);
+    let mut tries = vec![first_try];
+    if !compare_branches && ik.branches > 1 {
+        tries.push(ik.clone());
     }
-    let result = match result {
-        Ok(r) => r,
-        Err(e) => {
-            score.failure = Some(Failure {
-                reason: FailureReason::Unreachable,
-                sample: 0,
-                detail: e.to_string(),
-            });
-            return score;
-        }
-    };
-    score.feasible_branches = result.branches.len();
-    // Keep the branch with the best norm, preferring branches free of singular samples.
-    let mut best: Option<(Vec<Option<f64>>, PathNorms, usize)> = None;
-    for (b, branch) in result.branches.iter().enumerate() {
-        let m_t = index_along(
-            chain,
-            motion,
-            &candidate.object_from_wrist,
-            &branch.q,
-            mode,
-            &mut jacobian,
-        );
-        let samples: Vec<SampleIndex> = m_t
-            .iter()
-            .zip(times)
-            .map(|(&value, &time)| SampleIndex { time, value })
-            .collect();
-        let norms = PathNorms::of(&samples);
-        let better = match &best {
-            None => true,
-            Some((_, n, _)) => (norms.linf.is_finite(), norms.l2) > (n.linf.is_finite(), n.l2),
+    let mut collision: Option<Failure> = None;
+    let mut best: Option<(Vec<Option<f64>>, PathNorms, Vec<Vec<f64>>, Option<f64>)> = None;
+    let mut last_failure: Option<Failure> = None;
+    for (attempt, options) in tries.iter().enumerate() {
+        let result = match solve_trajectory(chain, &targets, &seed, options) {
+            Ok(r) => r,
+            Err(e) => {
+                score.failure = Some(Failure::new(FailureReason::Unreachable, 0, e.to_string()));
+                return score;
+            }
         };
-        if better {
-            best = Some((m_t, norms, b));
+        score.feasible_branches = result.branches.len();
+        for branch in &result.branches {
+            let path_q = &branch.q[before..before + n];
+            let m_t = index_along(
+                chain,
+                motion,
+                &candidate.object_from_wrist,
+                path_q,
+                mode,
+                &mut jacobian,
+            );
+            let samples: Vec<SampleIndex> = m_t
+                .iter()
+                .zip(times)
+                .map(|(&value, &time)| SampleIndex { time, value })
+                .collect();
+            let norms = PathNorms::of(&samples);
+            let better = match &best {
+                None => true,
+                Some((_, b, _, _)) => {
+                    (norms.linf.is_finite(), norms.l2) > (b.linf.is_finite(), b.l2)
+                }
+            };
+            if !better {
+                continue;
+            }
+            let clearance = match &checker {
+                None => None,
+                Some(checker) => {
+                    let check = checker.check(&WholeMotion {
+                        q: &branch.q,
+                        path: before..before + n,
+                        world_from_object_start: &first_pose,
+                        world_from_object_end: &last_pose,
+                        object_from_wrist: &candidate.object_from_wrist,
+                    });
+                    if let Some(hit) = check.hit {
+                        if collision.is_none() {
+                            collision = Some(located(collision_failure(&hit)));
+                        }
+                        continue;
+                    }
+                    check.clearance
+                }
+            };
+            best = Some((m_t, norms, branch.q.clone(), clearance));
         }
+        last_failure = result.failure;
+        // Another attempt with more branches only helps when the first pose was solved.
+        let first_pose_solved = best.is_some()
+            || collision.is_some()
+            || last_failure.as_ref().is_some_and(|f| f.sample > 0);
+        if best.is_some() || !first_pose_solved || attempt + 1 == tries.len() {
+            break;
+        }
+        collision = None;
     }
     let grasp_q = match best {
-        Some((m_t, norms, b)) => {
+        Some((m_t, norms, q, clearance)) => {
             score.m_t = m_t;
             score.norms = Some(norms);
-            score.joint_trajectory = result.branches[b].q.clone();
+            score.clearance = clearance;
+            score.approach = q[..before].to_vec();
+            score.retreat = q[before + n..].to_vec();
+            score.joint_trajectory = q[before..before + n].to_vec();
             score.joint_trajectory.first().cloned()
         }
         None => {
-            let failure = result.failure.unwrap_or_else(|| Failure {
-                sample: 0,
-                reason: FailureReason::Unreachable,
-                detail: "no IK branch was found".into(),
+            let failure = collision.or(last_failure.map(located)).unwrap_or_else(|| {
+                Failure::new(FailureReason::Unreachable, 0, "no IK branch was found")
             });
-            let failed_sample = failure.sample;
+            let grasp_reached = failure.phase != Phase::Path
+                || failure.sample > 0
+                || failure.reason == FailureReason::Collision;
             score.failure = Some(failure);
-            // The classical indices at the grasp need only the grasp pose to be reachable,
-            // which it is when the path fails later.
-            if failed_sample > 0 {
-                solve_ik(chain, &targets[0], &seed, &ik.ik)
+            // The classical indices at the grasp need only the grasp pose to be reachable.
+            if grasp_reached {
+                solve_ik(chain, &targets[before], &seed, &ik.ik)
                     .ok()
                     .and_then(|s| s.q)
             } else {
@@ -309,6 +478,26 @@ fn score_one(
         }
     }
     score
+}
+
+/// A collision hit as a failure (whole-motion sample; the caller locates its phase).
+fn collision_failure(hit: &CollisionHit) -> Failure {
+    let [a, b] = &hit.bodies;
+    let at = if hit.between {
+        format!("between samples {} and {}", hit.sample, hit.sample + 1)
+    } else {
+        format!("at sample {}", hit.sample)
+    };
+    Failure {
+        reason: FailureReason::Collision,
+        phase: Phase::Path,
+        sample: hit.sample,
+        detail: format!(
+            "{a} and {b} are {:.4} m apart {at} of the motion; they must keep {:.4} m",
+            hit.distance, hit.required
+        ),
+        bodies: Some(hit.bodies.clone()),
+    }
 }
 
 #[cfg(test)]

@@ -4,7 +4,9 @@
 
 use super::error::TaskError;
 use super::path::{ObjectPath, Sampling, TimedStep};
+use super::scene::{Collisions, Gripper, SceneSettings, Stroke};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
+use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
 use crate::grasp::Candidate;
 use crate::robot::{Chain, IkOptions, TrajectoryIkOptions};
@@ -20,6 +22,8 @@ pub struct ArmSetup {
     pub chain: Chain,
     /// Where the chain's base is in the task's world frame, `world_from_base`.
     pub world_from_base: Isometry3<f64>,
+    /// The arm's bodies (links and hand) when the task checks collisions.
+    pub bodies: Option<Arc<ArmBodies>>,
 }
 
 /// A task ready to score: who, what, where to grasp, and how the object must move. Built by
@@ -73,6 +77,18 @@ pub struct Task {
     pub compare_branches: bool,
     /// The bounds the task was checked against.
     pub limits: Limits,
+    /// The tool's straight approach to the grasp, if any.
+    pub approach: Option<Stroke>,
+    /// The tool's straight retreat after the place, if any.
+    pub retreat: Option<Stroke>,
+    /// The gripper: grasps wider than its opening are infeasible (`gripper_width`).
+    pub gripper: Option<Gripper>,
+    /// Collision checks against the scene, the arm itself and the other arm (`None`: the
+    /// task says nothing about its world and nothing is checked).
+    pub collisions: Option<Collisions>,
+    /// The object's body (object frame) for the gripper and collision checks, when its shape
+    /// is known and either is asked for.
+    pub object_body: Option<Arc<Body>>,
 }
 
 impl Task {
@@ -97,7 +113,9 @@ impl Task {
         Limits::work(
             self.arms.len(),
             self.candidates.len(),
-            self.path.samples.len(),
+            self.path.samples.len()
+                + self.approach.map_or(0, |s| s.samples)
+                + self.retreat.map_or(0, |s| s.samples),
             self.ik.branches,
             self.ik.ik.max_iterations,
             self.ik.per_sample_iterations,
@@ -133,6 +151,7 @@ pub struct TaskBuilder {
     likelihood: LikelihoodRule,
     pairs: usize,
     min_separation: f64,
+    min_clearance: Option<f64>,
     max_joint_step: f64,
     ik_branches: usize,
     ik_random_seed: u64,
@@ -140,6 +159,10 @@ pub struct TaskBuilder {
     grasp_ik_iterations: usize,
     compare_branches: bool,
     limits: Limits,
+    approach: Option<Stroke>,
+    retreat: Option<Stroke>,
+    gripper: Option<Gripper>,
+    scene: Option<SceneSettings>,
 }
 
 impl TaskBuilder {
@@ -158,6 +181,7 @@ impl TaskBuilder {
             likelihood: LikelihoodRule::default(),
             pairs: defaults::PAIRS,
             min_separation: defaults::MIN_SEPARATION,
+            min_clearance: None,
             max_joint_step: defaults::MAX_JOINT_STEP,
             ik_branches: defaults::IK_BRANCHES,
             ik_random_seed: defaults::IK_RANDOM_SEED,
@@ -165,6 +189,10 @@ impl TaskBuilder {
             grasp_ik_iterations: defaults::GRASP_IK_ITERATIONS,
             compare_branches: false,
             limits: Limits::default(),
+            approach: None,
+            retreat: None,
+            gripper: None,
+            scene: None,
         }
     }
 
@@ -186,6 +214,7 @@ impl TaskBuilder {
             name: name.into(),
             chain,
             world_from_base,
+            bodies: None,
         });
         self
     }
@@ -260,6 +289,12 @@ impl TaskBuilder {
         self
     }
 
+    /// Reject candidates whose clearance from the scene is below `metres` (default: none).
+    pub fn min_clearance(mut self, metres: Option<f64>) -> Self {
+        self.min_clearance = metres;
+        self
+    }
+
     /// Largest joint motion between consecutive samples (rad or m).
     pub fn max_joint_step(mut self, step: f64) -> Self {
         self.max_joint_step = step;
@@ -299,6 +334,31 @@ impl TaskBuilder {
     /// The bounds the task is checked against (default [`Limits::default`]).
     pub fn limits(mut self, limits: Limits) -> Self {
         self.limits = limits;
+        self
+    }
+
+    /// The tool's straight approach to the grasp (default: none; the motion starts at the
+    /// grasp).
+    pub fn approach(mut self, stroke: Stroke) -> Self {
+        self.approach = Some(stroke);
+        self
+    }
+
+    /// The tool's straight retreat after the place (default: none).
+    pub fn retreat(mut self, stroke: Stroke) -> Self {
+        self.retreat = Some(stroke);
+        self
+    }
+
+    /// The gripper (default: none; no width check, no hand bodies).
+    pub fn gripper(mut self, gripper: Gripper) -> Self {
+        self.gripper = Some(gripper);
+        self
+    }
+
+    /// The scene and collision settings (default: none; nothing is checked for collisions).
+    pub fn scene(mut self, settings: SceneSettings) -> Self {
+        self.scene = Some(settings);
         self
     }
 
@@ -353,6 +413,14 @@ impl TaskBuilder {
                 "selection.min_separation",
                 "must be a distance ≥ 0 in metres".into(),
             ));
+        }
+        if let Some(min) = self.min_clearance {
+            if !(min.is_finite() && min >= 0.0) {
+                return Err(err(
+                    "selection.min_clearance",
+                    format!("must be a distance ≥ 0 in metres, got {min}"),
+                ));
+            }
         }
         if !(self.max_joint_step.is_finite() && self.max_joint_step > 0.0) {
             return Err(err(
@@ -423,10 +491,86 @@ impl TaskBuilder {
             branches: self.ik_branches,
             per_sample_iterations: defaults::PER_SAMPLE_IK_ITERATIONS,
         };
+        for (field, stroke) in [("approach", &self.approach), ("retreat", &self.retreat)] {
+            if let Some(stroke) = stroke {
+                if !(stroke.distance.is_finite() && stroke.distance > 0.0) {
+                    return Err(err(
+                        &format!("{field}.distance"),
+                        format!(
+                            "must be a positive finite length in metres, got {}",
+                            stroke.distance
+                        ),
+                    ));
+                }
+                if stroke.samples == 0 {
+                    return Err(err(
+                        &format!("{field}.samples"),
+                        "must be at least 1".into(),
+                    ));
+                }
+                check_count(
+                    &format!("{field}.samples"),
+                    stroke.samples,
+                    limits.max_samples,
+                    "max_samples",
+                )
+                .map_err(|m| err(&format!("{field}.samples"), m))?;
+            }
+        }
+        if let Some(gripper) = &self.gripper {
+            gripper.check().map_err(|(field, m)| err(&field, m))?;
+        }
+        let mut arms = self.arms;
+        let collisions = match self.scene {
+            None => None,
+            Some(settings) => {
+                let options = settings.options;
+                for (field, value, lowest) in [
+                    ("collision.margin", options.margin, 0.0),
+                    ("collision.touch_tolerance", options.touch_tolerance, 0.0),
+                    (
+                        "collision.resolution",
+                        options.resolution,
+                        f64::MIN_POSITIVE,
+                    ),
+                ] {
+                    if !(value.is_finite() && value >= lowest) {
+                        return Err(err(
+                            field,
+                            format!("must be a finite length ≥ {lowest} in metres, got {value}"),
+                        ));
+                    }
+                }
+                let hand = self.gripper.map(|g| g.hand_shapes()).unwrap_or_default();
+                for arm in &mut arms {
+                    let bodies = ArmBodies::new(
+                        &arm.chain,
+                        &settings.robot_shapes,
+                        &hand,
+                        &settings.disabled,
+                        if options.self_collision {
+                            settings.self_pairs
+                        } else {
+                            crate::collision::SelfPairs::None
+                        },
+                    )
+                    .map_err(|e| err("collision", e.to_string()))?;
+                    arm.bodies = Some(Arc::new(bodies));
+                }
+                Some(Collisions {
+                    scene: Arc::new(settings.scene),
+                    options,
+                })
+            }
+        };
+        let object_body = (collisions.is_some() || self.gripper.is_some())
+            .then_some(self.shape.as_ref())
+            .flatten()
+            .map(|shape| Arc::new(Body::from_shape("object", shape)));
         let task = Task {
             source_name: self.name.clone(),
             robot_name: self.robot_name.unwrap_or_else(|| "robot".into()),
-            arms: self.arms,
+            arms,
             shape: self.shape,
             candidates: self.candidates.into_iter().map(Arc::new).collect(),
             path,
@@ -437,10 +581,16 @@ impl TaskBuilder {
                 likelihood: self.likelihood,
                 pairs: self.pairs,
                 min_separation: self.min_separation,
+                min_clearance: self.min_clearance,
             },
             ik,
             compare_branches: self.compare_branches,
             limits,
+            approach: self.approach,
+            retreat: self.retreat,
+            gripper: self.gripper,
+            collisions,
+            object_body,
         };
         let work = task.work();
         if work > limits.max_work {

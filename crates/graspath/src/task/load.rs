@@ -14,7 +14,7 @@ use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{edge_family, face_family, read_candidates, yaw_family, Candidate};
-use crate::robot::{Chain, RobotSource};
+use crate::robot::{Chain, RobotModel, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
 
@@ -46,7 +46,7 @@ pub fn builder_from_file(
     let err = |field: &str, message: String| TaskError::new(source_name, field, message);
     let limits = file.limits.unwrap_or_default();
     let mut builder = Task::builder(source_name).limits(limits);
-    let (robot_name, arms) = setup_arms(file, source_name, base_dir)?;
+    let (robot_name, arms, model) = setup_arms(file, source_name, base_dir)?;
     builder = builder.robot_name(robot_name);
     for (name, chain, world_from_base) in arms {
         builder = builder.arm(name, chain, world_from_base);
@@ -122,7 +122,10 @@ pub fn builder_from_file(
     if let Some(compare) = ik.compare_branches {
         builder = builder.compare_branches(compare);
     }
-    Ok(builder)
+    if let Some(min) = s.min_clearance {
+        builder = builder.min_clearance(Some(min));
+    }
+    super::load_scene::add_world(builder, file, source_name, base_dir, &model)
 }
 
 /// A pose from its file form; `field` names it in errors.
@@ -138,7 +141,7 @@ fn setup_arms(
     file: &TaskFile,
     source: &str,
     base_dir: &Path,
-) -> Result<(String, Vec<ArmParts>), TaskError> {
+) -> Result<(String, Vec<ArmParts>, RobotModel), TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     let robot = &file.robot;
     let default_tool = robot
@@ -233,7 +236,7 @@ fn setup_arms(
         .map_err(|e| TaskError::caused_by(source, &field, e))?;
         arms.push((name.clone(), chain, world_from_base));
     }
-    Ok((model.name().to_string(), arms))
+    Ok((model.name().to_string(), arms, model))
 }
 
 fn setup_candidates(

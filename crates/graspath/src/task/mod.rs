@@ -13,7 +13,9 @@ mod builder;
 mod error;
 mod file;
 mod load;
+mod load_scene;
 mod path;
+mod scene;
 mod settings;
 
 pub use builder::{ArmSetup, Task, TaskBuilder};
@@ -24,5 +26,7 @@ pub use file::{
     TrajectoryFile,
 };
 pub use load::{builder_from_file, pose};
+pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
 pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
+pub use scene::{Collisions, Gripper, SceneSettings, Stroke, DEFAULT_FINGER};
 pub use settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};

@@ -79,6 +79,9 @@ pub struct SelectionOptions {
     pub pairs: usize,
     /// Two grasps closer than this (m, object frame) overlap.
     pub min_separation: f64,
+    /// Reject candidates whose clearance from the scene along the motion is below this (m;
+    /// `None`: only collisions reject).
+    pub min_clearance: Option<f64>,
 }
 
 impl Default for SelectionOptions {
@@ -89,6 +92,7 @@ impl Default for SelectionOptions {
             likelihood: LikelihoodRule::Product,
             pairs: defaults::PAIRS,
             min_separation: defaults::MIN_SEPARATION,
+            min_clearance: None,
         }
     }
 }

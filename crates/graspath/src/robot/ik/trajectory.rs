@@ -310,13 +310,7 @@ impl Tracker<'_> {
         far: bool,
         best: (f64, f64),
     ) -> Result<Vec<f64>, Failure> {
-        let fail = |reason, detail| {
-            Err(Failure {
-                sample: 0,
-                reason,
-                detail,
-            })
-        };
+        let fail = |reason, detail| Err(Failure::new(reason, 0, detail));
         if far {
             return fail(FailureReason::Unreachable, self.reach_detail(target));
         }
@@ -438,13 +432,7 @@ impl Tracker<'_> {
         let chain = kernel.chain;
         let step = self.options.max_joint_step;
         let per_sample = self.options.per_sample_iterations;
-        let fail = |reason, detail| {
-            Err(Failure {
-                sample: i,
-                reason,
-                detail,
-            })
-        };
+        let fail = |reason, detail| Err(Failure::new(reason, i, detail));
         let acceptable = |ws: &Workspace, end: RunEnd| {
             end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
         };

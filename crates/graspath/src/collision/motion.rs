@@ -1,0 +1,507 @@
+//! Checking a whole motion — approach, grasp, the object's path, retreat — for collisions at
+//! every sample and between samples, and measuring its clearance.
+//!
+//! **Between samples** the arm moves along the straight line in joint space. For two bodies at
+//! distances `d_a` and `d_b` at the ends of an interval, where no point of either moves more
+//! than `B_1` and `B_2` along it ([`crate::robot::SweepBound`]), the distance inside the
+//! interval is at least `(d_a + d_b − B_1 − B_2) / 2`. When that exceeds the required
+//! distance the interval is clear; otherwise it is halved (the bounds halve with it) and the
+//! middle configuration checked, until the bound is below [`CollisionOptions::resolution`].
+//! So no collision deeper than half the resolution can hide between checked configurations,
+//! and every reported collision has a witness configuration. Distances at samples are first
+//! bounded below by bounding spheres; the exact distance (parry3d) is computed only where the
+//! bound cannot decide.
+//!
+//! **Which pairs** (the required distance in brackets):
+//! * every arm and hand body against every scene body (`margin`);
+//! * before the grasp and after the release, the object (where it stands) against the arm's
+//!   links (touching is a collision) and the hand (touching allowed, pressing deeper than
+//!   `touch_tolerance` not);
+//! * from the grasp to the place, the carried object against the scene (`margin`; against the
+//!   table, resting is allowed) and against the arm's links outside the hand's rigid group;
+//! * the arm's self-collision pairs ([`super::ArmBodies`]), touching is a collision.
+
+use super::arm::ArmBodies;
+use super::body::{Body, Placed};
+use super::scene::Scene;
+use nalgebra::{Isometry3, IsometryMatrix3};
+use std::ops::Range;
+
+/// Collision settings. In a task file: `collision: { margin, self, between_arms,
+/// touch_tolerance, resolution }`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CollisionOptions {
+    /// The clearance the robot, its hand and the carried object keep from the scene (m).
+    pub margin: f64,
+    /// Check the arm against itself.
+    pub self_collision: bool,
+    /// Check two arms against each other.
+    pub between_arms: bool,
+    /// How deep an allowed contact (fingers on the object, the object on the table) may press
+    /// before it is a collision (m).
+    pub touch_tolerance: f64,
+    /// The continuous check's resolution (m): nothing penetrates deeper than half of it
+    /// undetected between checked configurations.
+    pub resolution: f64,
+}
+
+impl Default for CollisionOptions {
+    /// 1 cm margin, self and arm–arm checks on, 1 mm touch tolerance, 0.1 mm resolution.
+    fn default() -> Self {
+        Self {
+            margin: 0.01,
+            self_collision: true,
+            between_arms: true,
+            touch_tolerance: 0.001,
+            resolution: 1e-4,
+        }
+    }
+}
+
+/// A whole motion of one arm and where the object is along it.
+#[derive(Debug, Clone)]
+pub struct WholeMotion<'a> {
+    /// Every configuration in order, approach → path → retreat (rad / m).
+    pub q: &'a [Vec<f64>],
+    /// The samples of the object's path: `path.start` is the grasp, `path.end − 1` the place.
+    pub path: Range<usize>,
+    /// The object's pose at the grasp, world frame.
+    pub world_from_object_start: &'a Isometry3<f64>,
+    /// The object's pose at the place, world frame.
+    pub world_from_object_end: &'a Isometry3<f64>,
+    /// The grasp: the tool pose in the object frame.
+    pub object_from_wrist: &'a Isometry3<f64>,
+}
+
+/// The first collision found along a motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CollisionHit {
+    /// The sample (index into [`WholeMotion::q`]) at which, or just after which, it happens.
+    pub sample: usize,
+    /// Whether the witness configuration lies between `sample` and `sample + 1`.
+    pub between: bool,
+    /// The two bodies.
+    pub bodies: [String; 2],
+    /// Their distance at the witness (m; negative: penetration depth, where known).
+    pub distance: f64,
+    /// The distance they had to keep (m).
+    pub required: f64,
+}
+
+/// The outcome of checking a motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionCheck {
+    /// The first collision, if any.
+    pub hit: Option<CollisionHit>,
+    /// The smallest distance between the robot (with hand and carried object) and the scene
+    /// at any sample (m), allowed contacts excluded; `None` with an empty scene.
+    pub clearance: Option<f64>,
+}
+
+/// Where the object is during a stretch of the motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ObjectAt {
+    Start,
+    Carried,
+    End,
+}
+
+/// One pair to check: two slots and the distance they must keep.
+#[derive(Debug, Clone, Copy)]
+struct Pair {
+    a: usize,
+    b: usize,
+    required: f64,
+    /// Counts towards the clearance.
+    scene: bool,
+}
+
+/// A distance known at a configuration: exact, or a lower bound.
+#[derive(Debug, Clone, Copy)]
+struct Known {
+    value: f64,
+    exact: bool,
+}
+
+/// An arm, its place in the world, the scene and the object: everything a motion is checked
+/// against.
+#[derive(Debug, Clone, Copy)]
+pub struct ArmInScene<'a> {
+    /// The arm's bodies.
+    pub arm: &'a ArmBodies,
+    /// Where the arm's base is, `world_from_base`.
+    pub world_from_base: &'a Isometry3<f64>,
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The object's body (object frame), when its shape is known.
+    pub object: Option<&'a Body>,
+    /// Settings.
+    pub options: &'a CollisionOptions,
+}
+
+/// Slots: arm bodies `0..A`, scene bodies `A..A+S`, the object `A+S`.
+struct Slots<'a> {
+    setup: ArmInScene<'a>,
+    world_from_base: IsometryMatrix3<f64>,
+    scene: Vec<Placed<'a>>,
+    arm_count: usize,
+    /// The carried object on the tip link, `link_from_object`.
+    link_from_object: IsometryMatrix3<f64>,
+    object_reach: f64,
+}
+
+impl<'a> Slots<'a> {
+    fn object_slot(&self) -> usize {
+        self.arm_count + self.scene.len()
+    }
+
+    fn pairs(&self, at: ObjectAt) -> Vec<Pair> {
+        let arm = self.setup.arm;
+        let options = self.setup.options;
+        let a = self.arm_count;
+        let mut pairs = Vec::new();
+        for i in 0..a {
+            for k in 0..self.scene.len() {
+                pairs.push(Pair {
+                    a: i,
+                    b: a + k,
+                    required: options.margin,
+                    scene: true,
+                });
+            }
+        }
+        if self.setup.object.is_some() {
+            let o = self.object_slot();
+            let tip_group = arm.bodies[arm.tip].group;
+            match at {
+                ObjectAt::Start | ObjectAt::End => {
+                    for (i, b) in arm.bodies.iter().enumerate() {
+                        let required = if b.hand {
+                            -options.touch_tolerance
+                        } else {
+                            0.0
+                        };
+                        pairs.push(Pair {
+                            a: i,
+                            b: o,
+                            required,
+                            scene: false,
+                        });
+                    }
+                }
+                ObjectAt::Carried => {
+                    for k in 0..self.scene.len() {
+                        // The table is the scene's first body.
+                        let resting = k == 0 && self.setup.scene.table().is_some();
+                        pairs.push(Pair {
+                            a: o,
+                            b: a + k,
+                            required: if resting {
+                                -options.touch_tolerance
+                            } else {
+                                options.margin
+                            },
+                            scene: !resting,
+                        });
+                    }
+                    for (i, b) in arm.bodies.iter().enumerate() {
+                        if b.group != tip_group && !b.hand {
+                            pairs.push(Pair {
+                                a: i,
+                                b: o,
+                                required: 0.0,
+                                scene: false,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        if options.self_collision {
+            pairs.extend(arm.self_pairs.iter().map(|&(i, j)| Pair {
+                a: i,
+                b: j,
+                required: 0.0,
+                scene: false,
+            }));
+        }
+        pairs
+    }
+
+    /// Every slot placed at the configuration with link `frames`.
+    fn place(
+        &self,
+        frames: &[IsometryMatrix3<f64>],
+        at: ObjectAt,
+        motion: &WholeMotion<'_>,
+    ) -> Vec<Placed<'a>> {
+        let arm = self.setup.arm;
+        let mut placed: Vec<Placed<'a>> = (0..self.arm_count)
+            .map(|i| arm.place(i, &self.world_from_base, frames))
+            .collect();
+        placed.extend(self.scene.iter().copied());
+        if let Some(object) = self.setup.object {
+            let world_from_object: IsometryMatrix3<f64> = match at {
+                ObjectAt::Start => nalgebra::convert(*motion.world_from_object_start),
+                ObjectAt::End => nalgebra::convert(*motion.world_from_object_end),
+                ObjectAt::Carried => self.world_from_base * frames[arm.tip] * self.link_from_object,
+            };
+            placed.push(Placed::new(object, world_from_object));
+        }
+        placed
+    }
+
+    /// How far each slot may move between `qa` and `qb` (0 for fixed slots).
+    fn displacements(&self, qa: &[f64], qb: &[f64], at: ObjectAt) -> Vec<f64> {
+        let arm = self.setup.arm;
+        let mut out: Vec<f64> = (0..self.arm_count)
+            .map(|i| arm.displacement(i, qa, qb))
+            .collect();
+        out.extend(std::iter::repeat_n(0.0, self.scene.len()));
+        if self.setup.object.is_some() {
+            out.push(if at == ObjectAt::Carried {
+                arm.sweep().displacement(arm.tip, self.object_reach, qa, qb)
+            } else {
+                0.0
+            });
+        }
+        out
+    }
+}
+
+impl Pair {
+    /// Whether a distance breaks the pair's requirement: closer than required, or touching
+    /// (an unsigned distance of 0 hides any overlap) where touching is not allowed.
+    fn violated_by(&self, distance: f64) -> bool {
+        distance < self.required || (self.required >= 0.0 && distance <= 0.0)
+    }
+}
+
+fn measure(pair: &Pair, placed: &[Placed<'_>], exact: bool) -> Known {
+    let (x, y) = (&placed[pair.a], &placed[pair.b]);
+    if !exact {
+        let gap = x.gap(y);
+        if !pair.violated_by(gap) {
+            return Known {
+                value: gap,
+                exact: false,
+            };
+        }
+    }
+    let value = if pair.required < 0.0 {
+        x.signed_distance(y)
+    } else {
+        x.distance(y)
+    };
+    Known { value, exact: true }
+}
+
+impl ArmInScene<'_> {
+    /// Checks a whole motion (see the module documentation).
+    pub fn check(&self, motion: &WholeMotion<'_>) -> MotionCheck {
+        let arm = self.arm;
+        let chain = arm.chain();
+        let world_from_base: IsometryMatrix3<f64> = nalgebra::convert(*self.world_from_base);
+        let wrist_from_object: IsometryMatrix3<f64> =
+            nalgebra::convert(motion.object_from_wrist.inverse());
+        let link_from_object = arm.link_from_tool * wrist_from_object;
+        let object_reach = self.object.map_or(0.0, |o| {
+            let (centre, radius) = o.bounding_sphere();
+            (link_from_object * centre).coords.norm() + radius
+        });
+        let slots = Slots {
+            setup: *self,
+            world_from_base,
+            scene: self
+                .scene
+                .bodies()
+                .iter()
+                .map(|(body, pose)| Placed::new(body, nalgebra::convert(*pose)))
+                .collect(),
+            arm_count: arm.bodies.len(),
+            link_from_object,
+            object_reach,
+        };
+        let n = motion.q.len();
+        let links = chain.link_names().len();
+        let mut frames = vec![vec![IsometryMatrix3::identity(); links]; n];
+        for (q, f) in motion.q.iter().zip(&mut frames) {
+            if chain.link_frames_into(q, f).is_err() {
+                // Configurations come from the IK inside the limits; a bad one is no motion.
+                return MotionCheck {
+                    hit: None,
+                    clearance: None,
+                };
+            }
+        }
+        let grasp = motion.path.start.min(n.saturating_sub(1));
+        let place = motion.path.end.saturating_sub(1).max(grasp);
+        let stretches = [
+            (ObjectAt::Start, 0..grasp + 1),
+            (ObjectAt::Carried, grasp..place + 1),
+            (ObjectAt::End, place..n),
+        ];
+        let mut clearance_entries: Vec<(Known, usize, ObjectAt, usize)> = Vec::new();
+        let mut mid_frames = vec![IsometryMatrix3::identity(); links];
+        for (at, samples) in stretches {
+            let pairs = slots.pairs(at);
+            if pairs.is_empty() {
+                continue;
+            }
+            let mut previous: Option<(usize, Vec<Known>)> = None;
+            for s in samples {
+                let placed = slots.place(&frames[s], at, motion);
+                let mut known = Vec::with_capacity(pairs.len());
+                for (p, pair) in pairs.iter().enumerate() {
+                    let k = measure(pair, &placed, false);
+                    if pair.violated_by(k.value) {
+                        return MotionCheck {
+                            hit: Some(hit(pair, &placed, k.value, s, false)),
+                            clearance: None,
+                        };
+                    }
+                    if pair.scene {
+                        clearance_entries.push((k, s, at, p));
+                    }
+                    known.push(k);
+                }
+                if let Some((r, before)) = previous.take() {
+                    let moved = slots.displacements(&motion.q[r], &motion.q[s], at);
+                    let mut placed_before = None;
+                    for (p, pair) in pairs.iter().enumerate() {
+                        let bound = moved[pair.a] + moved[pair.b];
+                        let mut ends = (before[p], known[p]);
+                        if ends.0.value + ends.1.value - bound > 2.0 * pair.required {
+                            continue;
+                        }
+                        if !ends.0.exact {
+                            let placed_before = placed_before
+                                .get_or_insert_with(|| slots.place(&frames[r], at, motion));
+                            ends.0 = measure(pair, placed_before, true);
+                        }
+                        if !ends.1.exact {
+                            ends.1 = measure(pair, &placed, true);
+                        }
+                        let interval = Interval {
+                            slots: &slots,
+                            pair,
+                            at,
+                            motion,
+                        };
+                        if let Some(h) = interval.search(
+                            (&motion.q[r], ends.0.value),
+                            (&motion.q[s], ends.1.value),
+                            bound,
+                            &mut mid_frames,
+                        ) {
+                            return MotionCheck {
+                                hit: Some(CollisionHit { sample: r, ..h }),
+                                clearance: None,
+                            };
+                        }
+                    }
+                }
+                previous = Some((s, known));
+            }
+        }
+        let clearance = (!self.scene.is_empty())
+            .then(|| exact_minimum(&slots, &frames, motion, &mut clearance_entries));
+        MotionCheck {
+            hit: None,
+            clearance,
+        }
+    }
+}
+
+/// The smallest exact distance among `entries` (lower bounds or exact values), computing
+/// exact values only for entries whose bound is below the best found.
+fn exact_minimum(
+    slots: &Slots<'_>,
+    frames: &[Vec<IsometryMatrix3<f64>>],
+    motion: &WholeMotion<'_>,
+    entries: &mut [(Known, usize, ObjectAt, usize)],
+) -> f64 {
+    let mut best = entries
+        .iter()
+        .filter(|e| e.0.exact)
+        .map(|e| e.0.value)
+        .fold(f64::INFINITY, f64::min);
+    let mut pairs_of: Vec<(ObjectAt, Vec<Pair>)> = Vec::new();
+    loop {
+        let next = entries
+            .iter_mut()
+            .filter(|e| !e.0.exact && e.0.value < best)
+            .min_by(|x, y| x.0.value.total_cmp(&y.0.value));
+        let Some(entry) = next else {
+            break;
+        };
+        let (_, s, at, p) = *entry;
+        if !pairs_of.iter().any(|(a, _)| *a == at) {
+            pairs_of.push((at, slots.pairs(at)));
+        }
+        let pairs = &pairs_of
+            .iter()
+            .find(|(a, _)| *a == at)
+            .expect("just added")
+            .1;
+        let placed = slots.place(&frames[s], at, motion);
+        let k = measure(&pairs[p], &placed, true);
+        entry.0 = k;
+        best = best.min(k.value);
+    }
+    best
+}
+
+fn hit(
+    pair: &Pair,
+    placed: &[Placed<'_>],
+    distance: f64,
+    sample: usize,
+    between: bool,
+) -> CollisionHit {
+    CollisionHit {
+        sample,
+        between,
+        bodies: [
+            placed[pair.a].body.name().to_string(),
+            placed[pair.b].body.name().to_string(),
+        ],
+        distance,
+        required: pair.required,
+    }
+}
+
+/// The continuous check of one pair over one interval.
+struct Interval<'s, 'a> {
+    slots: &'s Slots<'a>,
+    pair: &'s Pair,
+    at: ObjectAt,
+    motion: &'s WholeMotion<'s>,
+}
+
+impl Interval<'_, '_> {
+    /// Searches `[qa, qb]`, with exact distances `da`, `db` at its ends and displacement
+    /// bound `bound`, for a configuration closer than required.
+    fn search(
+        &self,
+        (qa, da): (&[f64], f64),
+        (qb, db): (&[f64], f64),
+        bound: f64,
+        frames: &mut [IsometryMatrix3<f64>],
+    ) -> Option<CollisionHit> {
+        let required = self.pair.required;
+        if da + db - bound > 2.0 * required || bound < self.slots.setup.options.resolution {
+            return None;
+        }
+        let mid: Vec<f64> = qa.iter().zip(qb).map(|(a, b)| 0.5 * (a + b)).collect();
+        let chain = self.slots.setup.arm.chain();
+        chain.link_frames_into(&mid, frames).ok()?;
+        let placed = self.slots.place(frames, self.at, self.motion);
+        let dm = measure(self.pair, &placed, true).value;
+        if self.pair.violated_by(dm) {
+            return Some(hit(self.pair, &placed, dm, 0, true));
+        }
+        self.search((qa, da), (&mid, dm), bound / 2.0, frames)
+            .or_else(|| self.search((&mid, dm), (qb, db), bound / 2.0, frames))
+    }
+}

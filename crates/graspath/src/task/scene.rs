@@ -1,0 +1,163 @@
+//! What a task knows about the world beyond the arm and the object's path: the scene to
+//! collide with, the approach before the grasp and the retreat after the place, and the
+//! gripper's opening and fingers. Without a scene no collision is checked (the behaviour of a
+//! task that says nothing about its world).
+
+use crate::collision::{CollisionOptions, LinkShape, Scene, SelfPairs};
+use crate::geometry::shape::Shape;
+use nalgebra::{Isometry3, Translation3, Unit, Vector3};
+use std::sync::Arc;
+
+/// A straight stroke of the tool along its approach axis: before the grasp the tool comes in
+/// from `distance` back along the axis; after the place it backs out by `distance`. In a task
+/// file: `approach: { distance, samples, axis }` and `retreat: {...}`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stroke {
+    /// How far the pre-grasp (or post-place) pose is from the grasp (place) pose (m).
+    pub distance: f64,
+    /// Samples of the stroke besides the grasp (place) pose itself.
+    pub samples: usize,
+    /// The approach axis in the tool frame (unit; default `+z`, from the palm towards the
+    /// object, the convention of the built-in Baxter tool and of most grippers' TCP frames).
+    pub axis: Unit<Vector3<f64>>,
+}
+
+impl Stroke {
+    /// A stroke of `distance` (m) in `samples` samples along the tool's `+z`.
+    pub fn new(distance: f64, samples: usize) -> Self {
+        Self {
+            distance,
+            samples,
+            axis: Vector3::z_axis(),
+        }
+    }
+
+    /// `wrist_from_stroke` of stroke sample `k` of `samples`, where `k = 0` is the farthest
+    /// and `k = samples` the grasp itself: back along the axis by `distance · (1 − k/samples)`.
+    pub fn offset(&self, k: usize) -> Isometry3<f64> {
+        let back = self.distance * (1.0 - k as f64 / self.samples as f64);
+        Translation3::from(-self.axis.into_inner() * back).into()
+    }
+}
+
+/// A parallel gripper: its largest opening and its fingers' size, in the tool frame (the
+/// fingers close along `y`, approach along `z`, and end at the tool origin). In a task file:
+/// `gripper: { opening, finger: [length, width, thickness], palm: [x, y, z] }` or
+/// `gripper: { builtin: baxter }`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gripper {
+    /// The largest gap between the inner finger faces (m).
+    pub opening: f64,
+    /// Finger length along the approach axis, width along `x`, thickness along `y` (m).
+    pub finger: [f64; 3],
+    /// A palm box behind the finger roots, size along `x, y, z` (m), if modelled.
+    pub palm: Option<[f64; 3]>,
+}
+
+/// The default finger size of a gripper given only by its opening (m): 5 cm long, 2 cm wide,
+/// 1 cm thick.
+pub const DEFAULT_FINGER: [f64; 3] = [0.05, 0.02, 0.01];
+
+impl Gripper {
+    /// A parallel gripper opening to `opening` (m) with [`DEFAULT_FINGER`] fingers and no palm.
+    pub fn parallel(opening: f64) -> Self {
+        Self {
+            opening,
+            finger: DEFAULT_FINGER,
+            palm: None,
+        }
+    }
+
+    /// The built-in Baxter electric gripper (the dimensions of
+    /// [`crate::grasp::hand::baxter_electric_gripper`] at its widest opening, 7 cm): 9 cm
+    /// fingers, 2 cm wide and 1 cm thick, and its 6 × 11 cm palm from the gripper base to the
+    /// finger roots.
+    pub fn baxter() -> Self {
+        Self {
+            opening: 0.07,
+            finger: [0.09, 0.02, 0.01],
+            palm: Some([0.06, 0.11, 0.1327 - 0.09]),
+        }
+    }
+
+    /// The fingers, open at `opening`, as `(name, tool_from_shape, shape)`.
+    pub fn finger_shapes(&self) -> Vec<(String, Isometry3<f64>, Shape)> {
+        let [length, width, thickness] = self.finger;
+        let shape = Shape::cuboid([width, thickness, length]).expect("finger sizes are checked");
+        let y = self.opening / 2.0 + thickness / 2.0;
+        vec![
+            (
+                "left finger".into(),
+                Isometry3::translation(0.0, y, -length / 2.0),
+                shape.clone(),
+            ),
+            (
+                "right finger".into(),
+                Isometry3::translation(0.0, -y, -length / 2.0),
+                shape,
+            ),
+        ]
+    }
+
+    /// Every hand body (fingers, and the palm when modelled), tool frame.
+    pub fn hand_shapes(&self) -> Vec<(String, Isometry3<f64>, Shape)> {
+        let mut shapes = self.finger_shapes();
+        if let Some(palm) = self.palm {
+            shapes.push((
+                "palm".into(),
+                Isometry3::translation(0.0, 0.0, -self.finger[0] - palm[2] / 2.0),
+                Shape::cuboid(palm).expect("palm sizes are checked"),
+            ));
+        }
+        shapes
+    }
+
+    /// Checks every size; the error names the field.
+    pub(crate) fn check(&self) -> Result<(), (String, String)> {
+        let positive = |field: String, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err((
+                    field,
+                    format!("must be a positive finite length in metres, got {v}"),
+                ))
+            }
+        };
+        positive("gripper.opening".into(), self.opening)?;
+        for (k, v) in self.finger.iter().enumerate() {
+            positive(format!("gripper.finger[{k}]"), *v)?;
+        }
+        if let Some(palm) = self.palm {
+            for (k, v) in palm.iter().enumerate() {
+                positive(format!("gripper.palm[{k}]"), *v)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The scene settings a task is built with ([`super::TaskBuilder::scene`]).
+#[derive(Debug, Clone, Default)]
+pub struct SceneSettings {
+    /// The table and obstacles.
+    pub scene: Scene,
+    /// Margins and which checks run.
+    pub options: CollisionOptions,
+    /// The robot's link geometry (every link that has any; links not on an arm's chain are
+    /// ignored).
+    pub robot_shapes: Vec<LinkShape>,
+    /// How self-collision pairs are chosen.
+    pub self_pairs: SelfPairs,
+    /// Link pairs never checked (SRDF `disable_collisions`).
+    pub disabled: Vec<(String, String)>,
+}
+
+/// The collision checks of a built task.
+#[derive(Debug, Clone)]
+pub struct Collisions {
+    /// The table and obstacles, world frame.
+    pub scene: Arc<Scene>,
+    /// Margins and which checks run.
+    pub options: CollisionOptions,
+}

@@ -1,0 +1,310 @@
+//! Collision checks against oracles that do not share their code: closed-form distances,
+//! brute force over sampled surfaces, and a fine subdivision of motions.
+
+use graspath::collision::{
+    distance, ArmBodies, ArmInScene, Body, CollisionOptions, Scene, SelfPairs, WholeMotion,
+};
+use graspath::geometry::shape::Shape;
+use graspath::robot::builtin::{baxter, Arm};
+use graspath::robot::RobotSource;
+use graspath::task::robot_link_shapes;
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use proptest::prelude::*;
+
+fn at(x: f64, y: f64, z: f64, roll: f64, pitch: f64, yaw: f64) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(x, y, z),
+        UnitQuaternion::from_euler_angles(roll, pitch, yaw),
+    )
+}
+
+#[test]
+fn sphere_sphere_is_the_centre_distance_less_the_radii() {
+    let a = Body::from_shape("a", &Shape::sphere(0.1).unwrap());
+    let b = Body::from_shape("b", &Shape::sphere(0.25).unwrap());
+    for (pa, pb) in [
+        (
+            at(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            at(1.0, 0.0, 0.0, 0.3, 0.2, 0.1),
+        ),
+        (
+            at(0.3, -0.2, 0.5, 1.0, 0.0, 0.0),
+            at(-0.4, 0.9, 0.1, 0.0, 2.0, 0.0),
+        ),
+    ] {
+        let expected = (pa.translation.vector - pb.translation.vector).norm() - 0.35;
+        assert!((distance(&a, &pa, &b, &pb) - expected).abs() < 1e-12);
+    }
+}
+
+/// The closest distance between segments `p0 p1` and `q0 q1`, by a fine scan of one parameter
+/// and the closed-form projection for the other.
+fn segment_distance(p0: Vector3<f64>, p1: Vector3<f64>, q0: Vector3<f64>, q1: Vector3<f64>) -> f64 {
+    let mut best = f64::INFINITY;
+    let d = q1 - q0;
+    for i in 0..=20_000 {
+        let p = p0 + (p1 - p0) * (i as f64 / 20_000.0);
+        let t = ((p - q0).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+        best = best.min((p - (q0 + d * t)).norm());
+    }
+    best
+}
+
+#[test]
+fn capsule_capsule_is_the_segment_distance_less_the_radii() {
+    let a = Body::from_shape("a", &Shape::capsule(0.03, 0.4).unwrap());
+    let b = Body::from_shape("b", &Shape::capsule(0.05, 0.2).unwrap());
+    let poses = [
+        (
+            at(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            at(0.3, 0.0, 0.0, 0.0, 0.0, 0.0),
+        ),
+        (
+            at(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            at(0.2, 0.1, 0.5, 1.5707963, 0.0, 0.0),
+        ),
+        (
+            at(0.1, 0.2, 0.3, 0.4, 0.5, 0.6),
+            at(-0.2, 0.1, 0.0, 1.0, -0.3, 2.0),
+        ),
+    ];
+    for (pa, pb) in poses {
+        let ends = |p: &Isometry3<f64>, half: f64| {
+            (
+                (p * Point3::new(0.0, 0.0, -half)).coords,
+                (p * Point3::new(0.0, 0.0, half)).coords,
+            )
+        };
+        let (p0, p1) = ends(&pa, 0.2);
+        let (q0, q1) = ends(&pb, 0.1);
+        let expected = (segment_distance(p0, p1, q0, q1) - 0.08).max(0.0);
+        let got = distance(&a, &pa, &b, &pb);
+        assert!((got - expected).abs() < 1e-6, "{got} vs {expected}");
+    }
+}
+
+#[test]
+fn box_point_is_the_clamped_distance() {
+    // A sphere of radius r about a point: its distance to a box is the point's distance to
+    // the box (clamp the point into the box in the box frame) less r.
+    let size = [0.2, 0.4, 0.1];
+    let b = Body::from_shape("box", &Shape::cuboid(size).unwrap());
+    let s = Body::from_shape("ball", &Shape::sphere(0.01).unwrap());
+    let pose = at(0.1, -0.2, 0.3, 0.3, -0.4, 0.9);
+    for i in 0..100 {
+        let t = i as f64 * 0.61;
+        let p = Point3::new(0.5 * t.sin(), 0.5 * (0.7 * t).cos(), 0.5 * (1.3 * t).sin());
+        let local = pose.inverse() * p;
+        let clamped = Point3::new(
+            local.x.clamp(-0.1, 0.1),
+            local.y.clamp(-0.2, 0.2),
+            local.z.clamp(-0.05, 0.05),
+        );
+        let expected = ((local - clamped).norm() - 0.01).max(0.0);
+        let got = distance(&b, &pose, &s, &Isometry3::translation(p.x, p.y, p.z));
+        assert!((got - expected).abs() < 1e-9, "{got} vs {expected}");
+    }
+}
+
+/// Points on the surface of a capsule (radius r, segment length l along z) and a box.
+fn capsule_surface(r: f64, l: f64, pose: &Isometry3<f64>) -> Vec<Point3<f64>> {
+    let mut out = Vec::new();
+    for i in 0..200 {
+        let a = i as f64 / 200.0 * std::f64::consts::TAU;
+        for j in 0..=60 {
+            let z = -l / 2.0 + l * j as f64 / 60.0;
+            out.push(pose * Point3::new(r * a.cos(), r * a.sin(), z));
+        }
+        for j in 0..=30 {
+            let polar = j as f64 / 30.0 * std::f64::consts::FRAC_PI_2;
+            for sign in [-1.0, 1.0] {
+                out.push(
+                    pose * Point3::new(
+                        r * polar.cos() * a.cos(),
+                        r * polar.cos() * a.sin(),
+                        sign * (l / 2.0 + r * polar.sin()),
+                    ),
+                );
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn capsule_box_matches_brute_force_over_sampled_surfaces() {
+    let capsule = Body::from_shape("capsule", &Shape::capsule(0.04, 0.3).unwrap());
+    let size = [0.3, 0.2, 0.1];
+    let cuboid = Body::from_shape("box", &Shape::cuboid(size).unwrap());
+    let box_pose = at(0.0, 0.0, 0.0, 0.2, 0.1, -0.3);
+    for capsule_pose in [
+        at(0.0, 0.0, 0.4, 0.0, 0.0, 0.0),
+        at(0.35, 0.1, 0.0, 0.4, 1.2, 0.0),
+        at(-0.1, 0.3, 0.2, 1.0, 0.3, 0.7),
+    ] {
+        // Brute force: the distance from each capsule surface point to the box (clamped in
+        // the box frame), minimised.
+        let expected = capsule_surface(0.04, 0.3, &capsule_pose)
+            .iter()
+            .map(|p| {
+                let local = box_pose.inverse() * p;
+                let h = [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0];
+                let clamped = Point3::new(
+                    local.x.clamp(-h[0], h[0]),
+                    local.y.clamp(-h[1], h[1]),
+                    local.z.clamp(-h[2], h[2]),
+                );
+                (local - clamped).norm()
+            })
+            .fold(f64::INFINITY, f64::min);
+        let got = distance(&capsule, &capsule_pose, &cuboid, &box_pose);
+        // The sampled surface is within ~1 mm of the true one.
+        assert!(
+            got <= expected + 1e-9 && expected - got < 2e-3,
+            "parry {got} vs sampled {expected}"
+        );
+    }
+}
+
+fn baxter_left_bodies() -> ArmBodies {
+    let model = RobotSource::builtin("baxter").load().unwrap();
+    let shapes = robot_link_shapes(&model).unwrap();
+    ArmBodies::new(&baxter(Arm::Left), &shapes, &[], &[], SelfPairs::None).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// The continuous check never misses a collision that a subdivision of the motion into
+    /// steps of at most 1 mm of any body's displacement finds.
+    #[test]
+    fn the_continuous_check_never_misses_what_a_fine_subdivision_finds(
+        start in prop::collection::vec(-1.0f64..1.0, 7),
+        step in prop::collection::vec(-0.5f64..0.5, 7),
+        obstacle in (0.3f64..0.9, -0.1f64..0.8, -0.3f64..0.5),
+    ) {
+        let arm = baxter_left_bodies();
+        let chain = arm.chain().clone();
+        let clamp = |q: Vec<f64>| -> Vec<f64> {
+            q.iter()
+                .enumerate()
+                .map(|(j, v)| v.clamp(chain.lower()[j], chain.upper()[j]))
+                .collect()
+        };
+        let qa = clamp(start.clone());
+        let qb = clamp(start.iter().zip(&step).map(|(a, d)| a + d).collect());
+        // A 1 cm ball.
+        let ball = Shape::sphere(0.005).unwrap();
+        let ball_pose = Isometry3::translation(obstacle.0, obstacle.1, obstacle.2);
+        let scene = Scene::new().with_shape("ball", &ball, ball_pose);
+        let options = CollisionOptions { margin: 0.0, self_collision: false, ..CollisionOptions::default() };
+        let identity = Isometry3::identity();
+        let checker = ArmInScene {
+            arm: &arm,
+            world_from_base: &identity,
+            scene: &scene,
+            object: None,
+            options: &options,
+        };
+        let motion = [qa.clone(), qb.clone()];
+        let check = checker.check(&WholeMotion {
+            q: &motion,
+            path: 0..2,
+            world_from_object_start: &identity,
+            world_from_object_end: &identity,
+            object_from_wrist: &identity,
+        });
+        // Oracle: link frames along the line, fine enough that no body point moves 1 mm.
+        let reach_bound = 2.0; // m: no Baxter link point is farther than this from a joint
+        let travel: f64 = qa.iter().zip(&qb).map(|(a, b)| (a - b).abs()).sum::<f64>() * reach_bound;
+        let steps = ((travel / 1e-3).ceil() as usize).max(1);
+        let model = RobotSource::builtin("baxter").load().unwrap();
+        let shapes = robot_link_shapes(&model).unwrap();
+        let names = chain.link_names();
+        let ball_body = Body::from_shape("ball", &ball);
+        let mut oracle_hit = false;
+        'outer: for s in 0..=steps {
+            let t = s as f64 / steps as f64;
+            let q: Vec<f64> = qa.iter().zip(&qb).map(|(a, b)| a + t * (b - a)).collect();
+            let frames = chain.link_frames(&q).unwrap();
+            for shape in &shapes {
+                let Some(k) = names.iter().position(|n| *n == shape.link) else { continue };
+                let frame: Isometry3<f64> = nalgebra::convert(frames[k]);
+                let body = Body::from_shape("link", &shape.shape);
+                if distance(&body, &(frame * shape.link_from_shape), &ball_body, &ball_pose) <= 0.0 {
+                    oracle_hit = true;
+                    break 'outer;
+                }
+            }
+        }
+        if oracle_hit {
+            prop_assert!(check.hit.is_some(), "the subdivision found a collision the check missed");
+        }
+        if let Some(hit) = &check.hit {
+            prop_assert!(hit.distance < hit.required || hit.distance <= 0.0);
+        }
+    }
+}
+
+#[test]
+fn a_floor_below_the_motion_is_clear_by_its_gap_and_one_above_collides() {
+    // A small shoulder motion over an infinite floor. Oracle: the lowest point of every link
+    // shape at both samples (their tight bounding boxes).
+    let arm = baxter_left_bodies();
+    let chain = arm.chain().clone();
+    let q0 = chain.mid_configuration();
+    let mut q1 = q0.clone();
+    q1[0] += 0.05;
+    let frames = [
+        chain.link_frames(&q0).unwrap(),
+        chain.link_frames(&q1).unwrap(),
+    ];
+
+    let names = chain.link_names();
+    let model = RobotSource::builtin("baxter").load().unwrap();
+    let shapes = robot_link_shapes(&model).unwrap();
+    let mut lowest: f64 = f64::INFINITY;
+    for f in &frames {
+        for shape in shapes.iter().filter(|s| names.contains(&s.link)) {
+            let k = names.iter().position(|n| *n == shape.link).unwrap();
+            let frame: Isometry3<f64> = nalgebra::convert(f[k]);
+            let aabb = shape.shape.aabb_at(&(frame * shape.link_from_shape));
+            lowest = lowest.min(aabb.min.z);
+        }
+    }
+    let identity = Isometry3::identity();
+    let options = CollisionOptions {
+        self_collision: false,
+        ..CollisionOptions::default()
+    };
+    let motion = [q0, q1];
+    let run = |floor: f64| {
+        let scene = Scene::new().with_table(floor, None, None).unwrap();
+        ArmInScene {
+            arm: &arm,
+            world_from_base: &identity,
+            scene: &scene,
+            object: None,
+            options: &options,
+        }
+        .check(&WholeMotion {
+            q: &motion,
+            path: 0..2,
+            world_from_object_start: &identity,
+            world_from_object_end: &identity,
+            object_from_wrist: &identity,
+        })
+    };
+    // A floor 5 cm below the lowest point: clear, and the clearance is that gap (±0.1 mm).
+    let clear = run(lowest - 0.05);
+    assert!(clear.hit.is_none());
+    let clearance = clear.clearance.unwrap();
+    assert!(
+        clearance <= 0.05 + 1e-9 && clearance > 0.05 - 1e-3,
+        "{clearance}"
+    );
+    // A floor 5 mm below it breaks the 1 cm margin; one above it is a collision.
+    assert!(run(lowest - 0.005).hit.is_some());
+    let hit = run(lowest + 0.01).hit.unwrap();
+    assert!(hit.bodies.iter().any(|b| b == "table"));
+}

@@ -37,9 +37,13 @@ pub(crate) struct LinkBody {
 /// How self-collision pairs are chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SelfPairs {
-    /// Every pair of bodies on non-adjacent rigid groups, except those found in contact in
-    /// every one of the sampled configurations ("always", a modelling overlap) and those never
-    /// within reach of each other in any ("never"), as MoveIt's setup assistant does.
+    /// Every pair of bodies more than two joints apart (a wrist's short middle link puts the
+    /// links on either side of it into contact by design: on Baxter the forearm and the wrist
+    /// cylinders touch in half of all configurations), except, as MoveIt's setup assistant
+    /// does, those in contact at the chain's mid configuration ("default"), those in contact
+    /// in at least [`ALWAYS_FRACTION`] of [`SELF_PAIR_SAMPLES`] random configurations
+    /// ("always": a modelling overlap) and those whose bounding spheres never meet in any of
+    /// them ("never").
     #[default]
     Sampled,
     /// Every pair of bodies on non-adjacent rigid groups.
@@ -50,6 +54,10 @@ pub enum SelfPairs {
 
 /// How many random configurations decide the sampled self-collision pairs.
 pub const SELF_PAIR_SAMPLES: usize = 2000;
+
+/// The fraction of sampled configurations in contact that makes a pair "always" in
+/// collision (MoveIt's default, 95 %).
+pub const ALWAYS_FRACTION: f64 = 0.95;
 
 /// The random stream of the sampled self-collision configurations (fixed: the pairs depend
 /// only on the robot).
@@ -192,7 +200,12 @@ impl ArmBodies {
         for i in 0..self.bodies.len() {
             for j in i + 1..self.bodies.len() {
                 let (x, y) = (&self.bodies[i], &self.bodies[j]);
-                if x.group.abs_diff(y.group) <= 1 || is_disabled(x, y) {
+                let apart = x.group.abs_diff(y.group);
+                let close = match mode {
+                    SelfPairs::Sampled => apart <= 2,
+                    _ => apart <= 1,
+                };
+                if close || is_disabled(x, y) {
                     continue;
                 }
                 pairs.push((i, j));
@@ -208,6 +221,19 @@ impl ArmBodies {
         let mut touching = vec![0usize; pairs.len()];
         let mut near = vec![0usize; pairs.len()];
         let mut frames = vec![IsometryMatrix3::identity(); links.len()];
+        let mid = self.chain.mid_configuration();
+        self.chain
+            .link_frames_into(&mid, &mut frames)
+            .map_err(|e| CollisionError::Robot(e.to_string()))?;
+        let identity = IsometryMatrix3::identity();
+        let at_default: Vec<bool> = pairs
+            .iter()
+            .map(|&(a, b)| {
+                self.place(a, &identity, &frames)
+                    .distance(&self.place(b, &identity, &frames))
+                    <= 0.0
+            })
+            .collect();
         let mut q = vec![0.0; n];
         for sample in 0..SELF_PAIR_SAMPLES {
             for (j, value) in q.iter_mut().enumerate() {
@@ -219,8 +245,8 @@ impl ArmBodies {
                 .link_frames_into(&q, &mut frames)
                 .map_err(|e| CollisionError::Robot(e.to_string()))?;
             for (k, &(a, b)) in pairs.iter().enumerate() {
-                let pa = self.place(a, &IsometryMatrix3::identity(), &frames);
-                let pb = self.place(b, &IsometryMatrix3::identity(), &frames);
+                let pa = self.place(a, &identity, &frames);
+                let pb = self.place(b, &identity, &frames);
                 if pa.gap(&pb) <= 0.0 {
                     near[k] += 1;
                     if pa.distance(&pb) <= 0.0 {
@@ -232,7 +258,11 @@ impl ArmBodies {
         Ok(pairs
             .into_iter()
             .enumerate()
-            .filter(|&(k, _)| near[k] > 0 && touching[k] < SELF_PAIR_SAMPLES)
+            .filter(|&(k, _)| {
+                near[k] > 0
+                    && !at_default[k]
+                    && (touching[k] as f64) < ALWAYS_FRACTION * SELF_PAIR_SAMPLES as f64
+            })
             .map(|(_, p)| p)
             .collect())
     }

@@ -17,7 +17,7 @@ mod bridge;
 mod motion;
 mod scene;
 
-pub use arm::{ArmBodies, LinkShape, SelfPairs, SELF_PAIR_SAMPLES};
+pub use arm::{ArmBodies, LinkShape, SelfPairs, ALWAYS_FRACTION, SELF_PAIR_SAMPLES};
 pub use body::{Body, BodyKind, Table, MAX_OBSTACLE_POINTS};
 pub use motion::{ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion};
 pub use scene::{Obstacle, Scene, DEFAULT_TABLE_THICKNESS};

@@ -13,7 +13,9 @@
 //! bound cannot decide.
 //!
 //! **Which pairs** (the required distance in brackets):
-//! * every arm and hand body against every scene body (`margin`);
+//! * every moving arm and hand body against every scene body (`margin`); the links before the
+//!   arm's first moving joint (a pedestal, a torso) stand where the robot was placed and are
+//!   not checked against the scene;
 //! * before the grasp and after the release, the object (where it stands) against the arm's
 //!   links (touching is a collision) and the hand (touching allowed, pressing deeper than
 //!   `touch_tolerance` not);
@@ -160,7 +162,9 @@ impl<'a> Slots<'a> {
         let options = self.setup.options;
         let a = self.arm_count;
         let mut pairs = Vec::new();
-        for i in 0..a {
+        // The arm's fixed links (before its first moving joint) stand where the robot was
+        // placed; only moving bodies are checked against the scene.
+        for i in (0..a).filter(|&i| arm.bodies[i].group > 0) {
             for k in 0..self.scene.len() {
                 pairs.push(Pair {
                     a: i,

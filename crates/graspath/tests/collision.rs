@@ -61,7 +61,7 @@ fn capsule_capsule_is_the_segment_distance_less_the_radii() {
         ),
         (
             at(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-            at(0.2, 0.1, 0.5, 1.5707963, 0.0, 0.0),
+            at(0.2, 0.1, 0.5, std::f64::consts::FRAC_PI_2, 0.0, 0.0),
         ),
         (
             at(0.1, 0.2, 0.3, 0.4, 0.5, 0.6),

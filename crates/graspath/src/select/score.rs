@@ -373,7 +373,7 @@ fn score_one(
         tries.push(ik.clone());
     }
     let mut collision: Option<Failure> = None;
-    let mut best: Option<(Vec<Option<f64>>, PathNorms, Vec<Vec<f64>>, Option<f64>)> = None;
+    let mut best: Option<ChosenBranch> = None;
     let mut last_failure: Option<Failure> = None;
     for (attempt, options) in tries.iter().enumerate() {
         let result = match solve_trajectory(chain, &targets, &seed, options) {
@@ -479,6 +479,10 @@ fn score_one(
     }
     score
 }
+
+/// The branch kept so far: `M_T` per path sample, its norms, the whole motion's joints and
+/// its clearance.
+type ChosenBranch = (Vec<Option<f64>>, PathNorms, Vec<Vec<f64>>, Option<f64>);
 
 /// A collision hit as a failure (whole-motion sample; the caller locates its phase).
 fn collision_failure(hit: &CollisionHit) -> Failure {

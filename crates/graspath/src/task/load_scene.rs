@@ -108,9 +108,9 @@ pub(crate) fn add_world(
             Kind::Shape(shape) => scene.with_shape(&name, &shape, world_from_obstacle),
             Kind::Mesh(path) => {
                 let mesh = read_mesh(&path)
-                    .map_err(|e| TaskError::caused_by(source, &format!("{field}.mesh"), e))?;
+                    .map_err(|e| TaskError::caused_by(source, format!("{field}.mesh"), e))?;
                 let mesh = TriMesh::new(mesh.vertices, mesh.triangles)
-                    .map_err(|e| TaskError::caused_by(source, &format!("{field}.mesh"), e))?;
+                    .map_err(|e| TaskError::caused_by(source, format!("{field}.mesh"), e))?;
                 scene.with_body(
                     Body::from_shape(label, &Shape::TriangleMesh(mesh)),
                     world_from_obstacle,
@@ -118,7 +118,7 @@ pub(crate) fn add_world(
             }
             Kind::Cloud(path) => {
                 let cloud = read_cloud(&path)
-                    .map_err(|e| TaskError::caused_by(source, &format!("{field}.cloud"), e))?;
+                    .map_err(|e| TaskError::caused_by(source, format!("{field}.cloud"), e))?;
                 let radius = obstacle.radius.ok_or_else(|| {
                     err(
                         &format!("{field}.radius"),

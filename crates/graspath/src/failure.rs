@@ -25,13 +25,11 @@ pub enum FailureReason {
     Collision,
     /// The object is wider across the fingers than the gripper opens.
     GripperWidth,
-    /// The clearance along the motion is below `selection.min_clearance`.
-    Clearance,
 }
 
 impl FailureReason {
     /// The one spelling: `unreachable`, `joint_limit`, `discontinuity`, `iteration_limit`,
-    /// `time_limit`, `collision`, `gripper_width`, `clearance`.
+    /// `time_limit`, `collision`, `gripper_width`.
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Unreachable => "unreachable",
@@ -41,7 +39,6 @@ impl FailureReason {
             Self::TimeLimit => "time_limit",
             Self::Collision => "collision",
             Self::GripperWidth => "gripper_width",
-            Self::Clearance => "clearance",
         }
     }
 }
@@ -142,7 +139,6 @@ mod tests {
             FailureReason::TimeLimit,
             FailureReason::Collision,
             FailureReason::GripperWidth,
-            FailureReason::Clearance,
         ] {
             let json = serde_json::to_string(&reason).unwrap();
             assert_eq!(json, format!("\"{}\"", reason.as_str()));

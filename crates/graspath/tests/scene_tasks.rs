@@ -164,3 +164,98 @@ fn scene_sections_that_cannot_be_used_name_their_field() {
         assert!(error.contains("task.yaml"), "{extra}: {error}");
     }
 }
+
+/// The moving bodies of both arms at one configuration each, in the world (independent of the
+/// checker: link frames and the robot's shapes, placed by hand).
+fn moving_bodies(
+    task: &Task,
+    arm: usize,
+    q: &[f64],
+) -> Vec<(graspath::collision::Body, nalgebra::Isometry3<f64>)> {
+    let setup = &task.arms[arm];
+    let chain = &setup.chain;
+    let frames = chain.link_frames(q).unwrap();
+    let model = graspath::robot::RobotSource::builtin("baxter")
+        .load()
+        .unwrap();
+    let shapes = graspath::task::robot_link_shapes(&model).unwrap();
+    let names = chain.link_names();
+    shapes
+        .iter()
+        .filter_map(|s| {
+            let k = names.iter().position(|n| *n == s.link)?;
+            chain.link_joint(k)?;
+            let frame: nalgebra::Isometry3<f64> = nalgebra::convert(frames[k]);
+            Some((
+                graspath::collision::Body::from_shape(s.link.clone(), &s.shape),
+                setup.world_from_base * frame * s.link_from_shape,
+            ))
+        })
+        .collect()
+}
+
+#[test]
+fn no_selected_two_arm_pair_collides_and_crossing_pairs_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // Grasps may be as close as the task likes: only the arm-against-arm check keeps the two
+    // hands apart.
+    let text = "robot: { builtin: baxter }\n\
+                arms: both\n\
+                object:\n  pose: { xyz: [0.75, 0.0, -0.10] }\n  shape: { box: { size: [0.06, 0.40, 0.10] } }\n\
+                candidates:\n  family: { edge: { count: 11 } }\n\
+                trajectory:\n  samples_per_step: 4\n  steps:\n    - { lift: 0.2 }\n    - { move: [0.0, 0.3, 0.0] }\n\
+                selection: { pairs: 40, min_separation: 0.0 }\n\
+                scene: { table: { height: -0.15 } }\n";
+    let path = dir.path().join("both.yaml");
+    std::fs::write(&path, text).unwrap();
+    let task = Task::load(&path).unwrap();
+    let selection = select(&task, &|| {});
+    assert!(!selection.pairs.is_empty());
+    assert!(
+        selection.colliding_pairs > 0,
+        "with no separation some better pairs put both hands in one place"
+    );
+    let score_of = |arm: usize, id: usize| {
+        selection.arms[arm]
+            .scores
+            .iter()
+            .find(|s| s.candidate.id == id)
+            .unwrap()
+    };
+    // Oracle: every kept pair, at every sample and four points between samples, keeps every
+    // moving body of one arm off every moving body of the other.
+    for pair in &selection.pairs {
+        let (a, b) = (score_of(0, pair.first.id), score_of(1, pair.second.id));
+        let qa = &a.joint_trajectory;
+        let qb = &b.joint_trajectory;
+        for s in 0..qa.len() {
+            for t in [0.0, 0.2, 0.4, 0.6, 0.8] {
+                if s + 1 == qa.len() && t > 0.0 {
+                    continue;
+                }
+                let lerp = |q: &[Vec<f64>]| -> Vec<f64> {
+                    let next = &q[(s + 1).min(q.len() - 1)];
+                    q[s].iter()
+                        .zip(next)
+                        .map(|(x, y)| x + t * (y - x))
+                        .collect()
+                };
+                let bodies_a = moving_bodies(&task, 0, &lerp(qa));
+                let bodies_b = moving_bodies(&task, 1, &lerp(qb));
+                for (x, px) in &bodies_a {
+                    for (y, py) in &bodies_b {
+                        let d = graspath::collision::distance(x, px, y, py);
+                        assert!(
+                            d > 0.0,
+                            "pair {} × {}: {} touches {}",
+                            pair.first.id,
+                            pair.second.id,
+                            x.name(),
+                            y.name()
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

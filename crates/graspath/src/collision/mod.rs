@@ -12,12 +12,14 @@
 //! phase (bounding spheres), the half-space table and the continuous bound are our own.
 
 mod arm;
+mod arms;
 mod body;
 mod bridge;
 mod motion;
 mod scene;
 
 pub use arm::{ArmBodies, LinkShape, SelfPairs, ALWAYS_FRACTION, SELF_PAIR_SAMPLES};
+pub use arms::{check_arms, ArmMotion};
 pub use body::{Body, BodyKind, Table, MAX_OBSTACLE_POINTS};
 pub use motion::{ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion};
 pub use scene::{Obstacle, Scene, DEFAULT_TABLE_THICKNESS};

@@ -125,12 +125,15 @@ pub struct ArmPair {
 }
 
 /// Every pair of eligible candidates of two arms whose grasps do not overlap (closer than
-/// `min_separation`), scored by the sum of the arms' norms; the best `options.pairs`, best first.
+/// `min_separation`), scored by the sum of the arms' norms; the best `options.pairs`, best
+/// first, among those `compatible` accepts (visited best first, so the check runs only until
+/// enough pairs are kept). Returns the pairs and how many better pairs `compatible` refused.
 pub fn rank_pairs(
     first: (&[CandidateScore], &[Ranking]),
     second: (&[CandidateScore], &[Ranking]),
     options: &SelectionOptions,
-) -> Vec<ArmPair> {
+    compatible: &(dyn Fn(&CandidateScore, &CandidateScore) -> bool + Sync),
+) -> (Vec<ArmPair>, usize) {
     let eligible = |scores: &[CandidateScore], ranks: &[Ranking]| -> Vec<(usize, f64)> {
         scores
             .iter()
@@ -155,15 +158,22 @@ pub fn rank_pairs(
         }
     }
     pairs.sort_by(|x, y| y.2.total_cmp(&x.2).then((x.0, x.1).cmp(&(y.0, y.1))));
-    pairs.truncate(options.pairs);
-    pairs
-        .into_iter()
-        .enumerate()
-        .map(|(r, (i, j, score))| ArmPair {
+    let mut refused = 0;
+    let mut kept = Vec::new();
+    for (i, j, score) in pairs {
+        if kept.len() == options.pairs {
+            break;
+        }
+        if !compatible(&first.0[i], &second.0[j]) {
+            refused += 1;
+            continue;
+        }
+        kept.push(ArmPair {
             first: Arc::clone(&first.0[i].candidate),
             second: Arc::clone(&second.0[j].candidate),
             score,
-            rank: r + 1,
-        })
-        .collect()
+            rank: kept.len() + 1,
+        });
+    }
+    (kept, refused)
 }

@@ -2,6 +2,7 @@
 
 use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
+use crate::collision::{check_arms, ArmMotion};
 use crate::task::Task;
 
 /// One arm's results.
@@ -46,6 +47,9 @@ pub struct Selection {
     pub arms: Vec<ArmResult>,
     /// With two arms: the best pairs (first arm × second arm).
     pub pairs: Vec<ArmPair>,
+    /// With two arms in a scene: how many pairs better than the last kept were refused
+    /// because the arms collide with each other along the motion.
+    pub colliding_pairs: usize,
 }
 
 /// Scores, ranks and pairs. `progress` is called once per scored candidate and arm.
@@ -77,14 +81,62 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
             }
         })
         .collect();
-    let pairs = if arms.len() == 2 {
+    let (pairs, colliding_pairs) = if arms.len() == 2 {
+        let apart = |a: &CandidateScore, b: &CandidateScore| arms_apart(task, a, b);
         rank_pairs(
             (&arms[0].scores, &arms[0].rankings),
             (&arms[1].scores, &arms[1].rankings),
             &task.selection,
+            &apart,
         )
     } else {
-        Vec::new()
+        (Vec::new(), 0)
     };
-    Selection { arms, pairs }
+    Selection {
+        arms,
+        pairs,
+        colliding_pairs,
+    }
+}
+
+/// Whether the first two arms, each following its candidate's whole motion at the same time,
+/// stay apart (always, without a scene or with `collision.between_arms: false`).
+fn arms_apart(task: &Task, a: &CandidateScore, b: &CandidateScore) -> bool {
+    let Some(collisions) = &task.collisions else {
+        return true;
+    };
+    let (first, second) = (&task.arms[0], &task.arms[1]);
+    let (Some(bodies_a), Some(bodies_b)) = (&first.bodies, &second.bodies) else {
+        return true;
+    };
+    if !collisions.options.between_arms {
+        return true;
+    }
+    let whole = |s: &CandidateScore| -> Vec<Vec<f64>> {
+        s.approach
+            .iter()
+            .chain(&s.joint_trajectory)
+            .chain(&s.retreat)
+            .cloned()
+            .collect()
+    };
+    let (qa, qb) = (whole(a), whole(b));
+    let label_a = format!("{} arm: ", first.name);
+    let label_b = format!("{} arm: ", second.name);
+    check_arms(
+        &ArmMotion {
+            arm: bodies_a,
+            world_from_base: &first.world_from_base,
+            q: &qa,
+            label: &label_a,
+        },
+        &ArmMotion {
+            arm: bodies_b,
+            world_from_base: &second.world_from_base,
+            q: &qb,
+            label: &label_b,
+        },
+        collisions.options.resolution,
+    )
+    .is_none()
 }

@@ -7,6 +7,9 @@ use super::body::Placed;
 use super::motion::CollisionHit;
 use nalgebra::{Isometry3, IsometryMatrix3};
 
+/// Every link frame of a chain at one configuration.
+type Frames = Vec<IsometryMatrix3<f64>>;
+
 /// One arm's whole motion for the arm-against-arm check.
 #[derive(Debug, Clone, Copy)]
 pub struct ArmMotion<'a> {
@@ -52,7 +55,7 @@ pub fn check_arms(
             (pa.gap(&pb), pa, pb)
         };
     let name = |m: &ArmMotion<'_>, p: &Placed<'_>| format!("{}{}", m.label, p.body.name());
-    let mut previous: Option<(Vec<IsometryMatrix3<f64>>, Vec<IsometryMatrix3<f64>>)> = None;
+    let mut previous: Option<(Frames, Frames)> = None;
     for s in 0..n {
         let fa = frames_of(first, &first.q[s])?;
         let fb = frames_of(second, &second.q[s])?;

@@ -1,7 +1,8 @@
 //! End to end: train on a demonstrated pinch of a box, then generate on the training cloud,
 //! on other boxes, a cylinder and a T-shape; determinism; a three-finger URDF hand.
 
-use graspath::cloud::{sample_primitive, PointCloud, Primitive, SampleOptions};
+use graspath::cloud::{CloudShape, LegacyTShape, PointCloud, SampleOptions};
+use graspath::geometry::shape::Shape;
 use graspath::geometry::pose_from_rows;
 use graspath::grasp::hand::Hand;
 use graspath::grasp::model::{
@@ -29,16 +30,14 @@ fn small_budget(seed: u64) -> GenerateOptions {
     }
 }
 
-fn cloud(shape: Primitive, seed: u64) -> PointCloud {
-    sample_primitive(
-        &shape,
-        &SampleOptions {
+fn cloud(shape: CloudShape, seed: u64) -> PointCloud {
+    shape
+        .sample(&SampleOptions {
             points: 4000,
             seed,
             ..Default::default()
-        },
-    )
-    .expect("cloud")
+        })
+        .expect("cloud")
 }
 
 fn run(model: &GraspModel, cloud: &PointCloud, seed: u64) -> Vec<Candidate> {
@@ -141,9 +140,7 @@ fn the_demonstrated_grasp_is_found_again_on_the_training_cloud() {
     );
     let demo = pose_from_rows(&model.demonstration.object_from_wrist).expect("pose");
     let training = cloud(
-        Primitive::Box {
-            size: [0.05, 0.04, 0.14],
-        },
+        Shape::cuboid([0.05, 0.04, 0.14]).unwrap().into(),
         1,
     );
     let candidates = run(&model, &training, 3);
@@ -171,29 +168,19 @@ fn novel_objects_get_antipodal_pinches_that_fit_and_do_not_penetrate() {
     let objects = [
         (
             "box 40×100×120",
-            Primitive::Box {
-                size: [0.04, 0.1, 0.12],
-            },
+            Shape::cuboid([0.04, 0.1, 0.12]).unwrap().into(),
         ),
         (
             "box 56×70×90",
-            Primitive::Box {
-                size: [0.056, 0.07, 0.09],
-            },
+            Shape::cuboid([0.056, 0.07, 0.09]).unwrap().into(),
         ),
         (
             "cylinder r 22",
-            Primitive::Cylinder {
-                radius: 0.022,
-                height: 0.12,
-            },
+            Shape::cylinder(0.022, 0.12).unwrap().into(),
         ),
         (
             "T-shape",
-            Primitive::TShape {
-                stem: [0.04, 0.045, 0.1],
-                bar: [0.16, 0.045, 0.04],
-            },
+            CloudShape::LegacyT(LegacyTShape::new([0.04, 0.045, 0.1], [0.16, 0.045, 0.04]).unwrap()),
         ),
     ];
     for (k, (name, shape)) in objects.into_iter().enumerate() {
@@ -210,10 +197,7 @@ fn novel_objects_get_antipodal_pinches_that_fit_and_do_not_penetrate() {
 fn same_seed_same_bytes_at_any_thread_count() {
     let model = box_model();
     let c = cloud(
-        Primitive::Cylinder {
-            radius: 0.025,
-            height: 0.1,
-        },
+        Shape::cylinder(0.025, 0.1).unwrap().into(),
         9,
     );
     let bytes = |threads: usize| {
@@ -245,10 +229,7 @@ fn three_finger_urdf_hand_learns_and_grasps_a_new_cylinder() {
         "{fingers:?}"
     );
     let c = cloud(
-        Primitive::Cylinder {
-            radius: 0.027,
-            height: 0.12,
-        },
+        Shape::cylinder(0.027, 0.12).unwrap().into(),
         31,
     );
     let candidates = run(&model, &c, 5);

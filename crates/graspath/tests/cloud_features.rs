@@ -44,11 +44,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 #[test]
 fn plane_has_zero_curvature_and_the_face_normal() {
-    let c = cloud(
-        Shape::cuboid([0.3, 0.3, 0.02]).unwrap().into(),
-        8000,
-        0.0,
-    );
+    let c = cloud(Shape::cuboid([0.3, 0.3, 0.02]).unwrap().into(), 8000, 0.0);
     let f = features(&c, true);
     for x in f
         .iter()
@@ -96,11 +92,7 @@ fn sphere_curvatures_are_equal_and_match_the_closed_form() {
 #[test]
 fn cylinder_curves_one_way_along_the_circumference() {
     for radius in [0.025, 0.04] {
-        let c = cloud(
-            Shape::cylinder(radius, 0.3).unwrap().into(),
-            15000,
-            0.0,
-        );
+        let c = cloud(Shape::cylinder(radius, 0.3).unwrap().into(), 15000, 0.0);
         let f = features(&c, false);
         let side: Vec<&SurfaceFeature> = f.iter().filter(|x| x.position.z.abs() < 0.1).collect();
         let pc1 = median(side.iter().map(|x| x.curvature[0]).collect());
@@ -121,19 +113,11 @@ fn cylinder_curves_one_way_along_the_circumference() {
     }
     // Ordering: a thinner cylinder curves more, a sphere curves both ways.
     let thin = features(
-        &cloud(
-            Shape::cylinder(0.02, 0.3).unwrap().into(),
-            12000,
-            0.0,
-        ),
+        &cloud(Shape::cylinder(0.02, 0.3).unwrap().into(), 12000, 0.0),
         false,
     );
     let thick = features(
-        &cloud(
-            Shape::cylinder(0.05, 0.3).unwrap().into(),
-            12000,
-            0.0,
-        ),
+        &cloud(Shape::cylinder(0.05, 0.3).unwrap().into(), 12000, 0.0),
         false,
     );
     let m = |f: &[SurfaceFeature], k: usize| {
@@ -152,11 +136,7 @@ fn robust_to_noise_and_sampling_density() {
     let radius = 0.04;
     let expected = expected_pc(radius);
     for (points, noise) in [(3000, 0.0), (30000, 0.0), (12000, 0.0005)] {
-        let mut c = cloud(
-            Shape::cylinder(radius, 0.3).unwrap().into(),
-            points,
-            noise,
-        );
+        let mut c = cloud(Shape::cylinder(radius, 0.3).unwrap().into(), points, noise);
         let exact = c.normals.take().expect("normals");
         let f = features(&c, true);
         let side: Vec<usize> = (0..f.len())

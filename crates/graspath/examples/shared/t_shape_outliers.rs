@@ -26,8 +26,7 @@ fn with_outliers(clean: &PointCloud, distance: f64, count: usize) -> PointCloud 
 /// `("none", the T-shape cloud)`, then `("10m" | "1km" | "1e20m", the cloud with 200
 /// outliers at that distance)`.
 pub fn t_shape_outlier_clouds() -> Vec<(&'static str, PointCloud)> {
-    let source =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/grasp/t_shape.json");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/grasp/t_shape.json");
     let clean = load_cloud_argument(&source).expect("examples/grasp/t_shape.json");
     let mut clouds = vec![("none", clean.clone())];
     for (name, distance) in [("10m", 10.0), ("1km", 1e3), ("1e20m", 1e20)] {

@@ -191,7 +191,11 @@ impl Part {
                     (Point3::new(radius * n.x, radius * n.y, z), n)
                 } else {
                     let v = Vector3::from_fn(|_, _| StandardNormal.sample(rng)).normalize();
-                    let shift = if v.z >= 0.0 { half_length } else { -half_length };
+                    let shift = if v.z >= 0.0 {
+                        half_length
+                    } else {
+                        -half_length
+                    };
                     (
                         Point3::new(radius * v.x, radius * v.y, radius * v.z + shift),
                         v,
@@ -271,9 +275,7 @@ fn parts(shape: &Shape) -> Option<Vec<Part>> {
             half_height: c.length() / 2.0,
             centre_z: 0.0,
         }],
-        Shape::Sphere(s) => vec![Part::Sphere {
-            radius: s.radius(),
-        }],
+        Shape::Sphere(s) => vec![Part::Sphere { radius: s.radius() }],
         Shape::Capsule(c) => vec![Part::Capsule {
             radius: c.radius(),
             half_length: c.length() / 2.0,
@@ -404,4 +406,45 @@ pub(crate) fn sample_parts(
         points,
         normals: Some(normals),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_points_lie_on_the_faces_with_area_shares() {
+        let options = SampleOptions {
+            points: 6000,
+            seed: 1,
+            ..Default::default()
+        };
+        let shape = Shape::cuboid([0.1, 0.2, 0.3]).expect("box");
+        let cloud = sample_shape(&shape, &options).expect("box");
+        let normals = cloud.normals.expect("normals");
+        let mut on_z = 0;
+        for (p, n) in cloud.points.iter().zip(&normals) {
+            let axis = n.iamax();
+            let half = [0.05, 0.1, 0.15][axis];
+            assert!((p[axis] * n[axis] - half).abs() < 1e-12);
+            on_z += usize::from(axis == 2);
+        }
+        // z faces: 2·0.1·0.2 of 2·(0.02 + 0.06 + 0.03) = 0.04 / 0.22.
+        let expected = 6000.0 * 0.04 / 0.22;
+        assert!(
+            (on_z as f64 - expected).abs() < 5.0 * expected.sqrt(),
+            "{on_z}"
+        );
+    }
+
+    #[test]
+    fn bad_options_are_named() {
+        let shape = Shape::sphere(0.1).expect("sphere");
+        let options = SampleOptions {
+            points: 0,
+            ..Default::default()
+        };
+        let err = sample_shape(&shape, &options).unwrap_err();
+        assert!(err.to_string().contains("points"), "{err}");
+    }
 }

@@ -265,7 +265,11 @@ impl Sphere {
     /// centre).
     pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
         let r = p.coords.norm();
-        let dir = if r > 1e-15 { p.coords / r } else { Vector3::z() };
+        let dir = if r > 1e-15 {
+            p.coords / r
+        } else {
+            Vector3::z()
+        };
         Proximity {
             signed_distance: r - self.radius,
             closest: Point3::from(dir * self.radius),
@@ -523,7 +527,11 @@ impl TShape {
         };
         let stem = Proximity {
             signed_distance: local.signed_distance,
-            closest: Point3::new(local.closest.x, local.closest.y, local.closest.z + self.stem_centre),
+            closest: Point3::new(
+                local.closest.x,
+                local.closest.y,
+                local.closest.z + self.stem_centre,
+            ),
         };
         if stem.signed_distance < bar.signed_distance {
             stem

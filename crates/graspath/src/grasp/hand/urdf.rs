@@ -3,8 +3,8 @@
 //! of the mesh's vertices), and the joints that move them.
 
 use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape};
-use crate::geometry::shape::{ConvexMesh, Shape, ShapeError};
 use crate::cloud::read_mesh;
+use crate::geometry::shape::{ConvexMesh, Shape, ShapeError};
 use crate::robot::{MeshResolver, RobotError, RobotModel, UrdfRobot};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -224,7 +224,8 @@ pub fn hand_from_urdf(
                 link: name.clone(),
                 message,
             };
-            let checked = |r: Result<Shape, ShapeError>| r.map_err(|e| geometry_error(e.to_string()));
+            let checked =
+                |r: Result<Shape, ShapeError>| r.map_err(|e| geometry_error(e.to_string()));
             let shape = match &collision.geometry {
                 urdf_rs::Geometry::Box { size } => checked(Shape::cuboid(size.0))?,
                 urdf_rs::Geometry::Sphere { radius } => checked(Shape::sphere(*radius))?,

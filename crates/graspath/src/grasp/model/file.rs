@@ -221,7 +221,10 @@ fn upgrade_version_1(value: &mut serde_json::Value, source_name: &str) -> Result
                     half_length,
                 } => Shape::cylinder(radius, 2.0 * half_length),
                 ShapeVersion1::ConvexMesh { mesh, .. } => ConvexMesh::new(
-                    mesh.vertices.into_iter().map(nalgebra::Point3::from).collect(),
+                    mesh.vertices
+                        .into_iter()
+                        .map(nalgebra::Point3::from)
+                        .collect(),
                 )
                 .map(Shape::ConvexMesh),
             }

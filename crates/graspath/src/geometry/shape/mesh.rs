@@ -35,8 +35,9 @@ fn support_of(points: &[Point3<f64>], d: &Vector3<f64>) -> Point3<f64> {
 /// File: `{convex_mesh: {points: [[x, y, z], ...]}}`; at least four points not all on a plane.
 ///
 /// The hull's facets are computed once, when the shape is built: the signed distance is then
-/// exact (outside: the distance to the nearest hull triangle; inside: minus the distance to
-/// the nearest facet plane) and the support is the hull vertex farthest along the direction.
+/// exact (outside: the distance to the nearest hull triangle among those whose plane the point
+/// lies above; inside: minus the distance to the nearest facet plane) and the support is the
+/// hull vertex farthest along the direction.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "ConvexMeshFile", into = "ConvexMeshFile")]
 pub struct ConvexMesh {
@@ -107,17 +108,17 @@ impl ConvexMesh {
 
     /// Signed distance (m) from `p` (mesh frame); negative inside the hull.
     pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
-        let deepest = self
-            .facets
+        self.proximity(p).signed_distance
+    }
+
+    /// The hull triangles whose plane `p` lies strictly above: outside the hull, the closest
+    /// point lies on one of them (it lies on a facet `f` with `n_f · (p − closest) > 0`).
+    fn facing(&self, p: &Point3<f64>) -> impl Iterator<Item = [Point3<f64>; 3]> + '_ {
+        let p = p.coords;
+        self.facets
             .iter()
-            .map(|f| f.normal.dot(&p.coords) - f.offset)
-            .fold(f64::NEG_INFINITY, f64::max);
-        if deepest <= 0.0 {
-            return deepest;
-        }
-        self.hull_triangles()
-            .map(|[a, b, c]| (p - closest_on_triangle(p, &a, &b, &c)).norm())
-            .fold(f64::INFINITY, f64::min)
+            .filter(move |f| f.normal.dot(&p) - f.offset > 0.0)
+            .map(|f| f.vertices.map(|i| self.points[i]))
     }
 
     /// Signed distance and closest surface point of `p` (mesh frame): outside, the closest
@@ -136,7 +137,7 @@ impl ConvexMesh {
                 closest: p - deepest.1 * deepest.0,
             };
         }
-        let (distance, closest) = nearest_on_triangles(p, self.hull_triangles());
+        let (distance, closest) = nearest_on_triangles(p, self.facing(p));
         Proximity {
             signed_distance: distance,
             closest,
@@ -301,6 +302,7 @@ impl TriMesh {
 
 /// The distance from `p` to the nearest of `triangles` and the closest point on it (the first
 /// of equals; infinity and `p` itself for none).
+#[inline]
 fn nearest_on_triangles(
     p: &Point3<f64>,
     triangles: impl Iterator<Item = [Point3<f64>; 3]>,
@@ -318,6 +320,7 @@ fn nearest_on_triangles(
 
 /// The closest point of triangle `abc` to `p` (Ericson, *Real-Time Collision Detection*
 /// §5.1.5); also right for degenerate triangles.
+#[inline]
 pub fn closest_on_triangle(
     p: &Point3<f64>,
     a: &Point3<f64>,

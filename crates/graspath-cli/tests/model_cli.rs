@@ -181,7 +181,7 @@ fn bad_inputs_give_one_clear_error_and_no_output() {
     let old = dir.path().join("old_model.json");
     std::fs::write(
         &old,
-        text.replacen("\"format_version\":1", "\"format_version\":2", 1),
+        text.replacen("\"format_version\":2", "\"format_version\":3", 1),
     )
     .expect("write");
     run_fail(

@@ -16,9 +16,10 @@ use crate::rng::Rng;
 use crate::structured::{draw, pcd_file, task_yaml, urdf_document};
 use graspath::cloud::{
     load_cloud_argument, pcd_bytes, ply_bytes, read_mesh, read_pcd_bytes, read_ply_bytes,
-    sample_primitive, PcdEncoding, PlyEncoding, PointCloud, Primitive, SampleOptions,
+    sample_shape, PcdEncoding, PlyEncoding, PointCloud, SampleOptions,
 };
 use graspath::geometry::pose_from_rows;
+use graspath::geometry::shape::Shape;
 use graspath::grasp::model::{
     candidates_json, generate, train, Demonstration, GenerateOptions, GraspModel,
 };
@@ -167,15 +168,13 @@ impl Ctx {
                 .hand
                 .load(&self.dir, "demo_box.json")
                 .map_err(|e| e.to_string())?;
-            let shape = Primitive::Box {
-                size: [0.05, 0.04, 0.14],
-            };
+            let shape = Shape::cuboid([0.05, 0.04, 0.14]).map_err(|e| e.to_string())?;
             let options = SampleOptions {
                 points: 2000,
                 seed: 1,
                 ..SampleOptions::default()
             };
-            let cloud = sample_primitive(&shape, &options).map_err(|e| e.to_string())?;
+            let cloud = sample_shape(&shape, &options).map_err(|e| e.to_string())?;
             train(&demo, hand, &cloud, "demo_box.json").map_err(|e| e.to_string())
         })
     }
@@ -623,15 +622,15 @@ pub fn small_cloud(normals: bool) -> PointCloud {
 
 /// The demonstration's box (0.05 × 0.04 × 0.14 m) sampled with `points` points.
 fn box_cloud(points: usize, normals: bool) -> PointCloud {
-    let shape = Primitive::Box {
-        size: [0.05, 0.04, 0.14],
-    };
     let options = SampleOptions {
         points,
         seed: 2,
         ..SampleOptions::default()
     };
-    let mut cloud = sample_primitive(&shape, &options).unwrap_or_else(|_| {
+    let sampled = Shape::cuboid([0.05, 0.04, 0.14])
+        .map_err(|e| e.to_string())
+        .and_then(|shape| sample_shape(&shape, &options).map_err(|e| e.to_string()));
+    let mut cloud = sampled.unwrap_or_else(|_| {
         PointCloud::from_points(vec![Point3::origin(), Point3::new(0.01, 0.0, 0.0)])
     });
     if !normals {

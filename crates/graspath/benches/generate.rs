@@ -5,38 +5,21 @@
 //! times must agree within ±20 %.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use graspath::cloud::{
-    compute_features, sample_primitive, FeatureParams, PointCloud, Primitive, SampleOptions,
-};
+use graspath::cloud::{compute_features, sample_shape, FeatureParams, SampleOptions};
+use graspath::geometry::shape::Shape;
 use graspath::grasp::model::{generate, train_file, GenerateOptions};
-use nalgebra::{Point3, Vector3};
-use rand::{rngs::StdRng, SeedableRng};
-use rand_distr::{Distribution, StandardNormal};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// The T-shape cloud plus `count` points at distance `distance` (m) in random directions.
-fn with_outliers(clean: &PointCloud, distance: f64, count: usize) -> PointCloud {
-    let mut cloud = clean.clone();
-    let mut rng = StdRng::seed_from_u64(17);
-    let normals = cloud.normals.as_mut().expect("normals");
-    for _ in 0..count {
-        let v = Vector3::<f64>::from_fn(|_, _| StandardNormal.sample(&mut rng)).normalize();
-        cloud.points.push(Point3::from(v * distance));
-        normals.push(-v);
-    }
-    cloud
-}
+#[path = "../examples/shared/t_shape_outliers.rs"]
+mod shared;
 
 fn bench(c: &mut Criterion) {
     let demo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/grasp/demo_box.json");
     let model = train_file(&demo).expect("train");
-    let cloud = sample_primitive(
-        &Primitive::Cylinder {
-            radius: 0.022,
-            height: 0.12,
-        },
+    let cloud = sample_shape(
+        &Shape::cylinder(0.022, 0.12).expect("cylinder"),
         &SampleOptions {
             points: 5000,
             seed: 2,
@@ -59,29 +42,12 @@ fn bench(c: &mut Criterion) {
         });
     });
     group.finish();
-    let t_shape = sample_primitive(
-        &Primitive::TShape {
-            stem: [0.04, 0.045, 0.1],
-            bar: [0.16, 0.045, 0.04],
-        },
-        &SampleOptions {
-            points: 5000,
-            seed: 3,
-            ..Default::default()
-        },
-    )
-    .expect("t-shape");
     let mut group = c.benchmark_group("generate_outliers");
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(20))
         .warm_up_time(Duration::from_secs(1));
-    for (name, distance) in [("none", 0.0), ("10m", 10.0), ("1km", 1e3), ("1e20m", 1e20)] {
-        let cloud = if distance > 0.0 {
-            with_outliers(&t_shape, distance, 200)
-        } else {
-            t_shape.clone()
-        };
+    for (name, cloud) in shared::t_shape_outlier_clouds() {
         group.bench_function(format!("t_shape_outliers_{name}"), |b| {
             b.iter(|| {
                 let options = GenerateOptions {

@@ -4,8 +4,8 @@
 //! options against brute-force oracles, and grasp generation on clouds with far outliers.
 
 use graspath::cloud::{
-    load_cloud_argument, load_cloud_filtered, pcd_bytes, read_mesh, sample_primitive, write_cloud,
-    CloudError, CropBox, OutlierOptions, PcdEncoding, PointCloud, Primitive, SampleOptions,
+    load_cloud_argument, load_cloud_filtered, pcd_bytes, read_mesh, write_cloud, CloudError,
+    CropBox, LegacyTShape, OutlierOptions, PcdEncoding, PointCloud, SampleOptions,
     StatisticalOutliers,
 };
 use graspath::grasp::model::{generate, train_file, GenerateOptions, GraspModel};
@@ -811,18 +811,14 @@ fn filters_keep_normals_with_their_points() {
 }
 
 fn t_shape() -> PointCloud {
-    sample_primitive(
-        &Primitive::TShape {
-            stem: [0.04, 0.045, 0.1],
-            bar: [0.16, 0.045, 0.04],
-        },
-        &SampleOptions {
+    LegacyTShape::new([0.04, 0.045, 0.1], [0.16, 0.045, 0.04])
+        .expect("t")
+        .sample(&SampleOptions {
             points: 3000,
             seed: 3,
             ..Default::default()
-        },
-    )
-    .expect("t")
+        })
+        .expect("t")
 }
 
 fn tiny_budget() -> GenerateOptions {

@@ -3,24 +3,23 @@
 //! identical results at any thread count.
 
 use graspath::cloud::{
-    compute_features, estimate_normals, principal_curvatures, sample_primitive, FeatureParams,
-    NormalOrientation, PointCloud, PointIndex, Primitive, SampleOptions, SurfaceFeature,
+    compute_features, estimate_normals, principal_curvatures, CloudShape, FeatureParams,
+    LegacyTShape, NormalOrientation, PointCloud, PointIndex, SampleOptions, SurfaceFeature,
 };
+use graspath::geometry::shape::Shape;
 use nalgebra::{Point3, Vector3};
 
 const R_NEIGHBOURS: f64 = 0.015;
 
-fn cloud(shape: Primitive, points: usize, noise: f64) -> PointCloud {
-    sample_primitive(
-        &shape,
-        &SampleOptions {
+fn cloud(shape: CloudShape, points: usize, noise: f64) -> PointCloud {
+    shape
+        .sample(&SampleOptions {
             points,
             seed: 11,
             view: None,
             noise,
-        },
-    )
-    .expect("sample")
+        })
+        .expect("sample")
 }
 
 /// For a surface of radius R and a neighbourhood ball of radius r ≪ R, the projected normals
@@ -45,13 +44,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 #[test]
 fn plane_has_zero_curvature_and_the_face_normal() {
-    let c = cloud(
-        Primitive::Box {
-            size: [0.3, 0.3, 0.02],
-        },
-        8000,
-        0.0,
-    );
+    let c = cloud(Shape::cuboid([0.3, 0.3, 0.02]).unwrap().into(), 8000, 0.0);
     let f = features(&c, true);
     for x in f
         .iter()
@@ -69,7 +62,7 @@ fn plane_has_zero_curvature_and_the_face_normal() {
 #[test]
 fn sphere_curvatures_are_equal_and_match_the_closed_form() {
     let radius = 0.05;
-    let c = cloud(Primitive::Sphere { radius }, 12000, 0.0);
+    let c = cloud(Shape::sphere(radius).unwrap().into(), 12000, 0.0);
     let f = features(&c, false);
     let pc1 = median(f.iter().map(|x| x.curvature[0]).collect());
     let pc2 = median(f.iter().map(|x| x.curvature[1]).collect());
@@ -99,14 +92,7 @@ fn sphere_curvatures_are_equal_and_match_the_closed_form() {
 #[test]
 fn cylinder_curves_one_way_along_the_circumference() {
     for radius in [0.025, 0.04] {
-        let c = cloud(
-            Primitive::Cylinder {
-                radius,
-                height: 0.3,
-            },
-            15000,
-            0.0,
-        );
+        let c = cloud(Shape::cylinder(radius, 0.3).unwrap().into(), 15000, 0.0);
         let f = features(&c, false);
         let side: Vec<&SurfaceFeature> = f.iter().filter(|x| x.position.z.abs() < 0.1).collect();
         let pc1 = median(side.iter().map(|x| x.curvature[0]).collect());
@@ -127,25 +113,11 @@ fn cylinder_curves_one_way_along_the_circumference() {
     }
     // Ordering: a thinner cylinder curves more, a sphere curves both ways.
     let thin = features(
-        &cloud(
-            Primitive::Cylinder {
-                radius: 0.02,
-                height: 0.3,
-            },
-            12000,
-            0.0,
-        ),
+        &cloud(Shape::cylinder(0.02, 0.3).unwrap().into(), 12000, 0.0),
         false,
     );
     let thick = features(
-        &cloud(
-            Primitive::Cylinder {
-                radius: 0.05,
-                height: 0.3,
-            },
-            12000,
-            0.0,
-        ),
+        &cloud(Shape::cylinder(0.05, 0.3).unwrap().into(), 12000, 0.0),
         false,
     );
     let m = |f: &[SurfaceFeature], k: usize| {
@@ -164,14 +136,7 @@ fn robust_to_noise_and_sampling_density() {
     let radius = 0.04;
     let expected = expected_pc(radius);
     for (points, noise) in [(3000, 0.0), (30000, 0.0), (12000, 0.0005)] {
-        let mut c = cloud(
-            Primitive::Cylinder {
-                radius,
-                height: 0.3,
-            },
-            points,
-            noise,
-        );
+        let mut c = cloud(Shape::cylinder(radius, 0.3).unwrap().into(), points, noise);
         let exact = c.normals.take().expect("normals");
         let f = features(&c, true);
         let side: Vec<usize> = (0..f.len())
@@ -197,10 +162,7 @@ fn robust_to_noise_and_sampling_density() {
 #[test]
 fn same_bits_at_any_thread_count() {
     let c = cloud(
-        Primitive::TShape {
-            stem: [0.03, 0.03, 0.1],
-            bar: [0.12, 0.03, 0.03],
-        },
+        CloudShape::LegacyT(LegacyTShape::new([0.03, 0.03, 0.1], [0.12, 0.03, 0.03]).unwrap()),
         4000,
         0.0003,
     );

@@ -1,8 +1,9 @@
 //! End to end: train on a demonstrated pinch of a box, then generate on the training cloud,
 //! on other boxes, a cylinder and a T-shape; determinism; a three-finger URDF hand.
 
-use graspath::cloud::{sample_primitive, PointCloud, Primitive, SampleOptions};
+use graspath::cloud::{CloudShape, LegacyTShape, PointCloud, SampleOptions};
 use graspath::geometry::pose_from_rows;
+use graspath::geometry::shape::Shape;
 use graspath::grasp::hand::Hand;
 use graspath::grasp::model::{
     candidates_json, generate, train_file, Candidate, GenerateOptions, GraspModel,
@@ -29,16 +30,14 @@ fn small_budget(seed: u64) -> GenerateOptions {
     }
 }
 
-fn cloud(shape: Primitive, seed: u64) -> PointCloud {
-    sample_primitive(
-        &shape,
-        &SampleOptions {
+fn cloud(shape: CloudShape, seed: u64) -> PointCloud {
+    shape
+        .sample(&SampleOptions {
             points: 4000,
             seed,
             ..Default::default()
-        },
-    )
-    .expect("cloud")
+        })
+        .expect("cloud")
 }
 
 fn run(model: &GraspModel, cloud: &PointCloud, seed: u64) -> Vec<Candidate> {
@@ -140,12 +139,7 @@ fn the_demonstrated_grasp_is_found_again_on_the_training_cloud() {
         "both fingers touch, the palm does not"
     );
     let demo = pose_from_rows(&model.demonstration.object_from_wrist).expect("pose");
-    let training = cloud(
-        Primitive::Box {
-            size: [0.05, 0.04, 0.14],
-        },
-        1,
-    );
+    let training = cloud(Shape::cuboid([0.05, 0.04, 0.14]).unwrap().into(), 1);
     let candidates = run(&model, &training, 3);
     assert!(!candidates.is_empty());
     let top = &candidates[..candidates.len().min(20)];
@@ -171,29 +165,21 @@ fn novel_objects_get_antipodal_pinches_that_fit_and_do_not_penetrate() {
     let objects = [
         (
             "box 40×100×120",
-            Primitive::Box {
-                size: [0.04, 0.1, 0.12],
-            },
+            Shape::cuboid([0.04, 0.1, 0.12]).unwrap().into(),
         ),
         (
             "box 56×70×90",
-            Primitive::Box {
-                size: [0.056, 0.07, 0.09],
-            },
+            Shape::cuboid([0.056, 0.07, 0.09]).unwrap().into(),
         ),
         (
             "cylinder r 22",
-            Primitive::Cylinder {
-                radius: 0.022,
-                height: 0.12,
-            },
+            Shape::cylinder(0.022, 0.12).unwrap().into(),
         ),
         (
             "T-shape",
-            Primitive::TShape {
-                stem: [0.04, 0.045, 0.1],
-                bar: [0.16, 0.045, 0.04],
-            },
+            CloudShape::LegacyT(
+                LegacyTShape::new([0.04, 0.045, 0.1], [0.16, 0.045, 0.04]).unwrap(),
+            ),
         ),
     ];
     for (k, (name, shape)) in objects.into_iter().enumerate() {
@@ -209,13 +195,7 @@ fn novel_objects_get_antipodal_pinches_that_fit_and_do_not_penetrate() {
 #[test]
 fn same_seed_same_bytes_at_any_thread_count() {
     let model = box_model();
-    let c = cloud(
-        Primitive::Cylinder {
-            radius: 0.025,
-            height: 0.1,
-        },
-        9,
-    );
+    let c = cloud(Shape::cylinder(0.025, 0.1).unwrap().into(), 9);
     let bytes = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -244,13 +224,7 @@ fn three_finger_urdf_hand_learns_and_grasps_a_new_cylinder() {
         fingers.len() >= 2 && fingers.iter().all(|f| f.starts_with("finger_")),
         "{fingers:?}"
     );
-    let c = cloud(
-        Primitive::Cylinder {
-            radius: 0.027,
-            height: 0.12,
-        },
-        31,
-    );
+    let c = cloud(Shape::cylinder(0.027, 0.12).unwrap().into(), 31);
     let candidates = run(&model, &c, 5);
     let best = candidates.first().expect("a candidate");
     let poses = model.hand.link_poses(&best.hand_joints);

@@ -2,7 +2,8 @@
 //! contact-sample invariants).
 
 use graspath::geometry::pose_from_rows;
-use graspath::grasp::hand::{hand_from_urdf, HandError, Shape};
+use graspath::geometry::shape::Shape;
+use graspath::grasp::hand::{hand_from_urdf, HandError};
 use graspath::grasp::model::{train_file, GraspModel, ModelError};
 use graspath::robot::{MeshResolver, UrdfRobot};
 use nalgebra::{Point3, Vector3};
@@ -20,7 +21,7 @@ fn urdf_hand_has_its_joints_links_and_mimic_fingers() {
     let names: Vec<&str> = hand.joints.iter().map(|j| j.name.as_str()).collect();
     assert_eq!(names, ["a_joint", "bc_joint"]);
     assert_eq!(hand.links.len(), 4);
-    assert!(matches!(hand.links[0].shapes[0].shape, Shape::Box { .. }));
+    assert!(matches!(hand.links[0].shapes[0].shape, Shape::Box(_)));
     // Finger c mimics b: at q = (0, θ) fingers b and c tilt inwards by the same angle, a stays.
     let theta = 0.3;
     let poses = hand.link_poses(&[0.0, theta]);
@@ -54,7 +55,7 @@ fn model_file_round_trips_and_refuses_other_versions() {
     let back = GraspModel::read(&path).expect("read");
     assert_eq!(back, model);
     let text = std::fs::read_to_string(&path).expect("text").replacen(
-        "\"format_version\":1",
+        "\"format_version\":2",
         "\"format_version\":7",
         1,
     );

@@ -256,7 +256,7 @@ fn builtin_baxter_primitives_sit_where_the_description_puts_them() {
 
 #[test]
 fn hand_meshes_resolve_through_the_robot_source() {
-    use graspath::grasp::hand::{hand_from_robot, Shape as HandShape};
+    use graspath::grasp::hand::hand_from_robot;
     let dir = tempfile::tempdir().unwrap();
     write(&dir.path().join("share/pkg/cube.obj"), CUBE_OBJ);
     let urdf = dir.path().join("hand/hand.urdf");
@@ -271,7 +271,7 @@ fn hand_meshes_resolve_through_the_robot_source() {
     let hand = hand_from_robot(&source.load().unwrap(), "palm").unwrap();
     assert!(matches!(
         hand.links[0].shapes[0].shape,
-        HandShape::ConvexMesh { .. }
+        Shape::ConvexMesh(_)
     ));
     // Without the search path the error names the hand file, the link and the paths tried.
     let err = hand_from_robot(&RobotSource::urdf(&urdf).load().unwrap(), "palm")

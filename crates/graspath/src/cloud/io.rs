@@ -2,8 +2,8 @@
 //! a mesh to sample, or a primitive to sample).
 
 use super::{
-    mesh::read_mesh, pcd, ply, primitives::sample_primitive, CloudError, CloudReport,
-    OutlierOptions, PointCloud, Primitive, SampleOptions,
+    mesh::read_mesh, pcd, ply, CloudError, CloudReport, CloudShape, OutlierOptions, PointCloud,
+    SampleOptions,
 };
 use std::path::{Path, PathBuf};
 
@@ -75,10 +75,12 @@ pub enum CloudSource {
         #[serde(flatten)]
         sampling: SampleOptions,
     },
-    /// A primitive centred on the object origin, sampled on its surface.
+    /// A shape in its own frame (the object frame), sampled on its surface:
+    /// `{primitive: {shape: {cylinder: {radius, length}}, points, seed, ...}}` with any
+    /// [`crate::geometry::shape::Shape`] spelling (old spellings read: see [`CloudShape`]).
     Primitive {
         /// The shape.
-        shape: Primitive,
+        shape: CloudShape,
         /// Sampling options.
         #[serde(flatten)]
         sampling: SampleOptions,
@@ -94,7 +96,7 @@ impl CloudSource {
                 let path = base_dir.join(path);
                 read_mesh(&path)?.sample(sampling, &path.display().to_string())
             }
-            Self::Primitive { shape, sampling } => sample_primitive(shape, sampling),
+            Self::Primitive { shape, sampling } => shape.sample(sampling),
         }
     }
 
@@ -103,7 +105,10 @@ impl CloudSource {
         match self {
             Self::File(path) => base_dir.join(path).display().to_string(),
             Self::Mesh { path, .. } => format!("mesh {}", base_dir.join(path).display()),
-            Self::Primitive { shape, .. } => format!("primitive {shape:?}"),
+            Self::Primitive { shape, .. } => match shape {
+                CloudShape::Shape(s) => format!("primitive {}", s.kind()),
+                CloudShape::LegacyT(_) => "primitive t_shape (upright)".into(),
+            },
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Point clouds: reading and writing PLY and PCD files, sampling clouds from meshes and
-//! primitives, and the surface features of the grasp model (normals, principal curvatures,
+//! shapes ([`sample_shape`] on a [`crate::geometry::shape::Shape`]), and the surface features of the grasp model (normals, principal curvatures,
 //! local frames).
 //!
 //! Every cloud is expressed in one frame, the **object frame** (metres); normals are unit
@@ -19,7 +19,8 @@ mod mesh;
 mod neighbours;
 mod pcd;
 mod ply;
-mod primitives;
+mod sample;
+mod shape_source;
 
 pub use error::CloudError;
 pub use features::{
@@ -33,7 +34,8 @@ pub use mesh::{load_collision_mesh, read_mesh, TriangleMesh};
 pub use neighbours::PointIndex;
 pub use pcd::{pcd_bytes, read_pcd, read_pcd_bytes, write_pcd, PcdEncoding};
 pub use ply::{ply_bytes, read_ply, read_ply_bytes, write_ply, PlyEncoding};
-pub use primitives::{sample_primitive, Primitive, SampleOptions, MAX_SAMPLED_POINTS};
+pub use sample::{sample_shape, SampleOptions, MAX_SAMPLED_POINTS};
+pub use shape_source::{CloudShape, LegacyTShape};
 
 use nalgebra::{Point3, Vector3};
 

@@ -3,7 +3,7 @@
 //! hierarchy is the collision layer's business).
 
 use super::hull::{convex_hull, Facet, HullError};
-use super::ShapeError;
+use super::{Proximity, ShapeError};
 use nalgebra::{Point3, Vector3};
 use std::collections::HashMap;
 
@@ -35,8 +35,9 @@ fn support_of(points: &[Point3<f64>], d: &Vector3<f64>) -> Point3<f64> {
 /// File: `{convex_mesh: {points: [[x, y, z], ...]}}`; at least four points not all on a plane.
 ///
 /// The hull's facets are computed once, when the shape is built: the signed distance is then
-/// exact (outside: the distance to the nearest hull triangle; inside: minus the distance to
-/// the nearest facet plane) and the support is the hull vertex farthest along the direction.
+/// exact (outside: the distance to the nearest hull triangle among those whose plane the point
+/// lies above; inside: minus the distance to the nearest facet plane) and the support is the
+/// hull vertex farthest along the direction.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "ConvexMeshFile", into = "ConvexMeshFile")]
 pub struct ConvexMesh {
@@ -107,17 +108,40 @@ impl ConvexMesh {
 
     /// Signed distance (m) from `p` (mesh frame); negative inside the hull.
     pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
-        let deepest = self
-            .facets
+        self.proximity(p).signed_distance
+    }
+
+    /// The hull triangles whose plane `p` lies strictly above: outside the hull, the closest
+    /// point lies on one of them (it lies on a facet `f` with `n_f · (p − closest) > 0`).
+    fn facing(&self, p: &Point3<f64>) -> impl Iterator<Item = [Point3<f64>; 3]> + '_ {
+        let p = p.coords;
+        self.facets
             .iter()
-            .map(|f| f.normal.dot(&p.coords) - f.offset)
-            .fold(f64::NEG_INFINITY, f64::max);
-        if deepest <= 0.0 {
-            return deepest;
+            .filter(move |f| f.normal.dot(&p) - f.offset > 0.0)
+            .map(|f| f.vertices.map(|i| self.points[i]))
+    }
+
+    /// Signed distance and closest surface point of `p` (mesh frame): outside, the closest
+    /// point of the nearest hull triangle; inside, the foot of `p` on the nearest facet plane.
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let mut deepest = (f64::NEG_INFINITY, Vector3::zeros());
+        for f in &self.facets {
+            let h = f.normal.dot(&p.coords) - f.offset;
+            if h > deepest.0 {
+                deepest = (h, f.normal);
+            }
         }
-        self.hull_triangles()
-            .map(|[a, b, c]| (p - closest_on_triangle(p, &a, &b, &c)).norm())
-            .fold(f64::INFINITY, f64::min)
+        if deepest.0 <= 0.0 {
+            return Proximity {
+                signed_distance: deepest.0,
+                closest: p - deepest.1 * deepest.0,
+            };
+        }
+        let (distance, closest) = nearest_on_triangles(p, self.facing(p));
+        Proximity {
+            signed_distance: distance,
+            closest,
+        }
     }
 
     /// The hull vertex farthest along `d`.
@@ -259,14 +283,44 @@ impl TriMesh {
         }
     }
 
+    /// Signed distance (as [`TriMesh::signed_distance`]) and the closest point of the
+    /// nearest triangle (mesh frame).
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let (d, closest) = nearest_on_triangles(p, self.triangles.iter().map(|t| self.corners(t)));
+        let inside = self.closed && d > 0.0 && self.winding_number(p).abs() > 0.5;
+        Proximity {
+            signed_distance: if inside { -d } else { d },
+            closest,
+        }
+    }
+
     /// The vertex farthest along `d`.
     pub fn support(&self, d: &Vector3<f64>) -> Point3<f64> {
         support_of(&self.vertices, d)
     }
 }
 
+/// The distance from `p` to the nearest of `triangles` and the closest point on it (the first
+/// of equals; infinity and `p` itself for none).
+#[inline]
+fn nearest_on_triangles(
+    p: &Point3<f64>,
+    triangles: impl Iterator<Item = [Point3<f64>; 3]>,
+) -> (f64, Point3<f64>) {
+    let mut best = (f64::INFINITY, *p);
+    for [a, b, c] in triangles {
+        let q = closest_on_triangle(p, &a, &b, &c);
+        let d = (p - q).norm();
+        if d < best.0 {
+            best = (d, q);
+        }
+    }
+    best
+}
+
 /// The closest point of triangle `abc` to `p` (Ericson, *Real-Time Collision Detection*
 /// §5.1.5); also right for degenerate triangles.
+#[inline]
 pub fn closest_on_triangle(
     p: &Point3<f64>,
     a: &Point3<f64>,

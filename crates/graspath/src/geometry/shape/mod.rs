@@ -3,7 +3,10 @@
 //!
 //! * [`Shape::signed_distance`] from a point (negative inside),
 //! * [`Shape::support`]: the point of the shape farthest along a direction,
-//! * [`Shape::aabb`] (shape frame) and [`Shape::aabb_at`] (under a pose `a_from_shape`).
+//! * [`Shape::aabb`] (shape frame) and [`Shape::aabb_at`] (under a pose `a_from_shape`),
+//! * [`Shape::proximity`]: the signed distance with the closest surface point, and
+//!   [`Shape::bounding_radius`] about the shape origin (the grasp model's contact and collision
+//!   terms use both).
 //!
 //! Frames (all centred on the origin unless said otherwise, `z` the shape's axis):
 //! * box: edge lengths `size` along `x, y, z`;
@@ -84,6 +87,11 @@ pub enum ShapeError {
     },
 }
 
+/// The largest distance of `points` from the origin (0 for none).
+fn farthest(points: &[Point3<f64>]) -> f64 {
+    points.iter().map(|v| v.coords.norm()).fold(0.0, f64::max)
+}
+
 /// Checks a positive finite length.
 pub(crate) fn positive(field: impl FnOnce() -> String, value: f64) -> Result<f64, ShapeError> {
     if value.is_finite() && value > 0.0 {
@@ -118,6 +126,17 @@ impl Aabb {
             max: self.max.sup(&other.max),
         }
     }
+}
+
+/// The closest point of a shape's surface to a query point, with the signed distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Proximity {
+    /// Signed distance (m): positive outside, negative inside (minus the penetration depth);
+    /// bit for bit [`Shape::signed_distance`].
+    pub signed_distance: f64,
+    /// The closest surface point (shape frame, m); see [`Shape::proximity`] for the inside of
+    /// a T-shape.
+    pub closest: Point3<f64>,
 }
 
 /// A solid (or, for an open triangle mesh, a surface) in its own frame (m). See the module
@@ -208,6 +227,38 @@ impl Shape {
             Shape::TShape(s) => s.support(direction),
             Shape::ConvexMesh(s) => s.support(direction),
             Shape::TriangleMesh(s) => s.support(direction),
+        }
+    }
+
+    /// The signed distance of `p` (shape frame) together with the closest point of the
+    /// surface (shape frame, m). The distance is bit for bit [`Shape::signed_distance`].
+    ///
+    /// The closest point is exact for every variant, except inside a T-shape, where it is the
+    /// closest point of the part (bar or stem) whose signed distance is the smaller: it may lie
+    /// on a face of that part that the other part covers (as the depth, see [`TShape`]).
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        match self {
+            Shape::Box(s) => s.proximity(p),
+            Shape::Cylinder(s) => s.proximity(p),
+            Shape::Sphere(s) => s.proximity(p),
+            Shape::Capsule(s) => s.proximity(p),
+            Shape::TShape(s) => s.proximity(p),
+            Shape::ConvexMesh(s) => s.proximity(p),
+            Shape::TriangleMesh(s) => s.proximity(p),
+        }
+    }
+
+    /// The radius (m) of a sphere about the shape origin that contains the shape: the largest
+    /// distance of a point of the shape from the origin.
+    pub fn bounding_radius(&self) -> f64 {
+        match self {
+            Shape::Box(s) => s.half_extents().norm(),
+            Shape::Cylinder(s) => s.radius().hypot(s.length() / 2.0),
+            Shape::Sphere(s) => s.radius(),
+            Shape::Capsule(s) => s.length() / 2.0 + s.radius(),
+            Shape::TShape(s) => s.bounding_radius(),
+            Shape::ConvexMesh(s) => farthest(s.hull_vertices()),
+            Shape::TriangleMesh(s) => farthest(s.vertices()),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The primitive solids: box, cylinder, sphere, capsule and T-shape, with closed-form signed
 //! distances and support points. Each checks its sizes when built or read from a file.
 
-use super::{positive, ShapeError};
+use super::{positive, Proximity, ShapeError};
 use nalgebra::{Point3, Vector2, Vector3};
 
 /// `+h` for a non-negative direction component, `−h` otherwise.
@@ -82,6 +82,30 @@ impl Cuboid {
         box_distance(&p.coords, &self.half)
     }
 
+    /// Signed distance and closest surface point of `p` (box frame). Inside, the closest
+    /// point is on the nearest face.
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let half = &self.half;
+        let q = p.coords.abs() - half;
+        if q.max() > 0.0 {
+            let closest = Point3::from(p.coords.zip_map(half, |c, h| c.clamp(-h, h)));
+            // |p − clamp(p)| has the components max(q, 0) up to sign: the same bits as
+            // `box_distance`.
+            Proximity {
+                signed_distance: (p - closest).norm(),
+                closest,
+            }
+        } else {
+            let axis = q.imax();
+            let mut closest = *p;
+            closest[axis] = half[axis].copysign(p[axis]);
+            Proximity {
+                signed_distance: q[axis],
+                closest,
+            }
+        }
+    }
+
     /// The corner farthest along `d` (box frame).
     pub fn support(&self, d: &Vector3<f64>) -> Point3<f64> {
         Point3::new(
@@ -154,6 +178,33 @@ impl Cylinder {
         cylinder_distance(&p.coords, self.radius, self.half_length)
     }
 
+    /// Signed distance and closest surface point of `p` (cylinder frame). Inside, the closest
+    /// point is on the side or on a cap, whichever is nearer; on the axis the side point is
+    /// taken along `+x`.
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let (radius, half_length) = (self.radius, self.half_length);
+        let radial = Vector2::new(p.x, p.y);
+        let r = radial.norm();
+        let dir = if r > 1e-15 { radial / r } else { Vector2::x() };
+        let dr = r - radius;
+        let dz = p.z.abs() - half_length;
+        let closest = if dr <= 0.0 && dz <= 0.0 {
+            if dr > dz {
+                let c = dir * radius;
+                Point3::new(c.x, c.y, p.z)
+            } else {
+                Point3::new(p.x, p.y, half_length.copysign(p.z))
+            }
+        } else {
+            let cr = r.min(radius);
+            Point3::new(dir.x * cr, dir.y * cr, p.z.clamp(-half_length, half_length))
+        };
+        Proximity {
+            signed_distance: self.signed_distance(p),
+            closest,
+        }
+    }
+
     /// A point of the rim farthest along `d` (cylinder frame).
     pub fn support(&self, d: &Vector3<f64>) -> Point3<f64> {
         let radial = d.x.hypot(d.y);
@@ -208,6 +259,21 @@ impl Sphere {
     /// Signed distance (m) from `p` (sphere frame); negative inside.
     pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
         p.coords.norm() - self.radius
+    }
+
+    /// Signed distance and closest surface point of `p` (sphere frame; the `+z` pole for the
+    /// centre).
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let r = p.coords.norm();
+        let dir = if r > 1e-15 {
+            p.coords / r
+        } else {
+            Vector3::z()
+        };
+        Proximity {
+            signed_distance: r - self.radius,
+            closest: Point3::from(dir * self.radius),
+        }
     }
 
     /// The surface point along `d` (the `+z` pole for a zero direction).
@@ -289,6 +355,19 @@ impl Capsule {
     pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
         let axis = Vector3::new(0.0, 0.0, p.z.clamp(-self.half_length, self.half_length));
         (p.coords - axis).norm() - self.radius
+    }
+
+    /// Signed distance and closest surface point of `p` (capsule frame; on the segment
+    /// itself, the surface point along `+x`).
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let axis = Point3::new(0.0, 0.0, p.z.clamp(-self.half_length, self.half_length));
+        let v = p - axis;
+        let r = v.norm();
+        let dir = if r > 1e-15 { v / r } else { Vector3::x() };
+        Proximity {
+            signed_distance: r - self.radius,
+            closest: axis + dir * self.radius,
+        }
     }
 
     /// The point of the surface farthest along `d` (capsule frame).
@@ -435,6 +514,40 @@ impl TShape {
     /// Signed distance (m) from `p` (T frame); see [`TShape`] for the inside.
     pub fn signed_distance(&self, p: &Point3<f64>) -> f64 {
         self.bar.signed_distance(p).min(self.stem_distance(p))
+    }
+
+    /// Signed distance and closest surface point of `p` (T frame): those of the part (bar or
+    /// stem) with the smaller signed distance; see [`super::Shape::proximity`].
+    pub fn proximity(&self, p: &Point3<f64>) -> Proximity {
+        let bar = self.bar.proximity(p);
+        let q = self.stem_point(p);
+        let local = match &self.stem {
+            Stem::Cylinder(c) => c.proximity(&q),
+            Stem::Box(b) => b.proximity(&q),
+        };
+        let stem = Proximity {
+            signed_distance: local.signed_distance,
+            closest: Point3::new(
+                local.closest.x,
+                local.closest.y,
+                local.closest.z + self.stem_centre,
+            ),
+        };
+        if stem.signed_distance < bar.signed_distance {
+            stem
+        } else {
+            bar
+        }
+    }
+
+    /// The largest distance (m) of a point of the T from its origin.
+    pub fn bounding_radius(&self) -> f64 {
+        let top = self.stem_centre + self.stem.length() / 2.0;
+        let stem = match &self.stem {
+            Stem::Cylinder(c) => c.radius.hypot(top),
+            Stem::Box(b) => Vector3::new(b.half.x, b.half.y, top).norm(),
+        };
+        self.bar.half.norm().max(stem)
     }
 
     /// The point farthest along `d` (T frame).

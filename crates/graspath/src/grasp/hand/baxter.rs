@@ -20,6 +20,11 @@ const FINGER_THICKNESS: f64 = 0.01;
 const PALM_X: f64 = 0.06;
 const PALM_Y: f64 = 0.11;
 
+/// A box of the built-in sizes (positive constants, so always valid).
+fn cuboid(size: [f64; 3]) -> Shape {
+    Shape::cuboid(size).expect("built-in sizes are positive")
+}
+
 /// The Baxter electric parallel gripper (approximate dimensions of the standard narrow
 /// fingers in a middle slot).
 ///
@@ -54,9 +59,7 @@ pub fn baxter_electric_gripper() -> Hand {
         },
         shapes: vec![LinkShape {
             link_from_shape: Isometry3::translation(0.0, side * FINGER_THICKNESS / 2.0, 0.0),
-            shape: Shape::Box {
-                half: [FINGER_WIDTH / 2.0, FINGER_THICKNESS / 2.0, half_finger],
-            },
+            shape: cuboid([FINGER_WIDTH, FINGER_THICKNESS, 2.0 * half_finger]),
         }],
     };
     Hand {
@@ -78,9 +81,7 @@ pub fn baxter_electric_gripper() -> Hand {
                         0.0,
                         -FINGER_LENGTH - palm_depth / 2.0,
                     ),
-                    shape: Shape::Box {
-                        half: [PALM_X / 2.0, PALM_Y / 2.0, palm_depth / 2.0],
-                    },
+                    shape: cuboid([PALM_X, PALM_Y, palm_depth]),
                 }],
             },
             finger("l_finger", 1.0),
@@ -126,9 +127,10 @@ mod tests {
         assert_eq!(baxter(Arm::Left).tip_link(), "left_gripper");
         let hand = baxter_electric_gripper();
         let palm = &hand.links[0].shapes[0];
-        let Shape::Box { half } = palm.shape else {
+        let Shape::Box(b) = palm.shape else {
             panic!("box")
         };
-        assert!((palm.link_from_shape.translation.z - half[2] + BASE_TO_TOOL).abs() < 1e-12);
+        let half = b.half_extents();
+        assert!((palm.link_from_shape.translation.z - half.z + BASE_TO_TOOL).abs() < 1e-12);
     }
 }

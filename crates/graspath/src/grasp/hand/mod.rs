@@ -1,18 +1,17 @@
-//! Hand models: a tree of links below the **wrist frame**, each with convex collision shapes,
-//! moved by a few independent hand joints (mimic joints follow them).
+//! Hand models: a tree of links below the **wrist frame**, each with collision shapes of the
+//! one shape vocabulary ([`crate::geometry::shape::Shape`]), moved by a few independent hand joints (mimic joints follow them).
 //!
 //! Frames: every link pose is `wrist_from_link` (metres). The wrist frame is the frame whose
 //! pose the grasp model generates (`object_from_wrist`); for the built-in Baxter gripper it is
 //! the tip frame `{arm}_gripper` of the built-in Baxter chain (see [`baxter_electric_gripper`]).
 
 mod baxter;
-mod shape;
 mod urdf;
 
 pub use baxter::{baxter_electric_gripper, BAXTER_GRIPPER_NAME};
-pub use shape::{Proximity, Shape};
 pub use urdf::{hand_from_robot, hand_from_urdf, HandError};
 
+use crate::geometry::shape::{Proximity, Shape};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
 /// How a link moves relative to its parent.
@@ -63,7 +62,7 @@ pub struct LinkJoint {
 pub struct LinkShape {
     /// The shape's frame in the link frame (m).
     pub link_from_shape: Isometry3<f64>,
-    /// The convex solid.
+    /// The solid, in its own frame (file spelling of [`crate::geometry::shape`]).
     pub shape: Shape,
 }
 

@@ -1,8 +1,10 @@
 //! Hands from URDF: every link below a chosen root link (the wrist frame), with its collision
-//! boxes, spheres, cylinders or convex meshes (OBJ / STL), and the joints that move them.
+//! boxes, spheres, cylinders, capsules or meshes (OBJ / STL; a link's solid is the convex hull
+//! of the mesh's vertices), and the joints that move them.
 
-use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape, Shape};
+use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape};
 use crate::cloud::read_mesh;
+use crate::geometry::shape::{ConvexMesh, Shape, ShapeError};
 use crate::robot::{MeshResolver, RobotError, RobotModel, UrdfRobot};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -222,37 +224,28 @@ pub fn hand_from_urdf(
                 link: name.clone(),
                 message,
             };
-            let positive = |what: &str, v: f64| {
-                if v.is_finite() && v > 0.0 {
-                    Ok(v)
-                } else {
-                    Err(geometry_error(format!("{what} must be positive, got {v}")))
-                }
-            };
+            let checked =
+                |r: Result<Shape, ShapeError>| r.map_err(|e| geometry_error(e.to_string()));
             let shape = match &collision.geometry {
-                urdf_rs::Geometry::Box { size } => Shape::Box {
-                    half: [
-                        positive("box size", size[0])? / 2.0,
-                        positive("box size", size[1])? / 2.0,
-                        positive("box size", size[2])? / 2.0,
-                    ],
-                },
-                urdf_rs::Geometry::Sphere { radius } => Shape::Sphere {
-                    radius: positive("sphere radius", *radius)?,
-                },
-                urdf_rs::Geometry::Cylinder { radius, length }
-                | urdf_rs::Geometry::Capsule { radius, length } => Shape::Cylinder {
-                    radius: positive("cylinder radius", *radius)?,
-                    half_length: positive("cylinder length", *length)? / 2.0,
-                },
+                urdf_rs::Geometry::Box { size } => checked(Shape::cuboid(size.0))?,
+                urdf_rs::Geometry::Sphere { radius } => checked(Shape::sphere(*radius))?,
+                urdf_rs::Geometry::Cylinder { radius, length } => {
+                    checked(Shape::cylinder(*radius, *length))?
+                }
+                urdf_rs::Geometry::Capsule { radius, length } => {
+                    checked(Shape::capsule(*radius, *length))?
+                }
                 urdf_rs::Geometry::Mesh { filename, scale } => {
                     let path = meshes.resolve(filename, robot.source_name(), name)?;
-                    let mut mesh = read_mesh(&path).map_err(|e| geometry_error(e.to_string()))?;
+                    let mesh = read_mesh(&path).map_err(|e| geometry_error(e.to_string()))?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
-                    for v in &mut mesh.vertices {
-                        *v = Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]);
-                    }
-                    Shape::convex_mesh(mesh)
+                    let points = mesh
+                        .vertices
+                        .iter()
+                        .map(|v| Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]))
+                        .collect();
+                    // The link's solid is the hull of the mesh's vertices.
+                    checked(ConvexMesh::new(points).map(Shape::ConvexMesh))?
                 }
             };
             shapes.push(LinkShape {

@@ -63,7 +63,8 @@ impl CollisionCloud {
                 let radius = s.shape.bounding_radius() + offset.max(0.0);
                 self.index.for_each_within(&centre, radius, |j, _| {
                     let local = object_from_shape.inverse_transform_point(&self.index.points()[j]);
-                    let depth = s.shape.depth(&local, offset);
+                    // How deep the point lies inside the shape grown by `offset`.
+                    let depth = (offset - s.shape.signed_distance(&local)).max(0.0);
                     if depth > 0.0 {
                         total += (100.0 * depth).exp() - 1.0;
                     }

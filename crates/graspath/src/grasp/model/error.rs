@@ -51,13 +51,13 @@ pub enum ModelError {
         message: String,
     },
     /// A model file of another format version.
-    #[error("{source_name}: field 'format_version': the file has version {found}, this graspath reads version {expected}; retrain the model with `graspath train`")]
+    #[error("{source_name}: field 'format_version': the file has version {found}, this graspath reads versions 1 to {expected}; retrain the model with `graspath train`")]
     Version {
         /// The file.
         source_name: String,
         /// The version found.
         found: String,
-        /// The version supported.
+        /// The newest version supported (every earlier one is read too).
         expected: u32,
     },
     /// A cloud problem.

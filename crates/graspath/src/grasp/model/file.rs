@@ -3,7 +3,7 @@
 //! ```text
 //! {
 //!   "format": "graspath-grasp-model",
-//!   "format_version": 1,
+//!   "format_version": 2,
 //!   "label": "pinch",                     grasp type, copied to every candidate
 //!   "hand": { name, joints, links },      the hand, self-contained (shapes included)
 //!   "features": { normal_radius, curvature_radius, orientation, recompute_normals },
@@ -19,6 +19,13 @@
 //! Poses (`feature_from_link`, `grasp_from_wrist`) use nalgebra's serde form
 //! `{"rotation": [x, y, z, w], "translation": [x, y, z]}` (metres); `object_from_wrist` is a
 //! 4×4 row-major matrix. Distances are in metres, angles in radians.
+//!
+//! Hand shapes use the file spelling of [`crate::geometry::shape`] (`{box: {size}}`,
+//! `{cylinder: {radius, length}}`, `{convex_mesh: {points}}`, ...). Version 1 files (written
+//! before version 2 of this format) spelled them `{box: {half}}`, `{sphere: {radius}}`,
+//! `{cylinder: {radius, half_length}}` and `{convex_mesh: {mesh: {vertices, triangles},
+//! planes}}`; they are still read, converted exactly (sizes are doubled, which is exact; a
+//! convex mesh becomes the hull of its vertices), and the model is then a version 2 model.
 
 use super::configuration::ConfigurationSpec;
 use super::contact::ContactModel;
@@ -30,8 +37,9 @@ use std::path::Path;
 
 /// The `format` string of model files.
 pub const MODEL_FORMAT: &str = "graspath-grasp-model";
-/// The model file version this library reads and writes.
-pub const MODEL_FORMAT_VERSION: u32 = 1;
+/// The model file version this library writes. It also reads version 1 (the hand shapes'
+/// earlier spelling; see the module documentation).
+pub const MODEL_FORMAT_VERSION: u32 = 2;
 
 /// The most hand-configuration kernels a model file may ask for (one million).
 pub const MAX_CONFIGURATION_KERNELS: usize = 1_000_000;
@@ -144,15 +152,6 @@ fn check_hand(hand: &Hand, source_name: &str) -> Result<(), ModelError> {
                 &at(&format!("shapes[{k}].link_from_shape")),
                 &shape.link_from_shape,
             )?;
-            if let crate::grasp::hand::Shape::ConvexMesh { mesh, .. } = &shape.shape {
-                let n = mesh.vertices.len();
-                if mesh.triangles.iter().flatten().any(|v| *v as usize >= n) {
-                    return Err(fail(
-                        at(&format!("shapes[{k}].shape")),
-                        format!("a triangle names a vertex beyond the mesh's {n}"),
-                    ));
-                }
-            }
             let r = shape.shape.bounding_radius();
             if !(r.is_finite() && r >= 0.0) {
                 return Err(fail(
@@ -162,6 +161,78 @@ fn check_hand(hand: &Hand, source_name: &str) -> Result<(), ModelError> {
             }
         }
     }
+    Ok(())
+}
+
+/// A hand shape as version 1 model files spelled it.
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum ShapeVersion1 {
+    Box {
+        half: [f64; 3],
+    },
+    Sphere {
+        radius: f64,
+    },
+    Cylinder {
+        radius: f64,
+        half_length: f64,
+    },
+    ConvexMesh {
+        mesh: MeshVersion1,
+        // The face planes were derived from the mesh; the hull is recomputed.
+        #[allow(dead_code)]
+        planes: serde::de::IgnoredAny,
+    },
+}
+
+#[derive(serde::Deserialize)]
+struct MeshVersion1 {
+    vertices: Vec<[f64; 3]>,
+    // The triangles of a convex mesh are its hull's: recomputed from the vertices.
+    #[allow(dead_code)]
+    triangles: serde::de::IgnoredAny,
+}
+
+/// Rewrites the hand shapes of a version 1 model (JSON) in the version 2 spelling and sets
+/// `format_version` to 2. Sizes are doubled (exact in binary floating point).
+fn upgrade_version_1(value: &mut serde_json::Value, source_name: &str) -> Result<(), ModelError> {
+    use crate::geometry::shape::{ConvexMesh, Shape};
+    let links = value
+        .pointer_mut("/hand/links")
+        .and_then(serde_json::Value::as_array_mut);
+    for (i, link) in links.into_iter().flatten().enumerate() {
+        let shapes = link
+            .get_mut("shapes")
+            .and_then(serde_json::Value::as_array_mut);
+        for (k, entry) in shapes.into_iter().flatten().enumerate() {
+            let field = format!("hand.links[{i}].shapes[{k}].shape");
+            let Some(old) = entry.get_mut("shape") else {
+                continue;
+            };
+            let fail = |message: String| ModelError::field(source_name, field.clone(), message);
+            let parsed: ShapeVersion1 = serde_json::from_value(old.take())
+                .map_err(|e| fail(format!("a version 1 hand shape: {e}")))?;
+            let shape = match parsed {
+                ShapeVersion1::Box { half } => Shape::cuboid(half.map(|h| 2.0 * h)),
+                ShapeVersion1::Sphere { radius } => Shape::sphere(radius),
+                ShapeVersion1::Cylinder {
+                    radius,
+                    half_length,
+                } => Shape::cylinder(radius, 2.0 * half_length),
+                ShapeVersion1::ConvexMesh { mesh, .. } => ConvexMesh::new(
+                    mesh.vertices
+                        .into_iter()
+                        .map(nalgebra::Point3::from)
+                        .collect(),
+                )
+                .map(Shape::ConvexMesh),
+            }
+            .map_err(|e| fail(e.to_string()))?;
+            *old = serde_json::to_value(&shape).map_err(|e| fail(e.to_string()))?;
+        }
+    }
+    value["format_version"] = serde_json::Value::from(MODEL_FORMAT_VERSION);
     Ok(())
 }
 
@@ -218,7 +289,7 @@ impl GraspModel {
 
     /// Parses a model from JSON text; checks the format and version first.
     pub fn from_json(text: &str, source_name: &str) -> Result<Self, ModelError> {
-        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+        let mut value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
             ModelError::field(source_name, format!("line {}", e.line()), e.to_string())
         })?;
         let format = value.get("format").and_then(|v| v.as_str());
@@ -239,6 +310,7 @@ impl GraspModel {
             .and_then(serde_json::Value::as_u64)
         {
             Some(v) if v == u64::from(MODEL_FORMAT_VERSION) => {}
+            Some(1) => upgrade_version_1(&mut value, source_name)?,
             other => {
                 return Err(ModelError::Version {
                     source_name: source_name.to_string(),

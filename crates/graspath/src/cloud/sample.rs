@@ -1,44 +1,18 @@
-//! Clouds sampled from primitives: box, cylinder, sphere and T-shape, centred on the object
-//! origin, uniformly over their (outer) surface, with exact outward normals, optional Gaussian
-//! noise and an optional single-view simulation (only points seen from a viewpoint are kept,
-//! with self-occlusion traced).
+//! Clouds sampled on the surface of a [`Shape`], in the shape's own frame (see
+//! [`crate::geometry::shape`]): uniformly over the outer surface, with exact outward normals,
+//! optional Gaussian noise and an optional single-view simulation (only points seen from a
+//! viewpoint are kept, with self-occlusion traced for the primitives).
+//!
+//! Box, cylinder, sphere, capsule and T-shape are sampled in closed form; convex and triangle
+//! meshes by triangle area ([`super::TriangleMesh::sample`]). The upright T of earlier cloud
+//! files, `{t_shape: {stem: [x, y, z], bar: [x, y, z]}}`, is a [`LegacyTShape`].
 
-use super::{CloudError, PointCloud};
+use super::{CloudError, PointCloud, TriangleMesh};
+use crate::geometry::shape::{Shape, Stem};
 use nalgebra::{Point3, Vector3};
 use rand::{rngs::StdRng, RngExt, SeedableRng};
 use rand_distr::{Distribution, Normal, StandardNormal};
 use std::f64::consts::PI;
-
-/// A solid primitive, centred on the object origin (metres).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields, rename_all = "snake_case")]
-pub enum Primitive {
-    /// An axis-aligned box of edge lengths `size` (x, y, z).
-    Box {
-        /// Edge lengths (m).
-        size: [f64; 3],
-    },
-    /// A capped cylinder along `z`.
-    Cylinder {
-        /// Radius (m).
-        radius: f64,
-        /// Length along `z` (m).
-        height: f64,
-    },
-    /// A sphere.
-    Sphere {
-        /// Radius (m).
-        radius: f64,
-    },
-    /// A T: a `stem` box standing on `z`, with a `bar` box on top of it, both centred on the
-    /// `z` axis; the whole is shifted so that its bounding box is centred on the origin.
-    TShape {
-        /// Edge lengths of the vertical stem (m).
-        stem: [f64; 3],
-        /// Edge lengths of the top bar (m).
-        bar: [f64; 3],
-    },
-}
 
 /// The most points a cloud sampled from a primitive or a mesh may have: grasp generation never
 /// needs more than a few tens of thousands, and sampling time grows with the count.
@@ -108,19 +82,25 @@ impl SampleOptions {
     }
 }
 
+/// One convex piece of a sampled solid, in the cloud frame. A solid of several pieces (a T)
+/// drops the points of one piece that lie inside another (its interior faces).
 #[derive(Debug, Clone, Copy)]
-enum Part {
+pub(crate) enum Part {
+    /// An axis-aligned box of half edges `half` about `centre`.
     Box {
         centre: Vector3<f64>,
         half: Vector3<f64>,
     },
+    /// A capped cylinder along `z` about `(0, 0, centre_z)`.
     Cylinder {
         radius: f64,
         half_height: f64,
+        centre_z: f64,
     },
-    Sphere {
-        radius: f64,
-    },
+    /// A sphere about the origin.
+    Sphere { radius: f64 },
+    /// A capsule about the segment `z ∈ [−half_length, half_length]`.
+    Capsule { radius: f64, half_length: f64 },
 }
 
 impl Part {
@@ -130,8 +110,13 @@ impl Part {
             Part::Cylinder {
                 radius,
                 half_height,
+                ..
             } => 2.0 * PI * radius * (radius + 2.0 * half_height),
             Part::Sphere { radius } => 4.0 * PI * radius * radius,
+            Part::Capsule {
+                radius,
+                half_length,
+            } => 4.0 * PI * radius * (radius + half_length),
         }
     }
 
@@ -164,10 +149,11 @@ impl Part {
             Part::Cylinder {
                 radius,
                 half_height,
+                centre_z,
             } => {
                 let side = 2.0 * half_height;
                 let u = rng.random::<f64>() * (side + radius);
-                if u < side {
+                let (mut p, n) = if u < side {
                     let a = 2.0 * PI * rng.random::<f64>();
                     let z = (2.0 * rng.random::<f64>() - 1.0) * half_height;
                     let n = Vector3::new(a.cos(), a.sin(), 0.0);
@@ -180,11 +166,41 @@ impl Part {
                         Point3::new(r * a.cos(), r * a.sin(), sign * half_height),
                         Vector3::new(0.0, 0.0, sign),
                     )
+                };
+                // A centred cylinder's points are left untouched (bit for bit as before).
+                if centre_z != 0.0 {
+                    p.z += centre_z;
                 }
+                (p, n)
             }
             Part::Sphere { radius } => {
                 let v = Vector3::from_fn(|_, _| StandardNormal.sample(rng)).normalize();
                 (Point3::from(v * radius), v)
+            }
+            Part::Capsule {
+                radius,
+                half_length,
+            } => {
+                // Side area 2π r · 2h, the two caps together a sphere's 4π r²: in proportion
+                // `2h : 2r`.
+                let u = rng.random::<f64>() * (half_length + radius);
+                if u < half_length {
+                    let a = 2.0 * PI * rng.random::<f64>();
+                    let z = (2.0 * rng.random::<f64>() - 1.0) * half_length;
+                    let n = Vector3::new(a.cos(), a.sin(), 0.0);
+                    (Point3::new(radius * n.x, radius * n.y, z), n)
+                } else {
+                    let v = Vector3::from_fn(|_, _| StandardNormal.sample(rng)).normalize();
+                    let shift = if v.z >= 0.0 {
+                        half_length
+                    } else {
+                        -half_length
+                    };
+                    (
+                        Point3::new(radius * v.x, radius * v.y, radius * v.z + shift),
+                        v,
+                    )
+                }
             }
         }
     }
@@ -200,14 +216,19 @@ impl Part {
             Part::Cylinder {
                 radius,
                 half_height,
-            } => p.z.abs() <= half_height + TOL && p.x.hypot(p.y) <= radius + TOL,
+                centre_z,
+            } => (p.z - centre_z).abs() <= half_height + TOL && p.x.hypot(p.y) <= radius + TOL,
             Part::Sphere { radius } => p.coords.norm() <= radius + TOL,
+            Part::Capsule {
+                radius,
+                half_length,
+            } => capsule_distance(p, radius, half_length) <= TOL,
         }
     }
 
     /// Whether the open segment from `a` to `b` passes through the solid's interior.
     fn blocks(&self, a: &Point3<f64>, b: &Point3<f64>) -> bool {
-        // Sample the segment finely: the primitives are convex, so a chord through the interior
+        // Sample the segment finely: the parts are convex, so a chord through the interior
         // spans an interval; 256 probes resolve any chord longer than 1/256 of the segment.
         const STEPS: usize = 256;
         (1..STEPS).any(|i| {
@@ -227,72 +248,107 @@ impl Part {
             Part::Cylinder {
                 radius,
                 half_height,
-            } => p.z.abs() < half_height - TOL && p.x.hypot(p.y) < radius - TOL,
+                centre_z,
+            } => (p.z - centre_z).abs() < half_height - TOL && p.x.hypot(p.y) < radius - TOL,
             Part::Sphere { radius } => p.coords.norm() < radius - TOL,
+            Part::Capsule {
+                radius,
+                half_length,
+            } => capsule_distance(p, radius, half_length) < -TOL,
         }
     }
 }
 
-fn positive(field: &str, v: f64) -> Result<f64, CloudError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(CloudError::BadOption {
-            field: field.into(),
-            message: format!("must be a positive length in metres, got {v}"),
-        })
-    }
+/// The signed distance of `p` to a capsule about `z ∈ [−half_length, half_length]`.
+fn capsule_distance(p: &Point3<f64>, radius: f64, half_length: f64) -> f64 {
+    let axis = Vector3::new(0.0, 0.0, p.z.clamp(-half_length, half_length));
+    (p.coords - axis).norm() - radius
 }
 
-fn parts(shape: &Primitive) -> Result<Vec<Part>, CloudError> {
-    let half = |field: &str, s: [f64; 3]| -> Result<Vector3<f64>, CloudError> {
-        Ok(Vector3::new(
-            positive(field, s[0])? / 2.0,
-            positive(field, s[1])? / 2.0,
-            positive(field, s[2])? / 2.0,
-        ))
-    };
-    Ok(match shape {
-        Primitive::Box { size } => vec![Part::Box {
-            centre: Vector3::zeros(),
-            half: half("box.size", *size)?,
+/// The parts of a primitive shape in its own frame; `None` for the meshes.
+fn parts(shape: &Shape) -> Option<Vec<Part>> {
+    let cuboid = |centre: Vector3<f64>, half: Vector3<f64>| Part::Box { centre, half };
+    Some(match shape {
+        Shape::Box(b) => vec![cuboid(Vector3::zeros(), b.half_extents())],
+        Shape::Cylinder(c) => vec![Part::Cylinder {
+            radius: c.radius(),
+            half_height: c.length() / 2.0,
+            centre_z: 0.0,
         }],
-        Primitive::Cylinder { radius, height } => vec![Part::Cylinder {
-            radius: positive("cylinder.radius", *radius)?,
-            half_height: positive("cylinder.height", *height)? / 2.0,
+        Shape::Sphere(s) => vec![Part::Sphere { radius: s.radius() }],
+        Shape::Capsule(c) => vec![Part::Capsule {
+            radius: c.radius(),
+            half_length: c.length() / 2.0,
         }],
-        Primitive::Sphere { radius } => vec![Part::Sphere {
-            radius: positive("sphere.radius", *radius)?,
-        }],
-        Primitive::TShape { stem, bar } => {
-            let hs = half("t_shape.stem", *stem)?;
-            let hb = half("t_shape.bar", *bar)?;
-            let total = 2.0 * (hs.z + hb.z);
-            let shift = -total / 2.0;
-            vec![
-                Part::Box {
-                    centre: Vector3::new(0.0, 0.0, shift + hs.z),
-                    half: hs,
+        Shape::TShape(t) => {
+            let stem = match t.stem() {
+                Stem::Box(b) => cuboid(Vector3::new(0.0, 0.0, t.stem_centre()), b.half_extents()),
+                Stem::Cylinder(c) => Part::Cylinder {
+                    radius: c.radius(),
+                    half_height: c.length() / 2.0,
+                    centre_z: t.stem_centre(),
                 },
-                Part::Box {
-                    centre: Vector3::new(0.0, 0.0, shift + 2.0 * hs.z + hb.z),
-                    half: hb,
-                },
-            ]
+            };
+            vec![stem, cuboid(Vector3::zeros(), t.bar().half_extents())]
         }
+        Shape::ConvexMesh(_) | Shape::TriangleMesh(_) => return None,
     })
 }
 
-/// Samples `options.points` points on the outer surface of `shape` with their exact outward
-/// normals. With `options.view`, a point is kept only if its normal faces the viewpoint and
-/// the segment to the viewpoint crosses no part of the solid; with `options.noise`, positions
-/// get isotropic Gaussian noise (the normals stay exact).
-pub fn sample_primitive(
-    shape: &Primitive,
+/// Samples `options.points` points on the outer surface of `shape` (shape frame, m) with their
+/// exact outward normals. With `options.view`, a point is kept only if its normal faces the
+/// viewpoint and (for the primitives) the segment to the viewpoint crosses no part of the
+/// solid; with `options.noise`, positions get isotropic Gaussian noise (the normals stay exact).
+///
+/// Convex meshes are sampled on their hull's triangles, triangle meshes on their own (normals
+/// from each triangle's winding, counter-clockwise seen from outside), both by area with
+/// back-face culling for a view ([`TriangleMesh::sample`]).
+///
+/// ```
+/// use graspath::cloud::{sample_shape, SampleOptions};
+/// use graspath::geometry::shape::Shape;
+/// let shape = Shape::cylinder(0.02, 0.1)?;
+/// let cloud = sample_shape(&shape, &SampleOptions { points: 100, seed: 1, ..Default::default() })?;
+/// for p in &cloud.points {
+///     assert!(shape.signed_distance(p).abs() < 1e-12);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn sample_shape(shape: &Shape, options: &SampleOptions) -> Result<PointCloud, CloudError> {
+    options.check()?;
+    match parts(shape) {
+        Some(parts) => sample_parts(&parts, options),
+        None => mesh_of(shape).sample(options, shape.kind()),
+    }
+}
+
+/// The surface triangles of a mesh shape (a convex mesh's hull, outward).
+fn mesh_of(shape: &Shape) -> TriangleMesh {
+    match shape {
+        Shape::ConvexMesh(m) => {
+            let vertices: Vec<Point3<f64>> = m.hull_triangles().flatten().collect();
+            let triangles = (0..vertices.len() as u32 / 3)
+                .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+                .collect();
+            TriangleMesh {
+                vertices,
+                triangles,
+            }
+        }
+        Shape::TriangleMesh(m) => TriangleMesh {
+            vertices: m.vertices().to_vec(),
+            triangles: m.triangles().to_vec(),
+        },
+        _ => TriangleMesh::default(),
+    }
+}
+
+/// Samples the outer surface of the union of `parts` (cloud frame).
+pub(crate) fn sample_parts(
+    parts: &[Part],
     options: &SampleOptions,
 ) -> Result<PointCloud, CloudError> {
     options.check()?;
-    let parts = parts(shape)?;
     let areas: Vec<f64> = parts.iter().map(Part::area).collect();
     let total: f64 = areas.iter().sum();
     let mut rng = StdRng::seed_from_u64(options.seed);
@@ -363,13 +419,8 @@ mod tests {
             seed: 1,
             ..Default::default()
         };
-        let cloud = sample_primitive(
-            &Primitive::Box {
-                size: [0.1, 0.2, 0.3],
-            },
-            &options,
-        )
-        .expect("box");
+        let shape = Shape::cuboid([0.1, 0.2, 0.3]).expect("box");
+        let cloud = sample_shape(&shape, &options).expect("box");
         let normals = cloud.normals.expect("normals");
         let mut on_z = 0;
         for (p, n) in cloud.points.iter().zip(&normals) {
@@ -387,57 +438,13 @@ mod tests {
     }
 
     #[test]
-    fn single_view_of_a_t_keeps_only_visible_points() {
-        let shape = Primitive::TShape {
-            stem: [0.03, 0.03, 0.1],
-            bar: [0.15, 0.03, 0.03],
-        };
-        let view = [0.0, 0.0, -1.0];
+    fn bad_options_are_named() {
+        let shape = Shape::sphere(0.1).expect("sphere");
         let options = SampleOptions {
-            points: 2000,
-            seed: 2,
-            view: Some(view),
+            points: 0,
             ..Default::default()
         };
-        let cloud = sample_primitive(&shape, &options).expect("t");
-        let normals = cloud.normals.expect("normals");
-        for (p, n) in cloud.points.iter().zip(&normals) {
-            assert!(n.dot(&(Point3::from(view) - p)) > 0.0);
-        }
-        // From below, the underside of the bar is visible except where the stem hides it; the
-        // top of the bar never is.
-        assert!(cloud.points.iter().all(|p| p.z < 0.065 - 1e-9));
-        assert!(cloud.points.iter().any(|p| p.z > 0.03 && p.x.abs() > 0.03));
-    }
-
-    #[test]
-    fn t_shape_has_no_interior_faces() {
-        let shape = Primitive::TShape {
-            stem: [0.03, 0.03, 0.1],
-            bar: [0.15, 0.03, 0.03],
-        };
-        let cloud = sample_primitive(
-            &shape,
-            &SampleOptions {
-                points: 4000,
-                seed: 3,
-                ..Default::default()
-            },
-        )
-        .expect("t");
-        // The stem's top face (z = 0.1 − 0.065 = 0.035, |x|,|y| < 0.015) is inside the T.
-        assert!(!cloud.points.iter().any(|p| (p.z - 0.035).abs() < 1e-9
-            && p.x.abs() < 0.015 - 1e-6
-            && p.y.abs() < 0.015 - 1e-6));
-    }
-
-    #[test]
-    fn bad_sizes_are_named() {
-        let err = sample_primitive(
-            &Primitive::Sphere { radius: -1.0 },
-            &SampleOptions::default(),
-        )
-        .unwrap_err();
-        assert!(err.to_string().contains("sphere.radius"), "{err}");
+        let err = sample_shape(&shape, &options).unwrap_err();
+        assert!(err.to_string().contains("points"), "{err}");
     }
 }

@@ -154,6 +154,20 @@ impl ArmBodies {
         self.bodies.len()
     }
 
+    /// Every body with the index of the link it rides on (in [`Chain::link_names`]) and its
+    /// pose on that link, `link_from_body` (m); hand bodies ride on the tip link.
+    pub fn bodies(&self) -> impl Iterator<Item = (usize, &IsometryMatrix3<f64>, &Body)> {
+        self.bodies
+            .iter()
+            .map(|b| (b.link, &b.link_from_body, &b.body))
+    }
+
+    /// Whether body `i` (in [`ArmBodies::bodies`] order) moves with the arm (else it stands
+    /// with the robot's base, before the first moving joint).
+    pub fn moves(&self, i: usize) -> bool {
+        self.bodies.get(i).is_some_and(|b| b.group > 0)
+    }
+
     /// The names of the body pairs that self-collision checks visit.
     pub fn self_pair_names(&self) -> Vec<(String, String)> {
         self.self_pairs

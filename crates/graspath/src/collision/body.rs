@@ -27,8 +27,8 @@ pub enum BodyKind {
     },
     /// Points, each the centre of a sphere of `radius` (m): a scanned scene.
     Points {
-        /// How many points.
-        count: usize,
+        /// The centres, body frame (m).
+        points: std::sync::Arc<Vec<Point3<f64>>>,
         /// The spheres' radius (m).
         radius: f64,
     },
@@ -133,7 +133,7 @@ impl Body {
         Ok(Self {
             name: name.into(),
             kind: BodyKind::Points {
-                count: points.len(),
+                points: std::sync::Arc::new(points.to_vec()),
                 radius,
             },
             geometry: SharedShape::compound(parts),

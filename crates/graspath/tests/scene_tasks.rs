@@ -259,3 +259,82 @@ fn no_selected_two_arm_pair_collides_and_crossing_pairs_are_refused() {
         }
     }
 }
+
+#[test]
+fn generated_grasps_that_put_the_hand_into_the_table_are_dropped_before_the_best_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/grasp");
+    let model = graspath::grasp::model::train_file(&examples.join("demo_box.json")).unwrap();
+    let model_path = dir.path().join("model.json");
+    model.write(&model_path).unwrap();
+    let cloud = examples.join("cylinder.json");
+    // The table cuts the 12 cm cylinder at its middle: grasps from below or low on the side
+    // put the hand into it.
+    let task = |scene: &str| {
+        let text = format!(
+            "robot: {{ builtin: baxter }}\n\
+             arms: left\n\
+             object: {{ pose: {{ xyz: [0.70, 0.25, -0.10] }} }}\n\
+             candidates:\n  generate: {{ model: {}, cloud: {}, seed: 3, seeds: 2000, steps: 100, query_kernels: 1500, max_candidates: 15 }}\n\
+             trajectory:\n  samples_per_step: 2\n  steps: [ {{ lift: 0.2 }} ]\n{scene}",
+            model_path.display(),
+            cloud.display()
+        );
+        let path = dir.path().join("generate.yaml");
+        std::fs::write(&path, text).unwrap();
+        Task::load(&path).unwrap()
+    };
+    let table = -0.10;
+    // Oracle: the lowest point of every hand shape (its tight bounding box in the world, from
+    // the shapes' support functions) at the grasp.
+    let world_from_object = nalgebra::Isometry3::translation(0.70, 0.25, -0.10);
+    let lowest = |c: &graspath::grasp::Candidate| {
+        let links = model.hand.link_poses(&c.hand_joints);
+        model
+            .hand
+            .links
+            .iter()
+            .zip(&links)
+            .flat_map(|(link, wrist_from_link)| {
+                link.shapes.iter().map(move |s| {
+                    s.shape
+                        .aabb_at(
+                            &(world_from_object
+                                * c.object_from_wrist
+                                * wrist_from_link
+                                * s.link_from_shape),
+                        )
+                        .min
+                        .z
+                })
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let free = task("");
+    assert!(
+        free.candidates.iter().any(|c| lowest(c) < table),
+        "without a scene some of the best grasps reach below the table top"
+    );
+    let in_scene = task(&format!("scene: {{ table: {{ height: {table} }} }}\n"));
+    // Every clear grasp among the best 15 without a scene is still kept (the next best fill
+    // the places of the dropped ones, as far as the model generated any).
+    for c in free.candidates.iter().filter(|c| lowest(c) > table) {
+        assert!(
+            in_scene
+                .candidates
+                .iter()
+                .any(|k| k.object_from_wrist == c.object_from_wrist),
+            "{} was clear but not kept",
+            c.label
+        );
+    }
+    assert!(in_scene.candidates.len() <= 15);
+    for c in &in_scene.candidates {
+        assert!(
+            lowest(c) > table - 1e-9,
+            "{}: lowest {}",
+            c.label,
+            lowest(c)
+        );
+    }
+}

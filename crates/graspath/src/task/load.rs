@@ -10,8 +10,10 @@ use super::file::{
 use super::path::{Sampling, Step, TimedStep};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm};
 use crate::cloud::load_cloud_filtered;
+use crate::collision::{distance, Body, Scene};
 use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
+use crate::grasp::hand::Hand;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{edge_family, face_family, read_candidates, yaw_family, Candidate};
 use crate::robot::{Chain, RobotModel, RobotSource};
@@ -55,12 +57,14 @@ pub fn builder_from_file(
     if let Some(shape) = &file.object.shape {
         builder = builder.shape(shape.clone());
     }
+    let scene = super::load_scene::scene_from_file(file, source_name, base_dir)?;
     let candidates = setup_candidates(
         file,
         source_name,
         base_dir,
         file.object.shape.as_ref(),
         &limits,
+        scene.as_ref().map(|s| (s, world_from_object)),
     )?;
     builder = builder.candidates(candidates);
     let (steps, sampling) = setup_steps(file, source_name)?;
@@ -125,7 +129,7 @@ pub fn builder_from_file(
     if let Some(min) = s.min_clearance {
         builder = builder.min_clearance(Some(min));
     }
-    super::load_scene::add_world(builder, file, source_name, base_dir, &model)
+    super::load_scene::add_world(builder, file, source_name, scene, &model)
 }
 
 /// A pose from its file form; `field` names it in errors.
@@ -245,6 +249,7 @@ fn setup_candidates(
     base_dir: &Path,
     shape: Option<&Shape>,
     limits: &Limits,
+    scene: Option<(&Scene, Isometry3<f64>)>,
 ) -> Result<Vec<Candidate>, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     // A family's count is checked before the family is generated.
@@ -267,7 +272,7 @@ fn setup_candidates(
                 "give one of file, family, generate".into(),
             ));
         }
-        return generated_candidates(generate, source, base_dir, limits);
+        return generated_candidates(generate, source, base_dir, limits, scene);
     }
     match (&file.candidates.file, &file.candidates.family) {
         (Some(path), None) => read_candidates(&base_dir.join(path))
@@ -364,6 +369,7 @@ fn generated_candidates(
     source: &str,
     base_dir: &Path,
     limits: &Limits,
+    scene: Option<(&Scene, Isometry3<f64>)>,
 ) -> Result<Vec<Candidate>, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     if let Some(n) = g.max_candidates {
@@ -392,13 +398,27 @@ fn generated_candidates(
         &|_| {},
     )
     .map_err(|e| TaskError::caused_by(source, "candidates.generate", e))?;
+    let generated_count = generated.len();
+    if let Some((scene, world_from_object)) = scene {
+        // In a scene the hand may not enter the table or an obstacle: such grasps are dropped
+        // before the best `max_candidates` are kept, so the budget goes to usable grasps.
+        let scene_in_object = scene_seen_from(scene, &world_from_object);
+        generated.retain(|c| hand_is_clear(&model.hand, c, &scene_in_object));
+    }
     if let Some(n) = g.max_candidates {
         generated.truncate(n);
     }
     if generated.is_empty() {
         return Err(err(
             "candidates.generate",
-            "the model generated no candidate on this cloud".into(),
+            if generated_count > 0 {
+                format!(
+                    "the model generated {generated_count} candidate(s) on this cloud, but each \
+                     puts the hand into the table or an obstacle of the scene"
+                )
+            } else {
+                "the model generated no candidate on this cloud".into()
+            },
         ));
     }
     Ok(generated
@@ -413,6 +433,42 @@ fn generated_candidates(
             hand_joints: c.hand_joints,
         })
         .collect())
+}
+
+/// The scene's bodies with their poses in the object frame at `world_from_object`.
+fn scene_seen_from(
+    scene: &Scene,
+    world_from_object: &Isometry3<f64>,
+) -> Vec<(Body, Isometry3<f64>)> {
+    let object_from_world = world_from_object.inverse();
+    scene
+        .bodies()
+        .iter()
+        .map(|(body, world_from_body)| (body.clone(), object_from_world * world_from_body))
+        .collect()
+}
+
+/// Whether no hand link of a generated grasp (at its hand joints) touches a scene body (all
+/// in the object frame).
+fn hand_is_clear(
+    hand: &Hand,
+    grasp: &crate::grasp::model::Candidate,
+    scene: &[(Body, Isometry3<f64>)],
+) -> bool {
+    let wrist_from_links = hand.link_poses(&grasp.hand_joints);
+    hand.links
+        .iter()
+        .zip(&wrist_from_links)
+        .all(|(link, wrist_from_link)| {
+            link.shapes.iter().all(|s| {
+                let body = Body::from_shape("hand", &s.shape);
+                let object_from_shape =
+                    grasp.object_from_wrist * wrist_from_link * s.link_from_shape;
+                scene
+                    .iter()
+                    .all(|(other, pose)| distance(&body, &object_from_shape, other, pose) > 0.0)
+            })
+        })
 }
 
 fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskError> {

@@ -22,7 +22,7 @@ pub(crate) fn add_world(
     mut builder: TaskBuilder,
     file: &TaskFile,
     source: &str,
-    base_dir: &Path,
+    scene: Option<Scene>,
     model: &RobotModel,
 ) -> Result<TaskBuilder, TaskError> {
     if let Some(stroke) = &file.approach {
@@ -34,6 +34,61 @@ pub(crate) fn add_world(
     if let Some(gripper) = &file.gripper {
         builder = builder.gripper(gripper_from(gripper, source)?);
     }
+    let Some(scene) = scene else {
+        return Ok(builder);
+    };
+    let err = |field: &str, message: String| TaskError::new(source, field, message);
+    let c = file.collision.clone().unwrap_or_default();
+    let defaults = CollisionOptions::default();
+    let options = CollisionOptions {
+        margin: c.margin.unwrap_or(defaults.margin),
+        self_collision: c.self_collision.unwrap_or(defaults.self_collision),
+        between_arms: c.between_arms.unwrap_or(defaults.between_arms),
+        touch_tolerance: c.touch_tolerance.unwrap_or(defaults.touch_tolerance),
+        resolution: c.resolution.unwrap_or(defaults.resolution),
+    };
+    let self_pairs = match c.self_pairs.as_deref() {
+        None | Some("sampled") => SelfPairs::Sampled,
+        Some("all") => SelfPairs::All,
+        Some(other) => {
+            return Err(err(
+                "collision.self_pairs",
+                format!("'{other}' is not one of sampled, all"),
+            ))
+        }
+    };
+    let robot_shapes =
+        robot_link_shapes(model).map_err(|e| TaskError::caused_by(source, "robot", e))?;
+    let all_links = model.link_names();
+    for (k, [a, b]) in c.disable.iter().enumerate() {
+        for link in [a, b] {
+            if !all_links.contains(link) {
+                return Err(err(
+                    &format!("collision.disable[{k}]"),
+                    format!("'{link}' is not a link of the robot"),
+                ));
+            }
+        }
+    }
+    Ok(builder.scene(SceneSettings {
+        scene,
+        options,
+        robot_shapes,
+        self_pairs,
+        disabled: c
+            .disable
+            .iter()
+            .map(|[a, b]| (a.clone(), b.clone()))
+            .collect(),
+    }))
+}
+
+/// The file's `scene` (table and obstacles read), or `None` without one.
+pub(crate) fn scene_from_file(
+    file: &TaskFile,
+    source: &str,
+    base_dir: &Path,
+) -> Result<Option<Scene>, TaskError> {
     if file.scene.is_none() && file.collision.is_some() {
         return Err(TaskError::new(
             source,
@@ -42,7 +97,7 @@ pub(crate) fn add_world(
         ));
     }
     let Some(scene_file) = &file.scene else {
-        return Ok(builder);
+        return Ok(None);
     };
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     let mut scene = Scene::new();
@@ -131,49 +186,7 @@ pub(crate) fn add_world(
             }
         };
     }
-    let c = file.collision.clone().unwrap_or_default();
-    let defaults = CollisionOptions::default();
-    let options = CollisionOptions {
-        margin: c.margin.unwrap_or(defaults.margin),
-        self_collision: c.self_collision.unwrap_or(defaults.self_collision),
-        between_arms: c.between_arms.unwrap_or(defaults.between_arms),
-        touch_tolerance: c.touch_tolerance.unwrap_or(defaults.touch_tolerance),
-        resolution: c.resolution.unwrap_or(defaults.resolution),
-    };
-    let self_pairs = match c.self_pairs.as_deref() {
-        None | Some("sampled") => SelfPairs::Sampled,
-        Some("all") => SelfPairs::All,
-        Some(other) => {
-            return Err(err(
-                "collision.self_pairs",
-                format!("'{other}' is not one of sampled, all"),
-            ))
-        }
-    };
-    let robot_shapes =
-        robot_link_shapes(model).map_err(|e| TaskError::caused_by(source, "robot", e))?;
-    let all_links = model.link_names();
-    for (k, [a, b]) in c.disable.iter().enumerate() {
-        for link in [a, b] {
-            if !all_links.contains(link) {
-                return Err(err(
-                    &format!("collision.disable[{k}]"),
-                    format!("'{link}' is not a link of the robot"),
-                ));
-            }
-        }
-    }
-    Ok(builder.scene(SceneSettings {
-        scene,
-        options,
-        robot_shapes,
-        self_pairs,
-        disabled: c
-            .disable
-            .iter()
-            .map(|[a, b]| (a.clone(), b.clone()))
-            .collect(),
-    }))
+    Ok(Some(scene))
 }
 
 enum Kind {

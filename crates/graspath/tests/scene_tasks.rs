@@ -125,6 +125,36 @@ fn a_box_wider_than_the_opening_is_rejected_for_gripper_width() {
 }
 
 #[test]
+fn srdf_disabled_pairs_are_not_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let pair = ("left_upper_shoulder", "left_wrist");
+    std::fs::write(
+        dir.path().join("baxter.srdf"),
+        format!(
+            "<robot name=\"baxter\">\n  <disable_collisions link1=\"{}\" link2=\"{}\" reason=\"Never\"/>\n</robot>\n",
+            pair.0, pair.1
+        ),
+    )
+    .unwrap();
+    let names = |extra: &str| {
+        let task = Task::load(&task_file(&dir, -0.10, CUBOID, EDGE, extra)).unwrap();
+        task.arms[0].bodies.as_ref().unwrap().self_pair_names()
+    };
+    let touches = |pairs: &[(String, String)]| {
+        pairs.iter().any(|(a, b)| {
+            let (a, b) = (a.trim_start_matches("link "), b.trim_start_matches("link "));
+            (a, b) == pair || (b, a) == pair
+        })
+    };
+    assert!(touches(&names(
+        "scene: {}\ncollision: { self_pairs: all }\n"
+    )));
+    assert!(!touches(&names(
+        "scene: {}\ncollision: { self_pairs: all, srdf: baxter.srdf }\n"
+    )));
+}
+
+#[test]
 fn scene_sections_that_cannot_be_used_name_their_field() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("broken.stl"), b"solid nothing\nendsolid\n").unwrap();
@@ -156,7 +186,20 @@ fn scene_sections_that_cannot_be_used_name_their_field() {
         ("approach: { distance: -0.1 }\n", "approach.distance"),
         ("gripper: { opening: 0 }\n", "gripper.opening"),
         ("collision: { margin: 0.01 }\n", "collision"),
+        (
+            "scene: {}\ncollision: { srdf: bad.srdf }\n",
+            "no_such_link",
+        ),
+        (
+            "scene: {}\ncollision: { srdf: missing.srdf }\n",
+            "collision.srdf",
+        ),
     ];
+    std::fs::write(
+        dir.path().join("bad.srdf"),
+        "<robot name=\"baxter\">\n  <disable_collisions link1=\"left_wrist\" link2=\"no_such_link\"/>\n</robot>\n",
+    )
+    .unwrap();
     for (extra, field) in cases {
         let path = task_file(&dir, -0.10, CUBOID, EDGE, extra);
         let error = Task::load(&path).expect_err(extra).to_string();

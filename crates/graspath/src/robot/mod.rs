@@ -14,6 +14,7 @@ mod error;
 mod ik;
 mod source;
 mod spec;
+mod srdf;
 mod trig;
 mod urdf;
 mod urdf_scan;
@@ -27,4 +28,5 @@ pub use ik::{
 };
 pub use source::{RobotModel, RobotSource};
 pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
+pub use srdf::{DisabledPair, EndEffector, Srdf, SrdfGroup};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};

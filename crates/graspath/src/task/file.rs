@@ -144,6 +144,9 @@ pub struct CollisionFile {
     /// Link pairs never checked against each other (as SRDF `disable_collisions`).
     #[serde(default)]
     pub disable: Vec<[String; 2]>,
+    /// An SRDF file (relative to the task file) whose `disable_collisions` pairs are added.
+    #[serde(default)]
+    pub srdf: Option<PathBuf>,
 }
 
 /// An approach or retreat.

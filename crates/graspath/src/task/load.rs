@@ -129,7 +129,7 @@ pub fn builder_from_file(
     if let Some(min) = s.min_clearance {
         builder = builder.min_clearance(Some(min));
     }
-    super::load_scene::add_world(builder, file, source_name, scene, &model)
+    super::load_scene::add_world(builder, file, source_name, base_dir, scene, &model)
 }
 
 /// A pose from its file form; `field` names it in errors.

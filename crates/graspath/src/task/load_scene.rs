@@ -10,7 +10,7 @@ use super::scene::{Gripper, SceneSettings, Stroke, DEFAULT_FINGER};
 use crate::cloud::{load_collision_mesh, read_cloud, read_mesh};
 use crate::collision::{Body, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::{Shape, TriMesh};
-use crate::robot::{CollisionGeometry, RobotModel};
+use crate::robot::{CollisionGeometry, RobotModel, Srdf};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
 
@@ -22,6 +22,7 @@ pub(crate) fn add_world(
     mut builder: TaskBuilder,
     file: &TaskFile,
     source: &str,
+    base_dir: &Path,
     scene: Option<Scene>,
     model: &RobotModel,
 ) -> Result<TaskBuilder, TaskError> {
@@ -70,16 +71,24 @@ pub(crate) fn add_world(
             }
         }
     }
+    let mut disabled: Vec<(String, String)> = c
+        .disable
+        .iter()
+        .map(|[a, b]| (a.clone(), b.clone()))
+        .collect();
+    if let Some(path) = &c.srdf {
+        let srdf = Srdf::read(&base_dir.join(path))
+            .map_err(|e| TaskError::caused_by(source, "collision.srdf", e))?;
+        srdf.check_links(&all_links)
+            .map_err(|e| TaskError::caused_by(source, "collision.srdf", e))?;
+        disabled.extend(srdf.disabled.into_iter().map(|p| (p.link1, p.link2)));
+    }
     Ok(builder.scene(SceneSettings {
         scene,
         options,
         robot_shapes,
         self_pairs,
-        disabled: c
-            .disable
-            .iter()
-            .map(|[a, b]| (a.clone(), b.clone()))
-            .collect(),
+        disabled,
     }))
 }
 

@@ -70,7 +70,7 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
         let rejected = arm.rankings.iter().filter(|r| r.rejected.is_some()).count();
         let reasons: Vec<String> = reasons.iter().map(|(r, n)| format!("{n} {r}")).collect();
         say!(
-            "  arm {}: {} feasible, {} rejected by mu0{}",
+            "  arm {}: {} feasible, {} rejected by the selection rule{}",
             arm.arm,
             arm.feasible_count(),
             rejected,
@@ -80,6 +80,8 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
                 format!(", infeasible: {}", reasons.join(", "))
             }
         );
+        // In a scene the last column is the clearance from it (m); else Yoshikawa's index.
+        let in_scene = task.collisions.is_some();
         say!(
             "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
             "rank",
@@ -88,7 +90,7 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             "score",
             "mu_l2",
             "mu_linf",
-            "yoshikawa"
+            if in_scene { "clearance" } else { "yoshikawa" }
         );
         let mut ranked: Vec<usize> = (0..arm.rankings.len())
             .filter(|&i| arm.rankings[i].rank.is_some())
@@ -105,7 +107,11 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
                 number(arm.rankings[i].score),
                 number(s.norms.map(|n| n.l2)),
                 number(s.norms.map(|n| n.linf)),
-                number(s.yoshikawa_at_grasp),
+                number(if in_scene {
+                    s.clearance
+                } else {
+                    s.yoshikawa_at_grasp
+                }),
             );
         }
     }
@@ -118,6 +124,12 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             b.arm,
             best.second.label,
             best.score
+        );
+    }
+    if selection.colliding_pairs > 0 {
+        say!(
+            "  {} better pair(s) refused: the two arms would touch along the motion",
+            selection.colliding_pairs
         );
     }
     if nothing_selected(selection) {

@@ -76,7 +76,8 @@ impl PySelection {
     /// plotting and analysis: ``id`` (int64), ``feasible`` (bool), ``rank`` (int64, 0 = not
     /// ranked), ``score``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``,
     /// ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
-    /// ``inverse_condition_squared_at_grasp`` (float64, NaN where absent), ``contact``
+    /// ``inverse_condition_squared_at_grasp``, ``clearance`` (m, the smallest distance to the
+    /// scene along the motion) (float64, NaN where absent), ``contact``
     /// ``(k, 3)`` and ``m_t`` ``(k, n)`` (NaN where absent: infeasible, or the object still),
     /// and ``failure_sample`` (int64, -1 when feasible).
     fn arrays<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Bound<'py, PyDict>> {
@@ -133,6 +134,10 @@ impl PySelection {
         dict.set_item(
             "inverse_condition_squared_at_grasp",
             PyArray1::from_vec(py, at_grasp(|s| s.inverse_condition_squared_at_grasp)),
+        )?;
+        dict.set_item(
+            "clearance",
+            PyArray1::from_vec(py, at_grasp(|s| s.clearance)),
         )?;
         let contact: Vec<f64> = result
             .scores

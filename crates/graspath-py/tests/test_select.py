@@ -246,3 +246,30 @@ class TestErrors:
         bent[3, :3, :3] *= 1.5
         with pytest.raises(graspath.GraspathError, match=r"candidates\[3\]: the 3×3 rotation block"):
             graspath.Task.from_arrays({"left": robot}, poses, bent)
+
+
+def test_a_task_in_a_scene_reports_clearance_and_where_candidates_collide(tmp_path):
+    # The paper's pick-and-place on a table (the box resting on it) with an approach; and the
+    # same with the table top 35 cm above the box, where every candidate reachable in empty
+    # space collides with it.
+    base = LEFT.read_text()
+    on_table = tmp_path / "on_table.yaml"
+    on_table.write_text(
+        base + "\nscene: { table: { height: -0.15 } }\napproach: { distance: 0.1, samples: 3 }\n"
+    )
+    selection = graspath.select(graspath.Task.load(on_table))
+    arrays = selection.arrays("left")
+    feasible = arrays["feasible"]
+    assert feasible.any()
+    assert np.all(arrays["clearance"][feasible] >= 0.01)
+    assert np.all(np.isnan(arrays["clearance"][~feasible]))
+    under = tmp_path / "under.yaml"
+    under.write_text(base + "\nscene: { table: { height: 0.25 } }\n")
+    records = graspath.select(graspath.Task.load(under)).candidates
+    free = graspath.select(graspath.Task.load(LEFT)).arrays("left")["feasible"]
+    for record, was_feasible in zip(records, free):
+        assert not record["feasible"]
+        if was_feasible:
+            assert record["failure"]["reason"] == "collision"
+            assert "table" in record["failure"]["bodies"]
+            assert record["failure"]["phase"] in ("approach", "path", "retreat")

@@ -381,3 +381,44 @@ fn generated_grasps_that_put_the_hand_into_the_table_are_dropped_before_the_best
         );
     }
 }
+
+#[test]
+fn the_scene_examples_select_grasps_that_keep_their_margins() {
+    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scene");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "yaml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4);
+    for file in files {
+        let task = Task::load(&file).unwrap();
+        let collisions = task
+            .collisions
+            .as_ref()
+            .expect("a scene example has a scene");
+        let required = collisions
+            .options
+            .margin
+            .max(task.selection.min_clearance.unwrap_or(0.0));
+        let selection = select(&task, &|| {});
+        for arm in &selection.arms {
+            let best = arm
+                .best()
+                .unwrap_or_else(|| panic!("{}: nothing selected", file.display()));
+            let clearance = arm.scores[best].clearance.unwrap();
+            assert!(
+                clearance >= required,
+                "{}: clearance {clearance}",
+                file.display()
+            );
+            for s in arm.scores.iter().filter(|s| s.feasible()) {
+                assert!(s.clearance.unwrap() >= collisions.options.margin);
+            }
+        }
+        if task.arms.len() == 2 {
+            assert!(!selection.pairs.is_empty(), "{}", file.display());
+        }
+    }
+}

@@ -219,8 +219,8 @@ class Selection:
     def arrays(self, arm: str) -> Dict[str, npt.NDArray[Any]]:
         """Per-candidate numpy arrays: ``id``, ``feasible``, ``rank``, ``score``, ``mu_l2``,
         ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
-        ``inverse_condition_squared_at_grasp``, ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)``,
-        ``failure_sample``."""
+        ``inverse_condition_squared_at_grasp``, ``clearance``, ``contact`` ``(k, 3)``,
+        ``m_t`` ``(k, n)``, ``failure_sample``."""
     def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
     def write(self, out_dir: StrPath) -> List[Path]:

@@ -108,6 +108,38 @@ fn variants() -> BTreeMap<&'static str, (&'static str, &'static str)> {
         ),
         ("v-unknown-arm.yaml", ("arms: left", "arms: middle")),
         (
+            "v-obstacle-cone.yaml",
+            (
+                "arms: left",
+                "arms: left\nscene: { obstacles: [ { name: c, cone: { radius: 0.1 } } ] }",
+            ),
+        ),
+        (
+            "v-obstacle-mesh-missing.yaml",
+            (
+                "arms: left",
+                "arms: left\nscene: { obstacles: [ { name: bin, mesh: no-bin.stl } ] }",
+            ),
+        ),
+        (
+            "v-obstacle-mesh-broken.yaml",
+            (
+                "arms: left",
+                "arms: left\nscene: { obstacles: [ { name: bin, mesh: broken.stl } ] }",
+            ),
+        ),
+        (
+            "v-srdf-unknown-link.yaml",
+            (
+                "arms: left",
+                "arms: left\nscene: {}\ncollision: { srdf: robot.srdf }",
+            ),
+        ),
+        (
+            "v-gripper-opening-zero.yaml",
+            ("arms: left", "arms: left\ngripper: { opening: 0 }"),
+        ),
+        (
             "v-xyz-short.yaml",
             ("xyz: [0.75, 0.0, -0.10]", "xyz: [0.75, 0.0]"),
         ),
@@ -243,6 +275,11 @@ fn table() -> Vec<Row> {
         row("task pose NaN", "select --task {d}/v-xyz-nan.yaml --out {d}/out", &[], 2, "line 4 column 25: non-finite float"),
         row("task pose two rotations", "select --task {d}/v-two-rotations.yaml --out {d}/out", &[], 2, "object.pose"),
         row("task negative duration", "select --task {d}/v-negative-duration.yaml --out {d}/out", &[], 2, "trajectory.steps[0].duration"),
+        row("task unknown obstacle type", "select --task {d}/v-obstacle-cone.yaml --out {d}/out", &[], 2, "unknown field `cone`"),
+        row("task obstacle mesh missing", "select --task {d}/v-obstacle-mesh-missing.yaml --out {d}/out", &[], 2, "scene.obstacles[0].mesh"),
+        row("task obstacle mesh broken", "select --task {d}/v-obstacle-mesh-broken.yaml --out {d}/out", &[("broken.stl", "solid x\nendsolid x\n")], 2, "scene.obstacles[0].mesh"),
+        row("task srdf unknown link", "select --task {d}/v-srdf-unknown-link.yaml --out {d}/out", &[("robot.srdf", "<robot name=\"baxter\"><disable_collisions link1=\"left_wrist\" link2=\"left_wirst\"/></robot>")], 2, "left_wirst"),
+        row("task gripper opening 0", "select --task {d}/v-gripper-opening-zero.yaml --out {d}/out", &[], 2, "gripper.opening"),
         row("task unknown step", "select --task {d}/v-unknown-step.yaml --out {d}/out", &[], 2, "lfit"),
         row("task unknown builtin", "select --task {d}/v-builtin-kuka.yaml --out {d}/out", &[], 2, "kuka"),
         row("task missing urdf", "select --task {d}/v-missing-urdf.yaml --out {d}/out", &[], 2, "missing.urdf"),

@@ -312,3 +312,75 @@ fn a_floor_below_the_motion_is_clear_by_its_gap_and_one_above_collides() {
     let hit = run(lowest + 0.01).hit.unwrap();
     assert!(hit.bodies.iter().any(|b| b == "table"));
 }
+
+#[test]
+fn a_urdf_link_with_a_mesh_collides_where_its_mesh_is() {
+    // A planar two-link arm about z whose second link carries a 10 cm cube as an OBJ mesh
+    // (a surface) centred 0.5 m out along x. Oracle: the geometry — turning the first joint
+    // by θ puts the cube's centre at (0.3 + 0.5·cos θ', ...) where a ball is waiting.
+    let dir = tempfile::tempdir().unwrap();
+    let cube = "v -0.05 -0.05 -0.05\nv 0.05 -0.05 -0.05\nv 0.05 0.05 -0.05\nv -0.05 0.05 -0.05\n\
+                v -0.05 -0.05 0.05\nv 0.05 -0.05 0.05\nv 0.05 0.05 0.05\nv -0.05 0.05 0.05\n\
+                f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n\
+                f 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+    std::fs::write(dir.path().join("cube.obj"), cube).unwrap();
+    let urdf = r#"<robot name="planar">
+  <link name="base"/>
+  <link name="one"/>
+  <link name="two">
+    <collision><origin xyz="0.5 0 0"/><geometry><mesh filename="cube.obj"/></geometry></collision>
+  </link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="one"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="one"/><child link="two"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>"#;
+    let path = dir.path().join("planar.urdf");
+    std::fs::write(&path, urdf).unwrap();
+    let model = RobotSource::urdf(&path).load().unwrap();
+    let chain = model.chain("base", "two", None).unwrap();
+    let shapes = robot_link_shapes(&model).unwrap();
+    assert_eq!(shapes.len(), 1);
+    let arm = ArmBodies::new(&chain, &shapes, &[], &[], SelfPairs::None).unwrap();
+    // At q = 0 the cube is centred at (0.8, 0, 0). A 1 cm ball at (0, 0.8, 0) is reached when
+    // the first joint has turned by 90°, halfway along a motion from 0 to 180°: only the
+    // continuous check sees it (both ends are far from the ball).
+    let ball_pose = Isometry3::translation(0.0, 0.8, 0.0);
+    let scene = Scene::new().with_shape("ball", &Shape::sphere(0.01).unwrap(), ball_pose);
+    let options = CollisionOptions {
+        self_collision: false,
+        ..CollisionOptions::default()
+    };
+    let identity = Isometry3::identity();
+    let check = |motion: &[Vec<f64>]| {
+        ArmInScene {
+            arm: &arm,
+            world_from_base: &identity,
+            scene: &scene,
+            object: None,
+            options: &options,
+        }
+        .check(&WholeMotion {
+            q: motion,
+            path: 0..motion.len(),
+            world_from_object_start: &identity,
+            world_from_object_end: &identity,
+            object_from_wrist: &identity,
+        })
+    };
+    let sweep = [vec![0.0, 0.0], vec![3.0, 0.0]];
+    let hit = check(&sweep).hit.expect("the cube sweeps through the ball");
+    assert!(hit.between);
+    assert_eq!(
+        hit.bodies,
+        ["link two".to_string(), "obstacle ball".to_string()]
+    );
+    // Folding the second joint back keeps the cube 0.3 − 0.5 = −0.2 m out: it passes at
+    // 0.2 m from the axis, far from the ball.
+    let folded = [vec![0.0, 3.0], vec![3.0, 3.0]];
+    let clear = check(&folded);
+    assert!(clear.hit.is_none());
+    // Clearance at the samples: the cube's nearest corner to the ball (brute force over the
+    // eight corners and the faces is not needed: at both samples the ball is far outside).
+    assert!(clear.clearance.unwrap() > 0.3);
+}

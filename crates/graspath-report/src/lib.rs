@@ -18,7 +18,5 @@ pub use plots::{
     render_png, render_svg, viridis, Cell, Heatmap, Line, LinePlot, Plot, PlotError, HEATMAP_SIZE,
     LINE_SIZE, MARKED_COLOUR, MISSING_COLOUR,
 };
-pub use scene::{
-    scene_json, MAX_BODY_MOTIONS_PER_ARM, MAX_MOTIONS_PER_ARM, MAX_WITNESSES_PER_ARM,
-};
+pub use scene::{scene_json, MAX_BODY_MOTIONS_PER_ARM, MAX_MOTIONS_PER_ARM, MAX_WITNESSES_PER_ARM};
 pub use world::{MAX_VIEW_POINTS, MAX_VIEW_TRIANGLES};

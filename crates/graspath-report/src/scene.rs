@@ -9,8 +9,8 @@
 
 use crate::witness::{first_collision, Witness};
 use crate::world::{
-    arm_bodies_json, body_links, has_world, joint_origins, link_frames, point, pose, round,
-    round6, scene_bodies,
+    arm_bodies_json, body_links, has_world, joint_origins, link_frames, point, pose, round, round6,
+    scene_bodies,
 };
 use graspath::failure::Phase;
 use graspath::geometry::shape::{Shape, Stem};
@@ -297,9 +297,10 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
             .bodies
             .as_deref()
             .map_or(Value::Null, |b| arm_bodies_json(chain, b));
-        out["rest_frames"] = json!(links
-            .as_deref()
-            .and_then(|l| link_frames(setup, l, &chain.mid_configuration())));
+        out["rest_frames"] =
+            json!(links
+                .as_deref()
+                .and_then(|l| link_frames(setup, l, &chain.mid_configuration())));
     }
     out
 }

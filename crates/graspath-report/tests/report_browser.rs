@@ -174,7 +174,10 @@ fn the_report_passes_its_self_test_in_headless_chromium() {
     let dir = tempfile::tempdir().unwrap();
     let result = self_test(&browser, &task, dir.path());
     let url = format!("file://{}", dir.path().join("report.html").display());
-    assert!(!result.contains("scene bodies"), "no world in a task without one");
+    assert!(
+        !result.contains("scene bodies"),
+        "no world in a task without one"
+    );
     for check in [
         "PASS animation advances",
         "PASS canvas has drawn pixels",

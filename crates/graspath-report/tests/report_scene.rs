@@ -49,7 +49,8 @@ gripper: { builtin: baxter }
 "#;
 
 /// A tetrahedron (OBJ, 1-based faces).
-const BIN_OBJ: &str = "v 0 0 0\nv 0.2 0 0\nv 0 0.2 0\nv 0 0 0.2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+const BIN_OBJ: &str =
+    "v 0 0 0\nv 0.2 0 0\nv 0 0.2 0\nv 0 0 0.2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
 /// Three points (ASCII PLY).
 const SCAN_PLY: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n1.3 0.5 0.2\n1.3 0.55 0.2\n1.3 0.6 0.25\n";
@@ -107,17 +108,29 @@ fn the_view_carries_the_table_and_every_obstacle_as_the_task_file_gives_them() {
     // The finite table: a slab 1.2 × 1.6 m, 5 cm thick (the default), its top at z = −0.15.
     let table = body(&view, "table");
     assert_eq!(table["geometry"]["type"], "box");
-    assert_eq!(vec3(&table["geometry"]["size"]), Vector3::new(1.2, 1.6, 0.05));
+    assert_eq!(
+        vec3(&table["geometry"]["size"]),
+        Vector3::new(1.2, 1.6, 0.05)
+    );
     assert_close(&pose(&table["pose"]), &at([0.8, 0.1, -0.175]), "table");
 
     let wall = body(&view, "obstacle wall");
     assert_eq!(wall["geometry"]["type"], "box");
-    assert_eq!(vec3(&wall["geometry"]["size"]), Vector3::new(0.05, 0.6, 0.5));
+    assert_eq!(
+        vec3(&wall["geometry"]["size"]),
+        Vector3::new(0.05, 0.6, 0.5)
+    );
     assert_close(&pose(&wall["pose"]), &at([1.25, 0.0, 0.1]), "wall");
 
     let post = body(&view, "obstacle post");
     assert_eq!(post["geometry"]["type"], "cylinder");
-    assert_eq!((f(&post["geometry"]["radius"]), f(&post["geometry"]["length"])), (0.03, 0.15));
+    assert_eq!(
+        (
+            f(&post["geometry"]["radius"]),
+            f(&post["geometry"]["length"])
+        ),
+        (0.03, 0.15)
+    );
     assert_close(&pose(&post["pose"]), &at([0.75, -0.26, -0.075]), "post");
 
     let ball = body(&view, "obstacle ball");
@@ -128,7 +141,13 @@ fn the_view_carries_the_table_and_every_obstacle_as_the_task_file_gives_them() {
     // The beam lies along y: a quarter turn about x takes its z axis to −y.
     let beam = body(&view, "obstacle beam");
     assert_eq!(beam["geometry"]["type"], "capsule");
-    assert_eq!((f(&beam["geometry"]["radius"]), f(&beam["geometry"]["length"])), (0.02, 0.4));
+    assert_eq!(
+        (
+            f(&beam["geometry"]["radius"]),
+            f(&beam["geometry"]["length"])
+        ),
+        (0.02, 0.4)
+    );
     let world_from_beam = pose(&beam["pose"]);
     assert_close(
         &world_from_beam,
@@ -180,8 +199,14 @@ fn the_view_carries_the_table_and_every_obstacle_as_the_task_file_gives_them() {
         .map(|p| pose(&scan["pose"]) * Point3::from(*p))
         .map(|p| p.coords)
         .collect();
-    for (got, want) in placed.iter().zip([[1.3, 0.5, 0.2], [1.3, 0.55, 0.2], [1.3, 0.6, 0.25]]) {
-        assert!((got - Vector3::from(want)).norm() < 1e-4, "{got} vs {want:?}");
+    for (got, want) in placed
+        .iter()
+        .zip([[1.3, 0.5, 0.2], [1.3, 0.55, 0.2], [1.3, 0.6, 0.25]])
+    {
+        assert!(
+            (got - Vector3::from(want)).norm() < 1e-4,
+            "{got} vs {want:?}"
+        );
     }
     assert_eq!(view["world"]["approach_samples"], 3);
     assert_eq!(view["world"]["retreat_samples"], 3);
@@ -227,12 +252,19 @@ fn the_arm_shapes_ride_on_the_link_frames_of_the_whole_motion() {
     let mut expected: Vec<(String, String, Isometry3<f64>)> = shapes
         .iter()
         .filter(|s| chain.link_index(&s.link).is_some())
-        .map(|s| (format!("link {}", s.link), s.link.clone(), s.link_from_shape))
+        .map(|s| {
+            (
+                format!("link {}", s.link),
+                s.link.clone(),
+                s.link_from_shape,
+            )
+        })
         .collect();
     let q0 = chain.mid_configuration();
     let tip = chain.link_names().len() - 1;
-    let tip_from_tool: Isometry3<f64> =
-        nalgebra::convert(chain.link_frames(&q0).unwrap()[tip].inverse() * chain.pose(&q0).unwrap());
+    let tip_from_tool: Isometry3<f64> = nalgebra::convert(
+        chain.link_frames(&q0).unwrap()[tip].inverse() * chain.pose(&q0).unwrap(),
+    );
     for (name, tool_from_shape, _) in Gripper::baxter().hand_shapes() {
         expected.push((
             format!("hand {name}"),
@@ -252,13 +284,21 @@ fn the_arm_shapes_ride_on_the_link_frames_of_the_whole_motion() {
     // trajectories of candidates.json, placed by world_from_base.
     let records = candidates_json(&selection);
     let mut checked = 0;
-    for (result, record) in arm["results"].as_array().unwrap().iter().zip(records.as_array().unwrap()) {
+    for (result, record) in arm["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(records.as_array().unwrap())
+    {
         let Some(motion) = result["motion"].as_object() else {
             continue;
         };
         assert!(record["feasible"].as_bool().unwrap());
         for (frames, joints) in [
-            (&motion["approach"]["frames"], &record["approach_trajectory"]),
+            (
+                &motion["approach"]["frames"],
+                &record["approach_trajectory"],
+            ),
             (&motion["frames"], &record["joint_trajectory"]),
             (&motion["retreat"]["frames"], &record["retreat_trajectory"]),
         ] {
@@ -270,7 +310,8 @@ fn the_arm_shapes_ride_on_the_link_frames_of_the_whole_motion() {
                 let link_frames = chain.link_frames(&q).unwrap();
                 for (k, name) in names.iter().enumerate() {
                     let l = chain.link_index(name).unwrap();
-                    let want = setup.world_from_base * nalgebra::convert::<_, Isometry3<f64>>(link_frames[l]);
+                    let want = setup.world_from_base
+                        * nalgebra::convert::<_, Isometry3<f64>>(link_frames[l]);
                     assert_close(&pose(&at[k]), &want, name);
                 }
                 checked += 1;
@@ -291,20 +332,28 @@ fn named_bodies(
     let setup = &task.arms[0];
     let chain = &setup.chain;
     let frames = chain.link_frames(q).unwrap();
-    let placed = |link: usize| setup.world_from_base * nalgebra::convert::<_, Isometry3<f64>>(frames[link]);
+    let placed =
+        |link: usize| setup.world_from_base * nalgebra::convert::<_, Isometry3<f64>>(frames[link]);
     let mut out = Vec::new();
     let model = RobotSource::builtin("baxter").load().unwrap();
     for s in robot_link_shapes(&model).unwrap() {
         if let Some(l) = chain.link_index(&s.link) {
             if format!("link {}", s.link) == name {
-                out.push((Body::from_shape(name, &s.shape), placed(l) * s.link_from_shape));
+                out.push((
+                    Body::from_shape(name, &s.shape),
+                    placed(l) * s.link_from_shape,
+                ));
             }
         }
     }
-    let world_from_tool = setup.world_from_base * nalgebra::convert::<_, Isometry3<f64>>(chain.pose(q).unwrap());
+    let world_from_tool =
+        setup.world_from_base * nalgebra::convert::<_, Isometry3<f64>>(chain.pose(q).unwrap());
     for (finger, tool_from_shape, shape) in Gripper::baxter().hand_shapes() {
         if format!("hand {finger}") == name {
-            out.push((Body::from_shape(name, &shape), world_from_tool * tool_from_shape));
+            out.push((
+                Body::from_shape(name, &shape),
+                world_from_tool * tool_from_shape,
+            ));
         }
     }
     for (body, world_from_body) in task.collisions.as_ref().unwrap().scene.bodies() {
@@ -343,7 +392,11 @@ fn a_colliding_candidate_is_shown_where_its_two_bodies_collide() {
         }
         // Every collision of this small task is reproduced (fewer than the cap).
         let witness = &result["collision"];
-        assert!(witness.is_object(), "candidate {}: no witness", record["id"]);
+        assert!(
+            witness.is_object(),
+            "candidate {}: no witness",
+            record["id"]
+        );
         assert_eq!(witness["phase"], failure["phase"]);
         assert_eq!(witness["sample"], failure["sample"]);
         assert_eq!(witness["bodies"], failure["bodies"]);
@@ -361,10 +414,18 @@ fn a_colliding_candidate_is_shown_where_its_two_bodies_collide() {
             .flat_map(|(x, px)| b.iter().map(move |(y, py)| distance(x, px, y, py)))
             .fold(f64::INFINITY, f64::min);
         // Closer than the margin they must keep (with 1e-5 m for the rounding of q and poses).
-        assert!(closest < margin + 1e-5, "{names:?}: {closest} m apart at the witness");
+        assert!(
+            closest < margin + 1e-5,
+            "{names:?}: {closest} m apart at the witness"
+        );
         // The arm drawn there is the chain at q.
         let origins = setup_origins(&task, &q);
-        let drawn: Vec<Vector3<f64>> = witness["links"].as_array().unwrap().iter().map(vec3).collect();
+        let drawn: Vec<Vector3<f64>> = witness["links"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(vec3)
+            .collect();
         for (o, d) in origins.iter().zip(&drawn) {
             assert!((o - d).norm() < 2e-4);
         }
@@ -403,7 +464,10 @@ fn the_summary_counts_failures_per_reason() {
     assert_eq!(failures, counted);
     assert!(failures.contains_key("collision"), "{failures:?}");
     assert_eq!(summary["arms"][0]["feasible"], feasible);
-    assert!(summary.get("colliding_pairs").is_none(), "one arm: no pairs");
+    assert!(
+        summary.get("colliding_pairs").is_none(),
+        "one arm: no pairs"
+    );
 }
 
 #[test]
@@ -417,8 +481,16 @@ fn two_arms_in_a_scene_report_the_refused_pairs() {
     let summary = summary_json(&task, &selection);
     assert_eq!(summary["colliding_pairs"], selection.colliding_pairs);
     for arm in summary["arms"].as_array().unwrap() {
-        let failures: u64 = arm["failures"].as_object().unwrap().values().map(|v| v.as_u64().unwrap()).sum();
-        assert_eq!(failures + arm["feasible"].as_u64().unwrap(), arm["candidates"].as_u64().unwrap());
+        let failures: u64 = arm["failures"]
+            .as_object()
+            .unwrap()
+            .values()
+            .map(|v| v.as_u64().unwrap())
+            .sum();
+        assert_eq!(
+            failures + arm["feasible"].as_u64().unwrap(),
+            arm["candidates"].as_u64().unwrap()
+        );
     }
 }
 

@@ -44,8 +44,8 @@ fn compare_or_write(name: &str, text: &str) {
         std::fs::write(&path, text).unwrap();
         return;
     }
-    let expected = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let expected =
+        std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     assert!(
         expected == text,
         "{name} differs from the report of a task without a scene before the scene work \

@@ -6,6 +6,15 @@
 //! computed in their base frames and mapped with `ArmSetup::world_from_base`. Candidate wrist
 //! poses stay in the **object frame** (`object_from_wrist`), so the viewer attaches them to the
 //! object. Poses are `[x, y, z, qx, qy, qz, qw]`. Coordinates are rounded to 0.1 mm.
+//!
+//! A task that describes its world (a scene, an approach or retreat, or a gripper) adds:
+//! `world` (the scene's bodies in the world frame, the approach and retreat sample counts, the
+//! margin); per arm `bodies` (its collision bodies on their links, see `world`) and
+//! `rest_frames`; per motion `approach` and `retreat` (joint origins and, for the first
+//! [`MAX_BODY_MOTIONS_PER_ARM`], link frames `world_from_link`) and the path's `frames`; per
+//! result its `clearance` and `collision`, the reproduced first collision of an infeasible
+//! candidate (see `witness`). A task that says nothing about its world gets exactly the data
+//! it had before.
 
 use crate::witness::{first_collision, Witness};
 use crate::world::{

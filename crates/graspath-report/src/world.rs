@@ -241,3 +241,36 @@ pub(crate) fn joint_origins(setup: &ArmSetup, q: &[f64]) -> Option<Value> {
             .collect(),
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_large_cloud_lists_every_kth_point_and_counts_them_all() {
+        let n = 2 * MAX_VIEW_POINTS + 1;
+        let points: Vec<Point3<f64>> = (0..n).map(|i| Point3::new(i as f64, 0.0, 0.0)).collect();
+        let body = Body::from_points("obstacle scan", &points, 0.01, "scan").unwrap();
+        let g = body_geometry(&body);
+        assert_eq!(g["total"], n);
+        let listed = g["points"].as_array().unwrap();
+        // Stride ⌈n / max⌉ = 3: points 0, 3, 6, ...
+        assert_eq!(listed.len(), n.div_ceil(3));
+        assert!(listed.len() <= MAX_VIEW_POINTS);
+        assert_eq!(listed[1][0], 3.0);
+    }
+
+    #[test]
+    fn a_t_shape_is_its_bar_and_its_stem_above_it() {
+        let t = Shape::TShape(
+            graspath::geometry::shape::TShape::with_round_stem([0.2, 0.04, 0.02], 0.01, 0.1)
+                .unwrap(),
+        );
+        let g = shape_geometry(&t);
+        assert_eq!(g["type"], "compound");
+        // The stem's centre: half the bar's height plus half the stem's length.
+        let z = g["parts"][1]["pose"][2].as_f64().unwrap();
+        assert!((z - (0.01 + 0.05)).abs() < 1e-12, "{z}");
+        assert_eq!(g["parts"][1]["geometry"]["length"], 0.1);
+    }
+}

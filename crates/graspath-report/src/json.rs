@@ -3,12 +3,14 @@
 //! Numbers that are infinite (a `μ_l∞` on a singular path) are written as `null` with a flag
 //! beside them, since JSON has no infinity. Output is byte-identical for the same input.
 
+use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
 use graspath::select::Selection;
 use graspath::task::JacobianRows;
 use graspath::task::{Norm, Task};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
+use std::collections::BTreeMap;
 
 #[derive(Serialize)]
 struct FailureRecord<'a> {
@@ -153,8 +155,14 @@ pub fn nothing_selected(selection: &Selection) -> bool {
     }
 }
 
-/// `summary.json`: the task in brief and the selected grasp per arm (and pair).
+/// `summary.json`: the task in brief and the selected grasp per arm (and pair). A task that
+/// describes its world (a scene, an approach or retreat, or a gripper) also gets, per arm,
+/// `failures`: how many candidates failed for each reason (`collision`, `gripper_width`, ...;
+/// reasons that did not occur are left out) and, with two arms, `colliding_pairs`: how many
+/// pairs better than the last kept were refused because the arms collide. A task that says
+/// nothing about its world gets the summary it had before scenes existed.
 pub fn summary_json(task: &Task, selection: &Selection) -> Value {
+    let world = has_world(task);
     let arms: Vec<Value> = selection
         .arms
         .iter()
@@ -175,18 +183,26 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
             let by_yoshikawa = arm
                 .best_by(|s| s.yoshikawa_at_grasp)
                 .map(|i| arm.scores[i].candidate.id);
-            json!({
+            let mut summary = json!({
                 "arm": arm.arm,
                 "candidates": arm.scores.len(),
                 "feasible": arm.feasible_count(),
                 "eligible": arm.rankings.iter().filter(|r| r.rank.is_some()).count(),
                 "selected": selected,
                 "best_by_yoshikawa_at_grasp": by_yoshikawa,
-            })
+            });
+            if world {
+                let mut failures: BTreeMap<&str, usize> = BTreeMap::new();
+                for f in arm.scores.iter().filter_map(|s| s.failure.as_ref()) {
+                    *failures.entry(f.reason.as_str()).or_default() += 1;
+                }
+                summary["failures"] = json!(failures);
+            }
+            summary
         })
         .collect();
     let pairs = pairs_json(selection);
-    json!({
+    let mut summary = json!({
         "task": task.source_name,
         "robot": task.robot_name,
         "samples": task.path.samples.len(),
@@ -198,5 +214,9 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         "arms": arms,
         "best_pair": pairs.as_array().and_then(|p| p.first().cloned()),
         "nothing_selected": nothing_selected(selection),
-    })
+    });
+    if world && selection.arms.len() == 2 {
+        summary["colliding_pairs"] = json!(selection.colliding_pairs);
+    }
+    summary
 }

@@ -8,6 +8,8 @@ mod html;
 mod json;
 mod plots;
 mod scene;
+mod witness;
+mod world;
 
 pub use figures::{figures, Figure};
 pub use html::{render_report, report_html, Inline, INLINE_SVG_MAX_CELLS};
@@ -16,4 +18,5 @@ pub use plots::{
     render_png, render_svg, viridis, Cell, Heatmap, Line, LinePlot, Plot, PlotError, HEATMAP_SIZE,
     LINE_SIZE, MARKED_COLOUR, MISSING_COLOUR,
 };
-pub use scene::scene_json;
+pub use scene::{scene_json, MAX_BODY_MOTIONS_PER_ARM, MAX_MOTIONS_PER_ARM, MAX_WITNESSES_PER_ARM};
+pub use world::{MAX_VIEW_POINTS, MAX_VIEW_TRIANGLES};

@@ -6,56 +6,45 @@
 //! computed in their base frames and mapped with `ArmSetup::world_from_base`. Candidate wrist
 //! poses stay in the **object frame** (`object_from_wrist`), so the viewer attaches them to the
 //! object. Poses are `[x, y, z, qx, qy, qz, qw]`. Coordinates are rounded to 0.1 mm.
+//!
+//! A task that describes its world (a scene, an approach or retreat, or a gripper) adds:
+//! `world` (the scene's bodies in the world frame, the approach and retreat sample counts, the
+//! margin); per arm `bodies` (its collision bodies on their links, see `world`) and
+//! `rest_frames`; per motion `approach` and `retreat` (joint origins and, for the first
+//! [`MAX_BODY_MOTIONS_PER_ARM`], link frames `world_from_link`) and the path's `frames`; per
+//! result its `clearance` and `collision`, the reproduced first collision of an infeasible
+//! candidate (see `witness`). A task that says nothing about its world gets exactly the data
+//! it had before.
 
+use crate::witness::{first_collision, Witness};
+use crate::world::{
+    arm_bodies_json, body_links, has_world, joint_origins, link_frames, point, pose, round, round6,
+    scene_bodies,
+};
+use graspath::failure::Phase;
 use graspath::geometry::shape::{Shape, Stem};
 use graspath::grasp::Candidate;
 use graspath::robot::Chain;
-use graspath::select::{ArmResult, Selection};
+use graspath::select::{ArmResult, CandidateScore, Selection};
 use graspath::task::{ArmSetup, Norm, Task};
 use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
-use serde_json::{json, Value};
+use serde_json::{json, Map, Value};
 use std::sync::Arc;
 
 /// At most this many candidates per arm carry their arm motion (best ranked first, then the
 /// other feasible ones in candidate order), which bounds the report's size on large sets.
 pub const MAX_MOTIONS_PER_ARM: usize = 400;
 
-fn round(v: f64) -> f64 {
-    if v.is_finite() {
-        (v * 1e4).round() / 1e4
-    } else {
-        0.0
-    }
-}
+/// In a task with a world, at most this many of the candidates with a motion (in the same
+/// order) also carry the link frames that move the arm's collision bodies.
+pub const MAX_BODY_MOTIONS_PER_ARM: usize = 100;
 
-fn round6(v: f64) -> f64 {
-    if v.is_finite() {
-        (v * 1e6).round() / 1e6
-    } else {
-        0.0
-    }
-}
-
-fn point(p: &Point3<f64>) -> Value {
-    json!([round(p.x), round(p.y), round(p.z)])
-}
+/// At most this many infeasible candidates per arm (in candidate order) carry the witness of
+/// their first collision (each is recomputed: see `witness`).
+pub const MAX_WITNESSES_PER_ARM: usize = 100;
 
 fn vector(v: &Vector3<f64>) -> Value {
     json!([round(v.x), round(v.y), round(v.z)])
-}
-
-fn pose(p: &Isometry3<f64>) -> Value {
-    let t = &p.translation.vector;
-    let q = p.rotation.coords;
-    json!([
-        round(t.x),
-        round(t.y),
-        round(t.z),
-        round6(q.x),
-        round6(q.y),
-        round6(q.z),
-        round6(q.w)
-    ])
 }
 
 /// The object for the 3D view: a box, a cylinder or a T-shape with a round stem as they are;
@@ -158,8 +147,61 @@ fn finite(v: Option<f64>) -> Option<f64> {
     v.filter(|v| v.is_finite())
 }
 
+/// The world part of one candidate's motion: the approach and retreat (joint origins, and the
+/// body-carrying link frames when `links` is given) and the link frames along the path.
+fn world_motion(
+    setup: &ArmSetup,
+    score: &CandidateScore,
+    links: Option<&[usize]>,
+    motion: &mut Map<String, Value>,
+) {
+    let stretch = |joints: &[Vec<f64>]| -> Value {
+        let origins: Vec<Value> = joints
+            .iter()
+            .filter_map(|q| joint_origins(setup, q))
+            .collect();
+        let mut part = Map::new();
+        part.insert("links".into(), Value::Array(origins));
+        if let Some(links) = links {
+            let frames: Vec<Value> = joints
+                .iter()
+                .filter_map(|q| link_frames(setup, links, q).map(Value::Array))
+                .collect();
+            part.insert("frames".into(), Value::Array(frames));
+        }
+        Value::Object(part)
+    };
+    motion.insert("approach".into(), stretch(&score.approach));
+    motion.insert("retreat".into(), stretch(&score.retreat));
+    if let Some(links) = links {
+        let frames: Vec<Value> = score
+            .joint_trajectory
+            .iter()
+            .filter_map(|q| link_frames(setup, links, q).map(Value::Array))
+            .collect();
+        motion.insert("frames".into(), Value::Array(frames));
+    }
+}
+
+/// A reproduced first collision for the view: where (phase, sample), which bodies, and the
+/// arm (joint origins, body link frames) and object there.
+fn witness_json(setup: &ArmSetup, links: Option<&[usize]>, w: &Witness) -> Value {
+    json!({
+        "phase": w.phase.as_str(),
+        "sample": w.sample,
+        "between": w.between,
+        "bodies": w.bodies,
+        "distance": round6(w.distance),
+        "q": w.q.iter().map(|&v| round6(v)).collect::<Vec<_>>(),
+        "links": joint_origins(setup, &w.q),
+        "frames": links.and_then(|l| link_frames(setup, l, &w.q)),
+        "object": pose(&w.world_from_object),
+    })
+}
+
 fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
     let chain = &setup.chain;
+    let world = has_world(task);
     let rest: Vec<Value> = chain
         .joint_origins(&chain.mid_configuration())
         .map(|o| {
@@ -179,9 +221,13 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
     );
     with_motion.truncate(MAX_MOTIONS_PER_ARM);
     let mut has_motion = vec![false; arm.scores.len()];
-    for &i in &with_motion {
+    let mut has_frames = vec![false; arm.scores.len()];
+    for (k, &i) in with_motion.iter().enumerate() {
         has_motion[i] = true;
+        has_frames[i] = k < MAX_BODY_MOTIONS_PER_ARM;
     }
+    let links: Option<Vec<usize>> = setup.bodies.as_deref().map(body_links);
+    let mut witnesses = 0;
     let results: Vec<Value> = arm
         .scores
         .iter()
@@ -193,20 +239,34 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
             let motion = moving
                 .then(|| motion(chain, &setup.world_from_base, &s.joint_trajectory))
                 .flatten()
-                .map(|(links, ellipsoid)| {
-                    json!({
-                        "links": links,
-                        "ellipsoid": ellipsoid,
-                        "tangent": wrist_tangents(task, &c.object_from_wrist),
-                        "m_t": s.m_t.iter().map(|v| finite(*v)).collect::<Vec<_>>(),
-                    })
+                .map(|(links_along, ellipsoid)| {
+                    let mut m = Map::new();
+                    m.insert("links".into(), Value::Array(links_along));
+                    m.insert("ellipsoid".into(), Value::Array(ellipsoid));
+                    m.insert(
+                        "tangent".into(),
+                        Value::Array(wrist_tangents(task, &c.object_from_wrist)),
+                    );
+                    m.insert(
+                        "m_t".into(),
+                        json!(s.m_t.iter().map(|v| finite(*v)).collect::<Vec<_>>()),
+                    );
+                    if world {
+                        let frames = links.as_deref().filter(|_| has_frames[i]);
+                        world_motion(setup, s, frames, &mut m);
+                    }
+                    Value::Object(m)
                 });
             let status = match (&s.failure, &r.rejected) {
+                (Some(f), _) if f.phase != Phase::Path => format!(
+                    "{} at {} sample {}: {}",
+                    f.reason, f.phase, f.sample, f.detail
+                ),
                 (Some(f), _) => format!("{} at sample {}: {}", f.reason, f.sample, f.detail),
                 (None, Some(why)) => format!("rejected: {why}"),
                 (None, None) => "feasible".into(),
             };
-            json!({
+            let mut result = json!({
                 "candidate": i,
                 "rank": r.rank,
                 "score": finite(r.score),
@@ -218,16 +278,40 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
                 "feasible": s.feasible(),
                 "status": status,
                 "motion": motion,
-            })
+            });
+            if world {
+                let witness = (witnesses < MAX_WITNESSES_PER_ARM)
+                    .then(|| first_collision(task, setup, s))
+                    .flatten();
+                if witness.is_some() {
+                    witnesses += 1;
+                }
+                result["clearance"] = json!(s.clearance.map(round6));
+                result["collision"] = witness
+                    .map(|w| witness_json(setup, links.as_deref(), &w))
+                    .unwrap_or(Value::Null);
+            }
+            result
         })
         .collect();
-    json!({
+    let mut out = json!({
         "name": arm.arm,
         "world_from_base": pose(&setup.world_from_base),
         "rest": rest,
         "selected": arm.best(),
         "results": results,
-    })
+    });
+    if world {
+        out["bodies"] = setup
+            .bodies
+            .as_deref()
+            .map_or(Value::Null, |b| arm_bodies_json(chain, b));
+        out["rest_frames"] =
+            json!(links
+                .as_deref()
+                .and_then(|l| link_frames(setup, l, &chain.mid_configuration())));
+    }
+    out
 }
 
 /// The 3D view's data (see the module documentation for frames and units).
@@ -243,7 +327,7 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
         .iter()
         .map(|c| json!({"id": c.id, "label": c.label, "wrist": pose(&c.object_from_wrist)}))
         .collect();
-    json!({
+    let mut view = json!({
         "task": task.source_name,
         "robot": task.robot_name,
         "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
@@ -260,7 +344,16 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
             let index = |c: &Arc<Candidate>| task.candidates.iter().position(|t| Arc::ptr_eq(t, c));
             json!([index(&p.first), index(&p.second)])
         }),
-    })
+    });
+    if has_world(task) {
+        view["world"] = json!({
+            "bodies": scene_bodies(task),
+            "approach_samples": task.approach.map_or(0, |s| s.samples),
+            "retreat_samples": task.retreat.map_or(0, |s| s.samples),
+            "margin": task.collisions.as_ref().map(|c| c.options.margin),
+        });
+    }
+    view
 }
 
 #[cfg(test)]

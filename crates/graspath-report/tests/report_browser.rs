@@ -1,7 +1,9 @@
 //! The HTML report in a real browser: headless Chromium opens `report.html#selftest`, the page
 //! runs its own checks (no errors, the canvas is drawn, every candidate is listed, clicking a row
 //! shows that candidate, the animation advances) and writes the results into the DOM, which
-//! `--dump-dom` hands back. A screenshot is saved to `target/test-artifacts/report.png`.
+//! `--dump-dom` hands back; a report of a task in a scene also checks that the scene is drawn,
+//! the collision shapes move and a collision is shown with its bodies highlighted. Screenshots
+//! are saved to `target/test-artifacts/report.png` and `report-scene.png`.
 //!
 //! Skipped with a message when Chromium is not installed, except under CI (`CI` set), where
 //! `.ci/run` installs it and its absence is a failure.
@@ -76,27 +78,15 @@ fn artifacts_dir() -> PathBuf {
     target.join("test-artifacts")
 }
 
-#[test]
-fn the_report_passes_its_self_test_in_headless_chromium() {
-    let Some(browser) = chromium() else {
-        if std::env::var_os("CI").is_some() {
-            panic!("chromium is not installed; .ci/run installs it (apt-get install chromium)");
-        }
-        eprintln!("skipped: chromium is not installed (apt-get install chromium)");
-        return;
-    };
-    let example =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/pick_and_place_both.yaml");
-    let task = Task::load(&example).unwrap();
-    let selection = select(&task, &|| {});
-    let files = render_report(&task, &selection).unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    write_files(dir.path(), &files, Existing::Refuse).unwrap();
-    let page = dir.path().join("report.html");
+/// Writes the report of `task` into `dir` and returns the page's self-test result.
+fn self_test(browser: &Path, task: &Task, dir: &Path) -> String {
+    let selection = select(task, &|| {});
+    let files = render_report(task, &selection).unwrap();
+    write_files(dir, &files, Existing::Refuse).unwrap();
+    let page = dir.join("report.html");
     let url = format!("file://{}", page.display());
-
     let dom = run_chromium(
-        &browser,
+        browser,
         &format!("{url}#selftest"),
         &["--virtual-time-budget=8000", "--dump-dom"],
     );
@@ -104,11 +94,89 @@ fn the_report_passes_its_self_test_in_headless_chromium() {
         .find("<pre id=\"selftest-result\"")
         .unwrap_or_else(|| panic!("no self-test result in the page (DOM {} bytes)", dom.len()));
     let end = start + dom[start..].find("</pre>").expect("a closed result");
-    let result = &dom[start..end];
+    let result = dom[start..end].to_string();
     println!("{result}");
     assert!(
         result.contains("data-passed=\"true\"") && result.contains("SELFTEST PASSED"),
         "the page's self-test failed:\n{result}"
+    );
+    result
+}
+
+fn browser_or_skip() -> Option<PathBuf> {
+    let browser = chromium();
+    if browser.is_none() {
+        if std::env::var_os("CI").is_some() {
+            panic!("chromium is not installed; .ci/run installs it (apt-get install chromium)");
+        }
+        eprintln!("skipped: chromium is not installed (apt-get install chromium)");
+    }
+    browser
+}
+
+/// A task in a scene (Baxter's left arm, a finite table, a wall, a post and a beam that the
+/// arm runs into for some grasps, approach and retreat, the Baxter gripper).
+const SCENE_TASK: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object:
+  pose: { xyz: [0.75, 0.0, -0.10] }
+  shape: { box: { size: [0.06, 0.40, 0.10] } }
+candidates:
+  family: { edge: { count: 11 } }
+trajectory:
+  samples_per_step: 3
+  steps: [ { lift: 0.2 }, { move: [0.0, 0.3, 0.0] }, { place: 0.2 } ]
+scene:
+  table: { height: -0.15, size: [1.2, 1.6], centre: [0.8, 0.1] }
+  obstacles:
+    - { name: wall, box: { size: [0.05, 0.6, 0.5] }, pose: { xyz: [1.25, 0.0, 0.1] } }
+    - { name: post, cylinder: { radius: 0.03, length: 0.15 }, pose: { xyz: [0.75, -0.26, -0.075] } }
+    - { name: beam, capsule: { radius: 0.02, length: 0.4 }, pose: { xyz: [0.6, -0.2, 0.3], rpy_deg: [90, 0, 0] } }
+approach: { distance: 0.10, samples: 3 }
+retreat: { distance: 0.10, samples: 3 }
+gripper: { builtin: baxter }
+"#;
+
+#[test]
+fn the_report_of_a_scene_passes_its_self_test_in_headless_chromium() {
+    let Some(browser) = browser_or_skip() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.yaml");
+    std::fs::write(&path, SCENE_TASK).unwrap();
+    let task = Task::load(&path).unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let result = self_test(&browser, &task, &out);
+    for check in [
+        "PASS scene bodies are drawn",
+        "PASS collision shapes move with the arm",
+        "PASS a collision is shown with its two bodies highlighted",
+        "PASS clicking a row shows that candidate",
+        "PASS no errors",
+    ] {
+        assert!(result.contains(check), "missing '{check}' in:\n{result}");
+    }
+    let url = format!("file://{}", out.join("report.html").display());
+    screenshot(&browser, &url, "report-scene.png");
+}
+
+#[test]
+fn the_report_passes_its_self_test_in_headless_chromium() {
+    let Some(browser) = browser_or_skip() else {
+        return;
+    };
+    let example =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/pick_and_place_both.yaml");
+    let task = Task::load(&example).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let result = self_test(&browser, &task, dir.path());
+    let url = format!("file://{}", dir.path().join("report.html").display());
+    assert!(
+        !result.contains("scene bodies"),
+        "no world in a task without one"
     );
     for check in [
         "PASS animation advances",
@@ -120,14 +188,18 @@ fn the_report_passes_its_self_test_in_headless_chromium() {
         assert!(result.contains(check), "missing '{check}' in:\n{result}");
     }
 
-    // A screenshot for people (a test artefact), checked to be a drawn page.
+    screenshot(&browser, &url, "report.png");
+}
+
+/// A screenshot of `url` for people (a test artefact), checked to be a drawn page.
+fn screenshot(browser: &Path, url: &str, name: &str) {
     let artifacts = artifacts_dir();
     std::fs::create_dir_all(&artifacts).unwrap();
-    let shot = artifacts.join("report.png");
+    let shot = artifacts.join(name);
     let _ = std::fs::remove_file(&shot);
     run_chromium(
-        &browser,
-        &url,
+        browser,
+        url,
         &[
             "--virtual-time-budget=3000",
             "--window-size=1280,1000",

@@ -4,7 +4,7 @@
 
 use super::error::TaskError;
 use super::path::{ObjectPath, Sampling, TimedStep};
-use super::scene::{Collisions, Gripper, SceneSettings, Stroke};
+use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
@@ -491,78 +491,18 @@ impl TaskBuilder {
             branches: self.ik_branches,
             per_sample_iterations: defaults::PER_SAMPLE_IK_ITERATIONS,
         };
-        for (field, stroke) in [("approach", &self.approach), ("retreat", &self.retreat)] {
-            if let Some(stroke) = stroke {
-                if !(stroke.distance.is_finite() && stroke.distance > 0.0) {
-                    return Err(err(
-                        &format!("{field}.distance"),
-                        format!(
-                            "must be a positive finite length in metres, got {}",
-                            stroke.distance
-                        ),
-                    ));
-                }
-                if stroke.samples == 0 {
-                    return Err(err(
-                        &format!("{field}.samples"),
-                        "must be at least 1".into(),
-                    ));
-                }
-                check_count(
-                    &format!("{field}.samples"),
-                    stroke.samples,
-                    limits.max_samples,
-                    "max_samples",
-                )
-                .map_err(|m| err(&format!("{field}.samples"), m))?;
-            }
-        }
-        if let Some(gripper) = &self.gripper {
-            gripper.check().map_err(|(field, m)| err(&field, m))?;
-        }
         let mut arms = self.arms;
-        let collisions = match self.scene {
-            None => None,
-            Some(settings) => {
-                let options = settings.options;
-                for (field, value, lowest) in [
-                    ("collision.margin", options.margin, 0.0),
-                    ("collision.touch_tolerance", options.touch_tolerance, 0.0),
-                    (
-                        "collision.resolution",
-                        options.resolution,
-                        f64::MIN_POSITIVE,
-                    ),
-                ] {
-                    if !(value.is_finite() && value >= lowest) {
-                        return Err(err(
-                            field,
-                            format!("must be a finite length ≥ {lowest} in metres, got {value}"),
-                        ));
-                    }
-                }
-                let hand = self.gripper.map(|g| g.hand_shapes()).unwrap_or_default();
-                for arm in &mut arms {
-                    let bodies = ArmBodies::new(
-                        &arm.chain,
-                        &settings.robot_shapes,
-                        &hand,
-                        &settings.disabled,
-                        if options.self_collision {
-                            settings.self_pairs
-                        } else {
-                            crate::collision::SelfPairs::None
-                        },
-                    )
-                    .map_err(|e| err("collision", e.to_string()))?;
-                    arm.bodies = Some(Arc::new(bodies));
-                }
-                Some(Collisions {
-                    scene: Arc::new(settings.scene),
-                    options,
-                })
-            }
-        };
+        let collisions = super::scene::check_world(
+            WorldInput {
+                approach: self.approach.as_ref(),
+                retreat: self.retreat.as_ref(),
+                gripper: self.gripper.as_ref(),
+                scene: self.scene,
+            },
+            &mut arms,
+            &limits,
+        )
+        .map_err(|(field, m)| err(&field, m))?;
         let object_body = (collisions.is_some() || self.gripper.is_some())
             .then_some(self.shape.as_ref())
             .flatten()

@@ -3,7 +3,9 @@
 //! gripper's opening and fingers. Without a scene no collision is checked (the behaviour of a
 //! task that says nothing about its world).
 
-use crate::collision::{CollisionOptions, LinkShape, Scene, SelfPairs};
+use super::builder::{check_count, ArmSetup};
+use super::settings::Limits;
+use crate::collision::{ArmBodies, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::Shape;
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
 use std::sync::Arc;
@@ -160,4 +162,87 @@ pub struct Collisions {
     pub scene: Arc<Scene>,
     /// Margins and which checks run.
     pub options: CollisionOptions,
+}
+
+/// The world settings a builder holds, for [`check_world`].
+pub(crate) struct WorldInput<'a> {
+    pub approach: Option<&'a Stroke>,
+    pub retreat: Option<&'a Stroke>,
+    pub gripper: Option<&'a Gripper>,
+    pub scene: Option<SceneSettings>,
+}
+
+/// Checks the world settings and gives each arm its bodies when there is a scene; errors are
+/// `(field, message)` in task-file spelling.
+pub(crate) fn check_world(
+    input: WorldInput<'_>,
+    arms: &mut [ArmSetup],
+    limits: &Limits,
+) -> Result<Option<Collisions>, (String, String)> {
+    for (field, stroke) in [("approach", input.approach), ("retreat", input.retreat)] {
+        let Some(stroke) = stroke else { continue };
+        if !(stroke.distance.is_finite() && stroke.distance > 0.0) {
+            return Err((
+                format!("{field}.distance"),
+                format!(
+                    "must be a positive finite length in metres, got {}",
+                    stroke.distance
+                ),
+            ));
+        }
+        if stroke.samples == 0 {
+            return Err((format!("{field}.samples"), "must be at least 1".into()));
+        }
+        check_count(
+            &format!("{field}.samples"),
+            stroke.samples,
+            limits.max_samples,
+            "max_samples",
+        )
+        .map_err(|m| (format!("{field}.samples"), m))?;
+    }
+    if let Some(gripper) = input.gripper {
+        gripper.check()?;
+    }
+    let Some(settings) = input.scene else {
+        return Ok(None);
+    };
+    let options = settings.options;
+    for (field, value, lowest) in [
+        ("collision.margin", options.margin, 0.0),
+        ("collision.touch_tolerance", options.touch_tolerance, 0.0),
+        (
+            "collision.resolution",
+            options.resolution,
+            f64::MIN_POSITIVE,
+        ),
+    ] {
+        if !(value.is_finite() && value >= lowest) {
+            return Err((
+                field.to_string(),
+                format!("must be a finite length ≥ {lowest} in metres, got {value}"),
+            ));
+        }
+    }
+    let hand = input.gripper.map(Gripper::hand_shapes).unwrap_or_default();
+    let self_pairs = if options.self_collision {
+        settings.self_pairs
+    } else {
+        SelfPairs::None
+    };
+    for arm in arms {
+        let bodies = ArmBodies::new(
+            &arm.chain,
+            &settings.robot_shapes,
+            &hand,
+            &settings.disabled,
+            self_pairs,
+        )
+        .map_err(|e| ("collision".to_string(), e.to_string()))?;
+        arm.bodies = Some(Arc::new(bodies));
+    }
+    Ok(Some(Collisions {
+        scene: Arc::new(settings.scene),
+        options,
+    }))
 }

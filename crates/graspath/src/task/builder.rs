@@ -5,6 +5,7 @@
 use super::error::TaskError;
 use super::path::{ObjectPath, Sampling, TimedStep};
 use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
+pub(crate) use super::settings::check_count;
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
@@ -492,17 +493,20 @@ impl TaskBuilder {
             per_sample_iterations: defaults::PER_SAMPLE_IK_ITERATIONS,
         };
         let mut arms = self.arms;
-        let collisions = super::scene::check_world(
+        let (collisions, bodies) = super::scene::check_world(
             WorldInput {
                 approach: self.approach.as_ref(),
                 retreat: self.retreat.as_ref(),
                 gripper: self.gripper.as_ref(),
                 scene: self.scene,
             },
-            &mut arms,
+            arms.iter().map(|a| &a.chain),
             &limits,
         )
         .map_err(|(field, m)| err(&field, m))?;
+        for (arm, bodies) in arms.iter_mut().zip(bodies) {
+            arm.bodies = bodies;
+        }
         let object_body = (collisions.is_some() || self.gripper.is_some())
             .then_some(self.shape.as_ref())
             .flatten()
@@ -554,21 +558,5 @@ impl TaskBuilder {
             ));
         }
         Ok(task)
-    }
-}
-
-/// `Ok` when `count ≤ limit`; else a message naming the limit that can be raised.
-pub(crate) fn check_count(
-    what: &str,
-    count: usize,
-    limit: usize,
-    limit_name: &str,
-) -> Result<(), String> {
-    if count > limit {
-        Err(format!(
-            "{what}: {count} is more than the limit {limit}; raise limits.{limit_name} if this is intended"
-        ))
-    } else {
-        Ok(())
     }
 }

@@ -5,12 +5,11 @@
 use super::builder::TaskBuilder;
 use super::error::TaskError;
 use super::file::{GripperFile, StrokeFile, TaskFile};
-use super::load::pose;
 use super::scene::{Gripper, SceneSettings, Stroke, DEFAULT_FINGER};
 use crate::cloud::{load_collision_mesh, read_cloud, read_mesh};
 use crate::collision::{Body, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::{Shape, TriMesh};
-use crate::robot::{CollisionGeometry, RobotModel, Srdf};
+use crate::robot::{CollisionGeometry, RobotError, RobotModel, Srdf};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
 
@@ -130,7 +129,11 @@ pub(crate) fn scene_from_file(
         let world_from_obstacle = obstacle
             .pose
             .as_ref()
-            .map(|p| pose(p, source, &format!("{field}.pose")))
+            .map(|p| {
+                p.to_isometry().map_err(|e| {
+                    TaskError::new(source, format!("{field}.pose.{}", e.field), e.message)
+                })
+            })
             .transpose()?
             .unwrap_or_else(Isometry3::identity);
         let mut given = Vec::new();
@@ -205,7 +208,7 @@ enum Kind {
 }
 
 /// Every collision shape of a robot's links, meshes read and scaled.
-pub fn robot_link_shapes(model: &RobotModel) -> Result<Vec<LinkShape>, crate::Error> {
+pub fn robot_link_shapes(model: &RobotModel) -> Result<Vec<LinkShape>, RobotError> {
     let mut out = Vec::new();
     for link in model.collisions()? {
         for element in &link.shapes {

@@ -3,10 +3,10 @@
 //! gripper's opening and fingers. Without a scene no collision is checked (the behaviour of a
 //! task that says nothing about its world).
 
-use super::builder::{check_count, ArmSetup};
-use super::settings::Limits;
+use super::settings::{check_count, Limits};
 use crate::collision::{ArmBodies, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::Shape;
+use crate::robot::Chain;
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
 use std::sync::Arc;
 
@@ -172,13 +172,16 @@ pub(crate) struct WorldInput<'a> {
     pub scene: Option<SceneSettings>,
 }
 
-/// Checks the world settings and gives each arm its bodies when there is a scene; errors are
-/// `(field, message)` in task-file spelling.
-pub(crate) fn check_world(
+/// The collision checks of a task and each arm's bodies (`None` without a scene).
+type World = (Option<Collisions>, Vec<Option<Arc<ArmBodies>>>);
+
+/// Checks the world settings and builds each arm's bodies (one per chain, in order) when there
+/// is a scene; errors are `(field, message)` in task-file spelling.
+pub(crate) fn check_world<'c>(
     input: WorldInput<'_>,
-    arms: &mut [ArmSetup],
+    chains: impl ExactSizeIterator<Item = &'c Chain>,
     limits: &Limits,
-) -> Result<Option<Collisions>, (String, String)> {
+) -> Result<World, (String, String)> {
     for (field, stroke) in [("approach", input.approach), ("retreat", input.retreat)] {
         let Some(stroke) = stroke else { continue };
         if !(stroke.distance.is_finite() && stroke.distance > 0.0) {
@@ -205,7 +208,7 @@ pub(crate) fn check_world(
         gripper.check()?;
     }
     let Some(settings) = input.scene else {
-        return Ok(None);
+        return Ok((None, vec![None; chains.len()]));
     };
     let options = settings.options;
     for (field, value, lowest) in [
@@ -230,19 +233,24 @@ pub(crate) fn check_world(
     } else {
         SelfPairs::None
     };
-    for arm in arms {
-        let bodies = ArmBodies::new(
-            &arm.chain,
-            &settings.robot_shapes,
-            &hand,
-            &settings.disabled,
-            self_pairs,
-        )
-        .map_err(|e| ("collision".to_string(), e.to_string()))?;
-        arm.bodies = Some(Arc::new(bodies));
-    }
-    Ok(Some(Collisions {
-        scene: Arc::new(settings.scene),
-        options,
-    }))
+    let bodies = chains
+        .map(|chain| {
+            ArmBodies::new(
+                chain,
+                &settings.robot_shapes,
+                &hand,
+                &settings.disabled,
+                self_pairs,
+            )
+            .map(|b| Some(Arc::new(b)))
+            .map_err(|e| ("collision".to_string(), e.to_string()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((
+        Some(Collisions {
+            scene: Arc::new(settings.scene),
+            options,
+        }),
+        bodies,
+    ))
 }

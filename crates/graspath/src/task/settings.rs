@@ -181,3 +181,19 @@ impl Limits {
             .saturating_mul(per_branch)
     }
 }
+
+/// `Ok` when `count ≤ limit`; else a message naming the limit that can be raised.
+pub(crate) fn check_count(
+    what: &str,
+    count: usize,
+    limit: usize,
+    limit_name: &str,
+) -> Result<(), String> {
+    if count > limit {
+        Err(format!(
+            "{what}: {count} is more than the limit {limit}; raise limits.{limit_name} if this is intended"
+        ))
+    } else {
+        Ok(())
+    }
+}

@@ -4,6 +4,8 @@
 use super::score::CandidateScore;
 use crate::grasp::Candidate;
 use crate::task::{LikelihoodRule, Norm, SelectionOptions};
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashSet};
 use std::sync::Arc;
 
 /// A candidate's place in the ranking of one arm.
@@ -97,18 +99,48 @@ pub fn rank_candidates(scores: &[CandidateScore], options: &SelectionOptions) ->
     for (r, &i) in order.iter().enumerate() {
         rankings[i].rank = Some(r + 1);
     }
-    // Pareto front of (log-likelihood, norm) among the eligible.
-    for &i in &order {
-        let li = scores[i].candidate.log_likelihood;
-        let ni = norm_value(&scores[i], options.norm).unwrap_or(0.0);
-        let dominated = order.iter().any(|&j| {
-            let lj = scores[j].candidate.log_likelihood;
-            let nj = norm_value(&scores[j], options.norm).unwrap_or(0.0);
-            lj >= li && nj >= ni && (lj > li || nj > ni)
-        });
-        rankings[i].pareto = !dominated;
+    for i in pareto_front(&order, |i| {
+        (
+            scores[i].candidate.log_likelihood,
+            norm_value(&scores[i], options.norm).unwrap_or(0.0),
+        )
+    }) {
+        rankings[i].pareto = true;
     }
     rankings
+}
+
+/// The items of `items` on the Pareto front of `(likelihood, norm)` (both maximised): no
+/// other item is at least as good in both and better in one. O(n log n): sorted by likelihood
+/// (best first), an item is dominated when an item of strictly greater likelihood has at
+/// least its norm, or one of equal likelihood a greater norm.
+fn pareto_front(items: &[usize], value: impl Fn(usize) -> (f64, f64)) -> Vec<usize> {
+    let mut sorted: Vec<(f64, f64, usize)> = items
+        .iter()
+        .map(|&i| {
+            let (l, n) = value(i);
+            (l, n, i)
+        })
+        .collect();
+    sorted.sort_by(|a, b| b.0.total_cmp(&a.0).then(b.1.total_cmp(&a.1)));
+    let mut front = Vec::new();
+    let mut best_above = f64::NEG_INFINITY;
+    let mut start = 0;
+    while start < sorted.len() {
+        let l = sorted[start].0;
+        let end = start + sorted[start..].iter().take_while(|x| x.0 == l).count();
+        // Sorted by norm within the group: its first has the group's largest norm.
+        let group_best = sorted[start].1;
+        for &(_, n, i) in &sorted[start..end] {
+            if n == group_best && n > best_above {
+                front.push(i);
+            }
+        }
+        best_above = best_above.max(group_best);
+        start = end;
+    }
+    front.sort_unstable();
+    front
 }
 
 /// A pair of grasps, one per arm.
@@ -124,45 +156,66 @@ pub struct ArmPair {
     pub rank: usize,
 }
 
-/// Every pair of eligible candidates of two arms whose grasps do not overlap (closer than
-/// `min_separation`), scored by the sum of the arms' norms; the best `options.pairs`, best
-/// first, among those `compatible` accepts (visited best first, so the check runs only until
-/// enough pairs are kept). Returns the pairs and how many better pairs `compatible` refused.
+/// The best `options.pairs` pairs of eligible candidates of two arms, scored by the sum of the
+/// arms' norms, best first (ties: the earlier first-arm candidate, then the earlier second-arm
+/// one), among those whose grasps do not overlap (closer than `min_separation`) and that
+/// `compatible` accepts. Returns the pairs and how many better pairs `compatible` refused.
+///
+/// Best-first over each arm's candidates sorted by norm: a pair is visited only after the pairs
+/// that beat it in both arms, so the work grows with the pairs visited, not with the product
+/// of the two candidate counts.
 pub fn rank_pairs(
     first: (&[CandidateScore], &[Ranking]),
     second: (&[CandidateScore], &[Ranking]),
     options: &SelectionOptions,
     compatible: &(dyn Fn(&CandidateScore, &CandidateScore) -> bool + Sync),
 ) -> (Vec<ArmPair>, usize) {
+    // Each arm's eligible candidates, by norm (best first), then candidate order.
     let eligible = |scores: &[CandidateScore], ranks: &[Ranking]| -> Vec<(usize, f64)> {
-        scores
+        let mut list: Vec<(usize, f64)> = scores
             .iter()
             .zip(ranks)
             .enumerate()
             .filter(|(_, (_, r))| r.score.is_some())
             .filter_map(|(i, (s, _))| norm_value(s, options.norm).map(|n| (i, n)))
-            .collect()
+            .collect();
+        list.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));
+        list
     };
     let a = eligible(first.0, first.1);
     let b = eligible(second.0, second.1);
-    // (first index, second index, score): ordered by score, then by candidate order.
-    let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
-    for &(i, ni) in &a {
-        let pi = first.0[i].candidate.grasp_point();
-        for &(j, nj) in &b {
-            let pj = second.0[j].candidate.grasp_point();
-            if (pi - pj).norm() < options.min_separation {
-                continue;
-            }
-            pairs.push((i, j, ni + nj));
-        }
-    }
-    pairs.sort_by(|x, y| y.2.total_cmp(&x.2).then((x.0, x.1).cmp(&(y.0, y.1))));
-    let mut refused = 0;
     let mut kept = Vec::new();
-    for (i, j, score) in pairs {
-        if kept.len() == options.pairs {
-            break;
+    let mut refused = 0;
+    if a.is_empty() || b.is_empty() || options.pairs == 0 {
+        return (kept, refused);
+    }
+    let mut frontier = BinaryHeap::new();
+    let mut queued = HashSet::new();
+    let push = |frontier: &mut BinaryHeap<Frontier>,
+                queued: &mut HashSet<(usize, usize)>,
+                x: usize,
+                y: usize| {
+        if x < a.len() && y < b.len() && queued.insert((x, y)) {
+            frontier.push(Frontier {
+                score: a[x].1 + b[y].1,
+                first: a[x].0,
+                second: b[y].0,
+                at: (x, y),
+            });
+        }
+    };
+    push(&mut frontier, &mut queued, 0, 0);
+    while let Some(next) = frontier.pop() {
+        let (x, y) = next.at;
+        push(&mut frontier, &mut queued, x + 1, y);
+        push(&mut frontier, &mut queued, x, y + 1);
+        let (i, j) = (next.first, next.second);
+        let (pi, pj) = (
+            first.0[i].candidate.grasp_point(),
+            second.0[j].candidate.grasp_point(),
+        );
+        if (pi - pj).norm() < options.min_separation {
+            continue;
         }
         if !compatible(&first.0[i], &second.0[j]) {
             refused += 1;
@@ -171,9 +224,158 @@ pub fn rank_pairs(
         kept.push(ArmPair {
             first: Arc::clone(&first.0[i].candidate),
             second: Arc::clone(&second.0[j].candidate),
-            score,
+            score: next.score,
             rank: kept.len() + 1,
         });
+        if kept.len() == options.pairs {
+            break;
+        }
     }
     (kept, refused)
+}
+
+/// A pair waiting in the best-first search: ordered by score, then by candidate order (the
+/// earlier pair is the greater, so the max-heap yields it first).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Frontier {
+    score: f64,
+    first: usize,
+    second: usize,
+    /// Positions in the two sorted lists.
+    at: (usize, usize),
+}
+
+impl Eq for Frontier {}
+
+impl PartialOrd for Frontier {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Frontier {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.score
+            .total_cmp(&other.score)
+            .then((other.first, other.second).cmp(&(self.first, self.second)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grasp::Candidate;
+    use crate::manipulability::PathNorms;
+    use nalgebra::{Isometry3, Point3};
+
+    fn scored(id: usize, norm: f64, log_likelihood: f64, y: f64) -> CandidateScore {
+        CandidateScore {
+            candidate: Arc::new(Candidate {
+                id,
+                label: format!("c{id}"),
+                object_from_wrist: Isometry3::identity(),
+                log_likelihood,
+                contact: Some(Point3::new(0.0, y, 0.0)),
+                hand_joints: Vec::new(),
+            }),
+            failure: None,
+            m_t: Vec::new(),
+            norms: Some(PathNorms {
+                l2: norm,
+                linf: 1.0,
+                l1: norm,
+                evaluated: 1,
+                skipped: 0,
+            }),
+            yoshikawa_at_grasp: None,
+            inverse_condition_at_grasp: None,
+            inverse_condition_squared_at_grasp: None,
+            joint_trajectory: Vec::new(),
+            approach: Vec::new(),
+            retreat: Vec::new(),
+            clearance: None,
+            feasible_branches: 1,
+        }
+    }
+
+    /// A small generator of norms with many ties (quarter steps), seeded.
+    fn arm(n: usize, seed: u64) -> Vec<CandidateScore> {
+        (0..n)
+            .map(|i| {
+                let r = crate::random::derive_seed(seed, 1, i as u64);
+                let norm = 1.0 + (r % 8) as f64 * 0.25;
+                let log = -(((r >> 8) % 5) as f64);
+                scored(i, norm, log, ((r >> 16) % 50) as f64 * 0.01)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn best_first_pairs_equal_sorting_every_pair() {
+        // Oracle: every pair materialised, filtered and sorted by (score desc, first, second).
+        for seed in 0..20 {
+            let (sa, sb) = (arm(17, seed), arm(23, seed + 100));
+            let options = SelectionOptions {
+                pairs: 12,
+                min_separation: 0.1,
+                ..SelectionOptions::default()
+            };
+            let (ra, rb) = (
+                rank_candidates(&sa, &options),
+                rank_candidates(&sb, &options),
+            );
+            // Refuse pairs whose ids sum to a multiple of 5.
+            let compatible =
+                |x: &CandidateScore, y: &CandidateScore| (x.candidate.id + y.candidate.id) % 5 != 0;
+            let (pairs, refused) = rank_pairs((&sa, &ra), (&sb, &rb), &options, &compatible);
+            let mut all = Vec::new();
+            for (i, x) in sa.iter().enumerate() {
+                for (j, y) in sb.iter().enumerate() {
+                    let d = (x.candidate.grasp_point() - y.candidate.grasp_point()).norm();
+                    if d >= options.min_separation {
+                        all.push((i, j, x.norms.unwrap().l2 + y.norms.unwrap().l2));
+                    }
+                }
+            }
+            all.sort_by(|p, q| q.2.total_cmp(&p.2).then((p.0, p.1).cmp(&(q.0, q.1))));
+            let mut expected = Vec::new();
+            let mut expected_refused = 0;
+            for (i, j, score) in all {
+                if expected.len() == options.pairs {
+                    break;
+                }
+                if (i + j) % 5 == 0 {
+                    expected_refused += 1;
+                } else {
+                    expected.push((i, j, score));
+                }
+            }
+            let got: Vec<(usize, usize, f64)> = pairs
+                .iter()
+                .map(|p| (p.first.id, p.second.id, p.score))
+                .collect();
+            assert_eq!(got, expected, "seed {seed}");
+            assert_eq!(refused, expected_refused, "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn the_pareto_front_equals_the_pairwise_definition() {
+        for seed in 0..20 {
+            let scores = arm(40, seed);
+            let options = SelectionOptions::default();
+            let rankings = rank_candidates(&scores, &options);
+            for (i, r) in rankings.iter().enumerate() {
+                let (li, ni) = (
+                    scores[i].candidate.log_likelihood,
+                    scores[i].norms.unwrap().l2,
+                );
+                let dominated = scores.iter().any(|s| {
+                    let (lj, nj) = (s.candidate.log_likelihood, s.norms.unwrap().l2);
+                    lj >= li && nj >= ni && (lj > li || nj > ni)
+                });
+                assert_eq!(r.pareto, !dominated, "seed {seed} candidate {i}");
+            }
+        }
+    }
 }

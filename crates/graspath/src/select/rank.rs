@@ -325,8 +325,9 @@ mod tests {
                 rank_candidates(&sb, &options),
             );
             // Refuse pairs whose ids sum to a multiple of 5.
-            let compatible =
-                |x: &CandidateScore, y: &CandidateScore| (x.candidate.id + y.candidate.id) % 5 != 0;
+            let compatible = |x: &CandidateScore, y: &CandidateScore| {
+                !(x.candidate.id + y.candidate.id).is_multiple_of(5)
+            };
             let (pairs, refused) = rank_pairs((&sa, &ra), (&sb, &rb), &options, &compatible);
             let mut all = Vec::new();
             for (i, x) in sa.iter().enumerate() {
@@ -344,7 +345,7 @@ mod tests {
                 if expected.len() == options.pairs {
                     break;
                 }
-                if (i + j) % 5 == 0 {
+                if (i + j).is_multiple_of(5) {
                     expected_refused += 1;
                 } else {
                     expected.push((i, j, score));

@@ -42,35 +42,6 @@ pub(crate) struct Witness {
     pub distance: f64,
 }
 
-/// The tool poses of the whole motion in the world frame: approach, path, retreat.
-pub(crate) fn tool_poses(task: &Task, object_from_wrist: &Isometry3<f64>) -> Vec<Isometry3<f64>> {
-    let poses: Vec<&Isometry3<f64>> = task.path.poses().collect();
-    let mut out = Vec::new();
-    if let (Some(stroke), Some(first)) = (&task.approach, poses.first()) {
-        let grasp = *first * object_from_wrist;
-        out.extend((0..stroke.samples).map(|k| grasp * stroke.offset(k)));
-    }
-    out.extend(poses.iter().map(|p| *p * object_from_wrist));
-    if let (Some(stroke), Some(last)) = (&task.retreat, poses.last()) {
-        let place = *last * object_from_wrist;
-        out.extend((1..=stroke.samples).map(|k| place * stroke.offset(stroke.samples - k)));
-    }
-    out
-}
-
-/// The phase and in-phase index of whole-motion sample `i`.
-fn locate(task: &Task, i: usize) -> (Phase, usize) {
-    let a = task.approach.map_or(0, |s| s.samples);
-    let n = task.path.samples.len();
-    if i < a {
-        (Phase::Approach, i)
-    } else if i < a + n {
-        (Phase::Path, i - a)
-    } else {
-        (Phase::Retreat, i - a - n)
-    }
-}
-
 /// Where the object is at whole-motion sample `i` (or between `i` and `i + 1`) with the arm
 /// at `q`: standing at its start before the grasp, carried by the tool from the grasp to the
 /// place, left at its end after.
@@ -170,7 +141,9 @@ pub(crate) fn first_collision(
     let bodies = setup.bodies.as_deref()?;
     let object_from_wrist = &score.candidate.object_from_wrist;
     let base_from_world = setup.world_from_base.inverse();
-    let targets: Vec<Isometry3<f64>> = tool_poses(task, object_from_wrist)
+    let targets: Vec<Isometry3<f64>> = task
+        .motion_plan()
+        .tool_poses(object_from_wrist)
         .iter()
         .map(|p| base_from_world * p)
         .collect();
@@ -197,7 +170,7 @@ pub(crate) fn first_collision(
             object_from_wrist,
         })
         .hit?;
-    let (phase, sample) = locate(task, hit.sample);
+    let (phase, sample) = task.motion_plan().phase_of(hit.sample);
     if (phase, sample) != (failure.phase, failure.sample) || hit.bodies != *expected {
         return None;
     }

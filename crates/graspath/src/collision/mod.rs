@@ -48,6 +48,19 @@ pub enum CollisionError {
     Robot(String),
 }
 
+/// The two bodies placed in one frame.
+fn placed<'a>(
+    a: &'a Body,
+    frame_from_a: &nalgebra::Isometry3<f64>,
+    b: &'a Body,
+    frame_from_b: &nalgebra::Isometry3<f64>,
+) -> (body::Placed<'a>, body::Placed<'a>) {
+    (
+        body::Placed::new(a, nalgebra::convert(*frame_from_a)),
+        body::Placed::new(b, nalgebra::convert(*frame_from_b)),
+    )
+}
+
 /// The signed distance (m) between two bodies at their poses (any common frame): positive
 /// apart, negative by the penetration depth when they overlap (0 when the depth is unknown,
 /// e.g. inside a mesh surface).
@@ -57,8 +70,7 @@ pub fn signed_distance(
     b: &Body,
     frame_from_b: &nalgebra::Isometry3<f64>,
 ) -> f64 {
-    let a = body::Placed::new(a, nalgebra::convert(*frame_from_a));
-    let b = body::Placed::new(b, nalgebra::convert(*frame_from_b));
+    let (a, b) = placed(a, frame_from_a, b, frame_from_b);
     a.signed_distance(&b)
 }
 
@@ -69,7 +81,6 @@ pub fn distance(
     b: &Body,
     frame_from_b: &nalgebra::Isometry3<f64>,
 ) -> f64 {
-    let a = body::Placed::new(a, nalgebra::convert(*frame_from_a));
-    let b = body::Placed::new(b, nalgebra::convert(*frame_from_b));
+    let (a, b) = placed(a, frame_from_a, b, frame_from_b);
     a.distance(&b)
 }

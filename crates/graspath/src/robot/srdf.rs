@@ -4,7 +4,7 @@
 //! robot does not have is an error naming the element ([`Srdf::check_links`]).
 
 use super::error::RobotError;
-use super::urdf_scan::line_column;
+use super::urdf_scan::{line_column, xml_error};
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 use std::collections::BTreeMap;
@@ -75,15 +75,8 @@ impl Srdf {
 
     /// Parses SRDF text; `source_name` names it in errors.
     pub fn parse(text: &str, source_name: &str) -> Result<Self, RobotError> {
-        let xml_error = |offset: usize, message: String| {
-            let (line, column) = line_column(text, offset);
-            RobotError::Xml {
-                source_name: source_name.to_string(),
-                line,
-                column,
-                message,
-            }
-        };
+        let xml_error =
+            |offset: usize, message: String| xml_error(text, source_name, offset, message);
         let mut reader = Reader::from_str(text);
         reader.config_mut().check_end_names = true;
         let mut out = Srdf {

@@ -30,7 +30,13 @@ pub(crate) fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-fn xml_error(text: &str, source_name: &str, offset: usize, message: String) -> RobotError {
+/// A malformed-XML error at byte `offset` of `text`, with its line and column.
+pub(crate) fn xml_error(
+    text: &str,
+    source_name: &str,
+    offset: usize,
+    message: String,
+) -> RobotError {
     let (line, column) = line_column(text, offset);
     RobotError::Xml {
         source_name: source_name.to_string(),

@@ -14,7 +14,9 @@ use crate::manipulability::{
     SampleIndex,
 };
 use crate::robot::{solve_ik, solve_trajectory, Chain, TrajectoryIkOptions};
-use crate::task::{ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, Stroke};
+use crate::task::{
+    ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, Stroke, WholeMotionPlan,
+};
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -183,45 +185,15 @@ pub struct WorldSetup<'a> {
 }
 
 impl WorldSetup<'_> {
-    fn approach_samples(&self) -> usize {
-        self.approach.map_or(0, |s| s.samples)
-    }
-
-    fn retreat_samples(&self) -> usize {
-        self.retreat.map_or(0, |s| s.samples)
-    }
-
-    /// The phase and in-phase index of whole-motion sample `i` along a path of `n` samples.
-    fn phase_of(&self, i: usize, n: usize) -> (Phase, usize) {
-        let a = self.approach_samples();
-        if i < a {
-            (Phase::Approach, i)
-        } else if i < a + n {
-            (Phase::Path, i - a)
-        } else {
-            (Phase::Retreat, i - a - n)
+    fn plan<'p>(&self, path: &'p ObjectPath) -> WholeMotionPlan<'p>
+    where
+        Self: 'p,
+    {
+        WholeMotionPlan {
+            approach: self.approach,
+            retreat: self.retreat,
+            path,
         }
-    }
-
-    /// The tool poses of the whole motion in the world frame: approach, path, retreat.
-    fn tool_poses(
-        &self,
-        path: &ObjectPath,
-        object_from_wrist: &Isometry3<f64>,
-    ) -> Vec<Isometry3<f64>> {
-        let poses: Vec<&Isometry3<f64>> = path.poses().collect();
-        let mut out =
-            Vec::with_capacity(poses.len() + self.approach_samples() + self.retreat_samples());
-        if let (Some(stroke), Some(first)) = (self.approach, poses.first()) {
-            let grasp = *first * object_from_wrist;
-            out.extend((0..stroke.samples).map(|k| grasp * stroke.offset(k)));
-        }
-        out.extend(poses.iter().map(|p| *p * object_from_wrist));
-        if let (Some(stroke), Some(last)) = (self.retreat, poses.last()) {
-            let place = *last * object_from_wrist;
-            out.extend((1..=stroke.samples).map(|k| place * stroke.offset(stroke.samples - k)));
-        }
-        out
     }
 }
 
@@ -313,10 +285,11 @@ fn score_one(
     } = *setup;
     let chain = &arm.chain;
     let n = path.samples.len();
-    let before = world.approach_samples();
+    let plan = world.plan(path);
+    let before = plan.approach_samples();
     let base_from_world = arm.world_from_base.inverse();
-    let targets: Vec<Isometry3<f64>> = world
-        .tool_poses(path, &candidate.object_from_wrist)
+    let targets: Vec<Isometry3<f64>> = plan
+        .tool_poses(&candidate.object_from_wrist)
         .iter()
         .map(|p| base_from_world * p)
         .collect();
@@ -341,7 +314,7 @@ fn score_one(
         return score;
     }
     let located = |mut failure: Failure| {
-        let (phase, sample) = world.phase_of(failure.sample, n);
+        let (phase, sample) = plan.phase_of(failure.sample);
         failure.phase = phase;
         failure.sample = sample;
         failure

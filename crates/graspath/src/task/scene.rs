@@ -3,8 +3,10 @@
 //! gripper's opening and fingers. Without a scene no collision is checked (the behaviour of a
 //! task that says nothing about its world).
 
+use super::path::ObjectPath;
 use super::settings::{check_count, Limits};
 use crate::collision::{ArmBodies, CollisionOptions, LinkShape, Scene, SelfPairs};
+use crate::failure::Phase;
 use crate::geometry::shape::Shape;
 use crate::robot::Chain;
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
@@ -253,4 +255,67 @@ pub(crate) fn check_world<'c>(
         }),
         bodies,
     ))
+}
+
+/// The whole motion of a candidate — approach, the object's path, retreat — as tool poses and
+/// phases.
+#[derive(Debug, Clone, Copy)]
+pub struct WholeMotionPlan<'a> {
+    /// The approach before the grasp.
+    pub approach: Option<&'a Stroke>,
+    /// The retreat after the place.
+    pub retreat: Option<&'a Stroke>,
+    /// The object's path, world frame.
+    pub path: &'a ObjectPath,
+}
+
+impl WholeMotionPlan<'_> {
+    /// The tool poses `world_from_wrist` of the whole motion for the grasp
+    /// `object_from_wrist`: the approach's samples (farthest first), the path's, then the
+    /// retreat's.
+    pub fn tool_poses(&self, object_from_wrist: &Isometry3<f64>) -> Vec<Isometry3<f64>> {
+        let poses: Vec<&Isometry3<f64>> = self.path.poses().collect();
+        let before = self.approach.map_or(0, |s| s.samples);
+        let after = self.retreat.map_or(0, |s| s.samples);
+        let mut out = Vec::with_capacity(poses.len() + before + after);
+        if let (Some(stroke), Some(first)) = (self.approach, poses.first()) {
+            let grasp = *first * object_from_wrist;
+            out.extend((0..stroke.samples).map(|k| grasp * stroke.offset(k)));
+        }
+        out.extend(poses.iter().map(|p| *p * object_from_wrist));
+        if let (Some(stroke), Some(last)) = (self.retreat, poses.last()) {
+            let place = *last * object_from_wrist;
+            out.extend((1..=stroke.samples).map(|k| place * stroke.offset(stroke.samples - k)));
+        }
+        out
+    }
+
+    /// How many approach samples come before the grasp.
+    pub fn approach_samples(&self) -> usize {
+        self.approach.map_or(0, |s| s.samples)
+    }
+
+    /// The phase and in-phase index of whole-motion sample `i`.
+    pub fn phase_of(&self, i: usize) -> (Phase, usize) {
+        let a = self.approach_samples();
+        let n = self.path.samples.len();
+        if i < a {
+            (Phase::Approach, i)
+        } else if i < a + n {
+            (Phase::Path, i - a)
+        } else {
+            (Phase::Retreat, i - a - n)
+        }
+    }
+}
+
+impl super::Task {
+    /// The task's whole-motion plan (approach, path, retreat).
+    pub fn motion_plan(&self) -> WholeMotionPlan<'_> {
+        WholeMotionPlan {
+            approach: self.approach.as_ref(),
+            retreat: self.retreat.as_ref(),
+            path: &self.path,
+        }
+    }
 }

@@ -21,7 +21,7 @@ mod scene;
 pub use arm::{ArmBodies, LinkShape, SelfPairs, ALWAYS_FRACTION, SELF_PAIR_SAMPLES};
 pub use arms::{check_arms, ArmMotion};
 pub use body::{Body, BodyKind, Table, MAX_OBSTACLE_POINTS};
-pub use motion::{ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion};
+pub use motion::{keeps_apart, ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion};
 pub use scene::{Obstacle, Scene, DEFAULT_TABLE_THICKNESS};
 
 /// A scene, a body or an arm's collision model that cannot be built.

@@ -351,6 +351,29 @@ fn measure(pair: &Pair, x: &Placed<'_>, y: &Placed<'_>, at_least: Level) -> Know
     }
 }
 
+/// Whether two bodies at their poses (any common frame) keep at least `required` (m) apart —
+/// touching counts as closer when `required ≥ 0`; with `required < 0`, overlap is allowed
+/// up to that depth — decided as the motion checks decide every pair at every sample: the
+/// bounding spheres, then the covers' bound, and the exact distance only when neither
+/// settles it.
+pub fn keeps_apart(
+    a: &Body,
+    frame_from_a: &Isometry3<f64>,
+    b: &Body,
+    frame_from_b: &Isometry3<f64>,
+    required: f64,
+) -> bool {
+    let pair = Pair {
+        a: 0,
+        b: 1,
+        required,
+        scene: false,
+    };
+    let x = Placed::new(a, nalgebra::convert(*frame_from_a));
+    let y = Placed::new(b, nalgebra::convert(*frame_from_b));
+    !pair.violated_by(measure(&pair, &x, &y, Level::Sphere).value)
+}
+
 /// Buffers reused from sample to sample of one check.
 struct Buffers<'a> {
     placed: Vec<Placed<'a>>,

@@ -102,7 +102,11 @@ fn kernel(c: &mut Criterion) {
     let task = Task::load(&path).expect("the scene workload loads");
     let arm = &task.arms[0];
     let bodies = arm.bodies.as_ref().expect("the workload checks collisions");
-    let scene = &task.collisions.as_ref().expect("the workload has a scene").scene;
+    let scene = &task
+        .collisions
+        .as_ref()
+        .expect("the workload has a scene")
+        .scene;
     let selection = select(&task, &|| {});
     let mut configurations = Vec::new();
     for score in selection.arms[0].scores.iter().filter(|s| s.feasible()) {
@@ -116,13 +120,16 @@ fn kernel(c: &mut Criterion) {
     let world_from_base = arm.world_from_base;
     let mut pairs = Vec::new();
     for q in &configurations {
-        let frames = arm.chain.link_frames(q).expect("IK solutions are in the limits");
+        let frames = arm
+            .chain
+            .link_frames(q)
+            .expect("IK solutions are in the limits");
         for (i, (link, link_from_body, body)) in bodies.bodies().enumerate() {
             if !bodies.moves(i) || shape_of(body).is_none() {
                 continue;
             }
-            let world_from_a =
-                world_from_base * nalgebra::convert::<_, Isometry3<f64>>(frames[link] * link_from_body);
+            let world_from_a = world_from_base
+                * nalgebra::convert::<_, Isometry3<f64>>(frames[link] * link_from_body);
             for obstacle in scene.obstacles() {
                 if shape_of(&obstacle.body).is_some() {
                     pairs.push(Pair {
@@ -141,7 +148,12 @@ fn kernel(c: &mut Criterion) {
         .map(|p| {
             let (a_at, a) = parry_shape(shape_of(p.a).expect("kept"));
             let (b_at, b) = parry_shape(shape_of(p.b).expect("kept"));
-            (parry_pose(&p.world_from_a) * a_at, a, parry_pose(&p.world_from_b) * b_at, b)
+            (
+                parry_pose(&p.world_from_a) * a_at,
+                a,
+                parry_pose(&p.world_from_b) * b_at,
+                b,
+            )
         })
         .collect();
     let ours: Vec<f64> = pairs
@@ -174,7 +186,11 @@ fn kernel(c: &mut Criterion) {
         within(0.05),
         within(0.10),
     );
-    assert_eq!(decided, pairs.len() - close, "the decision agrees with the distance");
+    assert_eq!(
+        decided,
+        pairs.len() - close,
+        "the decision agrees with the distance"
+    );
 
     let file = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("collision_pairs.json");
     let json = serde_json::json!({

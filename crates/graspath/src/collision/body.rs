@@ -437,3 +437,99 @@ impl Table {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Translation3, UnitQuaternion};
+    use rand::{rngs::StdRng, RngExt, SeedableRng};
+
+    fn shapes() -> Vec<Shape> {
+        vec![
+            Shape::cuboid([0.04, 0.4, 0.5]).unwrap(),
+            Shape::cuboid([0.02, 0.03, 0.11]).unwrap(),
+            Shape::cylinder(0.06, 0.273).unwrap(),
+            Shape::cylinder(0.06, 0.12).unwrap(),
+            Shape::capsule(0.03, 0.3).unwrap(),
+            Shape::sphere(0.05).unwrap(),
+        ]
+    }
+
+    fn random_pose(rng: &mut StdRng, spread: f64) -> IsometryMatrix3<f64> {
+        let iso = Isometry3::from_parts(
+            Translation3::new(
+                rng.random_range(-spread..spread),
+                rng.random_range(-spread..spread),
+                rng.random_range(-spread..spread),
+            ),
+            UnitQuaternion::from_euler_angles(
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-1.5..1.5),
+                rng.random_range(-3.0..3.0),
+            ),
+        );
+        nalgebra::convert(iso)
+    }
+
+    #[test]
+    fn every_point_of_a_shape_lies_in_its_cover() {
+        // Oracle: points drawn in the shape's bounding box and kept when the shape's own
+        // signed distance says they are inside or on it.
+        let mut rng = StdRng::seed_from_u64(11);
+        for shape in shapes() {
+            let body = Body::from_shape("s", &shape);
+            let aabb = shape.aabb();
+            let mut inside = 0;
+            for _ in 0..20_000 {
+                let p = Point3::new(
+                    rng.random_range(aabb.min.x..=aabb.max.x),
+                    rng.random_range(aabb.min.y..=aabb.max.y),
+                    rng.random_range(aabb.min.z..=aabb.max.z),
+                );
+                if shape.signed_distance(&p) > 0.0 {
+                    continue;
+                }
+                inside += 1;
+                assert!(
+                    body.cover.iter().any(|(c, r)| (p - c).norm() <= *r),
+                    "{}: {p} outside every cover sphere",
+                    shape.kind()
+                );
+            }
+            assert!(inside > 1000, "{}: too few inside points", shape.kind());
+            // The cover is no looser than the bounding sphere.
+            assert!(body.cover_radius <= body.radius + 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_lower_bound_is_at_least_the_gap_and_at_most_the_exact_distance() {
+        // Oracle for the exact distance: parry's distance on the converted shapes.
+        let mut rng = StdRng::seed_from_u64(12);
+        let bodies: Vec<Body> = shapes().iter().map(|s| Body::from_shape("s", s)).collect();
+        let mut tighter = 0;
+        for _ in 0..4000 {
+            let a = &bodies[rng.random_range(0..bodies.len())];
+            let b = &bodies[rng.random_range(0..bodies.len())];
+            let pa = Placed::new(a, random_pose(&mut rng, 0.4));
+            let pb = Placed::new(b, random_pose(&mut rng, 0.4));
+            let bound = pa.lower_bound(&pb);
+            let exact = pa.distance(&pb);
+            let gap = pa.gap(&pb);
+            assert!(bound >= gap, "bound {bound} below the gap {gap}");
+            if bound > 0.0 {
+                assert!(
+                    bound <= exact + 1e-9,
+                    "bound {bound} above the distance {exact}"
+                );
+            }
+            if bound > gap + 0.01 {
+                tighter += 1;
+            }
+        }
+        assert!(
+            tighter > 400,
+            "the cover bound is rarely tighter: {tighter}"
+        );
+    }
+}

@@ -8,9 +8,11 @@
 //! distance the interval is clear; otherwise it is halved (the bounds halve with it) and the
 //! middle configuration checked, until the bound is below [`CollisionOptions::resolution`].
 //! So no collision deeper than half the resolution can hide between checked configurations,
-//! and every reported collision has a witness configuration. Distances at samples are first
-//! bounded below by bounding spheres; the exact distance (parry3d) is computed only where the
-//! bound cannot decide.
+//! and every reported collision has a witness configuration. Distances are first bounded
+//! below by bounding spheres, then by sphere covers ([`Body`]'s few spheres along a box,
+//! cylinder or capsule, against the other body's closed-form point distance); the exact
+//! distance (parry3d) is computed only where neither bound decides. Any lower bound serves in
+//! the interval bound above, so only hits need exact distances.
 //!
 //! **Which pairs** (the required distance in brackets):
 //! * every moving arm and hand body against every scene body (`margin`); the links before the
@@ -637,5 +639,61 @@ impl Interval<'_, '_> {
         }
         self.search((qa, da), (&mid, dm.value), half, frames)
             .or_else(|| self.search((&mid, dm.value), (qb, db), half, frames))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::distance;
+    use crate::geometry::shape::Shape;
+    use nalgebra::{Translation3, UnitQuaternion};
+    use rand::{rngs::StdRng, RngExt, SeedableRng};
+
+    #[test]
+    fn keeps_apart_agrees_with_the_exact_distance() {
+        // Oracle: the exact distance (parry) compared with the margin.
+        let shapes = [
+            Shape::cuboid([0.04, 0.4, 0.5]).unwrap(),
+            Shape::cylinder(0.06, 0.273).unwrap(),
+            Shape::capsule(0.03, 0.3).unwrap(),
+            Shape::sphere(0.05).unwrap(),
+        ];
+        let bodies: Vec<Body> = shapes.iter().map(|s| Body::from_shape("s", s)).collect();
+        let mut rng = StdRng::seed_from_u64(5);
+        let pose = |rng: &mut StdRng| {
+            Isometry3::from_parts(
+                Translation3::new(
+                    rng.random_range(-0.3..0.3),
+                    rng.random_range(-0.3..0.3),
+                    rng.random_range(-0.3..0.3),
+                ),
+                UnitQuaternion::from_euler_angles(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-1.5..1.5),
+                    rng.random_range(-3.0..3.0),
+                ),
+            )
+        };
+        let (mut apart, mut close) = (0, 0);
+        for _ in 0..3000 {
+            let a = &bodies[rng.random_range(0..bodies.len())];
+            let b = &bodies[rng.random_range(0..bodies.len())];
+            let (pa, pb) = (pose(&mut rng), pose(&mut rng));
+            let margin = rng.random_range(0.0..0.05);
+            let d = distance(a, &pa, b, &pb);
+            let expected = d >= margin && d > 0.0;
+            assert_eq!(
+                keeps_apart(a, &pa, b, &pb, margin),
+                expected,
+                "d {d}, margin {margin}"
+            );
+            if expected {
+                apart += 1;
+            } else {
+                close += 1;
+            }
+        }
+        assert!(apart > 300 && close > 300, "{apart} apart, {close} close");
     }
 }

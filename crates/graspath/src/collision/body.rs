@@ -47,6 +47,13 @@ pub struct Body {
     /// Bounding sphere, body frame (m).
     centre: Point3<f64>,
     radius: f64,
+    /// Spheres `(centre, radius)` whose union contains the body, body frame (m): a few along
+    /// the long axis of a box, cylinder or capsule, else the bounding sphere.
+    cover: Vec<(Point3<f64>, f64)>,
+    /// The largest radius in `cover` (m).
+    cover_radius: f64,
+    /// The shape, when its point distance has a closed form (box, cylinder, capsule, sphere).
+    primitive: Option<Shape>,
 }
 
 impl std::fmt::Debug for Body {
@@ -77,6 +84,12 @@ impl Body {
             _ => BodyKind::Solid(shape.clone()),
         };
         let (body_from_geometry, geometry) = bridge::shape(shape);
+        let primitive = matches!(
+            shape,
+            Shape::Box(_) | Shape::Cylinder(_) | Shape::Capsule(_) | Shape::Sphere(_)
+        )
+        .then(|| shape.clone());
+        let cover = cover(shape).unwrap_or_else(|| vec![(centre, radius)]);
         Self {
             name: name.into(),
             kind,
@@ -84,6 +97,9 @@ impl Body {
             body_from_geometry,
             centre,
             radius,
+            cover_radius: cover.iter().map(|c| c.1).fold(0.0, f64::max),
+            cover,
+            primitive,
         }
     }
 
@@ -140,6 +156,9 @@ impl Body {
             body_from_geometry: Pose::identity(),
             centre,
             radius: max_distance(&centre, points) + radius,
+            cover: vec![(centre, max_distance(&centre, points) + radius)],
+            cover_radius: max_distance(&centre, points) + radius,
+            primitive: None,
         })
     }
 
@@ -163,6 +182,49 @@ impl Body {
         self.name = name.into();
         self
     }
+}
+
+/// The most spheres a body's cover has.
+const MAX_COVER: usize = 4;
+
+/// Spheres covering a box, cylinder or capsule: `k` equal slices along its longest axis, each
+/// inside the sphere about its centre through its farthest corner (a capsule's slice reaches
+/// `radius` beyond its piece of the segment in every direction); `None` for other shapes.
+fn cover(shape: &Shape) -> Option<Vec<(Point3<f64>, f64)>> {
+    // (axis, half length along it, radius of a slice of half length `s`)
+    let (axis, half, slice): (usize, f64, Box<dyn Fn(f64) -> f64>) = match shape {
+        Shape::Sphere(s) => return Some(vec![(Point3::origin(), s.radius())]),
+        Shape::Cylinder(c) => {
+            let r = c.radius();
+            (2, c.length() / 2.0, Box::new(move |s: f64| r.hypot(s)))
+        }
+        Shape::Capsule(c) => {
+            let r = c.radius();
+            (2, c.length() / 2.0, Box::new(move |s: f64| r + s))
+        }
+        Shape::Box(b) => {
+            let h = b.half_extents();
+            let axis = h.imax();
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let cross = h[u].hypot(h[v]);
+            (axis, h[axis], Box::new(move |s: f64| cross.hypot(s)))
+        }
+        _ => return None,
+    };
+    // Slices about as long as the body is thick.
+    let thick = slice(0.0).max(1e-9);
+    let k = ((half / thick).ceil() as usize).clamp(1, MAX_COVER);
+    let s = half / k as f64;
+    Some(
+        (0..k)
+            .map(|i| {
+                let mut c = Point3::origin();
+                c[axis] = -half + (2 * i + 1) as f64 * s;
+                // A hair more than the exact corner distance: the cover must contain the body.
+                (c, slice(s) * (1.0 + 1e-12) + 1e-15)
+            })
+            .collect(),
+    )
 }
 
 fn max_distance(centre: &Point3<f64>, points: &[Point3<f64>]) -> f64 {
@@ -198,6 +260,56 @@ impl<'a> Placed<'a> {
             (None, Some(h)) => self.centre.z - self.body.radius - h,
             _ => (self.centre - other.centre).norm() - self.body.radius - other.body.radius,
         }
+    }
+
+    /// A lower bound of the distance to `other` (m), at least [`Placed::gap`] and usually much
+    /// tighter: the smaller-sphered body's cover against the other's exact point distance
+    /// (a box, cylinder, capsule or sphere), or cover against cover; the exact signed distance
+    /// against a half-space. Each cover sphere `(c, ρ)` holds points no nearer to `other` than
+    /// `signed_distance(c) − ρ` (a point distance is 1-Lipschitz).
+    pub fn lower_bound(&self, other: &Placed<'_>) -> f64 {
+        if let Some(d) = self.plane_distance(other) {
+            return d;
+        }
+        let (a, b) = (self.body, other.body);
+        if a.cover.is_empty() || b.cover.is_empty() {
+            // A half-space against a body without a known shape.
+            return self.gap(other);
+        }
+        let bound = match (&a.primitive, &b.primitive) {
+            (Some(sa), Some(sb)) => {
+                if a.cover_radius <= b.cover_radius {
+                    self.cover_to(other, sb)
+                } else {
+                    other.cover_to(self, sa)
+                }
+            }
+            (None, Some(sb)) => self.cover_to(other, sb),
+            (Some(sa), None) => other.cover_to(self, sa),
+            (None, None) => {
+                let mut best = f64::INFINITY;
+                for (ca, ra) in &a.cover {
+                    let wa = self.world_from_body * ca;
+                    for (cb, rb) in &b.cover {
+                        let wb = other.world_from_body * cb;
+                        best = best.min((wa - wb).norm() - ra - rb);
+                    }
+                }
+                best
+            }
+        };
+        bound.max(self.gap(other))
+    }
+
+    /// The smallest `signed_distance(c) − ρ` over this body's cover spheres, against
+    /// `other`, whose shape is `shape`.
+    fn cover_to(&self, other: &Placed<'_>, shape: &Shape) -> f64 {
+        let other_from_self = other.world_from_body.inv_mul(&self.world_from_body);
+        self.body
+            .cover
+            .iter()
+            .map(|(c, r)| shape.signed_distance(&(other_from_self * c)) - r)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The world height of a half-space body's plane.
@@ -304,6 +416,9 @@ impl Table {
                     )),
                     centre: Point3::new(0.0, 0.0, self.height),
                     radius: f64::INFINITY,
+                    cover: Vec::new(),
+                    cover_radius: f64::INFINITY,
+                    primitive: None,
                 },
                 Isometry3::identity(),
             ),
@@ -320,5 +435,101 @@ impl Table {
                 )
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Translation3, UnitQuaternion};
+    use rand::{rngs::StdRng, RngExt, SeedableRng};
+
+    fn shapes() -> Vec<Shape> {
+        vec![
+            Shape::cuboid([0.04, 0.4, 0.5]).unwrap(),
+            Shape::cuboid([0.02, 0.03, 0.11]).unwrap(),
+            Shape::cylinder(0.06, 0.273).unwrap(),
+            Shape::cylinder(0.06, 0.12).unwrap(),
+            Shape::capsule(0.03, 0.3).unwrap(),
+            Shape::sphere(0.05).unwrap(),
+        ]
+    }
+
+    fn random_pose(rng: &mut StdRng, spread: f64) -> IsometryMatrix3<f64> {
+        let iso = Isometry3::from_parts(
+            Translation3::new(
+                rng.random_range(-spread..spread),
+                rng.random_range(-spread..spread),
+                rng.random_range(-spread..spread),
+            ),
+            UnitQuaternion::from_euler_angles(
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-1.5..1.5),
+                rng.random_range(-3.0..3.0),
+            ),
+        );
+        nalgebra::convert(iso)
+    }
+
+    #[test]
+    fn every_point_of_a_shape_lies_in_its_cover() {
+        // Oracle: points drawn in the shape's bounding box and kept when the shape's own
+        // signed distance says they are inside or on it.
+        let mut rng = StdRng::seed_from_u64(11);
+        for shape in shapes() {
+            let body = Body::from_shape("s", &shape);
+            let aabb = shape.aabb();
+            let mut inside = 0;
+            for _ in 0..20_000 {
+                let p = Point3::new(
+                    rng.random_range(aabb.min.x..=aabb.max.x),
+                    rng.random_range(aabb.min.y..=aabb.max.y),
+                    rng.random_range(aabb.min.z..=aabb.max.z),
+                );
+                if shape.signed_distance(&p) > 0.0 {
+                    continue;
+                }
+                inside += 1;
+                assert!(
+                    body.cover.iter().any(|(c, r)| (p - c).norm() <= *r),
+                    "{}: {p} outside every cover sphere",
+                    shape.kind()
+                );
+            }
+            assert!(inside > 1000, "{}: too few inside points", shape.kind());
+            // The cover is no looser than the bounding sphere.
+            assert!(body.cover_radius <= body.radius + 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_lower_bound_is_at_least_the_gap_and_at_most_the_exact_distance() {
+        // Oracle for the exact distance: parry's distance on the converted shapes.
+        let mut rng = StdRng::seed_from_u64(12);
+        let bodies: Vec<Body> = shapes().iter().map(|s| Body::from_shape("s", s)).collect();
+        let mut tighter = 0;
+        for _ in 0..4000 {
+            let a = &bodies[rng.random_range(0..bodies.len())];
+            let b = &bodies[rng.random_range(0..bodies.len())];
+            let pa = Placed::new(a, random_pose(&mut rng, 0.4));
+            let pb = Placed::new(b, random_pose(&mut rng, 0.4));
+            let bound = pa.lower_bound(&pb);
+            let exact = pa.distance(&pb);
+            let gap = pa.gap(&pb);
+            assert!(bound >= gap, "bound {bound} below the gap {gap}");
+            if bound > 0.0 {
+                assert!(
+                    bound <= exact + 1e-9,
+                    "bound {bound} above the distance {exact}"
+                );
+            }
+            if bound > gap + 0.01 {
+                tighter += 1;
+            }
+        }
+        assert!(
+            tighter > 400,
+            "the cover bound is rarely tighter: {tighter}"
+        );
     }
 }

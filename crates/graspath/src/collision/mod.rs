@@ -9,7 +9,9 @@
 //! lengths are metres.
 //!
 //! Exact distances come from parry3d-f64, behind one conversion boundary (`bridge`); the broad
-//! phase (bounding spheres), the half-space table and the continuous bound are our own.
+//! phase (bounding spheres, then a few spheres covering each box, cylinder or capsule against
+//! the other body's closed-form point distance), the half-space table and the continuous bound
+//! are our own.
 
 mod arm;
 mod arms;
@@ -21,7 +23,9 @@ mod scene;
 pub use arm::{ArmBodies, LinkShape, SelfPairs, ALWAYS_FRACTION, SELF_PAIR_SAMPLES};
 pub use arms::{check_arms, ArmMotion};
 pub use body::{Body, BodyKind, Table, MAX_OBSTACLE_POINTS};
-pub use motion::{ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion};
+pub use motion::{
+    keeps_apart, ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion,
+};
 pub use scene::{Obstacle, Scene, DEFAULT_TABLE_THICKNESS};
 
 /// A scene, a body or an arm's collision model that cannot be built.

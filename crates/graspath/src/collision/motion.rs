@@ -8,9 +8,11 @@
 //! distance the interval is clear; otherwise it is halved (the bounds halve with it) and the
 //! middle configuration checked, until the bound is below [`CollisionOptions::resolution`].
 //! So no collision deeper than half the resolution can hide between checked configurations,
-//! and every reported collision has a witness configuration. Distances at samples are first
-//! bounded below by bounding spheres; the exact distance (parry3d) is computed only where the
-//! bound cannot decide.
+//! and every reported collision has a witness configuration. Distances are first bounded
+//! below by bounding spheres, then by sphere covers ([`Body`]'s few spheres along a box,
+//! cylinder or capsule, against the other body's closed-form point distance); the exact
+//! distance (parry3d) is computed only where neither bound decides. Any lower bound serves in
+//! the interval bound above, so only hits need exact distances.
 //!
 //! **Which pairs** (the required distance in brackets):
 //! * every moving arm and hand body against every scene body (`margin`); the links before the
@@ -118,11 +120,31 @@ struct Pair {
     scene: bool,
 }
 
+/// How a distance was obtained, cheapest first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Level {
+    /// The bounding spheres' gap: a lower bound.
+    Sphere,
+    /// The covers' bound ([`Placed::lower_bound`]): a tighter lower bound.
+    Cover,
+    /// The exact distance.
+    Exact,
+}
+
+impl Level {
+    fn next(self) -> Self {
+        match self {
+            Self::Sphere => Self::Cover,
+            _ => Self::Exact,
+        }
+    }
+}
+
 /// A distance known at a configuration: exact, or a lower bound.
 #[derive(Debug, Clone, Copy)]
 struct Known {
     value: f64,
-    exact: bool,
+    level: Level,
 }
 
 /// An arm, its place in the world, the scene and the object: everything a motion is checked
@@ -232,35 +254,52 @@ impl<'a> Slots<'a> {
         pairs
     }
 
-    /// Every slot placed at the configuration with link `frames`.
-    fn place(
+    /// Slot `i` placed at the configuration with link `frames`.
+    fn slot(
+        &self,
+        i: usize,
+        frames: &[IsometryMatrix3<f64>],
+        at: ObjectAt,
+        motion: &WholeMotion<'_>,
+    ) -> Placed<'a> {
+        if i < self.arm_count {
+            return self.setup.arm.place(i, &self.world_from_base, frames);
+        }
+        if let Some(placed) = self.scene.get(i - self.arm_count) {
+            return *placed;
+        }
+        let object = self
+            .setup
+            .object
+            .expect("the object slot exists only with an object");
+        let world_from_object: IsometryMatrix3<f64> = match at {
+            ObjectAt::Start => nalgebra::convert(*motion.world_from_object_start),
+            ObjectAt::End => nalgebra::convert(*motion.world_from_object_end),
+            ObjectAt::Carried => {
+                self.world_from_base * frames[self.setup.arm.tip] * self.link_from_object
+            }
+        };
+        Placed::new(object, world_from_object)
+    }
+
+    /// Every slot placed at the configuration with link `frames`, into `placed` (cleared).
+    fn place_into(
         &self,
         frames: &[IsometryMatrix3<f64>],
         at: ObjectAt,
         motion: &WholeMotion<'_>,
-    ) -> Vec<Placed<'a>> {
-        let arm = self.setup.arm;
-        let mut placed: Vec<Placed<'a>> = (0..self.arm_count)
-            .map(|i| arm.place(i, &self.world_from_base, frames))
-            .collect();
-        placed.extend(self.scene.iter().copied());
-        if let Some(object) = self.setup.object {
-            let world_from_object: IsometryMatrix3<f64> = match at {
-                ObjectAt::Start => nalgebra::convert(*motion.world_from_object_start),
-                ObjectAt::End => nalgebra::convert(*motion.world_from_object_end),
-                ObjectAt::Carried => self.world_from_base * frames[arm.tip] * self.link_from_object,
-            };
-            placed.push(Placed::new(object, world_from_object));
-        }
-        placed
+        placed: &mut Vec<Placed<'a>>,
+    ) {
+        placed.clear();
+        let count = self.object_slot() + usize::from(self.setup.object.is_some());
+        placed.extend((0..count).map(|i| self.slot(i, frames, at, motion)));
     }
 
-    /// How far each slot may move between `qa` and `qb` (0 for fixed slots).
-    fn displacements(&self, qa: &[f64], qb: &[f64], at: ObjectAt) -> Vec<f64> {
+    /// How far each slot may move between `qa` and `qb` (0 for fixed slots), into `out`.
+    fn displacements_into(&self, qa: &[f64], qb: &[f64], at: ObjectAt, out: &mut Vec<f64>) {
         let arm = self.setup.arm;
-        let mut out: Vec<f64> = (0..self.arm_count)
-            .map(|i| arm.displacement(i, qa, qb))
-            .collect();
+        out.clear();
+        out.extend((0..self.arm_count).map(|i| arm.displacement(i, qa, qb)));
         out.extend(std::iter::repeat_n(0.0, self.scene.len()));
         if self.setup.object.is_some() {
             out.push(if at == ObjectAt::Carried {
@@ -269,7 +308,6 @@ impl<'a> Slots<'a> {
                 0.0
             });
         }
-        out
     }
 }
 
@@ -281,14 +319,26 @@ impl Pair {
     }
 }
 
-fn measure(pair: &Pair, placed: &[Placed<'_>], exact: bool) -> Known {
-    let (x, y) = (&placed[pair.a], &placed[pair.b]);
-    if !exact {
+/// The distance of a pair at one configuration, refined no less than `at_least`: the
+/// bounding spheres' gap, then the covers' bound (only when positive: a cover bound says
+/// nothing of a penetration depth), then the exact distance — each only when the cheaper
+/// one is below what `at_least` asks for or breaks the pair's requirement.
+fn measure(pair: &Pair, x: &Placed<'_>, y: &Placed<'_>, at_least: Level) -> Known {
+    if at_least == Level::Sphere {
         let gap = x.gap(y);
         if !pair.violated_by(gap) {
             return Known {
                 value: gap,
-                exact: false,
+                level: Level::Sphere,
+            };
+        }
+    }
+    if at_least <= Level::Cover {
+        let bound = x.lower_bound(y);
+        if bound > 0.0 && !pair.violated_by(bound) {
+            return Known {
+                value: bound,
+                level: Level::Cover,
             };
         }
     }
@@ -297,7 +347,46 @@ fn measure(pair: &Pair, placed: &[Placed<'_>], exact: bool) -> Known {
     } else {
         x.distance(y)
     };
-    Known { value, exact: true }
+    Known {
+        value,
+        level: Level::Exact,
+    }
+}
+
+/// Whether two bodies at their poses (any common frame) keep at least `required` (m) apart —
+/// touching counts as closer when `required ≥ 0`; with `required < 0`, overlap is allowed
+/// up to that depth — decided as the motion checks decide every pair at every sample: the
+/// bounding spheres, then the covers' bound, and the exact distance only when neither
+/// settles it.
+pub fn keeps_apart(
+    a: &Body,
+    frame_from_a: &Isometry3<f64>,
+    b: &Body,
+    frame_from_b: &Isometry3<f64>,
+    required: f64,
+) -> bool {
+    let pair = Pair {
+        a: 0,
+        b: 1,
+        required,
+        scene: false,
+    };
+    let x = Placed::new(a, nalgebra::convert(*frame_from_a));
+    let y = Placed::new(b, nalgebra::convert(*frame_from_b));
+    !pair.violated_by(measure(&pair, &x, &y, Level::Sphere).value)
+}
+
+/// Buffers reused from sample to sample of one check.
+struct Buffers<'a> {
+    placed: Vec<Placed<'a>>,
+    placed_before: Vec<Placed<'a>>,
+    known: Vec<Known>,
+    known_before: Vec<Known>,
+    /// Index in the clearance entries of each pair's value at this sample and the one before.
+    entry: Vec<usize>,
+    entry_before: Vec<usize>,
+    moved: Vec<f64>,
+    mid_frames: Vec<IsometryMatrix3<f64>>,
 }
 
 impl ArmInScene<'_> {
@@ -346,45 +435,68 @@ impl ArmInScene<'_> {
             (ObjectAt::End, place..n),
         ];
         let mut clearance_entries: Vec<(Known, usize, ObjectAt, usize)> = Vec::new();
-        let mut mid_frames = vec![IsometryMatrix3::identity(); links];
+        let mut buffers = Buffers {
+            placed: Vec::new(),
+            placed_before: Vec::new(),
+            known: Vec::new(),
+            known_before: Vec::new(),
+            entry: Vec::new(),
+            entry_before: Vec::new(),
+            moved: Vec::new(),
+            mid_frames: vec![IsometryMatrix3::identity(); links],
+        };
         for (at, samples) in stretches {
             let pairs = slots.pairs(at);
             if pairs.is_empty() {
                 continue;
             }
-            let mut previous: Option<(usize, Vec<Known>)> = None;
+            let mut previous: Option<usize> = None;
             for s in samples {
-                let placed = slots.place(&frames[s], at, motion);
-                let mut known = Vec::with_capacity(pairs.len());
+                let b = &mut buffers;
+                slots.place_into(&frames[s], at, motion, &mut b.placed);
+                b.known.clear();
+                b.entry.clear();
                 for (p, pair) in pairs.iter().enumerate() {
-                    let k = measure(pair, &placed, false);
+                    let (x, y) = (&b.placed[pair.a], &b.placed[pair.b]);
+                    let k = measure(pair, x, y, Level::Sphere);
                     if pair.violated_by(k.value) {
                         return MotionCheck {
-                            hit: Some(hit(pair, &placed, k.value, s, false)),
+                            hit: Some(hit(pair, x, y, k.value, s, false)),
                             clearance: None,
                         };
                     }
+                    b.entry.push(clearance_entries.len());
                     if pair.scene {
                         clearance_entries.push((k, s, at, p));
                     }
-                    known.push(k);
+                    b.known.push(k);
                 }
-                if let Some((r, before)) = previous.take() {
-                    let moved = slots.displacements(&motion.q[r], &motion.q[s], at);
-                    let mut placed_before = None;
+                if let Some(r) = previous {
+                    slots.displacements_into(&motion.q[r], &motion.q[s], at, &mut b.moved);
                     for (p, pair) in pairs.iter().enumerate() {
-                        let bound = moved[pair.a] + moved[pair.b];
-                        let mut ends = (before[p], known[p]);
-                        if ends.0.value + ends.1.value - bound > 2.0 * pair.required {
+                        let bound = b.moved[pair.a] + b.moved[pair.b];
+                        let (mut before, mut now) = (b.known_before[p], b.known[p]);
+                        let clear = 2.0 * pair.required;
+                        // Refine the ends until the interval is proven clear or both are exact.
+                        while before.value + now.value - bound <= clear
+                            && (before.level < Level::Exact || now.level < Level::Exact)
+                        {
+                            if before.level < Level::Exact {
+                                let (x, y) = (&b.placed_before[pair.a], &b.placed_before[pair.b]);
+                                before = measure(pair, x, y, before.level.next());
+                            }
+                            if now.level < Level::Exact {
+                                let (x, y) = (&b.placed[pair.a], &b.placed[pair.b]);
+                                now = measure(pair, x, y, now.level.next());
+                            }
+                        }
+                        b.known[p] = now;
+                        if pair.scene {
+                            clearance_entries[b.entry_before[p]].0 = before;
+                            clearance_entries[b.entry[p]].0 = now;
+                        }
+                        if before.value + now.value - bound > clear {
                             continue;
-                        }
-                        if !ends.0.exact {
-                            let placed_before = placed_before
-                                .get_or_insert_with(|| slots.place(&frames[r], at, motion));
-                            ends.0 = measure(pair, placed_before, true);
-                        }
-                        if !ends.1.exact {
-                            ends.1 = measure(pair, &placed, true);
                         }
                         let interval = Interval {
                             slots: &slots,
@@ -393,10 +505,10 @@ impl ArmInScene<'_> {
                             motion,
                         };
                         if let Some(h) = interval.search(
-                            (&motion.q[r], ends.0.value),
-                            (&motion.q[s], ends.1.value),
+                            (&motion.q[r], before.value),
+                            (&motion.q[s], now.value),
                             bound,
-                            &mut mid_frames,
+                            &mut b.mid_frames,
                         ) {
                             return MotionCheck {
                                 hit: Some(CollisionHit { sample: r, ..h }),
@@ -405,7 +517,10 @@ impl ArmInScene<'_> {
                         }
                     }
                 }
-                previous = Some((s, known));
+                std::mem::swap(&mut b.placed, &mut b.placed_before);
+                std::mem::swap(&mut b.known, &mut b.known_before);
+                std::mem::swap(&mut b.entry, &mut b.entry_before);
+                previous = Some(s);
             }
         }
         let clearance = (!self.scene.is_empty())
@@ -417,8 +532,9 @@ impl ArmInScene<'_> {
     }
 }
 
-/// The smallest exact distance among `entries` (lower bounds or exact values), computing
-/// exact values only for entries whose bound is below the best found.
+/// The smallest exact distance among `entries` (lower bounds or exact values), refining only
+/// entries whose bound is below the best exact value found (branch and bound: each
+/// refinement raises an entry's value, and an entry is exact after at most two).
 fn exact_minimum(
     slots: &Slots<'_>,
     frames: &[Vec<IsometryMatrix3<f64>>],
@@ -427,19 +543,19 @@ fn exact_minimum(
 ) -> f64 {
     let mut best = entries
         .iter()
-        .filter(|e| e.0.exact)
+        .filter(|e| e.0.level == Level::Exact)
         .map(|e| e.0.value)
         .fold(f64::INFINITY, f64::min);
     let mut pairs_of: Vec<(ObjectAt, Vec<Pair>)> = Vec::new();
     loop {
         let next = entries
             .iter_mut()
-            .filter(|e| !e.0.exact && e.0.value < best)
+            .filter(|e| e.0.level < Level::Exact && e.0.value < best)
             .min_by(|x, y| x.0.value.total_cmp(&y.0.value));
         let Some(entry) = next else {
             break;
         };
-        let (_, s, at, p) = *entry;
+        let (known, s, at, p) = *entry;
         if !pairs_of.iter().any(|(a, _)| *a == at) {
             pairs_of.push((at, slots.pairs(at)));
         }
@@ -448,17 +564,25 @@ fn exact_minimum(
             .find(|(a, _)| *a == at)
             .expect("just added")
             .1;
-        let placed = slots.place(&frames[s], at, motion);
-        let k = measure(&pairs[p], &placed, true);
+        let pair = &pairs[p];
+        let x = slots.slot(pair.a, &frames[s], at, motion);
+        let y = slots.slot(pair.b, &frames[s], at, motion);
+        let mut k = measure(pair, &x, &y, known.level.next());
+        if k.level == Level::Exact {
+            best = best.min(k.value);
+        } else {
+            // Both are lower bounds: keep the larger.
+            k.value = k.value.max(known.value);
+        }
         entry.0 = k;
-        best = best.min(k.value);
     }
     best
 }
 
 fn hit(
     pair: &Pair,
-    placed: &[Placed<'_>],
+    x: &Placed<'_>,
+    y: &Placed<'_>,
     distance: f64,
     sample: usize,
     between: bool,
@@ -466,10 +590,7 @@ fn hit(
     CollisionHit {
         sample,
         between,
-        bodies: [
-            placed[pair.a].body.name().to_string(),
-            placed[pair.b].body.name().to_string(),
-        ],
+        bodies: [x.body.name().to_string(), y.body.name().to_string()],
         distance,
         required: pair.required,
     }
@@ -484,8 +605,9 @@ struct Interval<'s, 'a> {
 }
 
 impl Interval<'_, '_> {
-    /// Searches `[qa, qb]`, with exact distances `da`, `db` at its ends and displacement
-    /// bound `bound`, for a configuration closer than required.
+    /// Searches `[qa, qb]`, with lower bounds (or exact distances) `da`, `db` at its ends,
+    /// neither breaking the requirement, and displacement bound `bound`, for a configuration
+    /// closer than required.
     fn search(
         &self,
         (qa, da): (&[f64], f64),
@@ -493,19 +615,85 @@ impl Interval<'_, '_> {
         bound: f64,
         frames: &mut [IsometryMatrix3<f64>],
     ) -> Option<CollisionHit> {
-        let required = self.pair.required;
-        if da + db - bound > 2.0 * required || bound < self.slots.setup.options.resolution {
+        let pair = self.pair;
+        let clear = 2.0 * pair.required;
+        if da + db - bound > clear || bound < self.slots.setup.options.resolution {
             return None;
         }
         let mid: Vec<f64> = qa.iter().zip(qb).map(|(a, b)| 0.5 * (a + b)).collect();
         let chain = self.slots.setup.arm.chain();
         chain.link_frames_into(&mid, frames).ok()?;
-        let placed = self.slots.place(frames, self.at, self.motion);
-        let dm = measure(self.pair, &placed, true).value;
-        if self.pair.violated_by(dm) {
-            return Some(hit(self.pair, &placed, dm, 0, true));
+        let x = self.slots.slot(pair.a, frames, self.at, self.motion);
+        let y = self.slots.slot(pair.b, frames, self.at, self.motion);
+        let half = bound / 2.0;
+        let mut dm = measure(pair, &x, &y, Level::Cover);
+        if dm.level < Level::Exact {
+            if da + dm.value - half > clear && dm.value + db - half > clear {
+                // The cheap bound proves both halves clear.
+                return None;
+            }
+            dm = measure(pair, &x, &y, Level::Exact);
         }
-        self.search((qa, da), (&mid, dm), bound / 2.0, frames)
-            .or_else(|| self.search((&mid, dm), (qb, db), bound / 2.0, frames))
+        if pair.violated_by(dm.value) {
+            return Some(hit(pair, &x, &y, dm.value, 0, true));
+        }
+        self.search((qa, da), (&mid, dm.value), half, frames)
+            .or_else(|| self.search((&mid, dm.value), (qb, db), half, frames))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::distance;
+    use crate::geometry::shape::Shape;
+    use nalgebra::{Translation3, UnitQuaternion};
+    use rand::{rngs::StdRng, RngExt, SeedableRng};
+
+    #[test]
+    fn keeps_apart_agrees_with_the_exact_distance() {
+        // Oracle: the exact distance (parry) compared with the margin.
+        let shapes = [
+            Shape::cuboid([0.04, 0.4, 0.5]).unwrap(),
+            Shape::cylinder(0.06, 0.273).unwrap(),
+            Shape::capsule(0.03, 0.3).unwrap(),
+            Shape::sphere(0.05).unwrap(),
+        ];
+        let bodies: Vec<Body> = shapes.iter().map(|s| Body::from_shape("s", s)).collect();
+        let mut rng = StdRng::seed_from_u64(5);
+        let pose = |rng: &mut StdRng| {
+            Isometry3::from_parts(
+                Translation3::new(
+                    rng.random_range(-0.3..0.3),
+                    rng.random_range(-0.3..0.3),
+                    rng.random_range(-0.3..0.3),
+                ),
+                UnitQuaternion::from_euler_angles(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-1.5..1.5),
+                    rng.random_range(-3.0..3.0),
+                ),
+            )
+        };
+        let (mut apart, mut close) = (0, 0);
+        for _ in 0..3000 {
+            let a = &bodies[rng.random_range(0..bodies.len())];
+            let b = &bodies[rng.random_range(0..bodies.len())];
+            let (pa, pb) = (pose(&mut rng), pose(&mut rng));
+            let margin = rng.random_range(0.0..0.05);
+            let d = distance(a, &pa, b, &pb);
+            let expected = d >= margin && d > 0.0;
+            assert_eq!(
+                keeps_apart(a, &pa, b, &pb, margin),
+                expected,
+                "d {d}, margin {margin}"
+            );
+            if expected {
+                apart += 1;
+            } else {
+                close += 1;
+            }
+        }
+        assert!(apart > 300 && close > 300, "{apart} apart, {close} close");
     }
 }

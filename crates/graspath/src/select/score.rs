@@ -427,11 +427,14 @@ fn score_one(
             let failure = collision.or(last_failure.map(located)).unwrap_or_else(|| {
                 Failure::new(FailureReason::Unreachable, 0, "no IK branch was found")
             });
-            let grasp_reached = failure.phase != Phase::Path
-                || failure.sample > 0
+            // The classical indices at the grasp need the grasp pose to have been reached: a
+            // failure after it on the path, in the retreat, or a collision. An approach that
+            // fails is not followed by a separate solve at the grasp (the candidate cannot be
+            // executed, and an unreachable pre-grasp usually means an unreachable grasp).
+            let grasp_reached = (failure.phase == Phase::Path && failure.sample > 0)
+                || failure.phase == Phase::Retreat
                 || failure.reason == FailureReason::Collision;
             score.failure = Some(failure);
-            // The classical indices at the grasp need only the grasp pose to be reachable.
             if grasp_reached {
                 solve_ik(chain, &targets[before], &seed, &ik.ik)
                     .ok()

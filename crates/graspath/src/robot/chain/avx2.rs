@@ -194,8 +194,12 @@ unsafe fn emit_links(
         }
         let (r, t) = (&slot.rotation, &slot.translation);
         let origin = _mm256_add_pd(p, combine(c[0], t[0], c[1], t[1], c[2], t[2]));
-        let rotation =
-            [0, 1, 2].map(|j| combine(c[0], r[(0, j)], c[1], r[(1, j)], c[2], r[(2, j)]));
+        // Written out rather than with `array::map`: a closure would not inherit AVX2.
+        let rotation = [
+            combine(c[0], r[(0, 0)], c[1], r[(1, 0)], c[2], r[(2, 0)]),
+            combine(c[0], r[(0, 1)], c[1], r[(1, 1)], c[2], r[(2, 1)]),
+            combine(c[0], r[(0, 2)], c[1], r[(1, 2)], c[2], r[(2, 2)]),
+        ];
         store_pose(frame, rotation, origin);
     }
 }
@@ -227,7 +231,9 @@ pub(super) unsafe fn link_frames(
     let (mut values, mut sines, mut cosines) = ([0.0; 4], [0.0; 4], [0.0; 4]);
     for (i, segment) in segments.iter().enumerate() {
         if i % 4 == 0 {
-            values = std::array::from_fn(|j| if i + j < n { joint_value(i + j) } else { 0.0 });
+            for (j, value) in values.iter_mut().enumerate() {
+                *value = if i + j < n { joint_value(i + j) } else { 0.0 };
+            }
             let (sin, cos) = sin_cos4(_mm256_loadu_pd(values.as_ptr()));
             _mm256_storeu_pd(sines.as_mut_ptr(), sin);
             _mm256_storeu_pd(cosines.as_mut_ptr(), cos);

@@ -1,5 +1,6 @@
-//! FK + geometric Jacobian per call: Baxter's arm (built in, dynamic and fixed-size, and in
-//! batches), Panda and UR5 from `../shared/robots` when present.
+//! FK + geometric Jacobian per call, the tip pose alone and every link frame: Baxter's arm
+//! (built in, dynamic and fixed-size, and in batches), Panda and UR5 from `../shared/robots`
+//! (or `$GRASPATH_SHARED/robots`) when present.
 //!
 //! `cargo bench -p graspath --bench kinematics`
 
@@ -102,7 +103,10 @@ fn kinematics(c: &mut Criterion) {
         });
     });
     group.finish();
-    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/robots");
+    let shared = std::env::var_os("GRASPATH_SHARED")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared"))
+        .join("robots");
     for (name, file, base, tip) in [
         ("panda", "panda.urdf", "panda_link0", "panda_hand_tcp"),
         ("ur5", "ur5_robot.urdf", "base_link", "tool0"),

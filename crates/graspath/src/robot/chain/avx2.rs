@@ -5,7 +5,8 @@
 //! two passes give bit-identical poses and Jacobians; the sines and cosines of four joints are
 //! computed at once.
 
-use super::{pose_from_columns, MotionKind, Segment};
+use super::forward::pose_from_columns;
+use super::{LinkSlot, MotionKind, Segment};
 use crate::robot::trig::sin_cos4;
 use nalgebra::{IsometryMatrix3, Matrix3, Vector3};
 use std::arch::x86_64::*;
@@ -153,6 +154,113 @@ pub(super) unsafe fn forward(
         }
     }
     pose_from_columns(&rotation, &lanes(tip))
+}
+
+/// Writes the low three lanes of `v` to `dst[0..3]`.
+#[inline(always)]
+unsafe fn store3(dst: *mut f64, v: __m256d) {
+    _mm_storeu_pd(dst, _mm256_castpd256_pd128(v));
+    _mm_store_sd(dst.add(2), _mm256_extractf128_pd::<1>(v));
+}
+
+/// Writes the pose with rotation columns `c` and origin `p` into `frame`. The first two
+/// 4-lane stores spill one value into the next column, which that column's store overwrites.
+#[inline(always)]
+unsafe fn store_pose(frame: &mut IsometryMatrix3<f64>, c: [__m256d; 3], p: __m256d) {
+    let rotation = frame.rotation.matrix_mut_unchecked().as_mut_ptr();
+    _mm256_storeu_pd(rotation, c[0]);
+    _mm256_storeu_pd(rotation.add(3), c[1]);
+    store3(rotation.add(6), c[2]);
+    store3(frame.translation.vector.as_mut_ptr(), p);
+}
+
+/// Writes every link frame that hangs on the aligned frame (`c`, `p`) of `segment`, starting
+/// at link `*k`, like the scalar pass's `emit`.
+#[inline(always)]
+unsafe fn emit_links(
+    slots: &[LinkSlot],
+    out: &mut [IsometryMatrix3<f64>],
+    k: &mut usize,
+    segment: Option<usize>,
+    c: [__m256d; 3],
+    p: __m256d,
+) {
+    while let Some(slot) = slots.get(*k).filter(|slot| slot.segment == segment) {
+        let frame = &mut out[*k];
+        *k += 1;
+        if slot.identity {
+            store_pose(frame, c, p);
+            continue;
+        }
+        let (r, t) = (&slot.rotation, &slot.translation);
+        let origin = _mm256_add_pd(p, combine(c[0], t[0], c[1], t[1], c[2], t[2]));
+        // Written out rather than with `array::map`: a closure would not inherit AVX2.
+        let rotation = [
+            combine(c[0], r[(0, 0)], c[1], r[(1, 0)], c[2], r[(2, 0)]),
+            combine(c[0], r[(0, 1)], c[1], r[(1, 1)], c[2], r[(2, 1)]),
+            combine(c[0], r[(0, 2)], c[1], r[(1, 2)], c[2], r[(2, 2)]),
+        ];
+        store_pose(frame, rotation, origin);
+    }
+}
+
+/// The link-frame pass of `chain::forward::link_frames_scalar` on 256-bit vectors: every link
+/// frame `out[k]` (`base_from_link`, base frame, m), bit-identical to the scalar pass. The
+/// sines and cosines of four joints are computed at once.
+///
+/// # Safety
+/// The processor must support AVX2. (`out` must hold one entry per slot; a shorter `out`
+/// panics, it is never written out of bounds.)
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn link_frames(
+    segments: &[Segment],
+    slots: &[LinkSlot],
+    joint_value: impl Fn(usize) -> f64,
+    out: &mut [IsometryMatrix3<f64>],
+) {
+    let n = segments.len();
+    // Columns of the current aligned frame's rotation and its origin, base frame.
+    let mut c = [
+        _mm256_setr_pd(1.0, 0.0, 0.0, 0.0),
+        _mm256_setr_pd(0.0, 1.0, 0.0, 0.0),
+        _mm256_setr_pd(0.0, 0.0, 1.0, 0.0),
+    ];
+    let mut p = _mm256_setzero_pd();
+    let mut k = 0;
+    emit_links(slots, out, &mut k, None, c, p);
+    let (mut values, mut sines, mut cosines) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+    for (i, segment) in segments.iter().enumerate() {
+        if i % 4 == 0 {
+            for (j, value) in values.iter_mut().enumerate() {
+                *value = if i + j < n { joint_value(i + j) } else { 0.0 };
+            }
+            let (sin, cos) = sin_cos4(_mm256_loadu_pd(values.as_ptr()));
+            _mm256_storeu_pd(sines.as_mut_ptr(), sin);
+            _mm256_storeu_pd(cosines.as_mut_ptr(), cos);
+        }
+        let s = &segment.rotation;
+        let t = &segment.translation;
+        p = _mm256_add_pd(p, combine(c[0], t[0], c[1], t[1], c[2], t[2]));
+        let x = combine(c[0], s[(0, 0)], c[1], s[(1, 0)], c[2], s[(2, 0)]);
+        let y = combine(c[0], s[(0, 1)], c[1], s[(1, 1)], c[2], s[(2, 1)]);
+        let z = combine(c[0], s[(0, 2)], c[1], s[(1, 2)], c[2], s[(2, 2)]);
+        match segment.kind {
+            MotionKind::Revolute => {
+                let sin = _mm256_set1_pd(sines[i % 4]);
+                let cos = _mm256_set1_pd(cosines[i % 4]);
+                c = [
+                    _mm256_add_pd(_mm256_mul_pd(x, cos), _mm256_mul_pd(y, sin)),
+                    _mm256_sub_pd(_mm256_mul_pd(y, cos), _mm256_mul_pd(x, sin)),
+                    z,
+                ];
+            }
+            MotionKind::Prismatic => {
+                c = [x, y, z];
+                p = _mm256_add_pd(p, _mm256_mul_pd(z, _mm256_set1_pd(values[i % 4])));
+            }
+        }
+        emit_links(slots, out, &mut k, Some(i), c, p);
+    }
 }
 
 /// Three lanes-of-four values: component `r` of a 3-vector for four configurations.
@@ -317,222 +425,5 @@ pub(super) unsafe fn forward4(
     Poses4 {
         rotation,
         origin: tip,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::{forward_scalar, Chain};
-    use crate::robot::spec::{ChainSpec, JointKind, JointSpec, Mimic};
-    use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-    use rand::rngs::Xoshiro256PlusPlus;
-    use rand::{RngExt, SeedableRng};
-
-    /// A random chain: random joint placements, axes and kinds, some mimic-free prismatic.
-    fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize) -> Chain {
-        let mut specs = Vec::new();
-        for i in 0..joints {
-            let kind = match rng.random_range(0..6) {
-                0 => JointKind::Prismatic,
-                1 => JointKind::Fixed,
-                2 => JointKind::Continuous,
-                _ => JointKind::Revolute,
-            };
-            let axis = Vector3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            );
-            specs.push(JointSpec {
-                name: format!("j{i}"),
-                child_link: format!("l{i}"),
-                kind,
-                parent_from_joint: Isometry3::from_parts(
-                    Translation3::new(
-                        rng.random_range(-0.4..0.4),
-                        rng.random_range(-0.4..0.4),
-                        rng.random_range(-0.4..0.4),
-                    ),
-                    UnitQuaternion::from_euler_angles(
-                        rng.random_range(-3.0..3.0),
-                        rng.random_range(-1.5..1.5),
-                        rng.random_range(-3.0..3.0),
-                    ),
-                ),
-                axis: axis.normalize(),
-                lower: -3.0,
-                upper: 3.0,
-                mimic: None,
-            });
-        }
-        Chain::from_spec(&ChainSpec {
-            source_name: "random".into(),
-            base_link: "base".into(),
-            tip_link: "tip".into(),
-            joints: specs,
-            tip_from_tool: None,
-        })
-        .expect("valid random chain")
-    }
-
-    #[test]
-    fn bit_identical_to_the_scalar_pass() {
-        if !super::available() {
-            eprintln!("no AVX2 on this processor: nothing to compare");
-            return;
-        }
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
-        for joints in 0..=14 {
-            for _ in 0..50 {
-                let chain = random_chain(&mut rng, joints);
-                let n = chain.segments.len();
-                let q: Vec<f64> = (0..n)
-                    .map(|_| match rng.random_range(0..10) {
-                        0 => rng.random_range(-2e5..2e5),
-                        1 => 0.0,
-                        2 => -0.0,
-                        _ => rng.random_range(-7.0..7.0),
-                    })
-                    .collect();
-                let tail = (&chain.tail_rotation, &chain.tail_translation);
-                let (mut scalar, mut vector) = (vec![0.0; 6 * n], vec![1.0; 6 * n]);
-                let a = forward_scalar(&chain.segments, |i| q[i], Some(&mut scalar), tail);
-                // SAFETY: AVX2 is present (checked above); the storage has 6·n values.
-                let b =
-                    unsafe { super::forward(&chain.segments, |i| q[i], Some(&mut vector), tail) };
-                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(
-                    bits(scalar.as_slice()),
-                    bits(vector.as_slice()),
-                    "q = {q:?}"
-                );
-                assert_eq!(
-                    bits(a.to_homogeneous().as_slice()),
-                    bits(b.to_homogeneous().as_slice())
-                );
-                let c = unsafe { super::forward(&chain.segments, |i| q[i], None, tail) };
-                assert_eq!(
-                    bits(a.to_homogeneous().as_slice()),
-                    bits(c.to_homogeneous().as_slice())
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn batches_equal_one_call_per_configuration_bit_for_bit() {
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
-        for joints in [1, 3, 6, 7, 9] {
-            for _ in 0..20 {
-                let chain = random_chain(&mut rng, joints);
-                let dof = chain.dof();
-                if dof == 0 {
-                    continue;
-                }
-                for count in 0..=9 {
-                    let q: Vec<f64> = (0..count * dof)
-                        .map(|_| rng.random_range(-7.0..7.0))
-                        .collect();
-                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                    let mut seen = Vec::new();
-                    chain
-                        .for_each_pose_and_jacobian(&q, |k, pose, jacobian| {
-                            let (one, expected) =
-                                chain.pose_and_jacobian(&q[k * dof..(k + 1) * dof]).unwrap();
-                            assert_eq!(
-                                bits(pose.to_homogeneous().as_slice()),
-                                bits(one.to_homogeneous().as_slice())
-                            );
-                            assert_eq!(bits(jacobian), bits(expected.as_slice()));
-                            seen.push(k);
-                        })
-                        .unwrap();
-                    assert_eq!(seen, (0..count).collect::<Vec<_>>());
-                    let mut poses = 0;
-                    chain
-                        .for_each_pose(&q, |k, pose| {
-                            let one = chain.pose(&q[k * dof..(k + 1) * dof]).unwrap();
-                            assert_eq!(
-                                bits(pose.to_homogeneous().as_slice()),
-                                bits(one.to_homogeneous().as_slice())
-                            );
-                            poses += 1;
-                        })
-                        .unwrap();
-                    assert_eq!(poses, count);
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn batches_of_a_chain_with_a_mimic_joint_equal_single_calls() {
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
-        let joint = |name: &str, mimic: Option<Mimic>| JointSpec {
-            name: name.into(),
-            child_link: String::new(),
-            kind: JointKind::Revolute,
-            parent_from_joint: Isometry3::from_parts(
-                Translation3::new(0.1, 0.02, 0.3),
-                UnitQuaternion::from_euler_angles(0.3, -0.2, 0.1),
-            ),
-            axis: Vector3::new(0.0, 1.0, 0.0),
-            lower: -3.0,
-            upper: 3.0,
-            mimic,
-        };
-        let chain = Chain::from_spec(&ChainSpec {
-            source_name: "mimic".into(),
-            base_link: "base".into(),
-            tip_link: "tip".into(),
-            joints: vec![
-                joint("a", None),
-                joint("b", None),
-                joint(
-                    "c",
-                    Some(Mimic {
-                        leader: "a".into(),
-                        multiplier: 2.0,
-                        offset: 0.1,
-                    }),
-                ),
-            ],
-            tip_from_tool: None,
-        })
-        .expect("valid chain");
-        assert_eq!(chain.dof(), 2);
-        let q: Vec<f64> = (0..14).map(|_| rng.random_range(-3.0..3.0)).collect();
-        let mut count = 0;
-        chain
-            .for_each_pose_and_jacobian(&q, |k, pose, jacobian| {
-                let (one, expected) = chain.pose_and_jacobian(&q[2 * k..2 * k + 2]).unwrap();
-                assert_eq!(pose, &one);
-                assert_eq!(jacobian, expected.as_slice());
-                count += 1;
-            })
-            .unwrap();
-        assert_eq!(count, 7);
-    }
-
-    #[test]
-    fn batches_refuse_partial_rows_and_non_finite_values() {
-        let chain = random_chain(&mut Xoshiro256PlusPlus::seed_from_u64(3), 7);
-        let dof = chain.dof();
-        assert!(dof > 1);
-        let partial = vec![0.0; 2 * dof + 1];
-        let err = chain.for_each_pose(&partial, |_, _| {}).unwrap_err();
-        assert!(
-            err.to_string().contains(&format!("{} values", 2 * dof + 1)),
-            "{err}"
-        );
-        let mut nan = vec![0.0; 3 * dof];
-        nan[dof + 1] = f64::NAN;
-        let err = chain
-            .for_each_pose_and_jacobian(&nan, |_, _, _| panic!("nothing may be emitted"))
-            .unwrap_err();
-        assert!(
-            err.to_string().contains(&format!("q[{}]", dof + 1)),
-            "{err}"
-        );
     }
 }

@@ -1,0 +1,356 @@
+//! The kernels against the scalar passes, bit for bit, on random chains (revolute, continuous,
+//! prismatic, fixed and mimic joints), and the batch entry points against one call each.
+
+#[cfg(target_arch = "x86_64")]
+use super::avx2;
+#[cfg(target_arch = "x86_64")]
+use super::forward::{forward_scalar, link_frames_scalar};
+use super::Chain;
+use crate::robot::spec::{ChainSpec, JointKind, JointSpec, Mimic};
+use nalgebra::{Isometry3, IsometryMatrix3, Translation3, UnitQuaternion, Vector3};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
+
+/// A random chain: random joint placements, axes and kinds, some mimic-free prismatic.
+fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize) -> Chain {
+    let mut specs = Vec::new();
+    for i in 0..joints {
+        let kind = match rng.random_range(0..6) {
+            0 => JointKind::Prismatic,
+            1 => JointKind::Fixed,
+            2 => JointKind::Continuous,
+            _ => JointKind::Revolute,
+        };
+        let axis = Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        specs.push(JointSpec {
+            name: format!("j{i}"),
+            child_link: format!("l{i}"),
+            kind,
+            parent_from_joint: Isometry3::from_parts(
+                Translation3::new(
+                    rng.random_range(-0.4..0.4),
+                    rng.random_range(-0.4..0.4),
+                    rng.random_range(-0.4..0.4),
+                ),
+                UnitQuaternion::from_euler_angles(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-1.5..1.5),
+                    rng.random_range(-3.0..3.0),
+                ),
+            ),
+            axis: axis.normalize(),
+            lower: -3.0,
+            upper: 3.0,
+            mimic: None,
+        });
+    }
+    Chain::from_spec(&ChainSpec {
+        source_name: "random".into(),
+        base_link: "base".into(),
+        tip_link: "tip".into(),
+        joints: specs,
+        tip_from_tool: None,
+    })
+    .expect("valid random chain")
+}
+
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn bit_identical_to_the_scalar_pass() {
+    if !avx2::available() {
+        eprintln!("no AVX2 on this processor: nothing to compare");
+        return;
+    }
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+    for joints in 0..=14 {
+        for _ in 0..50 {
+            let chain = random_chain(&mut rng, joints);
+            let n = chain.segments.len();
+            let q: Vec<f64> = (0..n)
+                .map(|_| match rng.random_range(0..10) {
+                    0 => rng.random_range(-2e5..2e5),
+                    1 => 0.0,
+                    2 => -0.0,
+                    _ => rng.random_range(-7.0..7.0),
+                })
+                .collect();
+            let tail = (&chain.tail_rotation, &chain.tail_translation);
+            let (mut scalar, mut vector) = (vec![0.0; 6 * n], vec![1.0; 6 * n]);
+            let a = forward_scalar(&chain.segments, |i| q[i], Some(&mut scalar), tail);
+            // SAFETY: AVX2 is present (checked above); the storage has 6·n values.
+            let b = unsafe { avx2::forward(&chain.segments, |i| q[i], Some(&mut vector), tail) };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(scalar.as_slice()),
+                bits(vector.as_slice()),
+                "q = {q:?}"
+            );
+            assert_eq!(
+                bits(a.to_homogeneous().as_slice()),
+                bits(b.to_homogeneous().as_slice())
+            );
+            let c = unsafe { avx2::forward(&chain.segments, |i| q[i], None, tail) };
+            assert_eq!(
+                bits(a.to_homogeneous().as_slice()),
+                bits(c.to_homogeneous().as_slice())
+            );
+        }
+    }
+}
+
+#[test]
+fn batches_equal_one_call_per_configuration_bit_for_bit() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+    for joints in [1, 3, 6, 7, 9] {
+        for _ in 0..20 {
+            let chain = random_chain(&mut rng, joints);
+            let dof = chain.dof();
+            if dof == 0 {
+                continue;
+            }
+            for count in 0..=9 {
+                let q: Vec<f64> = (0..count * dof)
+                    .map(|_| rng.random_range(-7.0..7.0))
+                    .collect();
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                let mut seen = Vec::new();
+                chain
+                    .for_each_pose_and_jacobian(&q, |k, pose, jacobian| {
+                        let (one, expected) =
+                            chain.pose_and_jacobian(&q[k * dof..(k + 1) * dof]).unwrap();
+                        assert_eq!(
+                            bits(pose.to_homogeneous().as_slice()),
+                            bits(one.to_homogeneous().as_slice())
+                        );
+                        assert_eq!(bits(jacobian), bits(expected.as_slice()));
+                        seen.push(k);
+                    })
+                    .unwrap();
+                assert_eq!(seen, (0..count).collect::<Vec<_>>());
+                let mut poses = 0;
+                chain
+                    .for_each_pose(&q, |k, pose| {
+                        let one = chain.pose(&q[k * dof..(k + 1) * dof]).unwrap();
+                        assert_eq!(
+                            bits(pose.to_homogeneous().as_slice()),
+                            bits(one.to_homogeneous().as_slice())
+                        );
+                        poses += 1;
+                    })
+                    .unwrap();
+                assert_eq!(poses, count);
+            }
+        }
+    }
+}
+
+#[test]
+fn batches_of_a_chain_with_a_mimic_joint_equal_single_calls() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+    let joint = |name: &str, mimic: Option<Mimic>| JointSpec {
+        name: name.into(),
+        child_link: String::new(),
+        kind: JointKind::Revolute,
+        parent_from_joint: Isometry3::from_parts(
+            Translation3::new(0.1, 0.02, 0.3),
+            UnitQuaternion::from_euler_angles(0.3, -0.2, 0.1),
+        ),
+        axis: Vector3::new(0.0, 1.0, 0.0),
+        lower: -3.0,
+        upper: 3.0,
+        mimic,
+    };
+    let chain = Chain::from_spec(&ChainSpec {
+        source_name: "mimic".into(),
+        base_link: "base".into(),
+        tip_link: "tip".into(),
+        joints: vec![
+            joint("a", None),
+            joint("b", None),
+            joint(
+                "c",
+                Some(Mimic {
+                    leader: "a".into(),
+                    multiplier: 2.0,
+                    offset: 0.1,
+                }),
+            ),
+        ],
+        tip_from_tool: None,
+    })
+    .expect("valid chain");
+    assert_eq!(chain.dof(), 2);
+    let q: Vec<f64> = (0..14).map(|_| rng.random_range(-3.0..3.0)).collect();
+    let mut count = 0;
+    chain
+        .for_each_pose_and_jacobian(&q, |k, pose, jacobian| {
+            let (one, expected) = chain.pose_and_jacobian(&q[2 * k..2 * k + 2]).unwrap();
+            assert_eq!(pose, &one);
+            assert_eq!(jacobian, expected.as_slice());
+            count += 1;
+        })
+        .unwrap();
+    assert_eq!(count, 7);
+}
+
+#[test]
+fn batches_refuse_partial_rows_and_non_finite_values() {
+    let chain = random_chain(&mut Xoshiro256PlusPlus::seed_from_u64(3), 7);
+    let dof = chain.dof();
+    assert!(dof > 1);
+    let partial = vec![0.0; 2 * dof + 1];
+    let err = chain.for_each_pose(&partial, |_, _| {}).unwrap_err();
+    assert!(
+        err.to_string().contains(&format!("{} values", 2 * dof + 1)),
+        "{err}"
+    );
+    let mut nan = vec![0.0; 3 * dof];
+    nan[dof + 1] = f64::NAN;
+    let err = chain
+        .for_each_pose_and_jacobian(&nan, |_, _, _| panic!("nothing may be emitted"))
+        .unwrap_err();
+    assert!(
+        err.to_string().contains(&format!("q[{}]", dof + 1)),
+        "{err}"
+    );
+}
+
+/// A random chain with every kind of joint, mimic followers among them (each follows an
+/// earlier independent joint with a random multiplier and offset), and a random tool offset.
+fn random_chain_with_mimics(rng: &mut Xoshiro256PlusPlus, joints: usize) -> Chain {
+    let mut specs: Vec<JointSpec> = Vec::new();
+    let mut leaders: Vec<String> = Vec::new();
+    let placement = |rng: &mut Xoshiro256PlusPlus| {
+        Isometry3::from_parts(
+            Translation3::new(
+                rng.random_range(-0.4..0.4),
+                rng.random_range(-0.4..0.4),
+                rng.random_range(-0.4..0.4),
+            ),
+            UnitQuaternion::from_euler_angles(
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-1.5..1.5),
+                rng.random_range(-3.0..3.0),
+            ),
+        )
+    };
+    for i in 0..joints {
+        let kind = match rng.random_range(0..6) {
+            0 => JointKind::Prismatic,
+            1 => JointKind::Fixed,
+            2 => JointKind::Continuous,
+            _ => JointKind::Revolute,
+        };
+        // Some axes exactly along ±z, so that some link offsets are exactly the identity.
+        let axis = match rng.random_range(0..4) {
+            0 => Vector3::z(),
+            1 => -Vector3::z(),
+            _ => Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .normalize(),
+        };
+        let follows =
+            kind != JointKind::Fixed && !leaders.is_empty() && rng.random_range(0..3) == 0;
+        let mimic = follows.then(|| Mimic {
+            leader: leaders[rng.random_range(0..leaders.len())].clone(),
+            multiplier: rng.random_range(-2.0..2.0),
+            offset: rng.random_range(-0.5..0.5),
+        });
+        let name = format!("j{i}");
+        if kind != JointKind::Fixed && mimic.is_none() {
+            leaders.push(name.clone());
+        }
+        let parent_from_joint = if rng.random_range(0..4) == 0 {
+            Isometry3::identity()
+        } else {
+            placement(rng)
+        };
+        specs.push(JointSpec {
+            name,
+            child_link: format!("l{i}"),
+            kind,
+            parent_from_joint,
+            axis,
+            lower: -3.0,
+            upper: 3.0,
+            mimic,
+        });
+    }
+    Chain::from_spec(&ChainSpec {
+        source_name: "random".into(),
+        base_link: "base".into(),
+        tip_link: "tip".into(),
+        joints: specs,
+        tip_from_tool: Some(placement(rng)),
+    })
+    .expect("valid random chain")
+}
+
+/// A configuration mixing ordinary values, signed zeros and values beyond the fast `sin_cos`
+/// range.
+fn random_configuration(rng: &mut Xoshiro256PlusPlus, dof: usize) -> Vec<f64> {
+    (0..dof)
+        .map(|_| match rng.random_range(0..10) {
+            0 => rng.random_range(-2e5..2e5),
+            1 => 0.0,
+            2 => -0.0,
+            _ => rng.random_range(-7.0..7.0),
+        })
+        .collect()
+}
+
+fn frame_bits(frames: &[IsometryMatrix3<f64>]) -> Vec<u64> {
+    frames
+        .iter()
+        .flat_map(|f| f.to_homogeneous().as_slice().to_vec())
+        .map(f64::to_bits)
+        .collect()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn link_frame_kernel_is_bit_identical_to_the_scalar_pass() {
+    if !avx2::available() {
+        eprintln!("no AVX2 on this processor: nothing to compare");
+        return;
+    }
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(13);
+    let (mut mimics, mut prismatic, mut identities) = (0, 0, 0);
+    for joints in 0..=16 {
+        for _ in 0..60 {
+            let chain = random_chain_with_mimics(&mut rng, joints);
+            let q = random_configuration(&mut rng, chain.dof());
+            let value = |i: usize| match &chain.drives {
+                None => q[i],
+                Some(d) => d[i].multiplier * q[d[i].source] + d[i].offset,
+            };
+            mimics += usize::from(chain.drives.is_some());
+            prismatic += chain
+                .segments
+                .iter()
+                .filter(|s| s.kind == super::MotionKind::Prismatic)
+                .count();
+            identities += chain.link_slots.iter().filter(|s| s.identity).count();
+            let links = chain.link_names().len();
+            let identity = IsometryMatrix3::identity();
+            let (mut scalar, mut vector) = (vec![identity; links], vec![identity; links]);
+            link_frames_scalar(&chain.segments, &chain.link_slots, value, &mut scalar);
+            // SAFETY: AVX2 is present (checked above); `vector` has one entry per link.
+            unsafe { avx2::link_frames(&chain.segments, &chain.link_slots, value, &mut vector) };
+            assert_eq!(frame_bits(&scalar), frame_bits(&vector), "q = {q:?}");
+            // The public entry point (which picks the kernel) gives the same bits.
+            let mut public = vec![IsometryMatrix3::translation(1.0, 2.0, 3.0); links];
+            chain.link_frames_into(&q, &mut public).unwrap();
+            assert_eq!(frame_bits(&scalar), frame_bits(&public), "q = {q:?}");
+        }
+    }
+    // The generator did exercise what the test claims to cover.
+    assert!(mimics > 100 && prismatic > 100 && identities > 100);
+}

@@ -21,7 +21,7 @@ fn box_model() -> GraspModel {
 
 fn small_budget(seed: u64) -> GenerateOptions {
     GenerateOptions {
-        seeds: 4000,
+        initial_grasps: 4000,
         steps: 200,
         first_stage_steps: 30,
         query_kernels: 2000,

@@ -102,7 +102,14 @@ fn start_configurations_and_tolerance_are_accepted() {
         "-0.5,0,0,1,0,0,0",
     ] {
         let mut args = BAXTER.to_vec();
-        args.extend(["--start", start, "--tolerance", "1e-6", "--timeout-ms", "20"]);
+        args.extend([
+            "--start",
+            start,
+            "--tolerance",
+            "1e-6",
+            "--timeout-ms",
+            "20",
+        ]);
         let out = graspath(&args, &input);
         assert!(
             out.status.success(),
@@ -173,8 +180,7 @@ fn the_deprecated_seed_flag_is_the_start_configuration() {
     assert_eq!(new, run("--seed", near));
     assert_eq!(run("--start", "zero"), run("--seed", "zero"));
     let value: serde_json::Value = serde_json::from_slice(&new).expect("json");
-    let first: Vec<f64> =
-        serde_json::from_value(value["branches"][0]["q"][0].clone()).expect("q");
+    let first: Vec<f64> = serde_json::from_value(value["branches"][0]["q"][0].clone()).expect("q");
     assert!(distance(&pose_at(&first), &poses[0]) < 2e-5);
 }
 

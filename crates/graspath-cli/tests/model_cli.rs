@@ -438,7 +438,11 @@ trajectory:
             .expect("out dir")
             .map(|e| {
                 let path = e.expect("entry").path();
-                let name = path.file_name().expect("name").to_string_lossy().into_owned();
+                let name = path
+                    .file_name()
+                    .expect("name")
+                    .to_string_lossy()
+                    .into_owned();
                 (name, std::fs::read(&path).expect("file"))
             })
             .collect();

@@ -210,9 +210,14 @@ impl PyTask {
         robot_name: &str,
         ik_seed: Option<u64>,
     ) -> PyResult<Self> {
-        let ik_random_seed =
-            renamed_keyword(arms.py(), ik_random_seed, "ik_random_seed", ik_seed, "ik_seed")?
-                .unwrap_or(defaults::IK_RANDOM_SEED);
+        let ik_random_seed = renamed_keyword(
+            arms.py(),
+            ik_random_seed,
+            "ik_random_seed",
+            ik_seed,
+            "ik_seed",
+        )?
+        .unwrap_or(defaults::IK_RANDOM_SEED);
         let mut builder = Task::builder(name).robot_name(robot_name);
         for (key, value) in arms.iter() {
             let arm_name: String = key

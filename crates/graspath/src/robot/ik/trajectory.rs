@@ -264,7 +264,8 @@ impl Tracker<'_> {
                 // The start configuration already converged with the first strategy.
                 k = 2;
             }
-            let (strategy, cap) = prepare_attempt(kernel, k, q_start, &mut rng, &mut ws.cur_mut().q);
+            let (strategy, cap) =
+                prepare_attempt(kernel, k, q_start, &mut rng, &mut ws.cur_mut().q);
             k += 1;
             let end = run_attempt(
                 kernel,

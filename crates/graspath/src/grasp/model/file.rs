@@ -275,8 +275,8 @@ pub struct GraspModel {
     pub(crate) configuration: ConfigurationSpec,
     /// The demonstrated approach, pre-grasp first, grasp (identity) last (internal).
     pub(crate) approach: Vec<ApproachWaypoint>,
-    /// The demonstrated grasp (internal).
-    pub(crate) demonstration: DemonstratedGrasp,
+    /// The demonstrated grasp (training cloud's object frame).
+    pub demonstration: DemonstratedGrasp,
 }
 
 impl GraspModel {

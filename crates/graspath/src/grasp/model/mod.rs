@@ -26,6 +26,10 @@ mod query;
 mod train;
 
 pub use error::{LinkClearance, ModelError};
+/// Re-exported because it is the type of the public field [`GraspModel::demonstration`]: the
+/// demonstrated grasp is what generated candidates are compared with (does generation find the
+/// demonstration again on the training cloud?).
+pub use file::DemonstratedGrasp;
 pub use file::{GraspModel, MAX_CONFIGURATION_KERNELS, MODEL_FORMAT, MODEL_FORMAT_VERSION};
 pub use generate::{
     generate, Candidate, GenerateOptions, Progress, MAX_GENERATE_STEPS, MAX_GENERATE_TRIES,

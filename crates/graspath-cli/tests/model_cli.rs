@@ -411,7 +411,8 @@ fn deprecated_task_spellings_give_byte_identical_outputs() {
     let model = trained(dir.path());
     let cylinder = examples().join("cylinder.json");
     let run = |name: &str, count_key: &str, ik_key: &str| {
-        let task = dir.path().join(format!("{name}.yaml"));
+        // The same task path for both spellings: summary.json names the task file.
+        let task = dir.path().join("task.yaml");
         std::fs::write(
             &task,
             format!(
@@ -464,7 +465,7 @@ trajectory:
     std::fs::write(
         &task,
         "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.7, 0.25, -0.1] } }\n\
-         candidates: { family: { yaw: { count: 2 } } }\nik: { seed: 1, random_seed: 1 }\n\
+         candidates: { family: { edge: { count: 2 } } }\nik: { seed: 1, random_seed: 1 }\n\
          trajectory: { steps: [ { lift: 0.2 } ] }\n",
     )
     .expect("write task");
@@ -477,5 +478,9 @@ trajectory:
         "--quiet",
     ]);
     assert!(!o.status.success());
-    assert!(stderr(&o).contains("random_seed"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("duplicate field `random_seed`"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -107,11 +107,12 @@ def test_the_deprecated_seed_keyword_is_the_start_configuration(left):
         old = left.ik(goals, seed=start, random_seed=2, **EXACT)
     for key in ("q", "best_q", "converged", "iterations", "position_error"):
         np.testing.assert_array_equal(new[key], old[key])
-    path = np.repeat(goals[:1], 5, axis=0)
+    path = np.repeat(targets(left, 1, seed=9), 5, axis=0)
     path[:, 2, 3] += np.linspace(0.0, 0.04, 5)
-    new = left.ik_trajectory(path, q_start=start)
+    near = left.ik(path[0], **EXACT)["q"]  # a start configuration at the first pose
+    new = left.ik_trajectory(path, q_start=near)
     with pytest.warns(DeprecationWarning, match="use q_start"):
-        old = left.ik_trajectory(path, seed=start)
+        old = left.ik_trajectory(path, seed=near)
     assert new["feasible"] and len(new["branches"]) == len(old["branches"])
     for a, b in zip(new["branches"], old["branches"]):
         np.testing.assert_array_equal(a, b)

@@ -77,7 +77,7 @@ mod tests {
 
     #[test]
     fn errors_are_classified_by_type_through_their_context() {
-        let input: anyhow::Result<()> = Err(bad_input!("--seed: 'x' is not a number"));
+        let input: anyhow::Result<()> = Err(bad_input!("--start: 'x' is not a number"));
         assert_eq!(code_of(&input.context("outer").unwrap_err()), BAD_INPUT);
         let task = TaskError::new("t.yaml", "arms", "unknown arm");
         assert_eq!(code_of(&anyhow::Error::new(task)), BAD_INPUT);

@@ -92,25 +92,32 @@ fn solves_poses_and_reports_unreachable_ones_as_null() {
 }
 
 #[test]
-fn seeds_and_tolerance_are_accepted() {
+fn start_configurations_and_tolerance_are_accepted() {
     let pose = pose_at(&[0.1, -0.2, 0.3, 0.9, 0.2, 0.5, -0.1]);
     let input = serde_json::json!({ "pose": pose }).to_string();
-    for seed in [
+    for start in [
         "mid",
         "zero",
         "0.1,-0.2,0.3,0.9,0.2,0.5,-0.1",
         "-0.5,0,0,1,0,0,0",
     ] {
         let mut args = BAXTER.to_vec();
-        args.extend(["--seed", seed, "--tolerance", "1e-6", "--timeout-ms", "20"]);
+        args.extend([
+            "--start",
+            start,
+            "--tolerance",
+            "1e-6",
+            "--timeout-ms",
+            "20",
+        ]);
         let out = graspath(&args, &input);
         assert!(
             out.status.success(),
-            "{seed}: {}",
+            "{start}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
         let value: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
-        assert!(value["q"].is_array(), "{seed}");
+        assert!(value["q"].is_array(), "{start}");
         assert!(value["position_error"].as_f64().expect("number") <= 1e-6);
     }
 }
@@ -143,6 +150,38 @@ fn solves_a_trajectory_with_branches() {
             assert!(distance(&pose_at(q), pose) < 2e-5);
         }
     }
+}
+
+/// `--seed` is the deprecated spelling of `--start`: the same start configuration gives the same
+/// bytes under either spelling (trajectories use iteration budgets only, so runs are
+/// reproducible), and the path starts at the first pose.
+#[test]
+fn the_deprecated_seed_flag_is_the_start_configuration() {
+    let poses: Vec<serde_json::Value> = (0..6)
+        .map(|i| {
+            let t = i as f64 / 5.0;
+            pose_at(&[0.2 + 0.3 * t, -0.4, 0.1, 1.0 - 0.3 * t, 0.2, 0.6, 0.4 * t])
+        })
+        .collect();
+    let document = serde_json::json!({ "poses": poses }).to_string();
+    let run = |flag: &str, start: &str| {
+        let mut args = BAXTER.to_vec();
+        args.extend(["--trajectory", "--branches", "1", flag, start]);
+        let out = graspath(&args, &document);
+        assert!(
+            out.status.success(),
+            "{flag} {start}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out.stdout
+    };
+    let near = "0.2,-0.4,0.1,1.0,0.2,0.6,0.0";
+    let new = run("--start", near);
+    assert_eq!(new, run("--seed", near));
+    assert_eq!(run("--start", "zero"), run("--seed", "zero"));
+    let value: serde_json::Value = serde_json::from_slice(&new).expect("json");
+    let first: Vec<f64> = serde_json::from_value(value["branches"][0]["q"][0].clone()).expect("q");
+    assert!(distance(&pose_at(&first), &poses[0]) < 2e-5);
 }
 
 #[test]
@@ -195,17 +234,17 @@ fn bad_input_gives_a_clear_error() {
     assert!(stderr.contains("last row"), "{stderr}");
 
     let mut args = BAXTER.to_vec();
-    args.extend(["--seed", "1,2,3"]);
+    args.extend(["--start", "1,2,3"]);
     let stderr = fails(&args, good);
     assert!(
-        stderr.contains("--seed") && stderr.contains("7"),
+        stderr.contains("--start") && stderr.contains("7"),
         "{stderr}"
     );
     let mut args = BAXTER.to_vec();
-    args.extend(["--seed", "1,2,3,nan,5,6,7"]);
-    assert!(fails(&args, good).contains("--seed"));
+    args.extend(["--start", "1,2,3,nan,5,6,7"]);
+    assert!(fails(&args, good).contains("--start"));
     let mut args = BAXTER.to_vec();
-    args.extend(["--seed", "1,2,x,4,5,6,7"]);
+    args.extend(["--start", "1,2,x,4,5,6,7"]);
     assert!(fails(&args, good).contains("'x' is not a number"));
     let mut args = BAXTER.to_vec();
     args.extend(["--tolerance", "0"]);

@@ -471,7 +471,7 @@ fn run_urdf(ctx: &Ctx, bytes: &[u8]) {
 
 fn tiny_generate_options() -> GenerateOptions {
     GenerateOptions {
-        seeds: 8,
+        initial_grasps: 8,
         steps: 4,
         first_stage_steps: 2,
         query_kernels: 64,
@@ -555,10 +555,10 @@ fn run_kinematics(ctx: &Ctx, bytes: &[u8]) {
     }
 }
 
-/// Mirrors `graspath ik` on JSON Lines with the CLI's defaults (seed `mid`, 5 ms per pose).
+/// Mirrors `graspath ik` on JSON Lines with the CLI's defaults (start `mid`, 5 ms per pose).
 fn run_ik(ctx: &Ctx, bytes: &[u8]) {
     let chain = ctx.baxter();
-    let seed = chain.mid_configuration();
+    let q_start = chain.mid_configuration();
     let options = IkOptions::default();
     for line in json_lines(bytes) {
         let Ok(input) = serde_json::from_str::<PoseLine>(line) else {
@@ -567,7 +567,7 @@ fn run_ik(ctx: &Ctx, bytes: &[u8]) {
         let Ok(target) = pose_from_rows(&input.pose) else {
             return;
         };
-        if let Ok(solution) = solve_ik(chain, &target, &seed, &options) {
+        if let Ok(solution) = solve_ik(chain, &target, &q_start, &options) {
             let _ = serde_json::to_string(&(
                 solution.q,
                 solution.position_error,

@@ -21,6 +21,36 @@ pub fn error(e: impl Display) -> PyErr {
     GraspathError::new_err(e.to_string())
 }
 
+/// A keyword argument that was renamed: the value given under `new_name`, or the one given
+/// under the deprecated `old_name` (with a `DeprecationWarning`); both at once is an error.
+pub fn renamed_keyword<T>(
+    py: Python<'_>,
+    new: Option<T>,
+    new_name: &str,
+    old: Option<T>,
+    old_name: &str,
+) -> PyResult<Option<T>> {
+    match (new, old) {
+        (Some(_), Some(_)) => Err(error(format!(
+            "give {new_name} only ({old_name} is its deprecated earlier name)"
+        ))),
+        (None, Some(value)) => {
+            let message = std::ffi::CString::new(format!(
+                "{old_name} is deprecated: use {new_name} (same meaning)"
+            ))
+            .map_err(error)?;
+            PyErr::warn(
+                py,
+                &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
+                &message,
+                1,
+            )?;
+            Ok(Some(value))
+        }
+        (new, None) => Ok(new),
+    }
+}
+
 /// A contiguous row-major copy of an array and its shape.
 pub struct Buffer {
     /// The values, row-major.

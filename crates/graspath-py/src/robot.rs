@@ -9,7 +9,8 @@
 //! requires in one `#[pymethods]` block.
 
 use crate::convert::{
-    array, check_finite, error, poses, rows, shape_text, single_pose, write_matrix_pose, FloatArray,
+    array, check_finite, error, poses, renamed_keyword, rows, shape_text, single_pose,
+    write_matrix_pose, FloatArray,
 };
 use crate::memory::populate;
 use graspath::manipulability::{
@@ -448,8 +449,9 @@ impl PyRobot {
 
     /// Inverse kinematics of one target pose ``(4, 4)`` or of many ``(n, 4, 4)`` (each solved
     /// independently, in parallel): the configuration, inside the limits, at which the tip
-    /// reaches ``base_from_target``. ``seed`` is ``(dof,)`` (shared) or ``(n, dof)``; default
-    /// the middle of the limits.
+    /// reaches ``base_from_target``. ``q_start``, the start configuration, is ``(dof,)``
+    /// (shared) or ``(n, dof)``; default the middle of the limits. ``random_seed`` seeds the
+    /// random restarts. ``seed`` is the deprecated earlier name of ``q_start``.
     ///
     /// One pose gives a dict ``q`` (array, or ``None`` when not converged), ``converged``,
     /// ``position_error`` (m), ``rotation_error`` (rad), ``iterations``, ``failure`` (``None``
@@ -464,26 +466,29 @@ impl PyRobot {
     /// stops the search).
     #[pyo3(signature = (
         target,
-        seed = None,
+        q_start = None,
         *,
         position_tolerance = 1e-5,
         rotation_tolerance = 1e-5,
         max_iterations = 100_000,
         max_time = Some(0.005),
-        random_seed = 0
+        random_seed = 0,
+        seed = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn ik<'py>(
         &self,
         py: Python<'py>,
         target: FloatArray<'py>,
-        seed: Option<FloatArray<'py>>,
+        q_start: Option<FloatArray<'py>>,
         position_tolerance: f64,
         rotation_tolerance: f64,
         max_iterations: usize,
         max_time: Option<f64>,
         random_seed: u64,
+        seed: Option<FloatArray<'py>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let q_start = renamed_keyword(py, q_start, "q_start", seed, "seed")?;
         let options = ik_options(
             position_tolerance,
             rotation_tolerance,
@@ -494,17 +499,17 @@ impl PyRobot {
         let dof = self.chain.dof();
         let (targets, batch) = poses(&target, "target")?;
         let n = targets.len();
-        let seeds: Vec<f64> = match &seed {
+        let starts: Vec<f64> = match &q_start {
             None => self.chain.mid_configuration().repeat(n),
             Some(s) => {
-                let (data, seed_batch) = rows(s, dof, "seed")?;
-                match (seed_batch, batch) {
+                let (data, start_batch) = rows(s, dof, "q_start")?;
+                match (start_batch, batch) {
                     (None, _) => data.repeat(n),
                     (Some(m), Some(n)) if m == n => data,
                     (Some(m), _) => {
                         return Err(error(format!(
-                            "seed has {m} rows but there are {n} target pose(s); give one seed \
-                             (dof,) or one per pose (n, dof)"
+                            "q_start has {m} rows but there are {n} target pose(s); give one \
+                             start configuration (dof,) or one per pose (n, dof)"
                         )))
                     }
                 }
@@ -515,7 +520,7 @@ impl PyRobot {
             .detach(|| {
                 targets
                     .par_iter()
-                    .zip(seeds.par_chunks(dof.max(1)))
+                    .zip(starts.par_chunks(dof.max(1)))
                     .map(|(t, s)| solve_ik(chain, t, s, &options))
                     .collect::<Result<Vec<_>, _>>()
             })
@@ -592,9 +597,13 @@ impl PyRobot {
     /// Returns a dict: ``feasible`` (bool), ``branches`` (a list of ``(n, dof)`` arrays) and
     /// ``failure`` (``None``, or a dict ``sample``, ``reason`` in
     /// ``unreachable``/``joint_limit``/``discontinuity``, ``detail``).
+    ///
+    /// ``q_start`` is the start configuration ``(dof,)`` near which the first sample is solved
+    /// (default the middle of the limits); ``random_seed`` seeds the restarts. ``seed`` is the
+    /// deprecated earlier name of ``q_start``.
     #[pyo3(signature = (
         targets,
-        seed = None,
+        q_start = None,
         *,
         max_joint_step = 0.5,
         branches = 4,
@@ -602,14 +611,15 @@ impl PyRobot {
         max_iterations = 2000,
         position_tolerance = 1e-5,
         rotation_tolerance = 1e-5,
-        random_seed = 0
+        random_seed = 0,
+        seed = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn ik_trajectory<'py>(
         &self,
         py: Python<'py>,
         targets: FloatArray<'py>,
-        seed: Option<FloatArray<'py>>,
+        q_start: Option<FloatArray<'py>>,
         max_joint_step: f64,
         branches: usize,
         per_sample_iterations: usize,
@@ -617,14 +627,16 @@ impl PyRobot {
         position_tolerance: f64,
         rotation_tolerance: f64,
         random_seed: u64,
+        seed: Option<FloatArray<'py>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let q_start = renamed_keyword(py, q_start, "q_start", seed, "seed")?;
         let dof = self.chain.dof();
         let (targets, _) = poses(&targets, "targets")?;
-        let seed = match &seed {
+        let q_start = match &q_start {
             None => self.chain.mid_configuration(),
-            Some(s) => match rows(s, dof, "seed")? {
+            Some(s) => match rows(s, dof, "q_start")? {
                 (data, None) => data,
-                (_, Some(_)) => return Err(error("seed must have shape (dof,)")),
+                (_, Some(_)) => return Err(error("q_start must have shape (dof,)")),
             },
         };
         let options = TrajectoryIkOptions {
@@ -641,7 +653,7 @@ impl PyRobot {
         };
         let chain = &self.chain;
         let result = py
-            .detach(|| solve_trajectory(chain, &targets, &seed, &options))
+            .detach(|| solve_trajectory(chain, &targets, &q_start, &options))
             .map_err(error)?;
         let dict = PyDict::new(py);
         dict.set_item("feasible", result.feasible())?;

@@ -2,7 +2,8 @@
 //! ranking settings) from a task file, task text, a dict, or numpy arrays.
 
 use crate::convert::{
-    array, check_shape, error, poses, push_isometry, single_pose, Buffer, FloatArray,
+    array, check_shape, error, poses, push_isometry, renamed_keyword, single_pose, Buffer,
+    FloatArray,
 };
 use crate::robot::PyRobot;
 use graspath::grasp::Candidate;
@@ -152,7 +153,10 @@ impl PyTask {
     /// * settings as in the task file: ``mode`` (``twist``/``translation``/``rotation``),
     ///   ``length_scale``, ``norm`` (``l2``/``l1``), ``mu0``, ``likelihood`` (``"product"``,
     ///   ``"ignore"`` or a weight), ``pairs``, ``min_separation`` (m), and the trajectory IK's
-    ///   ``max_joint_step``, ``branches``, ``ik_seed``, ``ik_tolerance``, ``ik_iterations``, ``compare_branches`` (track every IK branch and keep the best).
+    ///   ``max_joint_step``, ``branches``, ``ik_random_seed`` (the random seed of the IK's
+    ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``compare_branches`` (track
+    ///   every IK branch and keep the best). ``ik_seed`` is the deprecated earlier name of
+    ///   ``ik_random_seed``.
     #[staticmethod]
     #[pyo3(signature = (
         arms,
@@ -172,12 +176,13 @@ impl PyTask {
         min_separation = defaults::MIN_SEPARATION,
         max_joint_step = defaults::MAX_JOINT_STEP,
         branches = defaults::IK_BRANCHES,
-        ik_seed = defaults::IK_RANDOM_SEED,
+        ik_random_seed = None,
         ik_tolerance = defaults::IK_TOLERANCE,
         ik_iterations = defaults::GRASP_IK_ITERATIONS,
         compare_branches = false,
         name = "<arrays>",
-        robot_name = "robot"
+        robot_name = "robot",
+        ik_seed = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
@@ -197,13 +202,22 @@ impl PyTask {
         min_separation: f64,
         max_joint_step: f64,
         branches: usize,
-        ik_seed: u64,
+        ik_random_seed: Option<u64>,
         ik_tolerance: f64,
         ik_iterations: usize,
         compare_branches: bool,
         name: &str,
         robot_name: &str,
+        ik_seed: Option<u64>,
     ) -> PyResult<Self> {
+        let ik_random_seed = renamed_keyword(
+            arms.py(),
+            ik_random_seed,
+            "ik_random_seed",
+            ik_seed,
+            "ik_seed",
+        )?
+        .unwrap_or(defaults::IK_RANDOM_SEED);
         let mut builder = Task::builder(name).robot_name(robot_name);
         for (key, value) in arms.iter() {
             let arm_name: String = key
@@ -313,7 +327,7 @@ impl PyTask {
             .min_separation(min_separation)
             .max_joint_step(max_joint_step)
             .ik_branches(branches)
-            .ik_random_seed(ik_seed)
+            .ik_random_seed(ik_random_seed)
             .ik_tolerance(ik_tolerance)
             .grasp_ik_iterations(ik_iterations)
             .compare_branches(compare_branches)

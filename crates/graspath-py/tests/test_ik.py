@@ -49,9 +49,9 @@ def test_batch_equals_one_at_a_time(left):
         np.testing.assert_array_equal(one["q"], batch["q"][i])
         assert one["iterations"] == batch["iterations"][i]
         assert one["position_error"] == batch["position_error"][i]
-    # Per-pose seeds equal to the shared one give the same answers.
-    seeds = np.tile(left.mid_configuration(), (24, 1))
-    again = left.ik(goals, seeds, random_seed=3, **EXACT)
+    # Per-pose start configurations equal to the shared one give the same answers.
+    starts = np.tile(left.mid_configuration(), (24, 1))
+    again = left.ik(goals, starts, random_seed=3, **EXACT)
     np.testing.assert_array_equal(again["q"], batch["q"])
 
 
@@ -96,6 +96,29 @@ def test_infeasible_trajectory_names_the_sample(left):
     assert isinstance(failure["detail"], str) and failure["detail"]
 
 
+
+def test_the_deprecated_seed_keyword_is_the_start_configuration(left):
+    """``seed=`` (deprecated) gives the same answers as ``q_start=`` with a DeprecationWarning;
+    giving both is an error."""
+    goals = targets(left, 3, seed=11)
+    start = left.lower + 0.4 * (left.upper - left.lower)
+    new = left.ik(goals, q_start=start, random_seed=2, **EXACT)
+    with pytest.warns(DeprecationWarning, match="use q_start"):
+        old = left.ik(goals, seed=start, random_seed=2, **EXACT)
+    for key in ("q", "best_q", "converged", "iterations", "position_error"):
+        np.testing.assert_array_equal(new[key], old[key])
+    path = np.repeat(targets(left, 1, seed=9), 5, axis=0)
+    path[:, 2, 3] += np.linspace(0.0, 0.04, 5)
+    near = left.ik(path[0], **EXACT)["q"]  # a start configuration at the first pose
+    new = left.ik_trajectory(path, q_start=near)
+    with pytest.warns(DeprecationWarning, match="use q_start"):
+        old = left.ik_trajectory(path, seed=near)
+    assert new["feasible"] and len(new["branches"]) == len(old["branches"])
+    for a, b in zip(new["branches"], old["branches"]):
+        np.testing.assert_array_equal(a, b)
+    with pytest.raises(graspath.GraspathError, match="give q_start only"):
+        left.ik(goals[0], q_start=start, seed=start)
+
 class TestErrors:
     def test_bad_pose(self, left):
         bad = np.eye(4)
@@ -109,10 +132,10 @@ class TestErrors:
         with pytest.raises(graspath.GraspathError, match=r"\(4, 4\) or \(n, 4, 4\)"):
             left.ik(np.eye(3))
 
-    def test_bad_seed_and_options(self, left):
-        with pytest.raises(graspath.GraspathError, match=r"seed has shape \(3,\)"):
+    def test_bad_start_and_options(self, left):
+        with pytest.raises(graspath.GraspathError, match=r"q_start has shape \(3,\)"):
             left.ik(np.eye(4), np.zeros(3))
-        with pytest.raises(graspath.GraspathError, match="seed has 2 rows but there are 3"):
+        with pytest.raises(graspath.GraspathError, match="q_start has 2 rows but there are 3"):
             left.ik(np.stack([np.eye(4)] * 3), np.zeros((2, 7)))
         with pytest.raises(graspath.GraspathError, match="option 'position_tolerance'"):
             left.ik(np.eye(4), position_tolerance=0.0)

@@ -193,6 +193,19 @@ def test_array_task_equals_the_file(left_selection):
         assert {k: v for k, v in a.items() if k not in ignore} == {k: v for k, v in b.items() if k not in ignore}
 
 
+
+def test_the_deprecated_ik_seed_keyword_is_the_ik_random_seed(left_selection):
+    """``ik_seed=`` (deprecated) builds the task ``ik_random_seed=`` builds, with a
+    DeprecationWarning: the selections are equal. Both at once is an error."""
+    task, _ = left_selection
+    arrays = ({"left": task.robot("left")}, task.object_poses, task.candidate_poses[:4])
+    new = graspath.select(graspath.Task.from_arrays(*arrays, times=task.times, ik_random_seed=7))
+    with pytest.warns(DeprecationWarning, match="use ik_random_seed"):
+        old_task = graspath.Task.from_arrays(*arrays, times=task.times, ik_seed=7)
+    assert graspath.select(old_task).candidates == new.candidates
+    with pytest.raises(graspath.GraspathError, match="give ik_random_seed only"):
+        graspath.Task.from_arrays(*arrays, ik_random_seed=7, ik_seed=7)
+
 def test_array_task_with_a_moved_base(left_selection):
     """Moving the world frame (object path and arm base together) changes nothing."""
     task, selection = left_selection

@@ -1,5 +1,5 @@
-//! Grasp generation at the spec's default budget (50 000 seeds, 500 annealing steps, 5 000
-//! query kernels per link) for the built-in Baxter gripper on a 5 000-point cloud, plus the
+//! Grasp generation at the spec's default budget (50 000 initial grasps, 500 annealing steps,
+//! 5 000 query kernels per link) for the built-in Baxter gripper on a 5 000-point cloud, plus the
 //! feature pipeline alone; and generation on the T-shape cloud without outliers and with 200
 //! outliers at 10 m, 1 km and 1e20 m (the same clouds as `examples/outlier_clouds.rs`): the
 //! times must agree within ±20 %.

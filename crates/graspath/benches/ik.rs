@@ -1,5 +1,5 @@
-//! IK speed on Baxter's left arm (built-in model): single poses from the mid-limits seed
-//! (TRAC-IK's protocol), and 50-sample trajectories (per-sample cost = time / 50).
+//! IK speed on Baxter's left arm (built-in model): single poses from the mid-limits start
+//! configuration (TRAC-IK's protocol), and 50-sample trajectories (per-sample cost = time / 50).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use graspath::robot::builtin::{baxter, Arm};
@@ -72,7 +72,7 @@ fn bench_ik(c: &mut Criterion) {
             },
         );
     }
-    // Warm-started tracking alone: seeded at the first sample's solution, one branch.
+    // Warm-started tracking alone: started at the first sample's solution, one branch.
     let start: Vec<f64> = vec![0.2, -0.5, 0.1, 1.2, 0.0, 0.8, -0.4];
     let options = TrajectoryIkOptions {
         branches: 1,

@@ -1,9 +1,9 @@
 //! TRAC-IK's benchmark protocol on graspath's IK solver.
 //!
 //! For each robot: draw joint configurations uniformly within the limits (seeded), compute
-//! the tip pose by forward kinematics, and solve IK for that pose from the mid-limits seed with
-//! tolerance 1e-5 (m and rad) and a 5 ms budget, one solve at a time on one thread. Prints the
-//! solve rate and the mean, median, p99 and maximum time per solve.
+//! the tip pose by forward kinematics, and solve IK for that pose from the mid-limits start
+//! configuration with tolerance 1e-5 (m and rad) and a 5 ms budget, one solve at a time on one
+//! thread. Prints the solve rate and the mean, median, p99 and maximum time per solve.
 //!
 //! ```text
 //! cargo run --release -p graspath --example ik_benchmark -- --samples 10000
@@ -122,7 +122,7 @@ fn run(name: &str, chain: &Chain, args: &Args) {
             nalgebra::convert(chain.pose(&q).expect("q has the chain's length"))
         })
         .collect();
-    let seed_q = chain.mid_configuration();
+    let q_start = chain.mid_configuration();
     let options = IkOptions {
         position_tolerance: 1e-5,
         rotation_tolerance: 1e-5,
@@ -137,7 +137,7 @@ fn run(name: &str, chain: &Chain, args: &Args) {
     let mut iterations = 0usize;
     for target in &targets {
         let start = Instant::now();
-        let solution = solve_ik(chain, target, &seed_q, &options).expect("valid input");
+        let solution = solve_ik(chain, target, &q_start, &options).expect("valid input");
         times.push(start.elapsed().as_secs_f64() * 1e6);
         iterations += solution.iterations;
         if let Some(q) = &solution.q {

@@ -823,7 +823,7 @@ fn t_shape() -> PointCloud {
 
 fn tiny_budget() -> GenerateOptions {
     GenerateOptions {
-        seeds: 600,
+        initial_grasps: 600,
         steps: 30,
         first_stage_steps: 10,
         query_kernels: 600,

@@ -35,8 +35,8 @@ fn random_q(chain: &Chain, rng: &mut Xoshiro256PlusPlus) -> Vec<f64> {
         .collect()
 }
 
-/// Solves targets made by FK of random in-limit configurations from random seeds; every
-/// answer must be in the limits and within tolerance, and almost all must succeed.
+/// Solves targets made by FK of random in-limit configurations from random in-limit start
+/// configurations; every answer must be in the limits and within tolerance, and almost all must succeed.
 fn check_reachable_targets(chain: &Chain, samples: usize, seed: u64) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let options = no_time_limit();
@@ -210,7 +210,7 @@ fn results_are_deterministic_for_a_seed() {
 }
 
 #[test]
-fn a_seed_at_the_target_returns_at_once() {
+fn a_start_at_the_target_returns_at_once() {
     let chain = baxter(Arm::Left);
     let q = vec![0.2, -0.3, 0.1, 0.9, 0.4, 0.6, -0.2];
     let solution = solve_ik(&chain, &fk(&chain, &q), &q, &IkOptions::default()).expect("ok");
@@ -219,11 +219,11 @@ fn a_seed_at_the_target_returns_at_once() {
 }
 
 #[test]
-fn a_seed_outside_the_limits_is_clamped_first() {
+fn a_start_outside_the_limits_is_clamped_first() {
     let chain = baxter(Arm::Left);
     let q = [0.2, -0.3, 0.1, 0.9, 0.4, 0.6, -0.2];
-    let seed = vec![10.0; 7];
-    let solution = solve_ik(&chain, &fk(&chain, &q), &seed, &no_time_limit()).expect("ok");
+    let q_start = vec![10.0; 7];
+    let solution = solve_ik(&chain, &fk(&chain, &q), &q_start, &no_time_limit()).expect("ok");
     assert!(chain.within_limits(&solution.q.expect("solved")));
 }
 
@@ -306,13 +306,13 @@ fn prismatic_and_continuous_joints_are_solved() {
     for _ in 0..100 {
         let q_true = random_q(&chain, &mut rng);
         let target = fk(&chain, &q_true);
-        let seed = vec![0.0, 0.25, 0.35, 0.0, 0.0, 0.0];
-        let solution = solve_ik(&chain, &target, &seed, &no_time_limit()).expect("ok");
+        let q_start = vec![0.0, 0.25, 0.35, 0.0, 0.0, 0.0];
+        let solution = solve_ik(&chain, &target, &q_start, &no_time_limit()).expect("ok");
         let q = solution.q.expect("reachable by construction");
         assert!(chain.within_limits(&q));
         assert!(
-            (q[0] - seed[0]).abs() <= std::f64::consts::PI + 1e-12,
-            "continuous joint wrapped near the seed"
+            (q[0] - q_start[0]).abs() <= std::f64::consts::PI + 1e-12,
+            "continuous joint wrapped near the start configuration"
         );
         let (dp, dr) = pose_distance(&fk(&chain, &q), &target);
         assert!(dp <= 1e-5 && dr <= 1e-5);
@@ -333,9 +333,9 @@ fn bad_input_is_an_error() {
             ..
         }
     ));
-    let mut seed = chain.mid_configuration();
-    seed[3] = f64::NAN;
-    let nan = solve_ik(&chain, &target, &seed, &options).unwrap_err();
+    let mut q_start = chain.mid_configuration();
+    q_start[3] = f64::NAN;
+    let nan = solve_ik(&chain, &target, &q_start, &options).unwrap_err();
     assert!(matches!(nan, RobotError::NonFiniteJoint { index: 3 }));
     let mut bad_target = target;
     bad_target.translation.vector.y = f64::NAN;

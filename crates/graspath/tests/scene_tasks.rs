@@ -318,7 +318,7 @@ fn generated_grasps_that_put_the_hand_into_the_table_are_dropped_before_the_best
             "robot: {{ builtin: baxter }}\n\
              arms: left\n\
              object: {{ pose: {{ xyz: [0.70, 0.25, -0.10] }} }}\n\
-             candidates:\n  generate: {{ model: {}, cloud: {}, seed: 3, seeds: 2000, steps: 100, query_kernels: 1500, max_candidates: 15 }}\n\
+             candidates:\n  generate: {{ model: {}, cloud: {}, seed: 3, initial_grasps: 2000, steps: 100, query_kernels: 1500, max_candidates: 15 }}\n\
              trajectory:\n  samples_per_step: 2\n  steps: [ {{ lift: 0.2 }} ]\n{scene}",
             model_path.display(),
             cloud.display()

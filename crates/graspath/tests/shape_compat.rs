@@ -153,7 +153,7 @@ fn the_upright_t_is_the_new_t_turned_over() {
 
 fn t_shape_options() -> GenerateOptions {
     GenerateOptions {
-        seeds: 3000,
+        initial_grasps: 3000,
         steps: 150,
         first_stage_steps: 30,
         query_kernels: 1500,

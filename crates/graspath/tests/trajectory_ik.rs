@@ -197,8 +197,8 @@ fn pushing_a_joint_past_its_limit_is_a_joint_limit_failure() {
         branches: 1,
         ..TrajectoryIkOptions::default()
     };
-    let seed = [2.6, -1.2, 1.4, -0.6, 1.1, 0.3];
-    let result = solve_trajectory(&chain, &poses, &seed, &options).expect("ok");
+    let q_start = [2.6, -1.2, 1.4, -0.6, 1.1, 0.3];
+    let result = solve_trajectory(&chain, &poses, &q_start, &options).expect("ok");
     assert!(result.branches.is_empty());
     let failure = result.failure.expect("explained");
     assert_eq!(failure.reason, FailureReason::JointLimit, "{failure}");

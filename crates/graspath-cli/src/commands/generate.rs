@@ -26,12 +26,13 @@ pub struct GenerateArgs {
     /// even so.
     #[arg(long)]
     force: bool,
-    /// Seed of every random choice: the same inputs and seed give the same bytes.
+    /// Random seed of every random choice: the same inputs and seed give the same bytes.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Number of seeds.
-    #[arg(long, default_value_t = 50_000)]
-    seeds: usize,
+    /// Number of initial grasps drawn before annealing (the model spec's "seeds").
+    /// `--seeds` is the deprecated earlier spelling.
+    #[arg(long, value_name = "N", default_value_t = 50_000, alias = "seeds")]
+    initial_grasps: usize,
     /// Annealing steps.
     #[arg(long, default_value_t = 500)]
     steps: usize,
@@ -130,7 +131,7 @@ pub fn run(args: &GenerateArgs) -> Result<()> {
         );
     }
     let options = GenerateOptions {
-        seeds: args.seeds,
+        initial_grasps: args.initial_grasps,
         steps: args.steps,
         query_kernels: args.query_kernels,
         seed: args.seed,
@@ -150,7 +151,7 @@ pub fn run(args: &GenerateArgs) -> Result<()> {
     let report = |p: Progress| {
         let (message, done, total) = match p {
             Progress::Preparing => ("query densities", 0, 1),
-            Progress::Seeds(d, t) => ("seeds", d, t),
+            Progress::InitialGrasps(d, t) => ("initial grasps", d, t),
             Progress::FirstStage(d, t) => ("annealing 1/2", d, t),
             Progress::SecondStage(d, t) => ("annealing 2/2", d, t),
         };

@@ -30,14 +30,15 @@ pub struct IkArgs {
     input: Option<PathBuf>,
     /// The start configuration: `mid` (middle of the limits), `zero`, or `q1,q2,...`
     /// (rad / m). Every pose of a JSON Lines input starts from it; a trajectory starts its
-    /// first sample from it.
+    /// first sample from it. `--seed` is the deprecated earlier spelling.
     #[arg(
         long,
-        value_name = "SEED",
+        value_name = "Q_START",
         default_value = "mid",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        alias = "seed"
     )]
-    seed: String,
+    start: String,
     /// Position (m) and rotation (rad) tolerance.
     #[arg(long, value_name = "EPS", default_value_t = 1e-5)]
     tolerance: f64,
@@ -45,7 +46,7 @@ pub struct IkArgs {
     /// budgets so that their results are reproducible).
     #[arg(long, value_name = "MS", default_value_t = 5.0)]
     timeout_ms: f64,
-    /// Seed of the random restarts.
+    /// Random seed of the restarts (not the start configuration: see --start).
     #[arg(long, value_name = "N", default_value_t = 0)]
     random_seed: u64,
     /// Solve a whole trajectory `{"poses":[...]}` with continuous joint paths.
@@ -104,7 +105,7 @@ pub fn run(args: &IkArgs) -> Result<()> {
         return Err(bad_input!("--branches: must be at least 1"));
     }
     let chain = args.robot.load()?;
-    let seed = parse_seed(&args.seed, &chain).context("--seed")?;
+    let q_start = parse_start(&args.start, &chain).context("--start")?;
     let options = IkOptions {
         position_tolerance: args.tolerance,
         rotation_tolerance: args.tolerance,
@@ -148,14 +149,14 @@ pub fn run(args: &IkArgs) -> Result<()> {
             ..TrajectoryIkOptions::default()
         };
         let result: TrajectoryIkResult =
-            solve_trajectory(&chain, &poses, &seed, &trajectory_options)?;
+            solve_trajectory(&chain, &poses, &q_start, &trajectory_options)?;
         serde_json::to_writer(&mut output, &result)?;
         output.push(b'\n');
     } else {
         for_each_line(input, &source, |_, line: PoseLine| {
             let target = target_from_rows(&line.pose).context("field 'pose'")?;
             let start = Instant::now();
-            let solution = solve_ik(&chain, &target, &seed, &options)?;
+            let solution = solve_ik(&chain, &target, &q_start, &options)?;
             let time_us = start.elapsed().as_secs_f64() * 1e6;
             if !(solution.position_error.is_finite() && solution.rotation_error.is_finite()) {
                 anyhow::bail!(
@@ -202,8 +203,8 @@ fn target_from_rows(rows: &[[f64; 4]; 4]) -> Result<Isometry3<f64>> {
 }
 
 /// `mid`, `zero` or comma-separated joint values, checked against the chain.
-fn parse_seed(text: &str, chain: &Chain) -> Result<Vec<f64>> {
-    let seed = match text.trim() {
+fn parse_start(text: &str, chain: &Chain) -> Result<Vec<f64>> {
+    let q_start = match text.trim() {
         "mid" => chain.mid_configuration(),
         "zero" => vec![0.0; chain.dof()],
         values => values
@@ -215,16 +216,16 @@ fn parse_seed(text: &str, chain: &Chain) -> Result<Vec<f64>> {
             })
             .collect::<Result<Vec<f64>>>()?,
     };
-    if seed.len() != chain.dof() {
+    if q_start.len() != chain.dof() {
         return Err(bad_input!(
             "expected 'mid', 'zero' or {} comma-separated values for the chain '{}', got {} values",
             chain.dof(),
             chain.name(),
-            seed.len()
+            q_start.len()
         ));
     }
-    if let Some(index) = seed.iter().position(|v| !v.is_finite()) {
+    if let Some(index) = q_start.iter().position(|v| !v.is_finite()) {
         return Err(bad_input!("value {} is not a finite number", index + 1));
     }
-    Ok(seed)
+    Ok(q_start)
 }

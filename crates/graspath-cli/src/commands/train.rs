@@ -32,9 +32,8 @@ pub fn run(args: &TrainArgs) -> Result<()> {
     write_file(&args.out, &model.to_json()?, existing)?;
     if !args.quiet {
         let links: Vec<String> = model
-            .contacts
-            .iter()
-            .map(|c| format!("{} ({} contact points)", c.link, c.samples.len()))
+            .contact_links()
+            .map(|(link, points)| format!("{link} ({points} contact points)"))
             .collect();
         println!(
             "trained '{}' for hand '{}': links in contact: {}; wrote {}",

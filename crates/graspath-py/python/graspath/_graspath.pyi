@@ -92,22 +92,25 @@ class Robot:
     def ik(
         self,
         target: ArrayLike,
-        seed: Optional[ArrayLike] = None,
+        q_start: Optional[ArrayLike] = None,
         *,
         position_tolerance: float = 1e-5,
         rotation_tolerance: float = 1e-5,
         max_iterations: int = 100_000,
         max_time: Optional[float] = 0.005,
         random_seed: int = 0,
+        seed: Optional[ArrayLike] = None,
     ) -> Dict[str, Any]:
         """IK of one pose ``(4, 4)`` (dict with ``q`` or ``None``, ``converged``, errors,
         ``iterations``, ``failure``) or many ``(n, 4, 4)`` (dict of arrays ``q`` with NaN rows,
         ``best_q``, ``converged``, ``position_error``, ``rotation_error``, ``iterations``,
-        ``failure_reason``). ``max_time=None`` for reproducible results."""
+        ``failure_reason``). ``q_start``: the start configuration ``(dof,)`` or ``(n, dof)``
+        (default the middle of the limits); ``random_seed`` seeds the restarts; ``seed`` is the
+        deprecated name of ``q_start``. ``max_time=None`` for reproducible results."""
     def ik_trajectory(
         self,
         targets: ArrayLike,
-        seed: Optional[ArrayLike] = None,
+        q_start: Optional[ArrayLike] = None,
         *,
         max_joint_step: float = 0.5,
         branches: int = 4,
@@ -116,10 +119,12 @@ class Robot:
         position_tolerance: float = 1e-5,
         rotation_tolerance: float = 1e-5,
         random_seed: int = 0,
+        seed: Optional[ArrayLike] = None,
     ) -> Dict[str, Any]:
-        """Continuous joint paths through ``targets`` ``(n, 4, 4)``: ``feasible``,
+        """Continuous joint paths through ``targets`` ``(n, 4, 4)`` from the start
+        configuration ``q_start`` ``(dof,)`` (default the middle of the limits): ``feasible``,
         ``branches`` (list of ``(n, dof)``), ``failure`` (``None`` or ``sample``, ``reason``,
-        ``detail``)."""
+        ``detail``). ``seed`` is the deprecated name of ``q_start``."""
 
 class Task:
     """A selection task: arms, object path, grasp candidates and settings."""
@@ -159,15 +164,17 @@ class Task:
         min_separation: float = 0.08,
         max_joint_step: float = 0.5,
         branches: int = 4,
-        ik_seed: int = 0,
+        ik_random_seed: Optional[int] = None,
         ik_tolerance: float = 1e-5,
         ik_iterations: int = 200,
         compare_branches: bool = False,
         name: str = "<arrays>",
         robot_name: str = "robot",
+        ik_seed: Optional[int] = None,
     ) -> Task:
         """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
-        ``(k, 4, 4)`` (object_from_wrist)."""
+        ``(k, 4, 4)`` (object_from_wrist). ``ik_random_seed`` (default 0) seeds the IK's
+        restarts; ``ik_seed`` is its deprecated name."""
     def with_arms(self, arms: Sequence[str]) -> Task:
         """The same task with only the named arms, in that order."""
     @property

@@ -308,7 +308,7 @@ impl TaskBuilder {
         self
     }
 
-    /// Seed of the IK's random restarts.
+    /// Random seed of the IK's restarts (task file `ik.random_seed`; not a start configuration).
     pub fn ik_random_seed(mut self, seed: u64) -> Self {
         self.ik_random_seed = seed;
         self

@@ -261,12 +261,13 @@ pub struct GenerateFile {
     pub model: PathBuf,
     /// The object's cloud (`.ply`, `.pcd`, or a `.json` cloud source), object frame.
     pub cloud: PathBuf,
-    /// Random seed (default 0).
+    /// Random seed of the generation (default 0).
     #[serde(default)]
     pub seed: Option<u64>,
-    /// Number of seeds (default 50,000).
-    #[serde(default)]
-    pub seeds: Option<usize>,
+    /// Number of initial grasps drawn before annealing (the model spec's "seeds"; default
+    /// 50,000). The earlier spelling `seeds` is deprecated but still read.
+    #[serde(default, alias = "seeds")]
+    pub initial_grasps: Option<usize>,
     /// Annealing steps (default 500).
     #[serde(default)]
     pub steps: Option<usize>,
@@ -466,9 +467,10 @@ pub struct IkFile {
     /// Distinct IK branches tracked from the grasp pose (default 4).
     #[serde(default)]
     pub branches: Option<usize>,
-    /// Random seed for IK restarts (default 0).
-    #[serde(default)]
-    pub seed: Option<u64>,
+    /// Random seed of the IK's random restarts (default 0). The earlier spelling `seed` is
+    /// deprecated but still read.
+    #[serde(default, alias = "seed")]
+    pub random_seed: Option<u64>,
     /// Position and rotation tolerance (m, rad; default 1e-5).
     #[serde(default)]
     pub tolerance: Option<f64>,

@@ -114,7 +114,7 @@ pub fn builder_from_file(
     if let Some(branches) = ik.branches {
         builder = builder.ik_branches(branches);
     }
-    if let Some(seed) = ik.seed {
+    if let Some(seed) = ik.random_seed {
         builder = builder.ik_random_seed(seed);
     }
     if let Some(tolerance) = ik.tolerance {
@@ -385,7 +385,7 @@ fn generated_candidates(
     let defaults = GenerateOptions::default();
     let options = GenerateOptions {
         seed: g.seed.unwrap_or(0),
-        seeds: g.seeds.unwrap_or(defaults.seeds),
+        initial_grasps: g.initial_grasps.unwrap_or(defaults.initial_grasps),
         steps: g.steps.unwrap_or(defaults.steps),
         query_kernels: g.query_kernels.unwrap_or(defaults.query_kernels),
         ..defaults

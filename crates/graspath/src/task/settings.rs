@@ -115,7 +115,7 @@ pub mod defaults {
     pub const MAX_JOINT_STEP: f64 = 0.5;
     /// Distinct IK branches searched from the grasp pose.
     pub const IK_BRANCHES: usize = 4;
-    /// Seed of the IK's random restarts.
+    /// Random seed of the IK's restarts (task file `ik.random_seed`).
     pub const IK_RANDOM_SEED: u64 = 0;
     /// Position (m) and rotation (rad) tolerance of IK.
     pub const IK_TOLERANCE: f64 = 1e-5;

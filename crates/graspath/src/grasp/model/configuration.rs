@@ -183,11 +183,6 @@ impl ConfigurationModel {
         }
     }
 
-    /// The stored parameters.
-    pub fn spec(&self) -> &ConfigurationSpec {
-        &self.spec
-    }
-
     /// The demonstrated grasp configuration `h^g`.
     pub fn grasp(&self) -> &[f64] {
         &self.spec.path[0]

@@ -148,3 +148,42 @@ pub fn train_contacts(
     }
     (models, clearances)
 }
+
+#[cfg(test)]
+mod tests {
+    /// Every contact sample satisfies `feature ∘ u = link` at the demonstrated grasp, its point
+    /// lies within δ of the link, and its weight is `exp(−λd²)`.
+    #[test]
+    fn contact_samples_encode_the_demonstrated_link_poses() {
+        let model = crate::grasp::model::train_file(
+            &std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("../../examples/grasp/demo_box.json"),
+        )
+        .expect("train");
+        let wrist =
+            crate::geometry::pose_from_rows(&model.demonstration.object_from_wrist).expect("pose");
+        let poses = model.hand.link_poses(&model.demonstration.hand_joints);
+        for contact in &model.contacts {
+            let object_from_link = wrist * poses[contact.link_index];
+            assert!(contact.samples.len() >= model.parameters.min_points);
+            for s in &contact.samples {
+                let object_from_feature = object_from_link * s.feature_from_link.inverse();
+                let p = nalgebra::Point3::from(object_from_feature.translation.vector);
+                // The feature position in the link frame is the stored point.
+                let local = object_from_link.inverse_transform_point(&p);
+                assert!((local.coords - nalgebra::Vector3::from(s.point)).norm() < 1e-12);
+                let prox = model
+                    .hand
+                    .link_proximity(
+                        contact.link_index,
+                        &poses[contact.link_index],
+                        &(wrist.inverse() * p),
+                    )
+                    .expect("shape");
+                assert!(prox.signed_distance < model.parameters.contact_distance);
+                let d = prox.signed_distance;
+                assert!((s.weight - (-model.parameters.finger_lambda * d * d).exp()).abs() < 1e-12);
+            }
+        }
+    }
+}

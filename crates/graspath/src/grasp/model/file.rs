@@ -269,17 +269,25 @@ pub struct GraspModel {
     pub features: FeatureParams,
     /// Training and generation constants.
     pub parameters: ModelParams,
-    /// One contact model per involved link.
-    pub contacts: Vec<ContactModel>,
-    /// The hand-configuration model.
-    pub configuration: ConfigurationSpec,
-    /// The demonstrated approach, pre-grasp first, grasp (identity) last.
-    pub approach: Vec<ApproachWaypoint>,
-    /// The demonstrated grasp.
+    /// One contact model per involved link (internal; see [`GraspModel::contact_links`]).
+    pub(crate) contacts: Vec<ContactModel>,
+    /// The hand-configuration model (internal).
+    pub(crate) configuration: ConfigurationSpec,
+    /// The demonstrated approach, pre-grasp first, grasp (identity) last (internal).
+    pub(crate) approach: Vec<ApproachWaypoint>,
+    /// The demonstrated grasp (training cloud's object frame).
     pub demonstration: DemonstratedGrasp,
 }
 
 impl GraspModel {
+    /// The hand links in contact in the demonstration, each with its number of contact
+    /// points (the samples of its contact model), in the model's order.
+    pub fn contact_links(&self) -> impl Iterator<Item = (&str, usize)> {
+        self.contacts
+            .iter()
+            .map(|c| (c.link.as_str(), c.samples.len()))
+    }
+
     /// The model as JSON bytes.
     pub fn to_json(&self) -> Result<Vec<u8>, ModelError> {
         let mut bytes = serde_json::to_vec(self).map_err(|e| ModelError::io("<model>", e))?;

@@ -1,15 +1,16 @@
-//! Grasp generation (spec §4): seeds drawn from the query densities and the
-//! hand-configuration model, then simulated annealing with staged selection:
+//! Grasp generation (spec §4): initial grasps (the spec's "seeds") drawn from the query
+//! densities and the hand-configuration model, then simulated annealing with staged selection:
 //!
-//! 1. evaluate every seed (best of `tries` draws) and keep the best `keep_fraction`;
+//! 1. evaluate every initial grasp (best of `tries` draws) and keep the best `keep_fraction`;
 //! 2. anneal them for steps `[0, first_stage_steps)`, add the collision term, re-rank and keep
 //!    the best `keep_fraction` again;
 //! 3. anneal those for steps `[first_stage_steps, steps)`, add the collision term and sort.
 //!
 //! The objective is `ℓ = Σ_i ln(Q_i(FK_i)·e^{−pen_i}/Z) + ln C(c)` with `ln 0` replaced by
 //! `ln(f64::MIN_POSITIVE)` ≈ −708.4; a candidate's `log_likelihood` is `ℓ` plus its collision
-//! term. Every random draw comes from a generator derived from the seed and the item's index,
-//! so results are identical at any thread count.
+//! term. Every random draw comes from a generator derived from the random seed
+//! ([`GenerateOptions::seed`]) and the item's index, so results are identical at any thread
+//! count.
 
 use super::collision::{collision_term, CollisionCloud};
 use super::configuration::ConfigurationModel;
@@ -22,38 +23,39 @@ use rand::{rngs::StdRng, RngExt};
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 
-/// The generation budget and seed.
+/// The generation budget and random seed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GenerateOptions {
-    /// Number of seeds (50 000 by default).
-    pub seeds: usize,
+    /// Number of initial grasps drawn before annealing (the spec's "seeds"; 50 000 by
+    /// default).
+    pub initial_grasps: usize,
     /// Total annealing steps S (500).
     pub steps: usize,
     /// Steps of the first stage (50).
     pub first_stage_steps: usize,
     /// Query kernels per involved link (5 000).
     pub query_kernels: usize,
-    /// Draws per seed, the best kept (2).
+    /// Draws per initial grasp, the best kept (2).
     pub tries: usize,
-    /// Fraction kept after the seeds and after the first stage (0.1).
+    /// Fraction kept after the initial grasps and after the first stage (0.1).
     pub keep_fraction: f64,
-    /// Seed of every random choice.
+    /// Random seed of every random choice: the same inputs and seed give the same candidates.
     pub seed: u64,
 }
 
-/// The largest number of seeds `generate` accepts (200 × the default).
-pub const MAX_GENERATE_SEEDS: usize = 10_000_000;
+/// The largest number of initial grasps `generate` accepts (200 × the default).
+pub const MAX_INITIAL_GRASPS: usize = 10_000_000;
 /// The largest number of annealing steps (200 × the default).
 pub const MAX_GENERATE_STEPS: usize = 100_000;
 /// The largest number of query kernels per link (200 × the default).
 pub const MAX_QUERY_KERNELS: usize = 1_000_000;
-/// The largest number of draws per seed.
+/// The largest number of draws per initial grasp.
 pub const MAX_GENERATE_TRIES: usize = 1_000;
 
 impl Default for GenerateOptions {
     fn default() -> Self {
         Self {
-            seeds: 50_000,
+            initial_grasps: 50_000,
             steps: 500,
             first_stage_steps: 50,
             query_kernels: 5000,
@@ -85,15 +87,15 @@ pub struct Candidate {
 pub enum Progress {
     /// Computing features and query densities.
     Preparing,
-    /// Seeds evaluated so far of the total.
-    Seeds(usize, usize),
+    /// Initial grasps evaluated so far of the total.
+    InitialGrasps(usize, usize),
     /// First annealing stage: solutions done of the total.
     FirstStage(usize, usize),
     /// Second annealing stage: solutions done of the total.
     SecondStage(usize, usize),
 }
 
-/// `ln(1e−10)`: a seed whose every factor exceeds 1e−10 needs no further draw.
+/// `ln(1e−10)`: an initial grasp whose every factor exceeds 1e−10 needs no further draw.
 const EARLY_STOP: f64 = -23.025850929940457;
 
 struct State {
@@ -117,7 +119,7 @@ impl<'a> Evaluator<'a> {
         model: &'a GraspModel,
         cloud: &PointCloud,
         query_kernels: usize,
-        seed: u64,
+        random_seed: u64,
         source_name: &str,
     ) -> Result<Self, ModelError> {
         let features = compute_features(cloud, &model.features, source_name)?;
@@ -132,7 +134,7 @@ impl<'a> Evaluator<'a> {
                 stats,
                 &model.parameters,
                 query_kernels,
-                seed,
+                random_seed,
             );
             if density.is_empty() {
                 return Err(ModelError::field(
@@ -217,7 +219,7 @@ impl<'a> Evaluator<'a> {
         Some((total, smallest))
     }
 
-    fn seed_state(
+    fn initial_state(
         &self,
         rng: &mut StdRng,
         poses: &mut Vec<Isometry3<f64>>,
@@ -314,10 +316,10 @@ pub fn generate(
     source_name: &str,
     progress: &dyn Fn(Progress),
 ) -> Result<Vec<Candidate>, ModelError> {
-    if options.seeds == 0 || options.tries == 0 || options.query_kernels == 0 {
+    if options.initial_grasps == 0 || options.tries == 0 || options.query_kernels == 0 {
         return Err(ModelError::field(
             "options",
-            "seeds/tries/query_kernels",
+            "initial_grasps/tries/query_kernels",
             "must be at least 1",
         ));
     }
@@ -329,7 +331,7 @@ pub fn generate(
         ));
     }
     for (name, value, limit) in [
-        ("seeds", options.seeds, MAX_GENERATE_SEEDS),
+        ("initial_grasps", options.initial_grasps, MAX_INITIAL_GRASPS),
         ("steps", options.steps, MAX_GENERATE_STEPS),
         ("query_kernels", options.query_kernels, MAX_QUERY_KERNELS),
         ("tries", options.tries, MAX_GENERATE_TRIES),
@@ -352,15 +354,15 @@ pub fn generate(
     )?;
     let collision_cloud = CollisionCloud::new(&cloud.points, model.parameters.collision_points);
     let seed = options.seed;
-    let n_seeds = options.seeds;
-    let seeds: Vec<State> = chunked(
-        (0..n_seeds).collect(),
+    let n_initial = options.initial_grasps;
+    let initial: Vec<State> = chunked(
+        (0..n_initial).collect(),
         |k| {
             let mut rng = item_rng(seed, 1, k as u64);
             let mut poses = Vec::new();
             let mut best: Option<State> = None;
             for _ in 0..options.tries {
-                if let Some((wrist, joints)) = evaluator.seed_state(&mut rng, &mut poses) {
+                if let Some((wrist, joints)) = evaluator.initial_state(&mut rng, &mut poses) {
                     let (value, smallest) = evaluator.terms(&wrist, &joints, &mut poses);
                     if best.as_ref().is_none_or(|b| value > b.value) {
                         best = Some(State {
@@ -378,12 +380,12 @@ pub fn generate(
             }
             best
         },
-        |done| progress(Progress::Seeds(done, n_seeds)),
+        |done| progress(Progress::InitialGrasps(done, n_initial)),
     )
     .into_iter()
     .flatten()
     .collect();
-    let mut states = seeds;
+    let mut states = initial;
     rank(&mut states);
     states.truncate(keep(states.len(), options.keep_fraction));
     let steps = options.steps;

@@ -1,29 +1,42 @@
 //! The one-shot learned grasp model (Kopicki et al., IJRR 2016; spec in
 //! `research/kopicki-grasp-model.md`): contact models per hand link and a hand-configuration
 //! model learned from one demonstration, query densities on a new object cloud, and grasp
-//! generation by seeds plus simulated annealing with staged selection.
+//! generation from initial grasps plus simulated annealing with staged selection.
 //!
 //! Frames: clouds, features and candidate poses are in the **object frame** (metres);
 //! `object_from_wrist` is the wrist pose; link poses are `wrist_from_link` (see
 //! [`crate::grasp::hand`]).
+//!
+//! The public surface is what this module re-exports: the model ([`GraspModel`], its
+//! [`ModelParams`] and file format), training ([`train`], [`train_file`], [`Demonstration`]),
+//! generation ([`generate`], [`GenerateOptions`], [`Candidate`], [`Progress`]), the candidate
+//! writer and [`ModelError`]. The contact, hand-configuration and query-density models, the
+//! kernels and the collision term behind them are internal (`pub(crate)` at most).
 
-pub mod collision;
-pub mod configuration;
-pub mod contact;
-pub mod error;
-pub mod file;
-pub mod generate;
-pub mod kernel;
+mod collision;
+mod configuration;
+mod contact;
+mod error;
+mod file;
+mod generate;
+mod kernel;
 mod lanes;
-pub mod output;
-pub mod query;
-pub mod train;
+mod output;
+mod query;
+mod train;
 
 pub use error::{LinkClearance, ModelError};
-pub use file::{GraspModel, MODEL_FORMAT, MODEL_FORMAT_VERSION};
-pub use generate::{generate, Candidate, GenerateOptions, Progress};
+/// Re-exported because it is the type of the public field [`GraspModel::demonstration`]: the
+/// demonstrated grasp is what generated candidates are compared with (does generation find the
+/// demonstration again on the training cloud?).
+pub use file::DemonstratedGrasp;
+pub use file::{GraspModel, MAX_CONFIGURATION_KERNELS, MODEL_FORMAT, MODEL_FORMAT_VERSION};
+pub use generate::{
+    generate, Candidate, GenerateOptions, Progress, MAX_GENERATE_STEPS, MAX_GENERATE_TRIES,
+    MAX_INITIAL_GRASPS, MAX_QUERY_KERNELS,
+};
 pub use output::{candidates_json, write_candidates, CANDIDATES_FORMAT};
-pub use train::{train, train_file, DemoWaypoint, Demonstration, HandSource};
+pub use train::{train, train_file, DemoWaypoint, Demonstration, HandSource, DEMONSTRATION_FORMAT};
 
 use crate::grasp::hand::{Hand, HandJointKind};
 

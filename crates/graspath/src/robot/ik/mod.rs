@@ -16,7 +16,8 @@
 //!   iteration or time budget is spent, as TRAC-IK does.
 //!
 //! Every returned configuration is inside the limits by construction: each iterate is
-//! clamped. Continuous (unbounded) joints are returned within ±π of their seed value.
+//! clamped. Continuous (unbounded) joints are returned within ±π of their value in the start
+//! configuration `q_start`.
 //! Results are deterministic for a given [`IkOptions::random_seed`] unless the time budget
 //! is what stops the search.
 
@@ -48,13 +49,14 @@ pub struct IkOptions {
     pub max_time: Option<Duration>,
     /// Largest number of kinematics evaluations (≈ iterations), counted over all restarts.
     pub max_iterations: usize,
-    /// Seed of the random restarts: the same seed gives the same result.
+    /// Random seed of the restarts: the same random seed gives the same result. (Not the
+    /// start configuration, which is the `q_start` argument of [`solve_ik`].)
     pub random_seed: u64,
 }
 
 impl Default for IkOptions {
     /// TRAC-IK's tolerances and time budget (1e-5 m, 1e-5 rad, 5 ms), a cap of 100,000
-    /// iterations, seed 0.
+    /// iterations, random seed 0.
     fn default() -> Self {
         Self {
             position_tolerance: 1e-5,
@@ -120,26 +122,27 @@ impl IkSolution {
     }
 }
 
-/// Evaluations allowed for the attempts from the seed.
-pub(crate) const SEED_ATTEMPT_CAP: usize = 80;
+/// Evaluations allowed for the attempts from the start configuration.
+pub(crate) const START_ATTEMPT_CAP: usize = 80;
 /// Evaluations allowed for an attempt from a random restart.
 pub(crate) const RESTART_ATTEMPT_CAP: usize = 50;
 
 /// Finds a joint configuration at which the tip of `chain` reaches `base_from_target`
-/// (the target tip pose in the chain base frame, m), starting from `seed` (rad / m; clamped
-/// into the limits first).
+/// (the target tip pose in the chain base frame, m), starting from the joint configuration
+/// `q_start` (rad / m, one value per joint; clamped into the limits first). Random restarts,
+/// when needed, are drawn from [`IkOptions::random_seed`].
 ///
-/// Returns `Err` only for bad input: a seed of the wrong length or with a non-finite value, a
+/// Returns `Err` only for bad input: a start configuration of the wrong length or with a non-finite value, a
 /// non-finite target, or non-positive tolerances. An unreachable target is an `Ok` result
 /// with `q: None` and a [`IkFailure`].
 pub fn solve_ik(
     chain: &Chain,
     base_from_target: &Isometry3<f64>,
-    seed: &[f64],
+    q_start: &[f64],
     options: &IkOptions,
 ) -> Result<IkSolution, RobotError> {
     check_options(options)?;
-    chain.check_configuration(seed)?;
+    chain.check_configuration(q_start)?;
     check_pose(base_from_target, "target")?;
     let deadline = options
         .max_time
@@ -153,10 +156,10 @@ pub fn solve_ik(
     let mut budget = Budget::new(options.max_iterations, deadline);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(options.random_seed);
     let mut ws = Workspace::new();
-    let search = search(&kernel, &target, seed, &mut ws, &mut budget, &mut rng);
+    let search = search(&kernel, &target, q_start, &mut ws, &mut budget, &mut rng);
     let n = chain.dof();
     let mut best = search.best_q[..n].to_vec();
-    wrap_continuous(chain, seed, &mut best);
+    wrap_continuous(chain, q_start, &mut best);
     let reason = if search.converged {
         None
     } else if search.out_of_reach {
@@ -205,18 +208,18 @@ pub(crate) fn out_of_reach(kernel: &Kernel<'_>, target: &Target) -> bool {
     (target.position - centre).norm() > radius + kernel.position_tolerance
 }
 
-/// The start of attempt `k`: the seed for the first two attempts (one per strategy), then a
+/// The start of attempt `k`: `q_start` for the first two attempts (one per strategy), then a
 /// uniformly random configuration, alternating the strategies.
 pub(crate) fn prepare_attempt<R: rand::Rng>(
     kernel: &Kernel<'_>,
     k: usize,
-    seed: &[f64],
+    q_start: &[f64],
     rng: &mut R,
     q: &mut [f64],
 ) -> (Strategy, usize) {
     let n = kernel.dof();
     if k < 2 {
-        q[..n].copy_from_slice(seed);
+        q[..n].copy_from_slice(q_start);
         kernel.clamp(&mut q[..n]);
     } else {
         kernel.random_configuration(rng, &mut q[..n]);
@@ -227,7 +230,7 @@ pub(crate) fn prepare_attempt<R: rand::Rng>(
         Strategy::LimitWeighted
     };
     let cap = if k < 2 {
-        SEED_ATTEMPT_CAP
+        START_ATTEMPT_CAP
     } else {
         RESTART_ATTEMPT_CAP
     };
@@ -255,11 +258,11 @@ pub(crate) fn run_attempt(
     kernel.run(target, ws, strategy, cap, patience, budget)
 }
 
-/// Attempts from the seed, then random restarts, until one converges or the budget is spent.
+/// Attempts from `q_start`, then random restarts, until one converges or the budget is spent.
 pub(crate) fn search<R: rand::Rng>(
     kernel: &Kernel<'_>,
     target: &Target,
-    seed: &[f64],
+    q_start: &[f64],
     ws: &mut Workspace,
     budget: &mut Budget,
     rng: &mut R,
@@ -274,12 +277,12 @@ pub(crate) fn search<R: rand::Rng>(
         rotation_error: f64::INFINITY,
         attempts: 0,
     };
-    outcome.best_q[..n].copy_from_slice(seed);
+    outcome.best_q[..n].copy_from_slice(q_start);
     kernel.clamp(&mut outcome.best_q[..n]);
     let mut best_cost = f64::INFINITY;
     let mut k = 0;
     while !budget.exhausted() {
-        let (strategy, cap) = prepare_attempt(kernel, k, seed, rng, &mut ws.cur_mut().q);
+        let (strategy, cap) = prepare_attempt(kernel, k, q_start, rng, &mut ws.cur_mut().q);
         let end = run_attempt(kernel, target, ws, strategy, cap, Patience::SEARCH, budget);
         if end == RunEnd::OutOfBudget && ws.cur().cost.is_infinite() {
             break;
@@ -305,14 +308,14 @@ pub(crate) fn search<R: rand::Rng>(
     outcome
 }
 
-/// Moves each continuous joint of `q` to within ±π of its seed value (same pose).
-pub(crate) fn wrap_continuous(chain: &Chain, seed: &[f64], q: &mut [f64]) {
+/// Moves each continuous joint of `q` to within ±π of its value in `q_start` (same pose).
+pub(crate) fn wrap_continuous(chain: &Chain, q_start: &[f64], q: &mut [f64]) {
     use std::f64::consts::{PI, TAU};
     for (j, v) in q.iter_mut().enumerate() {
         if chain.lower()[j].is_infinite() && chain.upper()[j].is_infinite() {
-            let delta = *v - seed[j];
+            let delta = *v - q_start[j];
             if delta.abs() > PI {
-                *v = seed[j] + (delta + PI).rem_euclid(TAU) - PI;
+                *v = q_start[j] + (delta + PI).rem_euclid(TAU) - PI;
             }
         }
     }
@@ -366,7 +369,7 @@ mod tests {
     use crate::robot::builtin::{baxter, Arm};
 
     #[test]
-    fn wrap_keeps_continuous_joints_near_the_seed() {
+    fn wrap_keeps_continuous_joints_near_the_start() {
         use crate::robot::{ChainSpec, JointKind, JointSpec};
         let joint = |name: &str, kind| JointSpec {
             name: name.into(),

@@ -1,10 +1,11 @@
 //! Inverse kinematics along a whole trajectory of tip poses: continuous joint paths inside the
 //! joint limits, one per distinct initial solution (redundancy branch, elbow or wrist flip).
 //!
-//! Sample 0 is solved from the seed and from seeded random restarts; every solution that
-//! differs from the ones already kept by more than [`TrajectoryIkOptions::max_joint_step`] in
-//! some joint starts a branch (up to [`TrajectoryIkOptions::branches`]). Each branch is then
-//! tracked sample by sample, each solve warm-started from the previous sample's solution and
+//! Sample 0 is solved from the start configuration `q_start` and from seeded random restarts;
+//! every solution that differs from the ones already kept by more than
+//! [`TrajectoryIkOptions::max_joint_step`] in some joint starts a branch (up to
+//! [`TrajectoryIkOptions::branches`]). Each branch is then tracked sample by sample, each
+//! solve warm-started from the previous sample's solution and
 //! its Jacobian. A sample is accepted only when its solution is within tolerance, inside the
 //! limits and no joint moves more than `max_joint_step` from the previous sample, so a branch
 //! flip hidden inside a "continuous" path is a failure, never a silent jump.
@@ -63,7 +64,7 @@ pub struct TrajectoryIkOptions {
 
 impl Default for TrajectoryIkOptions {
     /// 1e-5 m / 1e-5 rad, 1000 iterations for the first sample, 0.5 rad steps, 4 branches,
-    /// 30 iterations per sample, seed 0.
+    /// 30 iterations per sample, random seed 0.
     fn default() -> Self {
         Self {
             ik: IkOptions {
@@ -90,7 +91,7 @@ pub struct JointPath {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrajectoryIkResult {
     /// Every feasible branch, sorted by the distance (largest joint difference) of its first
-    /// configuration from the seed, then lexicographically.
+    /// configuration from `q_start` (clamped into the limits), then lexicographically.
     pub branches: Vec<JointPath>,
     /// Set when no branch follows the whole trajectory: the first failing sample of the branch
     /// that got furthest (the earliest branch among equals).
@@ -105,14 +106,15 @@ impl TrajectoryIkResult {
 }
 
 /// Joint paths that take the tip of `chain` through `base_from_targets` (tip poses in the
-/// chain base frame, m, in order), starting near `seed` (rad / m).
+/// chain base frame, m, in order), starting near the joint configuration `q_start` (rad / m,
+/// one value per joint). Random restarts are drawn from `options.ik.random_seed`.
 ///
-/// Returns `Err` only for bad input: an empty trajectory, a non-finite pose, a seed of the
-/// wrong length or non-finite, or out-of-range options.
+/// Returns `Err` only for bad input: an empty trajectory, a non-finite pose, a start
+/// configuration of the wrong length or non-finite, or out-of-range options.
 pub fn solve_trajectory(
     chain: &Chain,
     base_from_targets: &[Isometry3<f64>],
-    seed: &[f64],
+    q_start: &[f64],
     options: &TrajectoryIkOptions,
 ) -> Result<TrajectoryIkResult, RobotError> {
     check_options(&options.ik)?;
@@ -136,7 +138,7 @@ pub fn solve_trajectory(
             });
         }
     }
-    chain.check_configuration(seed)?;
+    chain.check_configuration(q_start)?;
     if base_from_targets.is_empty() {
         return Err(RobotError::BadPose {
             what: "trajectory".into(),
@@ -155,7 +157,7 @@ pub fn solve_trajectory(
         poses: base_from_targets,
         options,
     };
-    let starts = match tracker.initial_solutions(seed) {
+    let starts = match tracker.initial_solutions(q_start) {
         Ok(starts) => starts,
         Err(failure) => {
             return Ok(TrajectoryIkResult {
@@ -176,11 +178,11 @@ pub fn solve_trajectory(
             }
         }
     }
-    let mut seed_clamped = seed.to_vec();
-    tracker.kernel.clamp(&mut seed_clamped);
+    let mut start_clamped = q_start.to_vec();
+    tracker.kernel.clamp(&mut start_clamped);
     branches.sort_by(|a: &JointPath, b: &JointPath| {
-        max_difference(&a.q[0], &seed_clamped)
-            .total_cmp(&max_difference(&b.q[0], &seed_clamped))
+        max_difference(&a.q[0], &start_clamped)
+            .total_cmp(&max_difference(&b.q[0], &start_clamped))
             .then_with(|| {
                 a.q[0]
                     .iter()
@@ -239,8 +241,8 @@ impl Tracker<'_> {
         Xoshiro256PlusPlus::seed_from_u64(seed)
     }
 
-    /// Distinct solutions at sample 0, the one from the seed first.
-    fn initial_solutions(&self, seed: &[f64]) -> Result<Vec<Vec<f64>>, Failure> {
+    /// Distinct solutions at sample 0, the one from `q_start` first.
+    fn initial_solutions(&self, q_start: &[f64]) -> Result<Vec<Vec<f64>>, Failure> {
         let n = self.n();
         let kernel = &self.kernel;
         let target = Target::new(&self.poses[0]);
@@ -259,10 +261,11 @@ impl Tracker<'_> {
                 break;
             }
             if k == 1 && !found.is_empty() {
-                // The seed already converged with the first strategy.
+                // The start configuration already converged with the first strategy.
                 k = 2;
             }
-            let (strategy, cap) = prepare_attempt(kernel, k, seed, &mut rng, &mut ws.cur_mut().q);
+            let (strategy, cap) =
+                prepare_attempt(kernel, k, q_start, &mut rng, &mut ws.cur_mut().q);
             k += 1;
             let end = run_attempt(
                 kernel,
@@ -282,7 +285,7 @@ impl Tracker<'_> {
                 continue;
             }
             let mut q = state.q[..n].to_vec();
-            wrap_continuous(kernel.chain, seed, &mut q);
+            wrap_continuous(kernel.chain, q_start, &mut q);
             if found
                 .iter()
                 .all(|other| max_difference(other, &q) > self.options.max_joint_step)
@@ -293,9 +296,9 @@ impl Tracker<'_> {
         if !found.is_empty() {
             return Ok(found);
         }
-        // No solution in the limits: classify from the seed.
+        // No solution in the limits: classify from the start configuration.
         let mut start = [0.0; MAX_JOINTS];
-        start[..n].copy_from_slice(seed);
+        start[..n].copy_from_slice(q_start);
         kernel.clamp(&mut start[..n]);
         self.classify_first(&target, &start[..n], far, best)
             .map(|q| vec![q])

@@ -147,8 +147,8 @@ pub(crate) fn first_collision(
         .iter()
         .map(|p| base_from_world * p)
         .collect();
-    let seed = setup.chain.mid_configuration();
-    let result = solve_trajectory(&setup.chain, &targets, &seed, &task.ik).ok()?;
+    let q_start = setup.chain.mid_configuration();
+    let result = solve_trajectory(&setup.chain, &targets, &q_start, &task.ik).ok()?;
     let branch = result.branches.first()?;
     let a = task.approach.map_or(0, |s| s.samples);
     let n = task.path.samples.len();

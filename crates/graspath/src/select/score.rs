@@ -293,7 +293,7 @@ fn score_one(
         .iter()
         .map(|p| base_from_world * p)
         .collect();
-    let seed = chain.mid_configuration();
+    let q_start = chain.mid_configuration();
     let mut jacobian = Matrix6xX::zeros(chain.dof());
     let mut score = CandidateScore {
         candidate: Arc::clone(candidate),
@@ -349,7 +349,7 @@ fn score_one(
     let mut best: Option<ChosenBranch> = None;
     let mut last_failure: Option<Failure> = None;
     for (attempt, options) in tries.iter().enumerate() {
-        let result = match solve_trajectory(chain, &targets, &seed, options) {
+        let result = match solve_trajectory(chain, &targets, &q_start, options) {
             Ok(r) => r,
             Err(e) => {
                 score.failure = Some(Failure::new(FailureReason::Unreachable, 0, e.to_string()));
@@ -436,7 +436,7 @@ fn score_one(
                 || failure.reason == FailureReason::Collision;
             score.failure = Some(failure);
             if grasp_reached {
-                solve_ik(chain, &targets[before], &seed, &ik.ik)
+                solve_ik(chain, &targets[before], &q_start, &ik.ik)
                     .ok()
                     .and_then(|s| s.q)
             } else {

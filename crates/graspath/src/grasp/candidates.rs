@@ -2,8 +2,10 @@
 //! Contact-GraspNet, GraspIt!, the learned model) can feed the selection.
 //!
 //! JSON: `{"format":"graspath-candidates","version":1,"frame":"object","candidates":[...]}` or a
-//! bare list; each candidate has `object_from_wrist` (4×4 row-major) or `xyz` + `quaternion`
-//! (`[x, y, z, w]`), and optionally `id`, `label`, `likelihood` or `log_likelihood`, `contact`
+//! bare list; each candidate has its wrist pose in the object frame as `pose` in the task file's
+//! pose syntax ([`PoseSpec`]: `{xyz, rpy | rpy_deg | quaternion}` or `{matrix}`), or in the
+//! older forms `object_from_wrist` (4×4 row-major) or `xyz` + `quaternion` (`[x, y, z, w]`) —
+//! all read by the one pose parser — and optionally `id`, `label`, `likelihood` or `log_likelihood`, `contact`
 //! (`[x, y, z]` or null) and `hand_joints`. CSV: a header with `x,y,z,qx,qy,qz,qw` and
 //! optionally `id,label,likelihood|log_likelihood,contact_x,contact_y,contact_z` and
 //! `hand_joints` (numbers separated by spaces or `;`).
@@ -14,8 +16,8 @@
 //! and contact positions within [`MAX_OFFSET`] of the object origin; ids unique; the file at
 //! most [`MAX_FILE_BYTES`] long (the number of candidates is what the file holds).
 
-use crate::geometry::{pose_from_rows, unit_quaternion_xyzw};
-use nalgebra::{Isometry3, Point3, Translation3};
+use crate::geometry::PoseSpec;
+use nalgebra::{Isometry3, Point3};
 use serde::Deserialize;
 use std::io::Read;
 use std::path::Path;
@@ -85,6 +87,8 @@ struct Entry {
     #[serde(default)]
     label: Option<String>,
     #[serde(default)]
+    pose: Option<PoseSpec>,
+    #[serde(default)]
     object_from_wrist: Option<[[f64; 4]; 4]>,
     #[serde(default)]
     xyz: Option<[f64; 3]>,
@@ -104,6 +108,7 @@ struct Entry {
 struct Raw {
     id: Option<usize>,
     label: Option<String>,
+    pose: Option<PoseSpec>,
     matrix: Option<[[f64; 4]; 4]>,
     xyz: Option<[f64; 3]>,
     quaternion: Option<[f64; 4]>,
@@ -115,29 +120,43 @@ struct Raw {
 
 impl Raw {
     fn into_candidate(self, index: usize) -> Result<Candidate, (String, String)> {
-        let pose = match (self.matrix, self.xyz, self.quaternion) {
-            (Some(rows), None, None) => pose_from_rows(&rows)
-                .map_err(|e| ("object_from_wrist".to_string(), e.to_string()))?,
-            (None, Some(xyz), Some(q)) => {
-                if xyz.iter().any(|v| !v.is_finite()) {
-                    return Err(("xyz".into(), "not finite".into()));
-                }
-                let rotation = unit_quaternion_xyzw(q)
-                    .map_err(|e| ("quaternion".to_string(), e.to_string()))?;
-                Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation)
-            }
+        // Every form is read by the one pose parser ([`PoseSpec::to_isometry`]): `pose` in the
+        // task file's syntax, or the older `object_from_wrist` (its `matrix` form) and
+        // `xyz` + `quaternion`.
+        let (spec, field) = match (self.pose, self.matrix, self.xyz, self.quaternion) {
+            (Some(spec), None, None, None) => (spec, "pose"),
+            (None, Some(rows), None, None) => (
+                PoseSpec {
+                    matrix: Some(rows),
+                    ..PoseSpec::default()
+                },
+                "object_from_wrist",
+            ),
+            (None, None, Some(xyz), Some(q)) => (
+                PoseSpec {
+                    xyz: Some(xyz),
+                    quaternion: Some(q),
+                    ..PoseSpec::default()
+                },
+                "xyz",
+            ),
             _ => {
                 return Err((
-                    "object_from_wrist".into(),
-                    "give either object_from_wrist (4×4) or xyz and quaternion".into(),
+                    "pose".into(),
+                    "give pose (e.g. {xyz, rpy_deg}), or object_from_wrist (4×4), or xyz and \
+                     quaternion"
+                        .into(),
                 ))
             }
         };
-        let field = if self.matrix.is_some() {
-            "object_from_wrist"
-        } else {
-            "xyz"
-        };
+        let pose = spec.to_isometry().map_err(|e| {
+            let at = match field {
+                "pose" => format!("pose.{}", e.field),
+                "object_from_wrist" => "object_from_wrist".to_string(),
+                _ => e.field.to_string(),
+            };
+            (at, e.message)
+        })?;
         check_offset(field, &pose.translation.vector.into())?;
         let log_likelihood = match (self.likelihood, self.log_likelihood) {
             (Some(_), Some(_)) => {
@@ -316,6 +335,7 @@ fn parse_json(text: &str) -> Result<Located, (String, String)> {
             let candidate = Raw {
                 id: entry.id,
                 label: entry.label,
+                pose: entry.pose,
                 matrix: entry.object_from_wrist,
                 xyz: entry.xyz,
                 quaternion: entry.quaternion,
@@ -419,6 +439,7 @@ fn parse_csv(text: &str) -> Result<Located, (String, String)> {
                 .and_then(|c| record.get(c))
                 .filter(|s| !s.is_empty())
                 .map(str::to_string),
+            pose: None,
             matrix: None,
             xyz: Some([need("x")?, need("y")?, need("z")?]),
             quaternion: Some([need("qx")?, need("qy")?, need("qz")?, need("qw")?]),

@@ -226,3 +226,45 @@ fn a_file_over_the_size_limit_is_refused_before_it_is_read() {
     assert_eq!(err.location, "file");
     assert!(err.message.contains("is larger than"), "{err}");
 }
+
+#[test]
+fn every_pose_form_is_read_by_the_one_parser_alike() {
+    // Oracle: the same rotation written three ways (rpy_deg, its quaternion, its matrix)
+    // gives the same pose to rounding.
+    let q = nalgebra::UnitQuaternion::from_euler_angles(
+        10f64.to_radians(),
+        -20f64.to_radians(),
+        30f64.to_radians(),
+    );
+    let m =
+        Isometry3::from_parts(nalgebra::Translation3::new(0.01, 0.02, 0.03), q).to_homogeneous();
+    let rows: Vec<Vec<f64>> = (0..4)
+        .map(|r| (0..4).map(|c| m[(r, c)]).collect())
+        .collect();
+    let c = q.coords;
+    let text = format!(
+        r#"[{{"pose": {{"xyz": [0.01, 0.02, 0.03], "rpy_deg": [10, -20, 30]}}}},
+            {{"xyz": [0.01, 0.02, 0.03], "quaternion": [{}, {}, {}, {}]}},
+            {{"object_from_wrist": {rows:?}}},
+            {{"pose": {{"matrix": {rows:?}}}}}]"#,
+        c.x, c.y, c.z, c.w
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let list = read_candidates(&write(&dir, "poses.json", &text)).unwrap();
+    assert_eq!(list.len(), 4);
+    for other in &list[1..] {
+        let d = list[0].object_from_wrist.inverse() * other.object_from_wrist;
+        assert!(d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12);
+    }
+    let both = r#"[{"pose": {"xyz": [0, 0, 0]}, "xyz": [0, 0, 0], "quaternion": [0, 0, 0, 1]}]"#;
+    let error = read_candidates(&write(&dir, "both.json", both))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("candidates[0].pose"), "{error}");
+    let two_rotations =
+        r#"[{"pose": {"xyz": [0, 0, 0], "rpy": [0, 0, 0], "quaternion": [0, 0, 0, 1]}}]"#;
+    let error = read_candidates(&write(&dir, "two.json", two_rotations))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("candidates[0].pose.rpy"), "{error}");
+}

@@ -27,7 +27,7 @@ use super::file::{
 };
 use super::{ModelError, ModelParams};
 use crate::cloud::{compute_features, CloudSource, FeatureParams, PointCloud};
-use crate::geometry::{pose_from_rows, pose_to_rows};
+use crate::geometry::pose_to_rows;
 use crate::grasp::hand::{baxter_electric_gripper, hand_from_robot, Hand, BAXTER_GRIPPER_NAME};
 use crate::robot::RobotSource;
 use nalgebra::Isometry3;
@@ -174,11 +174,16 @@ pub fn train(
     }
     let mut wrists = Vec::new();
     for (k, w) in demo.waypoints.iter().enumerate() {
-        let pose = pose_from_rows(&w.object_from_wrist).map_err(|e| {
+        // The 4×4 form of the one pose syntax, read by the one pose parser.
+        let spec = crate::geometry::PoseSpec {
+            matrix: Some(w.object_from_wrist),
+            ..Default::default()
+        };
+        let pose = spec.to_isometry().map_err(|e| {
             ModelError::field(
                 source_name,
                 format!("waypoints[{k}].object_from_wrist"),
-                e.to_string(),
+                e.message,
             )
         })?;
         if w.hand_joints.len() != hand.dof() {

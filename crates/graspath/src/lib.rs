@@ -12,18 +12,23 @@
 //! 1. [`geometry`] — poses (`a_from_b` transforms, the one pose syntax of every input file
 //!    [`geometry::PoseSpec`]), SE(3) logarithm and exponential, interpolation;
 //! 2. [`failure`] — why something failed, one spelling everywhere;
-//! 3. [`robot`] — serial chains (built-in Baxter or URDF), forward kinematics and the geometric
-//!    Jacobian, inverse kinematics of one pose and of a whole trajectory;
-//! 4. [`cloud`] — point clouds (PLY, PCD, meshes, primitives) and their surface features;
+//! 3. [`robot`] — serial chains (built-in Baxter or URDF, SRDF beside it) with every link frame
+//!    and each link's collision shapes, forward kinematics and the geometric Jacobian, inverse
+//!    kinematics of one pose and of a whole trajectory;
+//! 4. [`collision`] — the scene (a table and obstacles), the bodies of an arm and its hand,
+//!    and the checks of a whole motion at every sample and, with a proven bound, between
+//!    samples; and beside it (neither imports the other) [`cloud`] — point clouds (PLY, PCD,
+//!    meshes, sampled shapes) and their surface features;
 //! 5. [`grasp`] — grasp candidates (wrist poses in the object frame with likelihoods) from
 //!    files, parametric families or the learned one-shot grasp model;
 //! 6. [`task`] — [`task::Task`]: the arms, the candidates, the object's path after the grasp
 //!    and every setting, built and checked by [`task::TaskBuilder`] or read from a task file;
 //! 7. [`manipulability`] — the classical indices, the task-relevant index
 //!    `M_T = uᵀ J Jᵀ u` and its norms along the path;
-//! 8. [`select`] — every candidate scored along the path for each arm (wrist trajectory,
-//!    trajectory IK, `M_T` per sample, norms), ranked, and paired for two arms. Each result
-//!    carries its candidate.
+//! 8. [`select`] — every candidate scored along its whole motion for each arm (approach, the
+//!    object's path, retreat: trajectory IK, collisions in a scene, `M_T` per path sample,
+//!    norms), ranked, and paired for two arms (best first, refusing pairs whose arms touch).
+//!    Each result carries its candidate.
 //!
 //! Every module has its own error type naming the file and field at fault; [`Error`] gathers
 //! them for applications that handle errors once.

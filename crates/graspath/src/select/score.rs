@@ -346,6 +346,9 @@ fn score_one(
         tries.push(ik.clone());
     }
     let mut collision: Option<Failure> = None;
+    // Branches found colliding, with their failure: the search with more branches finds the
+    // first one again, and it need not be checked twice.
+    let mut collided: Vec<(Vec<Vec<f64>>, Failure)> = Vec::new();
     let mut best: Option<ChosenBranch> = None;
     let mut last_failure: Option<Failure> = None;
     for (attempt, options) in tries.iter().enumerate() {
@@ -382,6 +385,12 @@ fn score_one(
             if !better {
                 continue;
             }
+            if let Some((_, failure)) = collided.iter().find(|(q, _)| *q == branch.q) {
+                if collision.is_none() {
+                    collision = Some(failure.clone());
+                }
+                continue;
+            }
             let clearance = match &checker {
                 None => None,
                 Some(checker) => {
@@ -393,9 +402,11 @@ fn score_one(
                         object_from_wrist: &candidate.object_from_wrist,
                     });
                     if let Some(hit) = check.hit {
+                        let failure = located(collision_failure(&hit));
                         if collision.is_none() {
-                            collision = Some(located(collision_failure(&hit)));
+                            collision = Some(failure.clone());
                         }
+                        collided.push((branch.q.clone(), failure));
                         continue;
                     }
                     check.clearance

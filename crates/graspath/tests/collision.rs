@@ -165,6 +165,30 @@ fn capsule_box_matches_brute_force_over_sampled_surfaces() {
     }
 }
 
+/// A motion of `arm` (base at the world origin, no object) checked against `scene`.
+fn check_motion(
+    arm: &ArmBodies,
+    scene: &Scene,
+    options: &CollisionOptions,
+    motion: &[Vec<f64>],
+) -> graspath::collision::MotionCheck {
+    let identity = Isometry3::identity();
+    ArmInScene {
+        arm,
+        world_from_base: &identity,
+        scene,
+        object: None,
+        options,
+    }
+    .check(&WholeMotion {
+        q: motion,
+        path: 0..motion.len(),
+        world_from_object_start: &identity,
+        world_from_object_end: &identity,
+        object_from_wrist: &identity,
+    })
+}
+
 fn baxter_left_bodies() -> ArmBodies {
     let model = RobotSource::builtin("baxter").load().unwrap();
     let shapes = robot_link_shapes(&model).unwrap();
@@ -189,7 +213,6 @@ fn the_continuous_check_never_misses_what_a_fine_subdivision_finds() {
         self_collision: false,
         ..CollisionOptions::default()
     };
-    let identity = Isometry3::identity();
     let mut rng = StdRng::seed_from_u64(2026);
     let (mut hits, mut misses) = (0, 0);
     for _ in 0..64 {
@@ -218,21 +241,7 @@ fn the_continuous_check_never_misses_what_a_fine_subdivision_finds() {
         let ball_pose =
             Isometry3::translation(near.x + offset[0], near.y + offset[1], near.z + offset[2]);
         let scene = Scene::new().with_shape("ball", &ball, ball_pose);
-        let motion = [qa.clone(), qb.clone()];
-        let check = ArmInScene {
-            arm: &arm,
-            world_from_base: &identity,
-            scene: &scene,
-            object: None,
-            options: &options,
-        }
-        .check(&WholeMotion {
-            q: &motion,
-            path: 0..2,
-            world_from_object_start: &identity,
-            world_from_object_end: &identity,
-            object_from_wrist: &identity,
-        });
+        let check = check_motion(&arm, &scene, &options, &[qa.clone(), qb.clone()]);
         // Oracle: the moving links' shapes along the line, in steps in which no point of them
         // moves more than 1 mm (no Baxter link point is 2 m from a joint).
         let travel: f64 = qa.iter().zip(&qb).map(|(a, b)| (a - b).abs()).sum::<f64>() * 2.0;
@@ -312,7 +321,6 @@ fn a_floor_below_the_motion_is_clear_by_its_gap_and_one_above_collides() {
             lowest = lowest.min(aabb.min.z);
         }
     }
-    let identity = Isometry3::identity();
     let options = CollisionOptions {
         self_collision: false,
         ..CollisionOptions::default()
@@ -320,20 +328,7 @@ fn a_floor_below_the_motion_is_clear_by_its_gap_and_one_above_collides() {
     let motion = [q0, q1];
     let run = |floor: f64| {
         let scene = Scene::new().with_table(floor, None, None).unwrap();
-        ArmInScene {
-            arm: &arm,
-            world_from_base: &identity,
-            scene: &scene,
-            object: None,
-            options: &options,
-        }
-        .check(&WholeMotion {
-            q: &motion,
-            path: 0..2,
-            world_from_object_start: &identity,
-            world_from_object_end: &identity,
-            object_from_wrist: &identity,
-        })
+        check_motion(&arm, &scene, &options, &motion)
     };
     // A floor 5 cm below the lowest point: clear, and the clearance is that gap (±0.1 mm).
     let clear = run(lowest - 0.05);
@@ -387,23 +382,7 @@ fn a_urdf_link_with_a_mesh_collides_where_its_mesh_is() {
         self_collision: false,
         ..CollisionOptions::default()
     };
-    let identity = Isometry3::identity();
-    let check = |motion: &[Vec<f64>]| {
-        ArmInScene {
-            arm: &arm,
-            world_from_base: &identity,
-            scene: &scene,
-            object: None,
-            options: &options,
-        }
-        .check(&WholeMotion {
-            q: motion,
-            path: 0..motion.len(),
-            world_from_object_start: &identity,
-            world_from_object_end: &identity,
-            object_from_wrist: &identity,
-        })
-    };
+    let check = |motion: &[Vec<f64>]| check_motion(&arm, &scene, &options, motion);
     let sweep = [vec![0.0, 0.0], vec![3.0, 0.0]];
     let hit = check(&sweep).hit.expect("the cube sweeps through the ball");
     assert!(hit.between);

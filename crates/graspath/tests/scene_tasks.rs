@@ -184,6 +184,10 @@ fn scene_sections_that_cannot_be_used_name_their_field() {
             "table.size[0]",
         ),
         ("approach: { distance: -0.1 }\n", "approach.distance"),
+        (
+            "scene: {}\ncollision: { resolution: 1e-12 }\n",
+            "collision.resolution",
+        ),
         ("gripper: { opening: 0 }\n", "gripper.opening"),
         ("collision: { margin: 0.01 }\n", "collision"),
         (

@@ -216,11 +216,12 @@ pub fn for_each_score(
     let base_from_world = setup.arm.world_from_base.inverse();
     let motion = ObjectMotion::new(setup.path, &base_from_world);
     let times = setup.path.times();
+    let fingers = FingerCheck::new(&setup.world);
     for chunk in candidates.chunks(STREAM_CHUNK) {
         let scores: Vec<CandidateScore> = chunk
             .par_iter()
             .map(|candidate| {
-                let score = score_one(setup, candidate, &motion, &times);
+                let score = score_one(setup, candidate, &motion, &times, fingers.as_ref());
                 progress();
                 score
             })
@@ -240,33 +241,63 @@ pub fn score_candidates(
     scores
 }
 
-/// The gripper-width check: the open fingers at the grasp must not press into the object.
-fn gripper_width_failure(world: &WorldSetup<'_>, candidate: &Candidate) -> Option<Failure> {
-    let (gripper, object) = (world.gripper?, world.object?);
-    let tolerance = world
-        .collisions
-        .map_or(CollisionOptions::default().touch_tolerance, |c| {
-            c.options.touch_tolerance
-        });
-    for (name, wrist_from_finger, shape) in gripper.finger_shapes() {
-        let finger = Body::from_shape(format!("hand {name}"), &shape);
-        let object_from_finger = candidate.object_from_wrist * wrist_from_finger;
-        let depth = signed_distance(&finger, &object_from_finger, object, &Isometry3::identity());
-        if depth < -tolerance {
-            return Some(Failure {
-                reason: FailureReason::GripperWidth,
-                phase: Phase::Path,
-                sample: 0,
-                detail: format!(
-                    "the object is wider across the fingers than the {:.3} m opening: the {name} \
-                     would press {:.4} m into it",
-                    gripper.opening, -depth
-                ),
-                bodies: Some([format!("hand {name}"), "object".into()]),
-            });
-        }
+/// The gripper-width check of a task: the open fingers at the grasp must not press into the
+/// object. Built once per arm; the finger bodies are shared by every candidate.
+struct FingerCheck<'a> {
+    /// `(name, wrist_from_finger, body)` of each finger, open at the gripper's opening.
+    fingers: Vec<(String, Isometry3<f64>, Body)>,
+    opening: f64,
+    tolerance: f64,
+    object: &'a Body,
+}
+
+impl<'a> FingerCheck<'a> {
+    fn new(world: &WorldSetup<'a>) -> Option<Self> {
+        let (gripper, object) = (world.gripper?, world.object?);
+        Some(Self {
+            fingers: gripper
+                .finger_shapes()
+                .into_iter()
+                .map(|(name, wrist_from_finger, shape)| {
+                    let body = Body::from_shape(format!("hand {name}"), &shape);
+                    (name, wrist_from_finger, body)
+                })
+                .collect(),
+            opening: gripper.opening,
+            tolerance: world
+                .collisions
+                .map_or(CollisionOptions::default().touch_tolerance, |c| {
+                    c.options.touch_tolerance
+                }),
+            object,
+        })
     }
-    None
+
+    fn failure(&self, candidate: &Candidate) -> Option<Failure> {
+        for (name, wrist_from_finger, finger) in &self.fingers {
+            let object_from_finger = candidate.object_from_wrist * wrist_from_finger;
+            let depth = signed_distance(
+                finger,
+                &object_from_finger,
+                self.object,
+                &Isometry3::identity(),
+            );
+            if depth < -self.tolerance {
+                return Some(Failure {
+                    reason: FailureReason::GripperWidth,
+                    phase: Phase::Path,
+                    sample: 0,
+                    detail: format!(
+                        "the object is wider across the fingers than the {:.3} m opening: the \
+                         {name} would press {:.4} m into it",
+                        self.opening, -depth
+                    ),
+                    bodies: Some([format!("hand {name}"), "object".into()]),
+                });
+            }
+        }
+        None
+    }
 }
 
 fn score_one(
@@ -274,6 +305,7 @@ fn score_one(
     candidate: &Arc<Candidate>,
     motion: &ObjectMotion,
     times: &[f64],
+    fingers: Option<&FingerCheck<'_>>,
 ) -> CandidateScore {
     let ScoringSetup {
         arm,
@@ -309,7 +341,7 @@ fn score_one(
         clearance: None,
         feasible_branches: 0,
     };
-    if let Some(failure) = gripper_width_failure(&world, candidate) {
+    if let Some(failure) = fingers.and_then(|f| f.failure(candidate)) {
         score.failure = Some(failure);
         return score;
     }

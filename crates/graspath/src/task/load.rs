@@ -403,7 +403,8 @@ fn generated_candidates(
         // In a scene the hand may not enter the table or an obstacle: such grasps are dropped
         // before the best `max_candidates` are kept, so the budget goes to usable grasps.
         let scene_in_object = scene_seen_from(scene, &world_from_object);
-        generated.retain(|c| hand_is_clear(&model.hand, c, &scene_in_object));
+        let bodies = hand_bodies(&model.hand);
+        generated.retain(|c| hand_is_clear(&model.hand, &bodies, c, &scene_in_object));
     }
     if let Some(n) = g.max_candidates {
         generated.truncate(n);
@@ -448,27 +449,35 @@ fn scene_seen_from(
         .collect()
 }
 
+/// Every hand shape as a body, with the index of its link and its pose on that link, built
+/// once for all the generated grasps.
+fn hand_bodies(hand: &Hand) -> Vec<(usize, Isometry3<f64>, Body)> {
+    hand.links
+        .iter()
+        .enumerate()
+        .flat_map(|(k, link)| {
+            link.shapes
+                .iter()
+                .map(move |s| (k, s.link_from_shape, Body::from_shape("hand", &s.shape)))
+        })
+        .collect()
+}
+
 /// Whether no hand link of a generated grasp (at its hand joints) touches a scene body (all
 /// in the object frame).
 fn hand_is_clear(
     hand: &Hand,
+    bodies: &[(usize, Isometry3<f64>, Body)],
     grasp: &crate::grasp::model::Candidate,
     scene: &[(Body, Isometry3<f64>)],
 ) -> bool {
     let wrist_from_links = hand.link_poses(&grasp.hand_joints);
-    hand.links
-        .iter()
-        .zip(&wrist_from_links)
-        .all(|(link, wrist_from_link)| {
-            link.shapes.iter().all(|s| {
-                let body = Body::from_shape("hand", &s.shape);
-                let object_from_shape =
-                    grasp.object_from_wrist * wrist_from_link * s.link_from_shape;
-                scene
-                    .iter()
-                    .all(|(other, pose)| distance(&body, &object_from_shape, other, pose) > 0.0)
-            })
-        })
+    bodies.iter().all(|(k, link_from_shape, body)| {
+        let object_from_shape = grasp.object_from_wrist * wrist_from_links[*k] * link_from_shape;
+        scene
+            .iter()
+            .all(|(other, pose)| distance(body, &object_from_shape, other, pose) > 0.0)
+    })
 }
 
 fn step_of(step: &StepFile, k: usize, source: &str) -> Result<TimedStep, TaskError> {

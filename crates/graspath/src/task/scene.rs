@@ -166,6 +166,10 @@ pub struct Collisions {
     pub options: CollisionOptions,
 }
 
+/// The finest continuous-check resolution a task may ask for (m): below a nanometre the
+/// bisection between samples would only spend time.
+pub const MIN_RESOLUTION: f64 = 1e-9;
+
 /// The world settings a builder holds, for [`check_world`].
 pub(crate) struct WorldInput<'a> {
     pub approach: Option<&'a Stroke>,
@@ -216,11 +220,7 @@ pub(crate) fn check_world<'c>(
     for (field, value, lowest) in [
         ("collision.margin", options.margin, 0.0),
         ("collision.touch_tolerance", options.touch_tolerance, 0.0),
-        (
-            "collision.resolution",
-            options.resolution,
-            f64::MIN_POSITIVE,
-        ),
+        ("collision.resolution", options.resolution, MIN_RESOLUTION),
     ] {
         if !(value.is_finite() && value >= lowest) {
             return Err((

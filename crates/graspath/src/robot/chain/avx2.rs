@@ -5,8 +5,7 @@
 //! two passes give bit-identical poses and Jacobians; the sines and cosines of four joints are
 //! computed at once.
 
-use super::forward::pose_from_columns;
-use super::{LinkSlot, MotionKind, Segment};
+use super::{pose_from_columns, LinkSlot, MotionKind, Segment};
 use crate::robot::trig::sin_cos4;
 use nalgebra::{IsometryMatrix3, Matrix3, Vector3};
 use std::arch::x86_64::*;

@@ -4,7 +4,7 @@
 
 use super::Chain;
 #[cfg(target_arch = "x86_64")]
-use super::{avx2, forward::pose_from_columns};
+use super::{avx2, pose_from_columns};
 use crate::robot::error::RobotError;
 use nalgebra::IsometryMatrix3;
 

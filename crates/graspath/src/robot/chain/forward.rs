@@ -3,9 +3,9 @@
 //! runs the AVX2 kernel of [`super::avx2`] when the processor has it (checked at run time) and
 //! the scalar pass otherwise; both give bit-identical results.
 
-use super::{Chain, LinkSlot, MotionKind, Segment, MAX_JOINTS};
+use super::{pose_from_columns, Chain, LinkSlot, MotionKind, Segment, MAX_JOINTS};
 use crate::robot::error::RobotError;
-use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vector3};
+use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Vector3};
 
 impl Chain {
     /// Every link frame at configuration `q` (rad / m), in one forward pass: `out[k]` receives
@@ -206,20 +206,7 @@ pub(super) fn forward_scalar(
         let value = joint_value(i);
         match segment.kind {
             MotionKind::Revolute => {
-                let (sin, cos) = crate::robot::trig::sin_cos(value);
-                c = [
-                    [
-                        x[0] * cos + y[0] * sin,
-                        x[1] * cos + y[1] * sin,
-                        x[2] * cos + y[2] * sin,
-                    ],
-                    [
-                        y[0] * cos - x[0] * sin,
-                        y[1] * cos - x[1] * sin,
-                        y[2] * cos - x[2] * sin,
-                    ],
-                    z,
-                ];
+                c = turned(&x, &y, z, value);
                 if let Some(j) = jacobian.as_deref_mut() {
                     // v = z × (p_tip − p): keep p for now, finish once the tip is known.
                     if let Some(column) = j.get_mut(6 * i..6 * i + 6) {
@@ -322,20 +309,7 @@ pub(super) fn link_frames_scalar(
         let value = joint_value(i);
         match segment.kind {
             MotionKind::Revolute => {
-                let (sin, cos) = crate::robot::trig::sin_cos(value);
-                c = [
-                    [
-                        x[0] * cos + y[0] * sin,
-                        x[1] * cos + y[1] * sin,
-                        x[2] * cos + y[2] * sin,
-                    ],
-                    [
-                        y[0] * cos - x[0] * sin,
-                        y[1] * cos - x[1] * sin,
-                        y[2] * cos - x[2] * sin,
-                    ],
-                    z,
-                ];
+                c = turned(&x, &y, z, value);
             }
             MotionKind::Prismatic => {
                 c = [x, y, z];
@@ -350,17 +324,21 @@ pub(super) fn link_frames_scalar(
     }
 }
 
-/// The pose with rotation columns `rotation` and origin `origin` (base frame).
+/// The columns `x, y, z` of a revolute joint's frame turned by `value` (rad) about `z`.
 #[inline(always)]
-pub(super) fn pose_from_columns(
-    rotation: &[[f64; 3]; 3],
-    origin: &[f64; 3],
-) -> IsometryMatrix3<f64> {
-    let [x, y, z] = rotation;
-    IsometryMatrix3::from_parts(
-        Translation3::new(origin[0], origin[1], origin[2]),
-        Rotation3::from_matrix_unchecked(Matrix3::new(
-            x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2],
-        )),
-    )
+fn turned(x: &[f64; 3], y: &[f64; 3], z: [f64; 3], value: f64) -> [[f64; 3]; 3] {
+    let (sin, cos) = crate::robot::trig::sin_cos(value);
+    [
+        [
+            x[0] * cos + y[0] * sin,
+            x[1] * cos + y[1] * sin,
+            x[2] * cos + y[2] * sin,
+        ],
+        [
+            y[0] * cos - x[0] * sin,
+            y[1] * cos - x[1] * sin,
+            y[2] * cos - x[2] * sin,
+        ],
+        z,
+    ]
 }

@@ -433,3 +433,18 @@ pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Option<Vector3<f64>> {
     }
     Unit::try_new(*axis, 1e-9).map(Unit::into_inner)
 }
+
+/// The pose with rotation columns `rotation` and origin `origin` (base frame).
+#[inline(always)]
+pub(crate) fn pose_from_columns(
+    rotation: &[[f64; 3]; 3],
+    origin: &[f64; 3],
+) -> nalgebra::IsometryMatrix3<f64> {
+    let [x, y, z] = rotation;
+    nalgebra::IsometryMatrix3::from_parts(
+        Translation3::new(origin[0], origin[1], origin[2]),
+        Rotation3::from_matrix_unchecked(Matrix3::new(
+            x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2],
+        )),
+    )
+}

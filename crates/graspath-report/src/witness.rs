@@ -5,7 +5,10 @@
 //! checked, with the core's public pieces: the whole motion's tool poses (approach strokes,
 //! the object's path, retreat strokes), the trajectory IK with the task's settings from the
 //! chain's mid configuration, and the collision check of its first branch — the branch whose
-//! collision the scorer records when no branch is free (`select::for_each_score`). The witness
+//! collision the scorer records when no branch is free (`select::for_each_score`). A collision
+//! of the hand (or of what rides rigidly with it) is found, as the scorer finds it, at the
+//! commanded tool poses before any IK, and shown with the arm at that pose's IK solution from
+//! the mid configuration (no witness when that pose is out of reach). The witness
 //! is kept **only when that check reproduces the recorded failure**: the same phase, the same
 //! sample and the same two bodies; otherwise the view shows no witness for the candidate
 //! (never a configuration that does not collide as stated).
@@ -14,9 +17,11 @@
 //! straight joint-space segment between them (64 equal steps) where the two bodies are
 //! closest.
 
-use graspath::collision::{signed_distance, ArmInScene, Body, WholeMotion};
+use graspath::collision::{
+    signed_distance, ArmInScene, Body, ObjectAlong, ToolMotion, WholeMotion,
+};
 use graspath::failure::{FailureReason, Phase};
-use graspath::robot::solve_trajectory;
+use graspath::robot::{solve_ik, solve_trajectory};
 use graspath::select::CandidateScore;
 use graspath::task::{ArmSetup, Task};
 use nalgebra::{Isometry3, IsometryMatrix3};
@@ -148,12 +153,16 @@ pub(crate) fn first_collision(
         .map(|p| base_from_world * p)
         .collect();
     let q_start = setup.chain.mid_configuration();
-    let result = solve_trajectory(&setup.chain, &targets, &q_start, &task.ik).ok()?;
-    let branch = result.branches.first()?;
     let a = task.approach.map_or(0, |s| s.samples);
     let n = task.path.samples.len();
     let first = *task.path.poses().next()?;
     let last = *task.path.poses().last()?;
+    let object = ObjectAlong {
+        path: a..a + n,
+        world_from_object_start: &first,
+        world_from_object_end: &last,
+        object_from_wrist,
+    };
     let checker = ArmInScene {
         arm: bodies,
         world_from_base: &setup.world_from_base,
@@ -161,15 +170,34 @@ pub(crate) fn first_collision(
         object: task.object_body.as_deref(),
         options: &collisions.options,
     };
-    let hit = checker
-        .check(&WholeMotion {
-            q: &branch.q,
-            path: a..a + n,
-            world_from_object_start: &first,
-            world_from_object_end: &last,
-            object_from_wrist,
-        })
-        .hit?;
+    // The hand and what rides with it are checked at the commanded tool poses first; a hit
+    // there is shown with the arm at that pose's IK solution.
+    let tool_hit = checker.check_tool_poses(&ToolMotion {
+        base_from_tool: &targets,
+        object: object.clone(),
+    });
+    // The configuration at the hit's sample and, for a hit between samples, at the next one.
+    let (hit, at_hit, after_hit) = match tool_hit {
+        Some(hit) => {
+            let q = solve_ik(&setup.chain, &targets[hit.sample], &q_start, &task.ik.ik)
+                .ok()?
+                .q?;
+            (hit, q, None)
+        }
+        None => {
+            let result = solve_trajectory(&setup.chain, &targets, &q_start, &task.ik).ok()?;
+            let branch = result.branches.into_iter().next()?;
+            let hit = checker
+                .check(&WholeMotion {
+                    q: &branch.q,
+                    object,
+                })
+                .hit?;
+            let at_hit = branch.q.get(hit.sample)?.clone();
+            let after_hit = branch.q.get(hit.sample + 1).cloned();
+            (hit, at_hit, after_hit)
+        }
+    };
     let (phase, sample) = task.motion_plan().phase_of(hit.sample);
     if (phase, sample) != (failure.phase, failure.sample) || hit.bodies != *expected {
         return None;
@@ -180,7 +208,7 @@ pub(crate) fn first_collision(
         Some((object, d))
     };
     let (q, (world_from_object, distance)) = if hit.between {
-        let (qa, qb) = (&branch.q[hit.sample], branch.q.get(hit.sample + 1)?);
+        let (qa, qb) = (&at_hit, after_hit.as_ref()?);
         (1..BETWEEN_STEPS)
             .filter_map(|k| {
                 let t = k as f64 / BETWEEN_STEPS as f64;
@@ -189,9 +217,8 @@ pub(crate) fn first_collision(
             })
             .min_by(|x, y| x.1 .1.total_cmp(&y.1 .1))?
     } else {
-        let q = branch.q[hit.sample].clone();
-        let found = at(&q)?;
-        (q, found)
+        let found = at(&at_hit)?;
+        (at_hit, found)
     };
     Some(Witness {
         phase,

@@ -2,7 +2,8 @@
 //! brute force over sampled surfaces, and a fine subdivision of motions.
 
 use graspath::collision::{
-    distance, ArmBodies, ArmInScene, Body, CollisionOptions, Scene, SelfPairs, WholeMotion,
+    distance, ArmBodies, ArmInScene, Body, CollisionOptions, ObjectAlong, Scene, SelfPairs,
+    WholeMotion,
 };
 use graspath::geometry::shape::Shape;
 use graspath::robot::builtin::{baxter, Arm};
@@ -182,10 +183,12 @@ fn check_motion(
     }
     .check(&WholeMotion {
         q: motion,
-        path: 0..motion.len(),
-        world_from_object_start: &identity,
-        world_from_object_end: &identity,
-        object_from_wrist: &identity,
+        object: ObjectAlong {
+            path: 0..motion.len(),
+            world_from_object_start: &identity,
+            world_from_object_end: &identity,
+            object_from_wrist: &identity,
+        },
     })
 }
 
@@ -398,4 +401,79 @@ fn a_urdf_link_with_a_mesh_collides_where_its_mesh_is() {
     // Clearance at the samples: the cube's nearest corner to the ball (brute force over the
     // eight corners and the faces is not needed: at both samples the ball is far outside).
     assert!(clear.clearance.unwrap() > 0.3);
+}
+
+/// The check of the tool's commanded poses finds exactly the collisions of the bodies rigid
+/// with the tool (Baxter's wrist, hand and gripper links: no moving joint after them) that
+/// brute force finds at the same poses, and never one of a body that moves with the arm.
+/// Oracle: each such body placed from the link frames at a configuration whose forward
+/// kinematics gives the tool pose, against the scene by the exact distance.
+#[test]
+fn the_tool_pose_check_sees_exactly_the_bodies_rigid_with_the_tool() {
+    use graspath::collision::ToolMotion;
+    use rand::{rngs::StdRng, RngExt, SeedableRng};
+    let arm = baxter_left_bodies();
+    let chain = arm.chain().clone();
+    let last_joint = chain.dof() - 1;
+    let ball = Shape::sphere(0.02).unwrap();
+    let ball_body = Body::from_shape("ball", &ball);
+    let options = CollisionOptions {
+        margin: 0.01,
+        self_collision: false,
+        ..CollisionOptions::default()
+    };
+    let identity = Isometry3::identity();
+    let mut rng = StdRng::seed_from_u64(11);
+    let (mut hits, mut clear) = (0, 0);
+    for _ in 0..200 {
+        let q: Vec<f64> = (0..chain.dof())
+            .map(|j| rng.random_range(chain.lower()[j]..chain.upper()[j]))
+            .collect();
+        let frames = chain.link_frames(&q).unwrap();
+        // A ball near a random link origin: sometimes a wrist or hand link, sometimes not.
+        let near = frames[rng.random_range(3..frames.len())].translation.vector;
+        let offset = [0; 3].map(|_| rng.random_range(-0.1..0.1));
+        let ball_pose =
+            Isometry3::translation(near.x + offset[0], near.y + offset[1], near.z + offset[2]);
+        let scene = Scene::new().with_shape("ball", &ball, ball_pose);
+        let base_from_tool: Isometry3<f64> = nalgebra::convert(chain.pose(&q).unwrap());
+        let checker = ArmInScene {
+            arm: &arm,
+            world_from_base: &identity,
+            scene: &scene,
+            object: None,
+            options: &options,
+        };
+        let hit = checker.check_tool_poses(&ToolMotion {
+            base_from_tool: &[base_from_tool],
+            object: ObjectAlong {
+                path: 0..1,
+                world_from_object_start: &identity,
+                world_from_object_end: &identity,
+                object_from_wrist: &identity,
+            },
+        });
+        let colliding: Vec<String> = arm
+            .bodies()
+            .filter(|(link, _, _)| chain.link_joint(*link) == Some(last_joint))
+            .filter(|(link, link_from_body, body)| {
+                let world_from_body: Isometry3<f64> =
+                    nalgebra::convert(frames[*link] * **link_from_body);
+                distance(body, &world_from_body, &ball_body, &ball_pose) < options.margin
+            })
+            .map(|(_, _, body)| body.name().to_string())
+            .collect();
+        match &hit {
+            Some(h) => {
+                hits += 1;
+                assert!(colliding.contains(&h.bodies[0]), "{h:?} vs {colliding:?}");
+                assert_eq!(h.bodies[1], "obstacle ball");
+            }
+            None => {
+                clear += 1;
+                assert!(colliding.is_empty(), "missed {colliding:?}");
+            }
+        }
+    }
+    assert!(hits >= 10 && clear >= 10, "{hits} hits, {clear} clear");
 }

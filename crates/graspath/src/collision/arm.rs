@@ -34,6 +34,17 @@ pub(crate) struct LinkBody {
     pub hand: bool,
 }
 
+/// Where a link is when that does not depend on the configuration.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum RigidLink {
+    /// Before the first moving joint: `base_from_link`.
+    Base(IsometryMatrix3<f64>),
+    /// Carried rigidly by the tool (no moving joint between them): `tool_from_link`.
+    Tool(IsometryMatrix3<f64>),
+    /// Moved by a joint that the tool is not rigid with.
+    Moving,
+}
+
 /// How self-collision pairs are chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SelfPairs {
@@ -72,6 +83,9 @@ pub struct ArmBodies {
     /// The tip link (the last of [`Chain::link_names`]) and the tool on it.
     pub(crate) tip: usize,
     pub(crate) link_from_tool: IsometryMatrix3<f64>,
+    /// Per link (in [`Chain::link_names`] order): where it is when the configuration does
+    /// not matter.
+    pub(crate) rigid: Vec<RigidLink>,
     pub(crate) self_pairs: Vec<(usize, usize)>,
 }
 
@@ -98,6 +112,14 @@ impl ArmBodies {
             .map_err(|e| CollisionError::Robot(e.to_string()))?;
         let link_from_tool = frames[tip].inverse() * base_from_tool;
         let group = |link: usize| chain.link_joint(link).map_or(0, |j| j + 1);
+        let tool_from_base = base_from_tool.inverse();
+        let rigid = (0..links.len())
+            .map(|link| match group(link) {
+                0 => RigidLink::Base(frames[link]),
+                g if g == group(tip) => RigidLink::Tool(tool_from_base * frames[link]),
+                _ => RigidLink::Moving,
+            })
+            .collect();
         let make = |link: usize, link_from_body: IsometryMatrix3<f64>, body: Body, hand: bool| {
             let (centre, radius) = body.bounding_sphere();
             LinkBody {
@@ -138,6 +160,7 @@ impl ArmBodies {
             bodies,
             tip,
             link_from_tool,
+            rigid,
             self_pairs: Vec::new(),
         };
         arm.self_pairs = arm.choose_self_pairs(disabled, self_pairs)?;

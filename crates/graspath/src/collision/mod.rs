@@ -24,7 +24,8 @@ pub use arm::{ArmBodies, LinkShape, SelfPairs, ALWAYS_FRACTION, SELF_PAIR_SAMPLE
 pub use arms::{check_arms, ArmMotion};
 pub use body::{Body, BodyKind, Table, MAX_OBSTACLE_POINTS};
 pub use motion::{
-    keeps_apart, ArmInScene, CollisionHit, CollisionOptions, MotionCheck, WholeMotion,
+    keeps_apart, ArmInScene, CollisionHit, CollisionOptions, MotionCheck, ObjectAlong, ToolMotion,
+    WholeMotion,
 };
 pub use scene::{Obstacle, Scene, DEFAULT_TABLE_THICKNESS};
 

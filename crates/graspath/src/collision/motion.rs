@@ -25,7 +25,7 @@
 //!   table, resting is allowed) and against the arm's links outside the hand's rigid group;
 //! * the arm's self-collision pairs ([`super::ArmBodies`]), touching is a collision.
 
-use super::arm::ArmBodies;
+use super::arm::{ArmBodies, RigidLink};
 use super::body::{Body, Placed};
 use super::scene::Scene;
 use nalgebra::{Isometry3, IsometryMatrix3};
@@ -62,11 +62,10 @@ impl Default for CollisionOptions {
     }
 }
 
-/// A whole motion of one arm and where the object is along it.
+/// Where the object is along a motion's samples: standing until the grasp, carried by the
+/// tool from the grasp to the place, standing again after it.
 #[derive(Debug, Clone)]
-pub struct WholeMotion<'a> {
-    /// Every configuration in order, approach → path → retreat (rad / m).
-    pub q: &'a [Vec<f64>],
+pub struct ObjectAlong<'a> {
     /// The samples of the object's path: `path.start` is the grasp, `path.end − 1` the place.
     pub path: Range<usize>,
     /// The object's pose at the grasp, world frame.
@@ -75,6 +74,38 @@ pub struct WholeMotion<'a> {
     pub world_from_object_end: &'a Isometry3<f64>,
     /// The grasp: the tool pose in the object frame.
     pub object_from_wrist: &'a Isometry3<f64>,
+}
+
+impl ObjectAlong<'_> {
+    /// The stretches of a motion of `n` samples where the object stands, is carried and
+    /// stands again (the grasp and the place samples belong to both stretches they join).
+    fn stretches(&self, n: usize) -> [(ObjectAt, Range<usize>); 3] {
+        let grasp = self.path.start.min(n.saturating_sub(1));
+        let place = self.path.end.saturating_sub(1).max(grasp);
+        [
+            (ObjectAt::Start, 0..grasp + 1),
+            (ObjectAt::Carried, grasp..place + 1),
+            (ObjectAt::End, place..n),
+        ]
+    }
+}
+
+/// A whole motion of one arm and where the object is along it.
+#[derive(Debug, Clone)]
+pub struct WholeMotion<'a> {
+    /// Every configuration in order, approach → path → retreat (rad / m).
+    pub q: &'a [Vec<f64>],
+    /// Where the object is.
+    pub object: ObjectAlong<'a>,
+}
+
+/// The motion the task commands the tool to make, before any IK: its pose at every sample.
+#[derive(Debug, Clone)]
+pub struct ToolMotion<'a> {
+    /// `base_from_tool` at every sample in order, approach → path → retreat (m).
+    pub base_from_tool: &'a [Isometry3<f64>],
+    /// Where the object is.
+    pub object: ObjectAlong<'a>,
 }
 
 /// The first collision found along a motion.
@@ -172,9 +203,38 @@ struct Slots<'a> {
     /// The carried object on the tip link, `link_from_object`.
     link_from_object: IsometryMatrix3<f64>,
     object_reach: f64,
+    /// The object where it stands before the grasp and after the place, world frame.
+    world_from_object_start: IsometryMatrix3<f64>,
+    world_from_object_end: IsometryMatrix3<f64>,
 }
 
 impl<'a> Slots<'a> {
+    fn new(setup: ArmInScene<'a>, object: &ObjectAlong<'_>) -> Self {
+        let arm = setup.arm;
+        let wrist_from_object: IsometryMatrix3<f64> =
+            nalgebra::convert(object.object_from_wrist.inverse());
+        let link_from_object = arm.link_from_tool * wrist_from_object;
+        let object_reach = setup.object.map_or(0.0, |o| {
+            let (centre, radius) = o.bounding_sphere();
+            (link_from_object * centre).coords.norm() + radius
+        });
+        Slots {
+            setup,
+            world_from_base: nalgebra::convert(*setup.world_from_base),
+            scene: setup
+                .scene
+                .bodies()
+                .iter()
+                .map(|(body, pose)| Placed::new(body, nalgebra::convert(*pose)))
+                .collect(),
+            arm_count: arm.bodies.len(),
+            link_from_object,
+            object_reach,
+            world_from_object_start: nalgebra::convert(*object.world_from_object_start),
+            world_from_object_end: nalgebra::convert(*object.world_from_object_end),
+        }
+    }
+
     fn object_slot(&self) -> usize {
         self.arm_count + self.scene.len()
     }
@@ -255,13 +315,7 @@ impl<'a> Slots<'a> {
     }
 
     /// Slot `i` placed at the configuration with link `frames`.
-    fn slot(
-        &self,
-        i: usize,
-        frames: &[IsometryMatrix3<f64>],
-        at: ObjectAt,
-        motion: &WholeMotion<'_>,
-    ) -> Placed<'a> {
+    fn slot(&self, i: usize, frames: &[IsometryMatrix3<f64>], at: ObjectAt) -> Placed<'a> {
         if i < self.arm_count {
             return self.setup.arm.place(i, &self.world_from_base, frames);
         }
@@ -273,8 +327,8 @@ impl<'a> Slots<'a> {
             .object
             .expect("the object slot exists only with an object");
         let world_from_object: IsometryMatrix3<f64> = match at {
-            ObjectAt::Start => nalgebra::convert(*motion.world_from_object_start),
-            ObjectAt::End => nalgebra::convert(*motion.world_from_object_end),
+            ObjectAt::Start => self.world_from_object_start,
+            ObjectAt::End => self.world_from_object_end,
             ObjectAt::Carried => {
                 self.world_from_base * frames[self.setup.arm.tip] * self.link_from_object
             }
@@ -287,12 +341,20 @@ impl<'a> Slots<'a> {
         &self,
         frames: &[IsometryMatrix3<f64>],
         at: ObjectAt,
-        motion: &WholeMotion<'_>,
         placed: &mut Vec<Placed<'a>>,
     ) {
         placed.clear();
         let count = self.object_slot() + usize::from(self.setup.object.is_some());
-        placed.extend((0..count).map(|i| self.slot(i, frames, at, motion)));
+        placed.extend((0..count).map(|i| self.slot(i, frames, at)));
+    }
+
+    /// Whether slot `i`'s pose follows from the tool's pose alone (a scene body, the object,
+    /// or an arm body on a link rigid with the base or the tool).
+    fn follows_tool(&self, i: usize) -> bool {
+        i >= self.arm_count || {
+            let arm = self.setup.arm;
+            !matches!(arm.rigid[arm.bodies[i].link], RigidLink::Moving)
+        }
     }
 
     /// How far each slot may move between `qa` and `qb` (0 for fixed slots), into `out`.
@@ -392,29 +454,8 @@ struct Buffers<'a> {
 impl ArmInScene<'_> {
     /// Checks a whole motion (see the module documentation).
     pub fn check(&self, motion: &WholeMotion<'_>) -> MotionCheck {
-        let arm = self.arm;
-        let chain = arm.chain();
-        let world_from_base: IsometryMatrix3<f64> = nalgebra::convert(*self.world_from_base);
-        let wrist_from_object: IsometryMatrix3<f64> =
-            nalgebra::convert(motion.object_from_wrist.inverse());
-        let link_from_object = arm.link_from_tool * wrist_from_object;
-        let object_reach = self.object.map_or(0.0, |o| {
-            let (centre, radius) = o.bounding_sphere();
-            (link_from_object * centre).coords.norm() + radius
-        });
-        let slots = Slots {
-            setup: *self,
-            world_from_base,
-            scene: self
-                .scene
-                .bodies()
-                .iter()
-                .map(|(body, pose)| Placed::new(body, nalgebra::convert(*pose)))
-                .collect(),
-            arm_count: arm.bodies.len(),
-            link_from_object,
-            object_reach,
-        };
+        let chain = self.arm.chain();
+        let slots = Slots::new(*self, &motion.object);
         let n = motion.q.len();
         let links = chain.link_names().len();
         let mut frames = vec![vec![IsometryMatrix3::identity(); links]; n];
@@ -427,13 +468,7 @@ impl ArmInScene<'_> {
                 };
             }
         }
-        let grasp = motion.path.start.min(n.saturating_sub(1));
-        let place = motion.path.end.saturating_sub(1).max(grasp);
-        let stretches = [
-            (ObjectAt::Start, 0..grasp + 1),
-            (ObjectAt::Carried, grasp..place + 1),
-            (ObjectAt::End, place..n),
-        ];
+        let stretches = motion.object.stretches(n);
         let mut clearance_entries: Vec<(Known, usize, ObjectAt, usize)> = Vec::new();
         let mut buffers = Buffers {
             placed: Vec::new(),
@@ -453,7 +488,7 @@ impl ArmInScene<'_> {
             let mut previous: Option<usize> = None;
             for s in samples {
                 let b = &mut buffers;
-                slots.place_into(&frames[s], at, motion, &mut b.placed);
+                slots.place_into(&frames[s], at, &mut b.placed);
                 b.known.clear();
                 b.entry.clear();
                 for (p, pair) in pairs.iter().enumerate() {
@@ -502,7 +537,6 @@ impl ArmInScene<'_> {
                             slots: &slots,
                             pair,
                             at,
-                            motion,
                         };
                         if let Some(h) = interval.search(
                             (&motion.q[r], before.value),
@@ -524,11 +558,57 @@ impl ArmInScene<'_> {
             }
         }
         let clearance = (!self.scene.is_empty())
-            .then(|| exact_minimum(&slots, &frames, motion, &mut clearance_entries));
+            .then(|| exact_minimum(&slots, &frames, &mut clearance_entries));
         MotionCheck {
             hit: None,
             clearance,
         }
+    }
+}
+
+impl ArmInScene<'_> {
+    /// Checks, at every sample of the tool's commanded motion, the bodies whose pose follows
+    /// from the tool's alone — the hand, the links rigid with the tool, the carried object —
+    /// against the scene, the standing object and the links rigid with the base, with the
+    /// pairs and distances of [`ArmInScene::check`]. No IK is needed, so a grasp whose hand
+    /// would hit something is refused before the arm is solved; the samples are the commanded
+    /// poses (the arm's reach them to the IK tolerance), and what happens between samples is
+    /// left to [`ArmInScene::check`] on the solved motion.
+    pub fn check_tool_poses(&self, motion: &ToolMotion<'_>) -> Option<CollisionHit> {
+        let arm = self.arm;
+        let slots = Slots::new(*self, &motion.object);
+        let mut frames = vec![IsometryMatrix3::identity(); arm.rigid.len()];
+        let mut placed = Vec::new();
+        for (at, samples) in motion.object.stretches(motion.base_from_tool.len()) {
+            let pairs: Vec<Pair> = slots
+                .pairs(at)
+                .into_iter()
+                .filter(|p| slots.follows_tool(p.a) && slots.follows_tool(p.b))
+                .collect();
+            if pairs.is_empty() {
+                continue;
+            }
+            for s in samples {
+                let base_from_tool: IsometryMatrix3<f64> =
+                    nalgebra::convert(motion.base_from_tool[s]);
+                for (frame, rigid) in frames.iter_mut().zip(&arm.rigid) {
+                    match rigid {
+                        RigidLink::Base(base_from_link) => *frame = *base_from_link,
+                        RigidLink::Tool(tool_from_link) => *frame = base_from_tool * tool_from_link,
+                        RigidLink::Moving => {}
+                    }
+                }
+                slots.place_into(&frames, at, &mut placed);
+                for pair in &pairs {
+                    let (x, y) = (&placed[pair.a], &placed[pair.b]);
+                    let k = measure(pair, x, y, Level::Sphere);
+                    if pair.violated_by(k.value) {
+                        return Some(hit(pair, x, y, k.value, s, false));
+                    }
+                }
+            }
+        }
+        None
     }
 }
 
@@ -538,7 +618,6 @@ impl ArmInScene<'_> {
 fn exact_minimum(
     slots: &Slots<'_>,
     frames: &[Vec<IsometryMatrix3<f64>>],
-    motion: &WholeMotion<'_>,
     entries: &mut [(Known, usize, ObjectAt, usize)],
 ) -> f64 {
     let mut best = entries
@@ -565,8 +644,8 @@ fn exact_minimum(
             .expect("just added")
             .1;
         let pair = &pairs[p];
-        let x = slots.slot(pair.a, &frames[s], at, motion);
-        let y = slots.slot(pair.b, &frames[s], at, motion);
+        let x = slots.slot(pair.a, &frames[s], at);
+        let y = slots.slot(pair.b, &frames[s], at);
         let mut k = measure(pair, &x, &y, known.level.next());
         if k.level == Level::Exact {
             best = best.min(k.value);
@@ -601,7 +680,6 @@ struct Interval<'s, 'a> {
     slots: &'s Slots<'a>,
     pair: &'s Pair,
     at: ObjectAt,
-    motion: &'s WholeMotion<'s>,
 }
 
 impl Interval<'_, '_> {
@@ -623,8 +701,8 @@ impl Interval<'_, '_> {
         let mid: Vec<f64> = qa.iter().zip(qb).map(|(a, b)| 0.5 * (a + b)).collect();
         let chain = self.slots.setup.arm.chain();
         chain.link_frames_into(&mid, frames).ok()?;
-        let x = self.slots.slot(pair.a, frames, self.at, self.motion);
-        let y = self.slots.slot(pair.b, frames, self.at, self.motion);
+        let x = self.slots.slot(pair.a, frames, self.at);
+        let y = self.slots.slot(pair.b, frames, self.at);
         let half = bound / 2.0;
         let mut dm = measure(pair, &x, &y, Level::Cover);
         if dm.level < Level::Exact {

@@ -3,7 +3,8 @@
 //! the grasp for comparison.
 
 use crate::collision::{
-    signed_distance, ArmInScene, Body, CollisionHit, CollisionOptions, WholeMotion,
+    signed_distance, ArmInScene, Body, CollisionHit, CollisionOptions, ObjectAlong, ToolMotion,
+    WholeMotion,
 };
 pub use crate::failure::Failure;
 use crate::failure::{FailureReason, Phase};
@@ -202,6 +203,9 @@ impl WorldSetup<'_> {
 /// out without holding them all. Chunks are scored in parallel (rayon); the results do not
 /// depend on the thread count. `progress` is called once per finished candidate.
 ///
+/// In a scene, the hand and what rides rigidly with it (the links after the last moving
+/// joint, the carried object) are first checked at the commanded tool poses: a grasp whose
+/// hand collides is refused without solving the arm (`ArmInScene::check_tool_poses`).
 /// IK tracks one branch from the first pose of the motion; only when it fails (or collides)
 /// are up to `ik.branches` distinct initial solutions searched and tracked. With
 /// `compare_branches`, every branch is tracked and the one with the best norm is kept (slower,
@@ -367,6 +371,22 @@ fn score_one(
         .copied()
         .unwrap_or_else(Isometry3::identity);
     let last_pose = path.poses().last().copied().unwrap_or(first_pose);
+    let object_along = ObjectAlong {
+        path: before..before + n,
+        world_from_object_start: &first_pose,
+        world_from_object_end: &last_pose,
+        object_from_wrist: &candidate.object_from_wrist,
+    };
+    // The hand and what rides with it collide or not whatever the arm does: no IK for them.
+    if let Some(hit) = checker.as_ref().and_then(|c| {
+        c.check_tool_poses(&ToolMotion {
+            base_from_tool: &targets,
+            object: object_along.clone(),
+        })
+    }) {
+        score.failure = Some(located(collision_failure(&hit)));
+        return score;
+    }
     // Track one branch first; search for more only when it fails or collides, or when every
     // branch is to be compared.
     let first_try = TrajectoryIkOptions {
@@ -428,10 +448,7 @@ fn score_one(
                 Some(checker) => {
                     let check = checker.check(&WholeMotion {
                         q: &branch.q,
-                        path: before..before + n,
-                        world_from_object_start: &first_pose,
-                        world_from_object_end: &last_pose,
-                        object_from_wrist: &candidate.object_from_wrist,
+                        object: object_along.clone(),
                     });
                     if let Some(hit) = check.hit {
                         let failure = located(collision_failure(&hit));

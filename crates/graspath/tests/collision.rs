@@ -199,7 +199,7 @@ fn baxter_left_bodies() -> ArmBodies {
 }
 
 /// The continuous check never misses a collision that a subdivision of the motion into steps
-/// of at most 1 mm of any body's displacement finds (64 seeded random motions of Baxter's left
+/// of at most 1 mm of any body's displacement finds (160 seeded random motions of Baxter's left
 /// arm, each with a 1 cm ball placed near the motion so that many, not all, collide).
 #[test]
 fn the_continuous_check_never_misses_what_a_fine_subdivision_finds() {
@@ -218,7 +218,7 @@ fn the_continuous_check_never_misses_what_a_fine_subdivision_finds() {
     };
     let mut rng = StdRng::seed_from_u64(2026);
     let (mut hits, mut misses) = (0, 0);
-    for _ in 0..64 {
+    for _ in 0..160 {
         let n = chain.dof();
         let qa: Vec<f64> = (0..n)
             .map(|j| rng.random_range(chain.lower()[j]..chain.upper()[j]))

@@ -4,7 +4,7 @@
 use super::bridge;
 use super::CollisionError;
 use crate::geometry::shape::Shape;
-use nalgebra::{Isometry3, IsometryMatrix3, Point3};
+use nalgebra::{Isometry3, IsometryMatrix3, Point3, Vector3};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::SharedShape;
@@ -301,6 +301,49 @@ impl<'a> Placed<'a> {
         bound.max(self.gap(other))
     }
 
+    /// A lower bound of the distance to `other` (m) by separating directions: for a unit `u`,
+    /// no two points of the bodies are nearer than `min_other u·y − max_self u·x` (each the
+    /// height of a support point). The directions are the face normals of either body that is
+    /// a box, turned towards the other body, and the line between the centres: a box's face
+    /// against a large flat obstacle makes the bound exact, where sphere covers are loose.
+    /// `-∞` unless both shapes have closed-form distances and one of them is a box.
+    pub fn separation(&self, other: &Placed<'_>) -> f64 {
+        let (Some(sa), Some(sb)) = (&self.body.primitive, &other.body.primitive) else {
+            return f64::NEG_INFINITY;
+        };
+        let box_axes = |placed: &Placed<'_>, shape: &Shape| match shape {
+            Shape::Box(_) => Some(placed.world_from_body.rotation.into_inner()),
+            _ => None,
+        };
+        let (axes_a, axes_b) = (box_axes(self, sa), box_axes(other, sb));
+        if axes_a.is_none() && axes_b.is_none() {
+            return f64::NEG_INFINITY;
+        }
+        // The largest `u · x` over the body (world frame, unit `u`).
+        let height = |placed: &Placed<'_>, shape: &Shape, u: &Vector3<f64>| {
+            let local = placed.world_from_body.rotation.inverse_transform_vector(u);
+            local.dot(&shape.support(&local).coords)
+                + u.dot(&placed.world_from_body.translation.vector)
+        };
+        // The gap along `u`, with `self` on its negative side.
+        let along = |u: &Vector3<f64>| -height(other, sb, &-u) - height(self, sa, u);
+        let towards = other.centre - self.centre;
+        let mut best = towards
+            .try_normalize(0.0)
+            .map_or(f64::NEG_INFINITY, |u| along(&u));
+        for axes in [axes_a, axes_b].into_iter().flatten() {
+            for axis in axes.column_iter() {
+                let u = if axis.dot(&towards) >= 0.0 {
+                    axis.into_owned()
+                } else {
+                    -axis
+                };
+                best = best.max(along(&u));
+            }
+        }
+        best
+    }
+
     /// The smallest `signed_distance(c) − ρ` over this body's cover spheres, against
     /// `other`, whose shape is `shape`.
     fn cover_to(&self, other: &Placed<'_>, shape: &Shape) -> f64 {
@@ -328,7 +371,7 @@ impl<'a> Placed<'a> {
                 let down = self
                     .world_from_body
                     .rotation
-                    .inverse_transform_vector(&-nalgebra::Vector3::z());
+                    .inverse_transform_vector(&-Vector3::z());
                 Some((self.world_from_body * shape.support(&down)).z - height)
             }
             _ => None,
@@ -531,5 +574,55 @@ mod tests {
             tighter > 400,
             "the cover bound is rarely tighter: {tighter}"
         );
+    }
+
+    #[test]
+    fn the_separation_never_exceeds_the_exact_distance_and_is_exact_face_on() {
+        // Oracle: parry's distance on the converted shapes.
+        let mut rng = StdRng::seed_from_u64(13);
+        let bodies: Vec<Body> = shapes().iter().map(|s| Body::from_shape("s", s)).collect();
+        let mut positive = 0;
+        for _ in 0..4000 {
+            let a = &bodies[rng.random_range(0..bodies.len())];
+            let b = &bodies[rng.random_range(0..bodies.len())];
+            let pa = Placed::new(a, random_pose(&mut rng, 0.4));
+            let pb = Placed::new(b, random_pose(&mut rng, 0.4));
+            let separation = pa.separation(&pb);
+            let exact = pa.distance(&pb);
+            if separation > 0.0 {
+                positive += 1;
+                assert!(
+                    separation <= exact + 1e-9,
+                    "separation {separation} above the distance {exact}"
+                );
+            }
+        }
+        assert!(
+            positive > 400,
+            "the separation is rarely positive: {positive}"
+        );
+        // Face on: a small box (any yaw about the wall's normal) in front of a wall's face is
+        // exactly its distance from the face plane, which sphere covers cannot see.
+        let wall = Body::from_shape("wall", &Shape::cuboid([0.04, 0.8, 0.8]).unwrap());
+        let palm = Body::from_shape("palm", &Shape::cuboid([0.02, 0.06, 0.12]).unwrap());
+        for k in 0..20 {
+            let gap = 0.001 + 0.002 * k as f64;
+            let yaw = 0.3 * k as f64;
+            let palm_pose = Isometry3::from_parts(
+                Translation3::new(0.02 + gap + 0.01, 0.1, -0.05),
+                UnitQuaternion::from_euler_angles(yaw, 0.0, 0.0),
+            );
+            let pw = Placed::new(&wall, IsometryMatrix3::identity());
+            let pp = Placed::new(&palm, nalgebra::convert(palm_pose));
+            // The palm's lowest x: its centre less the half-extent seen along x.
+            let rotation = palm_pose.rotation.to_rotation_matrix();
+            let half = [0.01, 0.03, 0.06];
+            let reach: f64 = (0..3).map(|i| half[i] * rotation[(0, i)].abs()).sum();
+            let expected = palm_pose.translation.x - reach - 0.02;
+            if expected > 0.0 {
+                assert!((pw.separation(&pp) - expected).abs() < 1e-12);
+                assert!((pp.separation(&pw) - expected).abs() < 1e-12);
+            }
+        }
     }
 }

@@ -3,16 +3,18 @@
 //!
 //! **Between samples** the arm moves along the straight line in joint space. For two bodies at
 //! distances `d_a` and `d_b` at the ends of an interval, where no point of either moves more
-//! than `B_1` and `B_2` along it ([`crate::robot::SweepBound`]), the distance inside the
-//! interval is at least `(d_a + d_b − B_1 − B_2) / 2`. When that exceeds the required
-//! distance the interval is clear; otherwise it is halved (the bounds halve with it) and the
-//! middle configuration checked, until the bound is below [`CollisionOptions::resolution`].
-//! So no collision deeper than half the resolution can hide between checked configurations,
-//! and every reported collision has a witness configuration. Distances are first bounded
-//! below by bounding spheres, then by sphere covers ([`Body`]'s few spheres along a box,
-//! cylinder or capsule, against the other body's closed-form point distance); the exact
-//! distance (parry3d) is computed only where neither bound decides. Any lower bound serves in
-//! the interval bound above, so only hits need exact distances.
+//! than `B_1` and `B_2` along it ([`crate::robot::SweepBound`], taken near the configurations
+//! at the interval's ends, where the joint axes and the bodies are known), the distance inside
+//! the interval is at least `(d_a + d_b − B_1 − B_2) / 2`. When that exceeds the required
+//! distance the interval is clear; otherwise it is halved (each half's bound taken near the
+//! middle configuration) and the middle checked, until the bound is below
+//! [`CollisionOptions::resolution`]. So no collision deeper than half the resolution can hide
+//! between checked configurations, and every reported collision has a witness configuration.
+//! Distances are first bounded below by bounding spheres, then by sphere covers ([`Body`]'s
+//! few spheres along a box, cylinder or capsule, against the other body's closed-form point
+//! distance), then by the separation along box face normals; the exact distance (parry3d) is
+//! computed only where no bound decides. Any lower bound serves in the interval bound above,
+//! so only hits need exact distances.
 //!
 //! **Which pairs** (the required distance in brackets):
 //! * every moving arm and hand body against every scene body (`margin`); the links before the
@@ -28,7 +30,8 @@
 use super::arm::{ArmBodies, RigidLink};
 use super::body::{Body, Placed};
 use super::scene::Scene;
-use nalgebra::{Isometry3, IsometryMatrix3};
+use crate::robot::JointAxes;
+use nalgebra::{Isometry3, IsometryMatrix3, Point3, Vector3};
 use std::ops::Range;
 
 /// Collision settings. In a task file: `collision: { margin, self, between_arms,
@@ -158,6 +161,9 @@ enum Level {
     Sphere,
     /// The covers' bound ([`Placed::lower_bound`]): a tighter lower bound.
     Cover,
+    /// The larger of the covers' bound and the separation along a box's face normals
+    /// ([`Placed::separation`]): tighter again where a box faces a flat obstacle.
+    Separation,
     /// The exact distance.
     Exact,
 }
@@ -166,6 +172,7 @@ impl Level {
     fn next(self) -> Self {
         match self {
             Self::Sphere => Self::Cover,
+            Self::Cover => Self::Separation,
             _ => Self::Exact,
         }
     }
@@ -357,19 +364,52 @@ impl<'a> Slots<'a> {
         }
     }
 
-    /// How far each slot may move between `qa` and `qb` (0 for fixed slots), into `out`.
-    fn displacements_into(&self, qa: &[f64], qb: &[f64], at: ObjectAt, out: &mut Vec<f64>) {
+    /// How far slot `i` may move between `qa` and `qb` (0 for fixed slots), bounded near the
+    /// configuration where the slot is `placed` and the joint axes are `axes` (world frame);
+    /// never more than the static bound.
+    fn displacement(
+        &self,
+        i: usize,
+        at: ObjectAt,
+        placed: &Placed<'_>,
+        axes: &[(Point3<f64>, Vector3<f64>)],
+        (qa, qb): (&[f64], &[f64]),
+    ) -> f64 {
         let arm = self.setup.arm;
+        let (link, reach) = if i < self.arm_count {
+            let b = &arm.bodies[i];
+            (b.link, b.reach)
+        } else if i == self.object_slot() && at == ObjectAt::Carried {
+            (arm.tip, self.object_reach)
+        } else {
+            return 0.0;
+        };
+        let sphere = (&placed.centre, placed.body.bounding_sphere().1);
+        arm.sweep()
+            .displacement_near(link, reach, sphere, axes, qa, qb)
+    }
+
+    /// How far each slot may move between the configurations `ends` (0 for fixed slots), into
+    /// `out`: the near bound from whichever end gives the smaller one.
+    fn displacements_into(
+        &self,
+        at: ObjectAt,
+        (placed_a, axes_a): (&[Placed<'_>], &[(Point3<f64>, Vector3<f64>)]),
+        (placed_b, axes_b): (&[Placed<'_>], &[(Point3<f64>, Vector3<f64>)]),
+        ends: (&[f64], &[f64]),
+        out: &mut Vec<f64>,
+    ) {
         out.clear();
-        out.extend((0..self.arm_count).map(|i| arm.displacement(i, qa, qb)));
-        out.extend(std::iter::repeat_n(0.0, self.scene.len()));
-        if self.setup.object.is_some() {
-            out.push(if at == ObjectAt::Carried {
-                arm.sweep().displacement(arm.tip, self.object_reach, qa, qb)
-            } else {
-                0.0
-            });
-        }
+        out.extend(
+            placed_a
+                .iter()
+                .zip(placed_b)
+                .enumerate()
+                .map(|(i, (a, b))| {
+                    let near_a = self.displacement(i, at, a, axes_a, ends);
+                    near_a.min(self.displacement(i, at, b, axes_b, ends))
+                }),
+        );
     }
 }
 
@@ -382,9 +422,10 @@ impl Pair {
 }
 
 /// The distance of a pair at one configuration, refined no less than `at_least`: the
-/// bounding spheres' gap, then the covers' bound (only when positive: a cover bound says
-/// nothing of a penetration depth), then the exact distance — each only when the cheaper
-/// one is below what `at_least` asks for or breaks the pair's requirement.
+/// bounding spheres' gap, then the covers' bound, then the separation along box faces (both
+/// only when positive: a lower bound says nothing of a penetration depth), then the exact
+/// distance — each only when the cheaper one is below what `at_least` asks for or breaks the
+/// pair's requirement.
 fn measure(pair: &Pair, x: &Placed<'_>, y: &Placed<'_>, at_least: Level) -> Known {
     if at_least == Level::Sphere {
         let gap = x.gap(y);
@@ -395,12 +436,19 @@ fn measure(pair: &Pair, x: &Placed<'_>, y: &Placed<'_>, at_least: Level) -> Know
             };
         }
     }
-    if at_least <= Level::Cover {
-        let bound = x.lower_bound(y);
+    if at_least <= Level::Separation {
+        let cover = x.lower_bound(y);
+        if at_least <= Level::Cover && cover > 0.0 && !pair.violated_by(cover) {
+            return Known {
+                value: cover,
+                level: Level::Cover,
+            };
+        }
+        let bound = cover.max(x.separation(y));
         if bound > 0.0 && !pair.violated_by(bound) {
             return Known {
                 value: bound,
-                level: Level::Cover,
+                level: Level::Separation,
             };
         }
     }
@@ -447,8 +495,13 @@ struct Buffers<'a> {
     /// Index in the clearance entries of each pair's value at this sample and the one before.
     entry: Vec<usize>,
     entry_before: Vec<usize>,
+    /// Per slot, how far it may move over the current interval (m).
     moved: Vec<f64>,
+    /// The joint axes at this sample and the one before (world frame).
+    axes: JointAxes,
+    axes_before: JointAxes,
     mid_frames: Vec<IsometryMatrix3<f64>>,
+    mid_axes: JointAxes,
 }
 
 impl ArmInScene<'_> {
@@ -478,7 +531,10 @@ impl ArmInScene<'_> {
             entry: Vec::new(),
             entry_before: Vec::new(),
             moved: Vec::new(),
+            axes: Vec::new(),
+            axes_before: Vec::new(),
             mid_frames: vec![IsometryMatrix3::identity(); links],
+            mid_axes: Vec::new(),
         };
         for (at, samples) in stretches {
             let pairs = slots.pairs(at);
@@ -489,6 +545,9 @@ impl ArmInScene<'_> {
             for s in samples {
                 let b = &mut buffers;
                 slots.place_into(&frames[s], at, &mut b.placed);
+                self.arm
+                    .sweep()
+                    .axes_into(&slots.world_from_base, &frames[s], &mut b.axes);
                 b.known.clear();
                 b.entry.clear();
                 for (p, pair) in pairs.iter().enumerate() {
@@ -507,7 +566,13 @@ impl ArmInScene<'_> {
                     b.known.push(k);
                 }
                 if let Some(r) = previous {
-                    slots.displacements_into(&motion.q[r], &motion.q[s], at, &mut b.moved);
+                    slots.displacements_into(
+                        at,
+                        (&b.placed_before, &b.axes_before),
+                        (&b.placed, &b.axes),
+                        (&motion.q[r], &motion.q[s]),
+                        &mut b.moved,
+                    );
                     for (p, pair) in pairs.iter().enumerate() {
                         let bound = b.moved[pair.a] + b.moved[pair.b];
                         let (mut before, mut now) = (b.known_before[p], b.known[p]);
@@ -542,7 +607,7 @@ impl ArmInScene<'_> {
                             (&motion.q[r], before.value),
                             (&motion.q[s], now.value),
                             bound,
-                            &mut b.mid_frames,
+                            (&mut b.mid_frames, &mut b.mid_axes),
                         ) {
                             return MotionCheck {
                                 hit: Some(CollisionHit { sample: r, ..h }),
@@ -554,6 +619,7 @@ impl ArmInScene<'_> {
                 std::mem::swap(&mut b.placed, &mut b.placed_before);
                 std::mem::swap(&mut b.known, &mut b.known_before);
                 std::mem::swap(&mut b.entry, &mut b.entry_before);
+                std::mem::swap(&mut b.axes, &mut b.axes_before);
                 previous = Some(s);
             }
         }
@@ -614,7 +680,7 @@ impl ArmInScene<'_> {
 
 /// The smallest exact distance among `entries` (lower bounds or exact values), refining only
 /// entries whose bound is below the best exact value found (branch and bound: each
-/// refinement raises an entry's value, and an entry is exact after at most two).
+/// refinement raises an entry's value, and an entry is exact after at most three).
 fn exact_minimum(
     slots: &Slots<'_>,
     frames: &[Vec<IsometryMatrix3<f64>>],
@@ -691,7 +757,7 @@ impl Interval<'_, '_> {
         (qa, da): (&[f64], f64),
         (qb, db): (&[f64], f64),
         bound: f64,
-        frames: &mut [IsometryMatrix3<f64>],
+        (frames, axes): (&mut [IsometryMatrix3<f64>], &mut JointAxes),
     ) -> Option<CollisionHit> {
         let pair = self.pair;
         let clear = 2.0 * pair.required;
@@ -699,24 +765,33 @@ impl Interval<'_, '_> {
             return None;
         }
         let mid: Vec<f64> = qa.iter().zip(qb).map(|(a, b)| 0.5 * (a + b)).collect();
+        let sweep = self.slots.setup.arm.sweep();
         let chain = self.slots.setup.arm.chain();
         chain.link_frames_into(&mid, frames).ok()?;
+        sweep.axes_into(&self.slots.world_from_base, frames, axes);
         let x = self.slots.slot(pair.a, frames, self.at);
         let y = self.slots.slot(pair.b, frames, self.at);
-        let half = bound / 2.0;
+        // Both halves end at the middle and span half the joint change: the near bound from
+        // the middle holds for each.
+        let half = self
+            .slots
+            .displacement(pair.a, self.at, &x, axes, (qa, &mid))
+            + self
+                .slots
+                .displacement(pair.b, self.at, &y, axes, (qa, &mid));
         let mut dm = measure(pair, &x, &y, Level::Cover);
-        if dm.level < Level::Exact {
+        while dm.level < Level::Exact {
             if da + dm.value - half > clear && dm.value + db - half > clear {
-                // The cheap bound proves both halves clear.
+                // A bound short of the exact distance proves both halves clear.
                 return None;
             }
-            dm = measure(pair, &x, &y, Level::Exact);
+            dm = measure(pair, &x, &y, dm.level.next());
         }
         if pair.violated_by(dm.value) {
             return Some(hit(pair, &x, &y, dm.value, 0, true));
         }
-        self.search((qa, da), (&mid, dm.value), half, frames)
-            .or_else(|| self.search((&mid, dm.value), (qb, db), half, frames))
+        self.search((qa, da), (&mid, dm.value), half, (frames, axes))
+            .or_else(|| self.search((&mid, dm.value), (qb, db), half, (frames, axes)))
     }
 }
 

@@ -30,8 +30,8 @@
 use super::arm::{ArmBodies, RigidLink};
 use super::body::{Body, Placed};
 use super::scene::Scene;
-use crate::robot::JointAxes;
-use nalgebra::{Isometry3, IsometryMatrix3, Point3, Vector3};
+use crate::robot::{JointAxes, JointAxis};
+use nalgebra::{Isometry3, IsometryMatrix3};
 use std::ops::Range;
 
 /// Collision settings. In a task file: `collision: { margin, self, between_arms,
@@ -372,7 +372,7 @@ impl<'a> Slots<'a> {
         i: usize,
         at: ObjectAt,
         placed: &Placed<'_>,
-        axes: &[(Point3<f64>, Vector3<f64>)],
+        axes: &[JointAxis],
         (qa, qb): (&[f64], &[f64]),
     ) -> f64 {
         let arm = self.setup.arm;
@@ -394,8 +394,8 @@ impl<'a> Slots<'a> {
     fn displacements_into(
         &self,
         at: ObjectAt,
-        (placed_a, axes_a): (&[Placed<'_>], &[(Point3<f64>, Vector3<f64>)]),
-        (placed_b, axes_b): (&[Placed<'_>], &[(Point3<f64>, Vector3<f64>)]),
+        (placed_a, axes_a): (&[Placed<'_>], &[JointAxis]),
+        (placed_b, axes_b): (&[Placed<'_>], &[JointAxis]),
         ends: (&[f64], &[f64]),
         out: &mut Vec<f64>,
     ) {

@@ -19,7 +19,7 @@ mod trig;
 mod urdf;
 mod urdf_scan;
 
-pub use chain::{Chain, FixedChain, JointAxes, MotionKind, SweepBound};
+pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound};
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{

@@ -34,7 +34,7 @@ mod sweep;
 mod tests;
 
 pub use fixed::FixedChain;
-pub use sweep::{JointAxes, SweepBound};
+pub use sweep::{JointAxes, JointAxis, SweepBound};
 
 /// Largest number of moving joints in one chain (mimic followers included).
 pub const MAX_JOINTS: usize = 64;

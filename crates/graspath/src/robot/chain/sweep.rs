@@ -57,9 +57,12 @@ pub struct SweepBound {
     axis_links: Vec<(usize, IsometryMatrix3<f64>)>,
 }
 
-/// Every moving joint's axis at one configuration: a point on it and its unit direction, in
-/// the frame the link frames were given in ([`SweepBound::axes_into`]).
-pub type JointAxes = Vec<(Point3<f64>, Vector3<f64>)>;
+/// A joint's axis at one configuration: a point on it and its unit direction.
+pub type JointAxis = (Point3<f64>, Vector3<f64>);
+
+/// Every moving joint's axis at one configuration, in the frame the link frames were given
+/// in ([`SweepBound::axes_into`]).
+pub type JointAxes = Vec<JointAxis>;
 
 impl SweepBound {
     /// An upper bound (m) on how far any point within `reach` (m) of link `link`'s origin
@@ -109,7 +112,7 @@ impl SweepBound {
         link: usize,
         reach: f64,
         (centre, radius): (&Point3<f64>, f64),
-        axes: &[(Point3<f64>, Vector3<f64>)],
+        axes: &[JointAxis],
         qa: &[f64],
         qb: &[f64],
     ) -> f64 {

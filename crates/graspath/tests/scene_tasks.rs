@@ -158,6 +158,7 @@ fn srdf_disabled_pairs_are_not_checked() {
 fn scene_sections_that_cannot_be_used_name_their_field() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("broken.stl"), b"solid nothing\nendsolid\n").unwrap();
+    std::fs::write(dir.path().join("hand.urdf"), hand_urdf(FINGER, PALM, 0.04)).unwrap();
     let cases = [
         (
             "scene: { obstacles: [ { name: c, cone: { radius: 0.1 } } ] }\n",
@@ -189,6 +190,32 @@ fn scene_sections_that_cannot_be_used_name_their_field() {
             "collision.resolution",
         ),
         ("gripper: { opening: 0 }\n", "gripper.opening"),
+        (
+            "gripper: { urdf: hand.urdf, root: no_such_link }\n",
+            "gripper.root",
+        ),
+        ("gripper: { urdf: hand.urdf }\n", "gripper.root"),
+        (
+            "gripper: { urdf: missing.urdf, root: hand }\n",
+            "gripper.urdf",
+        ),
+        (
+            "gripper: { urdf: hand.urdf, root: hand, fingers: [thumb] }\n",
+            "gripper.fingers",
+        ),
+        (
+            "gripper: { urdf: hand.urdf, root: hand, open: { left_slide: 0.5 } }\n",
+            "gripper.open.left_slide",
+        ),
+        (
+            "gripper: { urdf: hand.urdf, root: hand, open: { elbow: 0.0 } }\n",
+            "gripper.open.elbow",
+        ),
+        (
+            "gripper: { urdf: hand.urdf, root: hand, opening: 0.08 }\n",
+            "gripper.opening",
+        ),
+        ("gripper: { opening: 0.08, fingers: [a] }\n", "gripper.fingers"),
         ("collision: { margin: 0.01 }\n", "collision"),
         (
             "scene: {}\ncollision: { srdf: bad.srdf }\n",
@@ -424,5 +451,93 @@ fn the_scene_examples_select_grasps_that_keep_their_margins() {
         if task.arms.len() == 2 {
             assert!(!selection.pairs.is_empty(), "{}", file.display());
         }
+    }
+}
+
+/// Finger `[length, width, thickness]` and palm `[x, y, z]` of the URDF hand below (m).
+const FINGER: [f64; 3] = [0.09, 0.02, 0.01];
+const PALM: [f64; 3] = [0.06, 0.11, 0.04];
+
+/// A parallel-jaw hand written as a URDF: a palm box on the root link `hand` behind the
+/// finger roots, and two box fingers on prismatic joints sliding along `±y` up to `travel`
+/// (m), their inner faces at the joint value from the tool axis.
+fn hand_urdf(finger: [f64; 3], palm: [f64; 3], travel: f64) -> String {
+    let [length, width, thickness] = finger;
+    let box_ = |size: [f64; 3]| format!("<box size=\"{} {} {}\"/>", size[0], size[1], size[2]);
+    let finger_link = |name: &str, side: f64| {
+        format!(
+            "<link name=\"{name}\"><collision><origin xyz=\"0 {} {}\"/><geometry>{}</geometry></collision></link>",
+            side * thickness / 2.0,
+            -length / 2.0,
+            box_([width, thickness, length])
+        )
+    };
+    let slide = |name: &str, child: &str, side: f64| {
+        format!(
+            "<joint name=\"{name}\" type=\"prismatic\"><parent link=\"hand\"/><child link=\"{child}\"/>\
+             <axis xyz=\"0 {side} 0\"/><limit lower=\"0\" upper=\"{travel}\" effort=\"1\" velocity=\"1\"/></joint>"
+        )
+    };
+    format!(
+        "<robot name=\"two_jaw\">\
+         <link name=\"hand\"><collision><origin xyz=\"0 0 {}\"/><geometry>{}</geometry></collision></link>\
+         {}{}{}{}</robot>",
+        -length - palm[2] / 2.0,
+        box_(palm),
+        finger_link("left_finger", 1.0),
+        finger_link("right_finger", -1.0),
+        slide("left_slide", "left_finger", 1.0),
+        slide("right_slide", "right_finger", -1.0),
+    )
+}
+
+/// A hand described in a URDF is the gripper its shapes describe. Oracle: the same fingers
+/// and palm given by their sizes (`finger`, `palm`, `opening`): the same opening (the fingers'
+/// distance), the same bodies in the tool frame, and the same selection, candidate by
+/// candidate, in a scene where some grasps collide and some are too wide.
+#[test]
+fn a_urdf_hand_is_the_gripper_its_shapes_describe() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("hand.urdf"), hand_urdf(FINGER, PALM, 0.035)).unwrap();
+    let world = "scene: { table: { height: -0.15 }, obstacles: [ { name: post, cylinder: { radius: 0.03, length: 0.5 }, pose: { xyz: [0.62, 0.1, 0.0] } } ] }\n\
+                 approach: { distance: 0.10, samples: 3 }\n";
+    let sized = format!(
+        "{world}gripper: {{ opening: 0.07, finger: [{}, {}, {}], palm: [{}, {}, {}] }}\n",
+        FINGER[0], FINGER[1], FINGER[2], PALM[0], PALM[1], PALM[2]
+    );
+    let from_urdf = format!("{world}gripper: {{ urdf: hand.urdf, root: hand }}\n");
+    let shape = "{ box: { size: [0.06, 0.06, 0.10] } }";
+    let family = "{ faces: { count: 40 } }";
+    let a = Task::load(&task_file(&dir, -0.10, shape, family, &sized)).unwrap();
+    let b = Task::load(&task_file(&dir, -0.10, shape, family, &from_urdf)).unwrap();
+    let (ga, gb) = (a.gripper.as_ref().unwrap(), b.gripper.as_ref().unwrap());
+    assert!((gb.opening - 0.07).abs() < 1e-9, "opening {}", gb.opening);
+    let (mut ha, mut hb) = (ga.hand_shapes(), gb.hand_shapes());
+    assert_eq!(ha.len(), hb.len());
+    let key = |x: &(String, nalgebra::Isometry3<f64>, graspath::geometry::shape::Shape)| {
+        let t = x.1.translation.vector;
+        (t.y * 1e6).round() as i64 * 1_000_000 + (t.z * 1e6).round() as i64
+    };
+    ha.sort_by_key(key);
+    hb.sort_by_key(key);
+    for (x, y) in ha.iter().zip(&hb) {
+        assert!((x.1.to_homogeneous() - y.1.to_homogeneous()).abs().max() < 1e-12);
+        assert_eq!(x.2, y.2);
+    }
+    let (sa, sb) = (select(&a, &|| {}), select(&b, &|| {}));
+    let reasons = |s: &graspath::select::Selection| -> Vec<Option<FailureReason>> {
+        s.arms[0]
+            .scores
+            .iter()
+            .map(|c| c.failure.as_ref().map(|f| f.reason))
+            .collect()
+    };
+    assert_eq!(reasons(&sa), reasons(&sb));
+    let found = reasons(&sa);
+    assert!(found.contains(&None), "{found:?}");
+    assert!(found.contains(&Some(FailureReason::Collision)), "{found:?}");
+    for (x, y) in sa.arms[0].scores.iter().zip(&sb.arms[0].scores) {
+        assert_eq!(x.norms, y.norms);
+        assert_eq!(x.clearance, y.clearance);
     }
 }

@@ -163,7 +163,8 @@ pub struct StrokeFile {
     pub axis: Option<[f64; 3]>,
 }
 
-/// The gripper: `builtin: baxter`, or an `opening` with optional finger and palm sizes.
+/// The gripper: `builtin: baxter`, an `opening` with optional finger and palm sizes, or a URDF
+/// hand (`urdf`, `root`, `tool_from_root`, `fingers`, `open`).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GripperFile {
@@ -179,6 +180,22 @@ pub struct GripperFile {
     /// Palm box `[x, y, z]` behind the finger roots (m).
     #[serde(default)]
     pub palm: Option<[f64; 3]>,
+    /// A hand described in a URDF (relative to the task file); with `root` alone, the robot's
+    /// own URDF.
+    #[serde(default)]
+    pub urdf: Option<PathBuf>,
+    /// The hand's root link (its frame is the hand's frame).
+    #[serde(default)]
+    pub root: Option<String>,
+    /// Where the hand's root link sits in the tool frame (default: identity).
+    #[serde(default)]
+    pub tool_from_root: Option<PoseSpec>,
+    /// The finger links (default: every link moved by a hand joint).
+    #[serde(default)]
+    pub fingers: Option<Vec<String>>,
+    /// The open hand's joint values by joint name (rad / m; default: each at its upper limit).
+    #[serde(default)]
+    pub open: Option<BTreeMap<String, f64>>,
 }
 
 /// One arm name, a list of names, or `both`.

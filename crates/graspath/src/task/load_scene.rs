@@ -5,11 +5,13 @@
 use super::builder::TaskBuilder;
 use super::error::TaskError;
 use super::file::{GripperFile, StrokeFile, TaskFile};
-use super::scene::{Gripper, SceneSettings, Stroke, DEFAULT_FINGER};
+use super::load::pose;
+use super::scene::{Gripper, GripperBodies, SceneSettings, Stroke};
 use crate::cloud::{load_collision_mesh, read_cloud, read_mesh};
 use crate::collision::{Body, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::{Shape, TriMesh};
-use crate::robot::{CollisionGeometry, RobotError, RobotModel, Srdf};
+use crate::grasp::hand::hand_from_robot;
+use crate::robot::{CollisionGeometry, RobotError, RobotModel, RobotSource, Srdf};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
 
@@ -32,7 +34,7 @@ pub(crate) fn add_world(
         builder = builder.retreat(stroke_from(stroke, source, "retreat")?);
     }
     if let Some(gripper) = &file.gripper {
-        builder = builder.gripper(gripper_from(gripper, source)?);
+        builder = builder.gripper(gripper_from(gripper, source, base_dir, model)?);
     }
     let Some(scene) = scene else {
         return Ok(builder);
@@ -242,35 +244,132 @@ fn stroke_from(stroke: &StrokeFile, source: &str, field: &str) -> Result<Stroke,
     Ok(out)
 }
 
-fn gripper_from(gripper: &GripperFile, source: &str) -> Result<Gripper, TaskError> {
+fn gripper_from(
+    gripper: &GripperFile,
+    source: &str,
+    base_dir: &Path,
+    model: &RobotModel,
+) -> Result<Gripper, TaskError> {
+    let err = |field: &str, message: String| TaskError::new(source, field, message);
+    if gripper.urdf.is_some() || gripper.root.is_some() {
+        return urdf_gripper(gripper, source, base_dir, model);
+    }
+    for (field, given) in [
+        ("gripper.tool_from_root", gripper.tool_from_root.is_some()),
+        ("gripper.fingers", gripper.fingers.is_some()),
+        ("gripper.open", gripper.open.is_some()),
+    ] {
+        if given {
+            return Err(err(
+                field,
+                "belongs to a URDF hand: give urdf and root".into(),
+            ));
+        }
+    }
     let mut out = match (&gripper.builtin, gripper.opening) {
         (Some(name), _) if name == "baxter" => Gripper::baxter(),
         (Some(name), _) => {
-            return Err(TaskError::new(
-                source,
+            return Err(err(
                 "gripper.builtin",
                 format!("unknown gripper '{name}' (built in: baxter)"),
             ))
         }
         (None, Some(opening)) => Gripper::parallel(opening),
         (None, None) => {
-            return Err(TaskError::new(
-                source,
+            return Err(err(
                 "gripper",
-                "give builtin: baxter, or opening: METRES",
+                "give builtin: baxter, opening: METRES, or a URDF hand (urdf, root)".into(),
             ))
         }
     };
-    if gripper.builtin.is_some() && gripper.opening.is_some() {
-        out.opening = gripper.opening.unwrap_or(out.opening);
+    if let Some(opening) = gripper.opening {
+        out.opening = opening;
     }
-    out.finger = gripper.finger.unwrap_or(if gripper.builtin.is_some() {
-        out.finger
-    } else {
-        DEFAULT_FINGER
-    });
-    if gripper.palm.is_some() {
-        out.palm = gripper.palm;
+    if let GripperBodies::Parallel { finger, palm } = &mut out.bodies {
+        if let Some(f) = gripper.finger {
+            *finger = f;
+        }
+        if gripper.palm.is_some() {
+            *palm = gripper.palm;
+        }
     }
     Ok(out)
+}
+
+/// A gripper from a URDF hand: the file's `urdf` (or the robot's own URDF), its `root` link,
+/// opened at `open` (each joint at its upper limit unless named).
+fn urdf_gripper(
+    gripper: &GripperFile,
+    source: &str,
+    base_dir: &Path,
+    model: &RobotModel,
+) -> Result<Gripper, TaskError> {
+    let err = |field: &str, message: String| TaskError::new(source, field, message);
+    for (field, given) in [
+        ("gripper.builtin", gripper.builtin.is_some()),
+        ("gripper.opening", gripper.opening.is_some()),
+        ("gripper.finger", gripper.finger.is_some()),
+        ("gripper.palm", gripper.palm.is_some()),
+    ] {
+        if given {
+            return Err(err(
+                field,
+                "does not apply to a URDF hand (its links are its fingers and palm)".into(),
+            ));
+        }
+    }
+    let Some(root) = &gripper.root else {
+        return Err(err(
+            "gripper.root",
+            "a URDF hand needs its root link (the hand's frame)".into(),
+        ));
+    };
+    let hand = match &gripper.urdf {
+        Some(path) => {
+            let hand_model = RobotSource::urdf(base_dir.join(path))
+                .load()
+                .map_err(|e| err("gripper.urdf", e.to_string()))?;
+            hand_from_robot(&hand_model, root)
+        }
+        None => hand_from_robot(model, root),
+    }
+    .map_err(|e| err("gripper.root", e.to_string()))?;
+    let mut open: Vec<f64> = hand.joints.iter().map(|j| j.upper).collect();
+    for (name, value) in gripper.open.iter().flatten() {
+        let Some(k) = hand.joints.iter().position(|j| j.name == *name) else {
+            return Err(err(
+                &format!("gripper.open.{name}"),
+                format!(
+                    "not a joint of the hand (joints: {})",
+                    hand.joints
+                        .iter()
+                        .map(|j| j.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        };
+        let joint = &hand.joints[k];
+        if !(value.is_finite() && (joint.lower..=joint.upper).contains(value)) {
+            return Err(err(
+                &format!("gripper.open.{name}"),
+                format!(
+                    "{value} is outside the joint's limits [{}, {}]",
+                    joint.lower, joint.upper
+                ),
+            ));
+        }
+        open[k] = *value;
+    }
+    let tool_from_root = match &gripper.tool_from_root {
+        Some(spec) => pose(spec, source, "gripper.tool_from_root")?,
+        None => Isometry3::identity(),
+    };
+    Gripper::from_hand(
+        &hand,
+        &tool_from_root,
+        &open,
+        gripper.fingers.as_deref().unwrap_or_default(),
+    )
+    .map_err(|(field, message)| err(&field, message))
 }

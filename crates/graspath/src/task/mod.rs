@@ -29,6 +29,7 @@ pub use load::{builder_from_file, pose};
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
 pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
 pub use scene::{
-    Collisions, Gripper, SceneSettings, Stroke, WholeMotionPlan, DEFAULT_FINGER, MIN_RESOLUTION,
+    Collisions, Gripper, GripperBodies, GripperLink, SceneSettings, Stroke, WholeMotionPlan,
+    DEFAULT_FINGER, MIN_RESOLUTION,
 };
 pub use settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};

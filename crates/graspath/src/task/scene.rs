@@ -5,9 +5,10 @@
 
 use super::path::ObjectPath;
 use super::settings::{check_count, Limits};
-use crate::collision::{ArmBodies, CollisionOptions, LinkShape, Scene, SelfPairs};
+use crate::collision::{distance, ArmBodies, Body, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::failure::Phase;
 use crate::geometry::shape::Shape;
+use crate::grasp::hand::{Hand, HandJointKind};
 use crate::robot::Chain;
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
 use std::sync::Arc;
@@ -44,18 +45,45 @@ impl Stroke {
     }
 }
 
-/// A parallel gripper: its largest opening and its fingers' size, in the tool frame (the
-/// fingers close along `y`, approach along `z`, and end at the tool origin). In a task file:
-/// `gripper: { opening, finger: [length, width, thickness], palm: [x, y, z] }` or
-/// `gripper: { builtin: baxter }`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A gripper: its opening and its bodies in the tool frame — a parallel gripper's box fingers
+/// (they close along `y`, approach along `z`, and end at the tool origin) and palm, or the
+/// links of a hand described in a URDF, opened. In a task file:
+/// `gripper: { opening, finger: [length, width, thickness], palm: [x, y, z] }`,
+/// `gripper: { builtin: baxter }` or `gripper: { urdf, root, tool_from_root, fingers, open }`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Gripper {
-    /// The largest gap between the inner finger faces (m).
+    /// The largest gap between the inner finger faces (m); for a URDF hand, the smallest
+    /// distance between two of its finger links when open.
     pub opening: f64,
-    /// Finger length along the approach axis, width along `x`, thickness along `y` (m).
-    pub finger: [f64; 3],
-    /// A palm box behind the finger roots, size along `x, y, z` (m), if modelled.
-    pub palm: Option<[f64; 3]>,
+    /// The bodies.
+    pub bodies: GripperBodies,
+}
+
+/// A gripper's bodies ([`Gripper`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum GripperBodies {
+    /// Two box fingers and an optional palm box.
+    Parallel {
+        /// Finger length along the approach axis, width along `x`, thickness along `y` (m).
+        finger: [f64; 3],
+        /// A palm box behind the finger roots, size along `x, y, z` (m), if modelled.
+        palm: Option<[f64; 3]>,
+    },
+    /// The collision shapes of a hand's links at its open configuration.
+    Links(Vec<GripperLink>),
+}
+
+/// One collision shape of a URDF hand's link, open ([`Gripper::from_hand`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GripperLink {
+    /// The link's name.
+    pub link: String,
+    /// The shape's pose in the tool frame (m).
+    pub tool_from_shape: Isometry3<f64>,
+    /// The shape.
+    pub shape: Shape,
+    /// A finger: checked against the object's width, and allowed to touch it at the grasp.
+    pub finger: bool,
 }
 
 /// The default finger size of a gripper given only by its opening (m): 5 cm long, 2 cm wide,
@@ -67,8 +95,10 @@ impl Gripper {
     pub fn parallel(opening: f64) -> Self {
         Self {
             opening,
-            finger: DEFAULT_FINGER,
-            palm: None,
+            bodies: GripperBodies::Parallel {
+                finger: DEFAULT_FINGER,
+                palm: None,
+            },
         }
     }
 
@@ -79,41 +109,135 @@ impl Gripper {
     pub fn baxter() -> Self {
         Self {
             opening: 0.07,
-            finger: [0.09, 0.02, 0.01],
-            palm: Some([0.06, 0.11, 0.1327 - 0.09]),
+            bodies: GripperBodies::Parallel {
+                finger: [0.09, 0.02, 0.01],
+                palm: Some([0.06, 0.11, 0.1327 - 0.09]),
+            },
         }
+    }
+
+    /// A hand's links at configuration `open` (its joints' values, rad / m; the hand's
+    /// [`Hand::link_poses`]), placed by `tool_from_root` (where the hand's root link sits in
+    /// the tool frame). The links named in `fingers` are the fingers (none named: every link
+    /// moved by a hand joint). The opening is the smallest distance between shapes of two
+    /// different finger links. Errors `(field, message)` in task-file spelling.
+    pub fn from_hand(
+        hand: &Hand,
+        tool_from_root: &Isometry3<f64>,
+        open: &[f64],
+        fingers: &[String],
+    ) -> Result<Self, (String, String)> {
+        for name in fingers {
+            if hand.link_index(name).is_none() {
+                return Err((
+                    "gripper.fingers".into(),
+                    format!(
+                        "'{name}' is not a link of the hand (links: {})",
+                        hand.links
+                            .iter()
+                            .map(|l| l.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ));
+            }
+        }
+        // Links moved by a joint: a non-fixed joint on the way from the root.
+        let mut moving = vec![false; hand.links.len()];
+        for (i, link) in hand.links.iter().enumerate() {
+            moving[i] =
+                link.joint.kind != HandJointKind::Fixed || link.parent.is_some_and(|p| moving[p]);
+        }
+        let poses = hand.link_poses(open);
+        let mut links = Vec::new();
+        for (i, link) in hand.links.iter().enumerate() {
+            let finger = if fingers.is_empty() {
+                moving[i]
+            } else {
+                fingers.contains(&link.name)
+            };
+            for shape in &link.shapes {
+                links.push(GripperLink {
+                    link: link.name.clone(),
+                    tool_from_shape: tool_from_root * poses[i] * shape.link_from_shape,
+                    shape: shape.shape.clone(),
+                    finger,
+                });
+            }
+        }
+        let finger_shapes: Vec<&GripperLink> = links.iter().filter(|l| l.finger).collect();
+        let mut opening = f64::INFINITY;
+        for (k, a) in finger_shapes.iter().enumerate() {
+            for b in &finger_shapes[k + 1..] {
+                if a.link != b.link {
+                    let (x, y) = (
+                        Body::from_shape("a", &a.shape),
+                        Body::from_shape("b", &b.shape),
+                    );
+                    opening = opening.min(distance(&x, &a.tool_from_shape, &y, &b.tool_from_shape));
+                }
+            }
+        }
+        if !opening.is_finite() {
+            return Err((
+                "gripper.fingers".into(),
+                "the hand needs collision shapes on at least two finger links".into(),
+            ));
+        }
+        Ok(Self {
+            opening,
+            bodies: GripperBodies::Links(links),
+        })
     }
 
     /// The fingers, open at `opening`, as `(name, tool_from_shape, shape)`.
     pub fn finger_shapes(&self) -> Vec<(String, Isometry3<f64>, Shape)> {
-        let [length, width, thickness] = self.finger;
-        let shape = Shape::cuboid([width, thickness, length]).expect("finger sizes are checked");
-        let y = self.opening / 2.0 + thickness / 2.0;
-        vec![
-            (
-                "left finger".into(),
-                Isometry3::translation(0.0, y, -length / 2.0),
-                shape.clone(),
-            ),
-            (
-                "right finger".into(),
-                Isometry3::translation(0.0, -y, -length / 2.0),
-                shape,
-            ),
-        ]
+        match &self.bodies {
+            GripperBodies::Parallel { finger, .. } => {
+                let [length, width, thickness] = *finger;
+                let shape =
+                    Shape::cuboid([width, thickness, length]).expect("finger sizes are checked");
+                let y = self.opening / 2.0 + thickness / 2.0;
+                vec![
+                    (
+                        "left finger".into(),
+                        Isometry3::translation(0.0, y, -length / 2.0),
+                        shape.clone(),
+                    ),
+                    (
+                        "right finger".into(),
+                        Isometry3::translation(0.0, -y, -length / 2.0),
+                        shape,
+                    ),
+                ]
+            }
+            GripperBodies::Links(links) => links
+                .iter()
+                .filter(|l| l.finger)
+                .map(|l| (l.link.clone(), l.tool_from_shape, l.shape.clone()))
+                .collect(),
+        }
     }
 
-    /// Every hand body (fingers, and the palm when modelled), tool frame.
+    /// Every hand body (fingers, and the palm or the hand's other links), tool frame.
     pub fn hand_shapes(&self) -> Vec<(String, Isometry3<f64>, Shape)> {
-        let mut shapes = self.finger_shapes();
-        if let Some(palm) = self.palm {
-            shapes.push((
-                "palm".into(),
-                Isometry3::translation(0.0, 0.0, -self.finger[0] - palm[2] / 2.0),
-                Shape::cuboid(palm).expect("palm sizes are checked"),
-            ));
+        match &self.bodies {
+            GripperBodies::Parallel { finger, palm } => {
+                let mut shapes = self.finger_shapes();
+                if let Some(palm) = palm {
+                    shapes.push((
+                        "palm".into(),
+                        Isometry3::translation(0.0, 0.0, -finger[0] - palm[2] / 2.0),
+                        Shape::cuboid(*palm).expect("palm sizes are checked"),
+                    ));
+                }
+                shapes
+            }
+            GripperBodies::Links(links) => links
+                .iter()
+                .map(|l| (l.link.clone(), l.tool_from_shape, l.shape.clone()))
+                .collect(),
         }
-        shapes
     }
 
     /// Checks every size; the error names the field.
@@ -129,12 +253,14 @@ impl Gripper {
             }
         };
         positive("gripper.opening".into(), self.opening)?;
-        for (k, v) in self.finger.iter().enumerate() {
-            positive(format!("gripper.finger[{k}]"), *v)?;
-        }
-        if let Some(palm) = self.palm {
-            for (k, v) in palm.iter().enumerate() {
-                positive(format!("gripper.palm[{k}]"), *v)?;
+        if let GripperBodies::Parallel { finger, palm } = &self.bodies {
+            for (k, v) in finger.iter().enumerate() {
+                positive(format!("gripper.finger[{k}]"), *v)?;
+            }
+            if let Some(palm) = palm {
+                for (k, v) in palm.iter().enumerate() {
+                    positive(format!("gripper.palm[{k}]"), *v)?;
+                }
             }
         }
         Ok(())

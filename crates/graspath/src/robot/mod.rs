@@ -23,7 +23,8 @@ pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound}
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{
-    solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution, JointPath, TrajectoryIkOptions,
+    optimize_self_motion, solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution, JointPath,
+    KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath, TrajectoryIkOptions,
     TrajectoryIkResult,
 };
 pub use source::{RobotModel, RobotSource};

@@ -22,8 +22,12 @@
 //! is what stops the search.
 
 pub(crate) mod kernel;
+mod self_motion;
 mod trajectory;
 
+pub use self_motion::{
+    optimize_self_motion, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
+};
 pub use trajectory::{solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult};
 
 use super::chain::{Chain, MAX_JOINTS};

@@ -360,3 +360,32 @@ fn collision_primitives_form_a_connected_arm_above_the_base_plane() {
         }
     }
 }
+
+/// `robot: {builtin: NAME}` in a task file: the single chain is found by default, by
+/// `arms: arm` and by `arms: all`, and a scene builds the arm's bodies from the primitives.
+#[test]
+fn task_files_name_single_arm_builtin_robots() {
+    let dir = tempfile::tempdir().unwrap();
+    // Gen3 without a scene: the collision set-up samples joints between their limits, which
+    // a continuous joint does not have (left to the collision module).
+    let table = "scene: { table: { height: 0.0 } }\n";
+    for (robot, arms, scene) in [
+        ("panda", "", table),
+        ("ur5e", "arms: arm\n", table),
+        ("gen3", "arms: all\n", ""),
+    ] {
+        let text = format!(
+            "robot: {{ builtin: {robot} }}\n{arms}\
+             object:\n  pose: {{ xyz: [0.45, 0.0, 0.2] }}\n  shape: {{ box: {{ size: [0.05, 0.05, 0.1] }} }}\n\
+             candidates:\n  family: {{ edge: {{ count: 3 }} }}\n\
+             trajectory:\n  samples_per_step: 3\n  steps:\n    - {{ lift: 0.1 }}\n{scene}"
+        );
+        let path = dir.path().join(format!("{robot}.yaml"));
+        std::fs::write(&path, text).unwrap();
+        let task = graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{robot}: {e}"));
+        assert_eq!(task.robot_name, robot);
+        assert_eq!(task.arms.len(), 1);
+        assert_eq!(task.arms[0].name, ARM_CHAIN);
+        assert_eq!(task.arms[0].bodies.is_some(), !scene.is_empty(), "{robot}");
+    }
+}

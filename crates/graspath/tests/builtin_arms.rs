@@ -45,7 +45,7 @@ struct Dh {
 
 impl Dh {
     /// The tool pose and the frames `(origin, z)` of every joint axis, in the base frame.
-    fn frames(&self, q: &[f64]) -> (Matrix4<f64>, Vec<(Vector3<f64>, Vector3<f64>)>) {
+    fn frames(&self, q: &[f64]) -> (Matrix4<f64>, Vec<Axis>) {
         let mut t = self.base;
         let mut axes = Vec::new();
         for (&(d, a, alpha, offset), &qi) in self.rows.iter().zip(q) {
@@ -79,7 +79,10 @@ impl Dh {
     }
 }
 
-fn axis_of(t: &Matrix4<f64>) -> (Vector3<f64>, Vector3<f64>) {
+/// A joint axis: a point on it (its frame's origin) and its direction, base frame.
+type Axis = (Vector3<f64>, Vector3<f64>);
+
+fn axis_of(t: &Matrix4<f64>) -> Axis {
     (
         Vector3::new(t[(0, 3)], t[(1, 3)], t[(2, 3)]),
         Vector3::new(t[(0, 2)], t[(1, 2)], t[(2, 2)]),

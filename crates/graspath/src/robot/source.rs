@@ -156,7 +156,11 @@ impl RobotModel {
     /// [`RobotModel::chain`]).
     pub fn chain_names(&self) -> Vec<String> {
         match &self.kind {
-            Kind::Builtin(robot) => robot.chain_names().iter().map(|s| s.to_string()).collect(),
+            Kind::Builtin(robot) => robot
+                .chain_names()
+                .iter()
+                .map(ToString::to_string)
+                .collect(),
             Kind::Urdf { .. } => Vec::new(),
         }
     }

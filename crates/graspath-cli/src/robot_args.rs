@@ -19,12 +19,13 @@ pub struct RobotArgs {
     /// The chain's tip link.
     #[arg(long, value_name = "LINK")]
     pub tip: Option<String>,
-    /// A built-in robot: `baxter`.
+    /// A built-in robot: baxter, panda, fr3, ur5, ur10, ur5e, ur10e, iiwa14, xarm7, gen3.
     #[arg(long, value_name = "NAME")]
     pub robot: Option<String>,
-    /// The arm of a built-in robot: `left` or `right`.
-    #[arg(long, value_name = "ARM", default_value = "left")]
-    pub arm: String,
+    /// The chain of a built-in robot: `left` or `right` for Baxter, `arm` for the others
+    /// (default: the robot's first chain).
+    #[arg(long, value_name = "ARM")]
+    pub arm: Option<String>,
     /// A tool offset after the tip, `x,y,z` in metres in the tip frame.
     #[arg(long, value_name = "X,Y,Z", value_delimiter = ',')]
     pub tool_xyz: Option<Vec<f64>>,
@@ -70,11 +71,15 @@ impl RobotArgs {
                 let model = RobotSource::builtin(name.as_str())
                     .load()
                     .map_err(|e| bad_input!("--robot: {e}"))?;
+                let arm = match &self.arm {
+                    Some(arm) => arm.clone(),
+                    None => model.chain_names().first().cloned().unwrap_or_default(),
+                };
                 Ok(model
-                    .named_chain(&self.arm, tool)
+                    .named_chain(&arm, tool)
                     .map_err(|e| bad_input!("--arm: {e}"))?)
             }
-            _ => Err(bad_input!("choose a robot: --robot baxter --arm left|right, or --urdf FILE --base LINK --tip LINK")),
+            _ => Err(bad_input!("choose a robot: --robot NAME (e.g. --robot baxter --arm left, --robot ur5e), or --urdf FILE --base LINK --tip LINK")),
         }
     }
 }

@@ -95,6 +95,31 @@ fn kinematics_reports_the_line_at_fault() {
 }
 
 #[test]
+fn kinematics_of_a_single_arm_builtin_robot() {
+    // UR5e at q = 0: the published DH table in closed form puts tool0 at
+    // (a2 + a3, -(d4 + d6), d1 - d5).
+    let o = graspath(
+        &["kinematics", "--robot", "ur5e"],
+        Some("{\"q\":[0,0,0,0,0,0]}\n"),
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let pose = &out["pose"];
+    let expected = [-0.425 - 0.3922, -(0.1333 + 0.0996), 0.1625 - 0.0997];
+    for (row, value) in expected.iter().enumerate() {
+        let got = pose[row][3].as_f64().unwrap();
+        assert!((got - value).abs() < 1e-12, "{row}: {got} vs {value}");
+    }
+    let o = graspath(
+        &["kinematics", "--robot", "panda", "--arm", "left"],
+        Some(""),
+        None,
+    );
+    assert_clean_failure(&o, &["--arm", "no chain named 'left' (chains: arm)"]);
+}
+
+#[test]
 fn select_is_byte_identical_at_any_thread_count() {
     let dir = tempfile::tempdir().unwrap();
     let task = write(dir.path(), "task.yaml", SMALL_TASK);

@@ -177,6 +177,23 @@ impl PyRobot {
         Ok(Self::new(model.named_chain(arm, tool).map_err(error)?))
     }
 
+    /// A built-in robot's chain: ``name`` is one of ``baxter``, ``panda``, ``fr3``, ``ur5``,
+    /// ``ur10``, ``ur5e``, ``ur10e``, ``iiwa14``, ``xarm7``, ``gen3``; ``arm`` names the chain
+    /// (``left``/``right`` for Baxter, ``arm`` for the others; default: the first). The chain
+    /// runs from the robot's base to its documented tool frame (Panda: ``panda_hand_tcp``,
+    /// UR: ``tool0``), optionally followed by ``tool`` = ``tip_from_tool`` (4×4, metres).
+    #[staticmethod]
+    #[pyo3(signature = (name, arm = None, tool = None))]
+    fn builtin(name: &str, arm: Option<&str>, tool: Option<FloatArray<'_>>) -> PyResult<Self> {
+        let tool = tool_pose(tool)?;
+        let model = RobotSource::builtin(name).load().map_err(error)?;
+        let arm = match arm {
+            Some(arm) => arm.to_string(),
+            None => model.chain_names().first().cloned().unwrap_or_default(),
+        };
+        Ok(Self::new(model.named_chain(&arm, tool).map_err(error)?))
+    }
+
     /// The chain ``base_link`` → ``tip_link`` of a URDF file, optionally with a tool offset
     /// ``tool`` = ``tip_from_tool`` (4×4, metres). Link geometry is ignored.
     #[staticmethod]

@@ -246,3 +246,21 @@ def test_out_arrays_are_filled_and_returned(left):
         left.fk(q, out=np.empty((300, 4, 4), dtype=np.float32))
     with pytest.raises(graspath.GraspathError, match="C-contiguous"):
         left.fk(q, out=np.empty((300, 4, 8))[:, :, ::2])
+
+
+def test_builtin_arms():
+    # UR5e at q = 0: the DH table in closed form puts tool0 at (a2 + a3, -(d4 + d6), d1 - d5).
+    ur5e = graspath.Robot.builtin("ur5e")
+    assert ur5e.dof == 6 and ur5e.tip_link == "tool0"
+    np.testing.assert_allclose(
+        ur5e.fk(np.zeros(6))[:3, 3], [-0.425 - 0.3922, -(0.1333 + 0.0996), 0.1625 - 0.0997], atol=1e-12
+    )
+    assert graspath.Robot.builtin("panda").tip_link == "panda_hand_tcp"
+    q = graspath.Robot.baxter("right").mid_configuration()
+    np.testing.assert_array_equal(
+        graspath.Robot.builtin("baxter", "right").fk(q), graspath.Robot.baxter("right").fk(q)
+    )
+    with pytest.raises(graspath.GraspathError, match="did you mean: panda"):
+        graspath.Robot.builtin("pand")
+    with pytest.raises(graspath.GraspathError, match="arm"):
+        graspath.Robot.builtin("ur5e", "left")

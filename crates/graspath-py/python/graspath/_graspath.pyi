@@ -30,6 +30,15 @@ class Robot:
     def baxter(arm: Literal["left", "right"] = "left", tool: Optional[ArrayLike] = None) -> Robot:
         """One arm of the built-in Baxter (``base`` → ``{arm}_gripper``); ``tool`` = ``tip_from_tool``."""
     @staticmethod
+    def builtin(
+        name: Literal[
+            "baxter", "panda", "fr3", "ur5", "ur10", "ur5e", "ur10e", "iiwa14", "xarm7", "gen3"
+        ],
+        arm: Optional[str] = None,
+        tool: Optional[ArrayLike] = None,
+    ) -> Robot:
+        """A built-in robot's chain (``arm``: ``left``/``right`` for Baxter, ``arm`` otherwise), base to tool frame."""
+    @staticmethod
     def from_urdf(
         path: StrPath, base_link: str, tip_link: str, tool: Optional[ArrayLike] = None
     ) -> Robot:

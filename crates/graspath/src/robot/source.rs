@@ -4,6 +4,9 @@
 //!
 //! ```
 //! use graspath::robot::RobotSource;
+//! // A single-arm built-in robot has one chain, `arm`:
+//! let panda = RobotSource::builtin("panda").load()?;
+//! assert_eq!(panda.named_chain("arm", None)?.tip_link(), "panda_hand_tcp");
 //! // From a task file's `robot: {builtin: baxter}` and `arms: left`:
 //! let model = RobotSource::builtin("baxter").load()?;
 //! let left = model.named_chain("left", None)?;
@@ -17,7 +20,7 @@
 //! # Ok::<(), graspath::robot::RobotError>(())
 //! ```
 
-use super::builtin::{baxter_collisions, baxter_spec, Arm, BAXTER_SOURCE};
+use super::builtin::{BuiltinRobot, BUILTIN_NAMES};
 use super::chain::Chain;
 use super::collision::{LinkCollisions, MeshResolver};
 use super::error::RobotError;
@@ -26,13 +29,13 @@ use super::urdf::{closest_names, UrdfRobot};
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 
-/// The built-in robots' names.
-pub const BUILTIN_ROBOTS: [&str; 1] = ["baxter"];
+/// The built-in robots' names (see [`super::builtin`]).
+pub const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
 
 /// Where a robot comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum RobotSource {
-    /// A built-in model by name (`baxter`).
+    /// A built-in model by name (`baxter`, `panda`, `ur5e`, …: [`BUILTIN_ROBOTS`]).
     Builtin(String),
     /// A URDF file; `search_paths` are tried first when resolving `package://` and
     /// `model://` mesh URIs (then `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH`, the file's folder).
@@ -62,15 +65,17 @@ impl RobotSource {
     /// read and checked (see [`UrdfRobot`]). Meshes are not read.
     pub fn load(&self) -> Result<RobotModel, RobotError> {
         match self {
-            RobotSource::Builtin(name) if name == "baxter" => Ok(RobotModel {
-                source_name: BAXTER_SOURCE.to_string(),
-                kind: Kind::Baxter,
-            }),
-            RobotSource::Builtin(name) => Err(RobotError::UnknownRobot {
-                name: name.clone(),
-                known: BUILTIN_ROBOTS.iter().map(ToString::to_string).collect(),
-                suggestions: closest_names(name, BUILTIN_ROBOTS.to_vec()),
-            }),
+            RobotSource::Builtin(name) => match BuiltinRobot::from_name(name) {
+                Some(robot) => Ok(RobotModel {
+                    source_name: robot.source_name(),
+                    kind: Kind::Builtin(robot),
+                }),
+                None => Err(RobotError::UnknownRobot {
+                    name: name.clone(),
+                    known: BUILTIN_ROBOTS.iter().map(ToString::to_string).collect(),
+                    suggestions: closest_names(name, BUILTIN_ROBOTS.to_vec()),
+                }),
+            },
             RobotSource::Urdf { path, search_paths } => {
                 let robot = UrdfRobot::from_file(path)?;
                 let base_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -88,7 +93,7 @@ impl RobotSource {
 
 #[derive(Debug, Clone)]
 enum Kind {
-    Baxter,
+    Builtin(BuiltinRobot),
     Urdf {
         robot: Box<UrdfRobot>,
         meshes: MeshResolver,
@@ -104,10 +109,10 @@ pub struct RobotModel {
 }
 
 impl RobotModel {
-    /// The robot's name: `baxter`, or the URDF `<robot name>`.
+    /// The robot's name: the built-in name (`baxter`, `panda`, …), or the URDF `<robot name>`.
     pub fn name(&self) -> &str {
         match &self.kind {
-            Kind::Baxter => "baxter",
+            Kind::Builtin(robot) => robot.name(),
             Kind::Urdf { robot, .. } => robot.name(),
         }
     }
@@ -119,14 +124,22 @@ impl RobotModel {
 
     /// Whether this is a built-in model.
     pub fn is_builtin(&self) -> bool {
-        matches!(self.kind, Kind::Baxter)
+        matches!(self.kind, Kind::Builtin(_))
+    }
+
+    /// The built-in robot, if this is one.
+    pub fn builtin(&self) -> Option<BuiltinRobot> {
+        match self.kind {
+            Kind::Builtin(robot) => Some(robot),
+            Kind::Urdf { .. } => None,
+        }
     }
 
     /// The parsed URDF, for a URDF robot.
     pub fn urdf(&self) -> Option<&UrdfRobot> {
         match &self.kind {
             Kind::Urdf { robot, .. } => Some(robot),
-            Kind::Baxter => None,
+            Kind::Builtin(_) => None,
         }
     }
 
@@ -134,15 +147,20 @@ impl RobotModel {
     pub fn mesh_resolver(&self) -> Option<&MeshResolver> {
         match &self.kind {
             Kind::Urdf { meshes, .. } => Some(meshes),
-            Kind::Baxter => None,
+            Kind::Builtin(_) => None,
         }
     }
 
-    /// The chains known by name: `left` and `right` for Baxter, none for a URDF robot (give
-    /// base and tip links to [`RobotModel::chain`]).
+    /// The chains known by name: `left` and `right` for Baxter, `arm` for a single-arm
+    /// built-in robot, none for a URDF robot (give base and tip links to
+    /// [`RobotModel::chain`]).
     pub fn chain_names(&self) -> Vec<String> {
         match &self.kind {
-            Kind::Baxter => vec!["left".into(), "right".into()],
+            Kind::Builtin(robot) => robot
+                .chain_names()
+                .iter()
+                .map(ToString::to_string)
+                .collect(),
             Kind::Urdf { .. } => Vec::new(),
         }
     }
@@ -155,25 +173,25 @@ impl RobotModel {
         tip_from_tool: Option<Isometry3<f64>>,
     ) -> Result<Chain, RobotError> {
         let known = self.chain_names();
-        let arm = match (&self.kind, name) {
-            (Kind::Baxter, "left") => Arm::Left,
-            (Kind::Baxter, "right") => Arm::Right,
-            _ => {
-                return Err(RobotError::UnknownChain {
-                    source_name: self.source_name.clone(),
-                    chain: name.to_string(),
-                    suggestions: closest_names(name, known.iter().map(String::as_str).collect()),
-                    known,
-                })
-            }
+        let spec = match &self.kind {
+            Kind::Builtin(robot) => robot.chain_spec(name),
+            Kind::Urdf { .. } => None,
         };
-        let mut spec = baxter_spec(arm);
+        let Some(mut spec) = spec else {
+            return Err(RobotError::UnknownChain {
+                source_name: self.source_name.clone(),
+                chain: name.to_string(),
+                suggestions: closest_names(name, known.iter().map(String::as_str).collect()),
+                known,
+            });
+        };
         spec.tip_from_tool = tip_from_tool;
         Chain::from_spec(&spec)
     }
 
-    /// The chain from `base_link` down to `tip_link`, with an optional tool offset. For the
-    /// built-in Baxter, any stretch of either arm's chain (`base` … `{arm}_gripper`).
+    /// The chain from `base_link` down to `tip_link`, with an optional tool offset. For a
+    /// built-in robot, any stretch of one of its named chains (Baxter: `base` …
+    /// `{arm}_gripper`; Panda: `panda_link0` … `panda_hand_tcp`).
     pub fn chain(
         &self,
         base_link: &str,
@@ -182,25 +200,25 @@ impl RobotModel {
     ) -> Result<Chain, RobotError> {
         match &self.kind {
             Kind::Urdf { robot, .. } => robot.chain(base_link, tip_link, tip_from_tool),
-            Kind::Baxter => {
-                let mut spec = builtin_sub_chain(base_link, tip_link, &self.link_names())?;
+            Kind::Builtin(robot) => {
+                let mut spec = builtin_sub_chain(*robot, base_link, tip_link, &self.link_names())?;
                 spec.tip_from_tool = tip_from_tool;
                 Chain::from_spec(&spec)
             }
         }
     }
 
-    /// Every link name (URDF: file order; built-in: base, then each arm's chain links).
+    /// Every link name (URDF: file order; built-in: base, then each chain's links).
     pub fn link_names(&self) -> Vec<String> {
         match &self.kind {
             Kind::Urdf { robot, .. } => {
                 robot.link_names().iter().map(ToString::to_string).collect()
             }
-            Kind::Baxter => {
+            Kind::Builtin(robot) => {
                 let mut names = Vec::new();
-                for arm in [Arm::Left, Arm::Right] {
-                    for name in Chain::from_spec(&baxter_spec(arm))
-                        .expect("the built-in Baxter model is valid")
+                for spec in robot.chain_specs() {
+                    for name in Chain::from_spec(&spec)
+                        .expect("the built-in models are valid")
                         .link_names()
                     {
                         if !names.contains(name) {
@@ -214,24 +232,25 @@ impl RobotModel {
     }
 
     /// The collision geometry of every link that has any: a URDF robot's `<collision>`
-    /// elements (mesh URIs resolved, not read), or a built-in model's published primitives
-    /// ([`super::builtin::baxter_collisions`]).
+    /// elements (mesh URIs resolved, not read), or a built-in model's primitives
+    /// ([`BuiltinRobot::collisions`]).
     pub fn collisions(&self) -> Result<Vec<LinkCollisions>, RobotError> {
         match &self.kind {
             Kind::Urdf { robot, meshes } => robot.collisions(meshes),
-            Kind::Baxter => Ok(baxter_collisions()),
+            Kind::Builtin(robot) => Ok(robot.collisions()),
         }
     }
 }
 
-/// The stretch `base_link → tip_link` of one of Baxter's arm chains.
+/// The stretch `base_link → tip_link` of one of a built-in robot's chains.
 fn builtin_sub_chain(
+    robot: BuiltinRobot,
     base_link: &str,
     tip_link: &str,
     all_links: &[String],
 ) -> Result<ChainSpec, RobotError> {
     let unknown = |link: &str, role: &'static str| RobotError::UnknownLink {
-        source_name: BAXTER_SOURCE.to_string(),
+        source_name: robot.source_name(),
         link: link.to_string(),
         role,
         suggestions: closest_names(link, all_links.iter().map(String::as_str).collect()),
@@ -242,8 +261,7 @@ fn builtin_sub_chain(
     if !all_links.iter().any(|l| l == tip_link) {
         return Err(unknown(tip_link, "tip"));
     }
-    for arm in [Arm::Left, Arm::Right] {
-        let mut spec = baxter_spec(arm);
+    for mut spec in robot.chain_specs() {
         // Link k of the chain is the child of joint k − 1 (link 0 is the base).
         let position = |link: &str| {
             if link == spec.base_link {
@@ -264,10 +282,14 @@ fn builtin_sub_chain(
             }
         }
     }
+    let root = robot
+        .chain_specs()
+        .first()
+        .map_or_else(String::new, |s| s.base_link.clone());
     Err(RobotError::TipNotBelowBase {
-        source_name: BAXTER_SOURCE.to_string(),
+        source_name: robot.source_name(),
         base: base_link.to_string(),
         tip: tip_link.to_string(),
-        root: "base".into(),
+        root,
     })
 }

@@ -1,5 +1,3 @@
-//! Built-in robot models written from published kinematic parameters.
-//!
 //! **Baxter** (Rethink Robotics): both 7-DOF arms from the `base` link to the electric
 //! gripper's tool frame (`left_gripper` / `right_gripper`), with the joint origins, axes and
 //! limits published in Rethink's `baxter_description` (torso mount, shoulder `s0 s1`, elbow
@@ -10,12 +8,13 @@
 // verbatim so the model equals the published one to the last digit.
 #![allow(clippy::approx_constant)]
 
-use super::chain::Chain;
-use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
-use super::error::RobotError;
-use super::spec::{ChainSpec, JointKind, JointSpec};
+use super::origin;
 use crate::geometry::shape::Shape;
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use crate::robot::chain::Chain;
+use crate::robot::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
+use crate::robot::error::RobotError;
+use crate::robot::spec::{ChainSpec, JointKind, JointSpec};
+use nalgebra::{Isometry3, Vector3};
 use std::fmt;
 use std::str::FromStr;
 
@@ -71,13 +70,6 @@ const BAXTER_LIMITS: [(f64, f64); 7] = [
     (-1.57079632679, 2.094),
     (-3.059, 3.059),
 ];
-
-fn origin(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
-    Isometry3::from_parts(
-        Translation3::new(xyz[0], xyz[1], xyz[2]),
-        UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
-    )
-}
 
 fn fixed(name: &str, child: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
     JointSpec {

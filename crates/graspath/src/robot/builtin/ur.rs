@@ -1,0 +1,223 @@
+//! **Universal Robots** UR5 and UR10 (CB3) and UR5e and UR10e (e-Series): one 6-DOF arm from
+//! `base` to `tool0`.
+//!
+//! Kinematics: Universal Robots' published standard DH parameters ("DH parameters for
+//! calculations of kinematics and dynamics"), `α = (π/2, 0, 0, π/2, −π/2, 0)`, `a₁ = a₄ = a₅
+//! = a₆ = 0`, `d₂ = d₃ = 0`, and per model the `d₁ a₂ a₃ d₄ d₅ d₆` of [`UR_DH`]; joint
+//! limits ±2π (±360° on every joint, the datasheets' working range). Turned into joint
+//! origins by [`super::dh_rows`]: link `i`'s frame is DH frame `i − 1` turned by `qᵢ`.
+//!
+//! **Base and tool frames**: `base` is the controller's base frame (the DH frame 0; ROS's
+//! `ur_description` calls it `base` too, and its `base_link` is `base` turned by π about
+//! `z`). `tool0` is the DH frame 6, the centre of the tool flange with `z` out of the flange
+//! (ROS's `tool0`, the controller's TCP with a zero TCP offset). A tool offset follows
+//! `tool0`.
+//!
+//! Collision primitives (approximations): a cylinder for the fixed base, and capsules along
+//! the physical shoulder, upper-arm tube, elbow, forearm tube and wrists. The tubes lie off
+//! the DH lines along the joint axes: the upper arm by the shoulder offset `s` and the
+//! forearm by `s − e` (the elbow offset), the values of ROS-Industrial's `ur_description` /
+//! `ur_e_description` (UR5 0.13585/0.1197, UR10 0.220941/0.1719, UR5e 0.138/0.131, UR10e
+//! 0.176/0.137 m). Radii are the datasheets' housing sizes, rounded up.
+
+use super::{capsule_between, dh_rows, spec_from_rows, DhRow};
+use crate::geometry::shape::Shape;
+use crate::robot::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
+use crate::robot::spec::ChainSpec;
+use nalgebra::{Isometry3, Translation3};
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// A Universal Robots arm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum UrModel {
+    /// UR5 (CB3).
+    Ur5,
+    /// UR10 (CB3).
+    Ur10,
+    /// UR5e.
+    Ur5e,
+    /// UR10e.
+    Ur10e,
+}
+
+/// Published DH lengths `[d1, a2, a3, d4, d5, d6]` (m) of UR5, UR10, UR5e, UR10e.
+pub const UR_DH: [(UrModel, [f64; 6]); 4] = [
+    (
+        UrModel::Ur5,
+        [0.089159, -0.425, -0.39225, 0.10915, 0.09465, 0.0823],
+    ),
+    (
+        UrModel::Ur10,
+        [0.1273, -0.612, -0.5723, 0.163941, 0.1157, 0.0922],
+    ),
+    (
+        UrModel::Ur5e,
+        [0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996],
+    ),
+    (
+        UrModel::Ur10e,
+        [0.1807, -0.6127, -0.57155, 0.17415, 0.11985, 0.11655],
+    ),
+];
+
+/// DH twists `α₁ … α₆` (rad), the same for every model.
+const ALPHA: [f64; 6] = [FRAC_PI_2, 0.0, 0.0, FRAC_PI_2, -FRAC_PI_2, 0.0];
+
+const NAMES: [(&str, &str); 6] = [
+    ("shoulder_pan_joint", "shoulder_link"),
+    ("shoulder_lift_joint", "upper_arm_link"),
+    ("elbow_joint", "forearm_link"),
+    ("wrist_1_joint", "wrist_1_link"),
+    ("wrist_2_joint", "wrist_2_link"),
+    ("wrist_3_joint", "wrist_3_link"),
+];
+
+impl UrModel {
+    /// `ur5`, `ur10`, `ur5e` or `ur10e`.
+    pub fn name(self) -> &'static str {
+        match self {
+            UrModel::Ur5 => "ur5",
+            UrModel::Ur10 => "ur10",
+            UrModel::Ur5e => "ur5e",
+            UrModel::Ur10e => "ur10e",
+        }
+    }
+
+    /// `[d1, a2, a3, d4, d5, d6]` (m), from [`UR_DH`].
+    pub fn dh(self) -> [f64; 6] {
+        UR_DH
+            .iter()
+            .find(|(m, _)| *m == self)
+            .map(|(_, p)| *p)
+            .expect("every model has a row")
+    }
+
+    /// Shoulder and elbow offsets `(s, e)` (m) of the arm tubes off the DH lines.
+    fn offsets(self) -> (f64, f64) {
+        match self {
+            UrModel::Ur5 => (0.13585, 0.1197),
+            UrModel::Ur10 => (0.220941, 0.1719),
+            UrModel::Ur5e => (0.138, 0.131),
+            UrModel::Ur10e => (0.176, 0.137),
+        }
+    }
+
+    /// Radii (m): base, shoulder and upper arm, forearm, wrists.
+    fn radii(self) -> [f64; 4] {
+        match self {
+            UrModel::Ur5 | UrModel::Ur5e => [0.076, 0.062, 0.047, 0.046],
+            UrModel::Ur10 | UrModel::Ur10e => [0.095, 0.078, 0.06, 0.048],
+        }
+    }
+}
+
+/// The full DH table of a model: `(d, a, α)` per joint.
+pub fn ur_dh_table(model: UrModel) -> [(f64, f64, f64); 6] {
+    let [d1, a2, a3, d4, d5, d6] = model.dh();
+    let d = [d1, 0.0, 0.0, d4, d5, d6];
+    let a = [0.0, a2, a3, 0.0, 0.0, 0.0];
+    std::array::from_fn(|i| (d[i], a[i], ALPHA[i]))
+}
+
+/// The arm's chain description, `base → tool0`.
+pub fn ur_spec(model: UrModel) -> ChainSpec {
+    let table: Vec<DhRow> = ur_dh_table(model)
+        .iter()
+        .zip(NAMES)
+        .map(|((d, a, alpha), (joint, child))| DhRow {
+            joint,
+            child,
+            d: *d,
+            a: *a,
+            alpha: *alpha,
+            limits: (-TAU, TAU),
+        })
+        .collect();
+    let source = format!("built-in {}", model.name());
+    spec_from_rows(&source, "base", &dh_rows(&table, "tool0_joint", "tool0"))
+}
+
+/// Collision primitives, link by link (see the module documentation).
+pub fn ur_collisions(model: UrModel) -> Vec<LinkCollisions> {
+    let [d1, a2, a3, d4, d5, d6] = model.dh();
+    let (s, e) = model.offsets();
+    let [r_base, r_joint, r_fore, r_wrist] = model.radii();
+    let base_height = 0.6 * d1;
+    let link = |name: &str, shapes: Vec<CollisionShape>| LinkCollisions {
+        link: name.to_string(),
+        shapes,
+    };
+    vec![
+        link(
+            "base",
+            vec![CollisionShape {
+                name: Some("base".into()),
+                link_from_collision: Isometry3::from_parts(
+                    Translation3::new(0.0, 0.0, base_height / 2.0),
+                    Default::default(),
+                ),
+                geometry: CollisionGeometry::Shape(
+                    Shape::cylinder(r_base, base_height).expect("positive sizes"),
+                ),
+            }],
+        ),
+        // Link 1's frame is the base frame turned by q1; joint 2's axis is its −y.
+        link(
+            "shoulder_link",
+            vec![
+                capsule_between(
+                    "shoulder column",
+                    [0.0, 0.0, r_joint],
+                    [0.0, 0.0, d1],
+                    r_joint,
+                ),
+                capsule_between("shoulder", [0.0, 0.0, d1], [0.0, -s, d1], r_joint),
+            ],
+        ),
+        // Links 2–4: DH frames 1–3 turned; joint axes along z, tubes along x.
+        link(
+            "upper_arm_link",
+            vec![capsule_between(
+                "upper arm",
+                [0.0, 0.0, s],
+                [a2, 0.0, s],
+                r_joint,
+            )],
+        ),
+        link(
+            "forearm_link",
+            vec![
+                capsule_between("elbow", [0.0, 0.0, s], [0.0, 0.0, s - e], r_joint),
+                capsule_between("forearm", [0.0, 0.0, s - e], [a3, 0.0, s - e], r_fore),
+            ],
+        ),
+        link(
+            "wrist_1_link",
+            vec![capsule_between(
+                "wrist 1",
+                [0.0, 0.0, s - e],
+                [0.0, 0.0, d4],
+                r_wrist,
+            )],
+        ),
+        link(
+            "wrist_2_link",
+            vec![capsule_between(
+                "wrist 2",
+                [0.0; 3],
+                [0.0, 0.0, d5],
+                r_wrist,
+            )],
+        ),
+        link(
+            "wrist_3_link",
+            // Stops one radius short of the flange (tool0).
+            vec![capsule_between(
+                "wrist 3",
+                [0.0; 3],
+                [0.0, 0.0, (d6 - r_wrist).max(0.0)],
+                r_wrist,
+            )],
+        ),
+    ]
+}

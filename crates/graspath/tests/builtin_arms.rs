@@ -369,13 +369,13 @@ fn collision_primitives_form_a_connected_arm_above_the_base_plane() {
 #[test]
 fn task_files_name_single_arm_builtin_robots() {
     let dir = tempfile::tempdir().unwrap();
-    // Gen3 without a scene: the collision set-up samples joints between their limits, which
-    // a continuous joint does not have (left to the collision module).
+    // Gen3's continuous joints are sampled over one revolution by the collision set-up.
     let table = "scene: { table: { height: 0.0 } }\n";
     for (robot, arms, scene) in [
         ("panda", "", table),
         ("ur5e", "arms: arm\n", table),
-        ("gen3", "arms: all\n", ""),
+        ("gen3", "arms: all\n", table),
+        ("iiwa14", "", ""),
     ] {
         let text = format!(
             "robot: {{ builtin: {robot} }}\n{arms}\

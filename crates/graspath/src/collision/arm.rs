@@ -276,7 +276,13 @@ impl ArmBodies {
             for (j, value) in q.iter_mut().enumerate() {
                 let bits = splitmix64(derive_seed(SELF_PAIR_STREAM, sample as u64, j as u64));
                 let unit = (bits >> 11) as f64 / (1u64 << 53) as f64;
-                *value = lower[j] + unit * (upper[j] - lower[j]);
+                // A continuous joint (infinite limits) turns through one full revolution.
+                let (low, high) = if lower[j].is_finite() && upper[j].is_finite() {
+                    (lower[j], upper[j])
+                } else {
+                    (-std::f64::consts::PI, std::f64::consts::PI)
+                };
+                *value = low + unit * (high - low);
             }
             self.chain
                 .link_frames_into(&q, &mut frames)

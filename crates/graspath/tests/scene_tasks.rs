@@ -545,3 +545,43 @@ fn a_urdf_hand_is_the_gripper_its_shapes_describe() {
         assert_eq!(x.clearance, y.clearance);
     }
 }
+
+/// An object standing on an obstacle (a shelf board) rests on it as on the table: the same
+/// candidates are feasible with the same scores when the table's top is replaced by a board at
+/// the same height (oracle: the task on the table), and without the resting rule every grasp
+/// would collide with the board at the pick.
+#[test]
+fn an_object_rests_on_the_obstacle_it_stands_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let common = "gripper: { builtin: baxter }\napproach: { distance: 0.10, samples: 3 }\n";
+    let on_table = task_file(
+        &dir,
+        -0.10,
+        CUBOID,
+        EDGE,
+        &format!("scene: {{ table: {{ height: -0.15 }} }}\n{common}"),
+    );
+    let a = select(&Task::load(&on_table).unwrap(), &|| {});
+    let on_board = task_file(
+        &dir,
+        -0.10,
+        CUBOID,
+        EDGE,
+        &format!(
+            "scene: {{ obstacles: [ {{ name: board, box: {{ size: [3.0, 3.0, 0.2] }}, pose: {{ xyz: [0.75, 0.0, -0.25] }} }} ] }}\n{common}"
+        ),
+    );
+    let b = select(&Task::load(&on_board).unwrap(), &|| {});
+    let (sa, sb) = (&a.arms[0].scores, &b.arms[0].scores);
+    assert!(sa.iter().any(|s| s.feasible()));
+    for (x, y) in sa.iter().zip(sb) {
+        assert_eq!(
+            x.feasible(),
+            y.feasible(),
+            "{:?} vs {:?}",
+            x.failure,
+            y.failure
+        );
+        assert_eq!(x.norms, y.norms);
+    }
+}

@@ -24,7 +24,8 @@
 //!   links (touching is a collision) and the hand (touching allowed, pressing deeper than
 //!   `touch_tolerance` not);
 //! * from the grasp to the place, the carried object against the scene (`margin`; against the
-//!   table, resting is allowed) and against the arm's links outside the hand's rigid group;
+//!   table and any body it stands on at the pick or the place — within the margin of it there
+//!   — resting is allowed) and against the arm's links outside the hand's rigid group;
 //! * the arm's self-collision pairs ([`super::ArmBodies`]), touching is a collision.
 
 use super::arm::{ArmBodies, RigidLink};
@@ -213,6 +214,9 @@ struct Slots<'a> {
     /// The object where it stands before the grasp and after the place, world frame.
     world_from_object_start: IsometryMatrix3<f64>,
     world_from_object_end: IsometryMatrix3<f64>,
+    /// Per scene body: the object rests on it (the table, or a body within the margin of
+    /// the object where it stands at the pick or the place), so touching it is allowed.
+    supports: Vec<bool>,
 }
 
 impl<'a> Slots<'a> {
@@ -225,7 +229,7 @@ impl<'a> Slots<'a> {
             let (centre, radius) = o.bounding_sphere();
             (link_from_object * centre).coords.norm() + radius
         });
-        Slots {
+        let mut slots = Slots {
             setup,
             world_from_base: nalgebra::convert(*setup.world_from_base),
             scene: setup
@@ -239,7 +243,32 @@ impl<'a> Slots<'a> {
             object_reach,
             world_from_object_start: nalgebra::convert(*object.world_from_object_start),
             world_from_object_end: nalgebra::convert(*object.world_from_object_end),
-        }
+            supports: Vec::new(),
+        };
+        slots.supports = slots.find_supports();
+        slots
+    }
+
+    /// Which scene bodies the object rests on ([`Slots::supports`]).
+    fn find_supports(&self) -> Vec<bool> {
+        let table = self.setup.scene.table().is_some();
+        let margin = self.setup.options.margin;
+        self.scene
+            .iter()
+            .enumerate()
+            .map(|(k, body)| {
+                // The table is the scene's first body.
+                (k == 0 && table)
+                    || self.setup.object.is_some_and(|object| {
+                        [self.world_from_object_start, self.world_from_object_end]
+                            .into_iter()
+                            .any(|pose| {
+                                let placed = Placed::new(object, pose);
+                                placed.gap(body) < margin && placed.distance(body) < margin
+                            })
+                    })
+            })
+            .collect()
     }
 
     fn object_slot(&self) -> usize {
@@ -284,8 +313,7 @@ impl<'a> Slots<'a> {
                 }
                 ObjectAt::Carried => {
                     for k in 0..self.scene.len() {
-                        // The table is the scene's first body.
-                        let resting = k == 0 && self.setup.scene.table().is_some();
+                        let resting = self.supports[k];
                         pairs.push(Pair {
                             a: o,
                             b: a + k,

@@ -573,7 +573,7 @@ fn an_object_rests_on_the_obstacle_it_stands_on() {
     );
     let b = select(&Task::load(&on_board).unwrap(), &|| {});
     let (sa, sb) = (&a.arms[0].scores, &b.arms[0].scores);
-    assert!(sa.iter().any(|s| s.feasible()));
+    assert!(sa.iter().any(graspath::select::CandidateScore::feasible));
     for (x, y) in sa.iter().zip(sb) {
         assert_eq!(
             x.feasible(),

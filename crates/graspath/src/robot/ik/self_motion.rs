@@ -18,7 +18,9 @@
 //! it is one curve through it, and the optimum is over that curve.
 
 use crate::robot::chain::Chain;
-use nalgebra::{DMatrix, DVector, Isometry3, IsometryMatrix3, Matrix6xX, Vector3};
+use nalgebra::{
+    Cholesky, DVector, Isometry3, IsometryMatrix3, Matrix6, Matrix6xX, Vector3, Vector6, U6,
+};
 
 /// How much finer the second pass is than the first.
 pub const REFINE: f64 = 8.0;
@@ -224,6 +226,32 @@ struct Tracer<'c> {
 /// Gauss–Newton corrections allowed per traced configuration.
 const CORRECTIONS: usize = 8;
 
+/// Damping of the normal equations (m², rad²): keeps rows the arm cannot move (a planar
+/// arm's `z`) out of the solve without changing the others.
+const DAMPING: f64 = 1e-12;
+
+/// The kept rows of the Jacobian at one configuration and the solve through them.
+struct Kept {
+    /// The Jacobian with the rows that are not kept set to zero.
+    a: Matrix6xX<f64>,
+    /// `A Aᵀ + DAMPING · I`, factored.
+    normal: Cholesky<f64, U6>,
+    /// The tip's error towards the target on the kept rows (`[v; ω]`, base frame).
+    error: Vector6<f64>,
+}
+
+impl Kept {
+    /// `Aᵀ (A Aᵀ)⁻¹ r`: the smallest joint change that moves the kept rows by `r`.
+    fn lift(&self, r: &Vector6<f64>) -> DVector<f64> {
+        self.a.transpose() * self.normal.solve(r)
+    }
+
+    /// The part of `h` in the null space of the kept rows.
+    fn project(&self, h: &DVector<f64>) -> DVector<f64> {
+        h - self.lift(&(&self.a * h))
+    }
+}
+
 impl<'c> Tracer<'c> {
     fn new(chain: &'c Chain, rows: KeptRows, options: &'c SelfMotionOptions) -> Self {
         Self {
@@ -241,31 +269,27 @@ impl<'c> Tracer<'c> {
             .is_ok()
     }
 
-    /// The kept rows of the Jacobian and of the tip's error at `q` towards `target`.
-    fn kept(
-        &mut self,
-        q: &[f64],
-        target: &IsometryMatrix3<f64>,
-    ) -> Option<(DMatrix<f64>, DVector<f64>)> {
+    /// The kept rows at `q`, towards `target`.
+    fn kept(&mut self, q: &[f64], target: &IsometryMatrix3<f64>) -> Option<Kept> {
         let pose = self
             .chain
             .pose_and_jacobian_into(q, &mut self.jacobian)
             .ok()?;
         let dp: Vector3<f64> = target.translation.vector - pose.translation.vector;
         let dr = (target.rotation * pose.rotation.inverse()).scaled_axis();
-        let count = match self.rows {
-            KeptRows::Pose => 6,
-            KeptRows::Position => 3,
-        };
-        let a = DMatrix::from_fn(count, self.chain.dof(), |r, c| self.jacobian[(r, c)]);
-        let e = DVector::from_fn(count, |r, _| if r < 3 { dp[r] } else { dr[r - 3] });
-        Some((a, e))
+        let mut error = Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z);
+        let mut a = self.jacobian.clone();
+        if self.rows == KeptRows::Position {
+            a.fixed_rows_mut::<3>(3).fill(0.0);
+            error.fixed_rows_mut::<3>(3).fill(0.0);
+        }
+        let normal = (&a * a.transpose() + Matrix6::identity() * DAMPING).cholesky()?;
+        Some(Kept { a, normal, error })
     }
 
-    fn on_target(&self, e: &DVector<f64>) -> bool {
-        let position = (0..3).map(|r| e[r] * e[r]).sum::<f64>().sqrt();
-        let rotation = (3..e.len()).map(|r| e[r] * e[r]).sum::<f64>().sqrt();
-        position <= self.options.position_tolerance && rotation <= self.options.rotation_tolerance
+    fn on_target(&self, e: &Vector6<f64>) -> bool {
+        e.fixed_rows::<3>(0).norm() <= self.options.position_tolerance
+            && e.fixed_rows::<3>(3).norm() <= self.options.rotation_tolerance
     }
 
     fn inside(&self, q: &[f64]) -> bool {
@@ -284,28 +308,17 @@ impl<'c> Tracer<'c> {
             let mut current = q.to_vec();
             let mut heading: Option<DVector<f64>> = None;
             for _ in 0..self.options.reach {
-                let Some((a, _)) = self.kept(&current, target) else {
+                let Some(kept) = self.kept(&current, target) else {
                     break;
                 };
-                let Ok(pinv) = a.clone().pseudo_inverse(1e-12) else {
-                    break;
-                };
-                let projector = DMatrix::identity(dof, dof) - &pinv * &a;
-                // Continue the previous heading; at the start, the null-space column of
+                // Continue the previous heading; at the start, the projected joint axis of
                 // largest norm, turned by `side`.
                 let direction = match &heading {
-                    Some(h) => &projector * h,
-                    None => {
-                        let column = (0..dof)
-                            .max_by(|x, y| {
-                                projector
-                                    .column(*x)
-                                    .norm()
-                                    .total_cmp(&projector.column(*y).norm())
-                            })
-                            .unwrap_or(0);
-                        projector.column(column) * side
-                    }
+                    Some(h) => kept.project(h),
+                    None => (0..dof)
+                        .map(|j| kept.project(&DVector::from_fn(dof, |r, _| f64::from(r == j))))
+                        .max_by(|x, y| x.norm().total_cmp(&y.norm()))
+                        .map_or_else(|| DVector::zeros(dof), |d| d * side),
                 };
                 let norm = direction.norm();
                 if norm < 1e-9 {
@@ -319,17 +332,14 @@ impl<'c> Tracer<'c> {
                     .collect();
                 let mut converged = false;
                 for _ in 0..CORRECTIONS {
-                    let Some((a, e)) = self.kept(&next, target) else {
+                    let Some(kept) = self.kept(&next, target) else {
                         break;
                     };
-                    if self.on_target(&e) {
+                    if self.on_target(&kept.error) {
                         converged = true;
                         break;
                     }
-                    let Ok(pinv) = a.pseudo_inverse(1e-12) else {
-                        break;
-                    };
-                    let correction = pinv * e;
+                    let correction = kept.lift(&kept.error);
                     for (v, d) in next.iter_mut().zip(correction.iter()) {
                         *v += d;
                     }

@@ -54,6 +54,17 @@ struct CandidateRecord<'a> {
     approach_trajectory: &'a [Vec<f64>],
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     retreat_trajectory: &'a [Vec<f64>],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    self_motion: Option<SelfMotionRecord>,
+}
+
+/// With `ik.redundancy: optimize`: `μ_l2` of the first IK branch and the range over the
+/// self-motion found (the candidate's `mu_l2` is the optimised one).
+#[derive(Serialize)]
+struct SelfMotionRecord {
+    mu_l2_first_branch: f64,
+    mu_l2_min: f64,
+    mu_l2_max: f64,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -100,6 +111,11 @@ pub fn candidates_json(selection: &Selection) -> Value {
                 clearance: score.clearance,
                 approach_trajectory: &score.approach,
                 retreat_trajectory: &score.retreat,
+                self_motion: score.self_motion.map(|s| SelfMotionRecord {
+                    mu_l2_first_branch: s.first_branch_l2,
+                    mu_l2_min: s.l2_range.0,
+                    mu_l2_max: s.l2_range.1,
+                }),
             };
             records.push(serde_json::to_value(record).expect("records serialise"));
         }

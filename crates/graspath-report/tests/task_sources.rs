@@ -97,6 +97,6 @@ trajectory: { steps: [ { lift: 0.2 } ] }
     assert_eq!(from_file.selection, in_code.selection);
     assert_eq!(from_file.rows, in_code.rows);
     assert_eq!(from_file.limits, in_code.limits);
-    assert_eq!(from_file.compare_branches, in_code.compare_branches);
+    assert_eq!(from_file.redundancy, in_code.redundancy);
     assert_eq!(from_file.path, in_code.path);
 }

@@ -46,6 +46,7 @@ fn arm(n: usize, seed: u64) -> Vec<CandidateScore> {
                 retreat: Vec::new(),
                 clearance: None,
                 feasible_branches: 1,
+                self_motion: None,
             }
         })
         .collect()

@@ -9,5 +9,5 @@ pub use rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
 pub use run::{select, ArmResult, Selection};
 pub use score::{
     for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,
-    STREAM_CHUNK,
+    SelfMotionScores, STREAM_CHUNK,
 };

@@ -295,6 +295,7 @@ mod tests {
             retreat: Vec::new(),
             clearance: None,
             feasible_branches: 1,
+            self_motion: None,
         }
     }
 

@@ -63,7 +63,7 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
                 path: &task.path,
                 rows: task.rows,
                 ik: &task.ik,
-                compare_branches: task.compare_branches,
+                redundancy: task.redundancy,
                 world: WorldSetup {
                     approach: task.approach.as_ref(),
                     retreat: task.retreat.as_ref(),

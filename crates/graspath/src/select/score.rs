@@ -14,9 +14,12 @@ use crate::manipulability::{
     inverse_condition, inverse_condition_squared, yoshikawa, Direction, JacobianPart, PathNorms,
     SampleIndex,
 };
-use crate::robot::{solve_ik, solve_trajectory, Chain, TrajectoryIkOptions};
+use crate::robot::{
+    optimize_self_motion, solve_ik, solve_trajectory, Chain, KeptRows, SelfMotionOptions,
+    TrajectoryIkOptions,
+};
 use crate::task::{
-    ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, Stroke, WholeMotionPlan,
+    ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, Redundancy, Stroke, WholeMotionPlan,
 };
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 use rayon::prelude::*;
@@ -53,6 +56,19 @@ pub struct CandidateScore {
     pub clearance: Option<f64>,
     /// How many distinct feasible IK branches were found.
     pub feasible_branches: usize,
+    /// With `ik.redundancy: optimize`: what the self-motion search found (for a feasible
+    /// candidate whose first branch is feasible).
+    pub self_motion: Option<SelfMotionScores>,
+}
+
+/// How much of a candidate's `μ_l2` is the grasp and how much the arm's self-motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfMotionScores {
+    /// `μ_l2` along the first IK branch (the paper's practice).
+    pub first_branch_l2: f64,
+    /// The smallest and the largest `μ_l2` of any joint path found in the self-motion
+    /// (collision checks aside); the candidate's score uses the largest collision-free one.
+    pub l2_range: (f64, f64),
 }
 
 impl CandidateScore {
@@ -162,8 +178,8 @@ pub struct ScoringSetup<'a> {
     pub rows: JacobianRows,
     /// Trajectory IK settings.
     pub ik: &'a TrajectoryIkOptions,
-    /// Track every IK branch and keep the best (else the first feasible branch is scored).
-    pub compare_branches: bool,
+    /// How the arm's self-motion is chosen (first branch, best branch, or optimised).
+    pub redundancy: Redundancy,
     /// The tool's approach to the grasp and retreat after the place, the gripper, and the
     /// collision checks (all `None`: the motion is the object's path in empty space).
     pub world: WorldSetup<'a>,
@@ -208,9 +224,11 @@ impl WorldSetup<'_> {
 /// hand collides is refused without solving the arm (`ArmInScene::check_tool_poses`).
 /// IK tracks one branch from the first pose of the motion; only when it fails (or collides)
 /// are up to `ik.branches` distinct initial solutions searched and tracked. With
-/// `compare_branches`, every branch is tracked and the one with the best norm is kept (slower,
-/// and the ranking then reflects the best redundancy resolution rather than the first one
-/// found).
+/// [`Redundancy::BestBranch`], every branch is tracked and the one with the best norm is kept
+/// (slower, and the ranking then reflects the best redundancy resolution rather than the first
+/// one found); with [`Redundancy::Optimize`], the self-motion around the branches is then
+/// searched for the whole motion whose `μ_l2` is largest ([`optimize_self_motion`]), which is
+/// kept when it is collision-free (else the best branch).
 pub fn for_each_score(
     setup: &ScoringSetup<'_>,
     candidates: &[Arc<Candidate>],
@@ -316,9 +334,10 @@ fn score_one(
         path,
         rows: mode,
         ik,
-        compare_branches,
+        redundancy,
         world,
     } = *setup;
+    let compare_branches = redundancy != Redundancy::First;
     let chain = &arm.chain;
     let n = path.samples.len();
     let plan = world.plan(path);
@@ -344,6 +363,7 @@ fn score_one(
         retreat: Vec::new(),
         clearance: None,
         feasible_branches: 0,
+        self_motion: None,
     };
     if let Some(failure) = fingers.and_then(|f| f.failure(candidate)) {
         score.failure = Some(failure);
@@ -403,6 +423,8 @@ fn score_one(
     let mut collided: Vec<(Vec<Vec<f64>>, Failure)> = Vec::new();
     let mut best: Option<ChosenBranch> = None;
     let mut last_failure: Option<Failure> = None;
+    // The first branch's whole motion and `μ_l2`, for the self-motion search.
+    let mut first_branch: Option<(Vec<Vec<f64>>, f64)> = None;
     for (attempt, options) in tries.iter().enumerate() {
         let result = match solve_trajectory(chain, &targets, &q_start, options) {
             Ok(r) => r,
@@ -428,6 +450,9 @@ fn score_one(
                 .map(|(&value, &time)| SampleIndex { time, value })
                 .collect();
             let norms = PathNorms::of(&samples);
+            if first_branch.is_none() && attempt == 0 {
+                first_branch = Some((branch.q.clone(), norms.l2));
+            }
             let better = match &best {
                 None => true,
                 Some((_, b, _, _)) => {
@@ -472,6 +497,19 @@ fn score_one(
             break;
         }
         collision = None;
+    }
+    if let (Redundancy::Optimize, Some(chosen)) = (redundancy, best.as_mut()) {
+        let search = SelfMotionSearch {
+            setup,
+            candidate,
+            motion,
+            times,
+            targets: &targets,
+            path: before..before + n,
+            checker: checker.as_ref(),
+            object_along: &object_along,
+        };
+        score.self_motion = search.improve(chosen, first_branch.as_ref());
     }
     let grasp_q = match best {
         Some((m_t, norms, q, clearance)) => {
@@ -519,6 +557,103 @@ fn score_one(
 /// The branch kept so far: `M_T` per path sample, its norms, the whole motion's joints and
 /// its clearance.
 type ChosenBranch = (Vec<Option<f64>>, PathNorms, Vec<Vec<f64>>, Option<f64>);
+
+/// The self-motion search of one candidate ([`Redundancy::Optimize`]).
+struct SelfMotionSearch<'a> {
+    setup: &'a ScoringSetup<'a>,
+    candidate: &'a Candidate,
+    motion: &'a ObjectMotion,
+    times: &'a [f64],
+    /// The whole motion's tool poses, chain base frame.
+    targets: &'a [Isometry3<f64>],
+    /// The object's path within the whole motion.
+    path: std::ops::Range<usize>,
+    checker: Option<&'a ArmInScene<'a>>,
+    object_along: &'a ObjectAlong<'a>,
+}
+
+impl SelfMotionSearch<'_> {
+    /// Searches the self-motion around the chosen branch and the first branch for the whole
+    /// motion with the largest `Σ M_T²` on the path; replaces `chosen` when that motion is
+    /// better and collision-free. Returns what was found.
+    fn improve(
+        &self,
+        chosen: &mut ChosenBranch,
+        first_branch: Option<&(Vec<Vec<f64>>, f64)>,
+    ) -> Option<SelfMotionScores> {
+        let ScoringSetup {
+            arm,
+            rows: mode,
+            ik,
+            ..
+        } = *self.setup;
+        let chain = &arm.chain;
+        let mut seeds: Vec<&[Vec<f64>]> = vec![&chosen.2];
+        if let Some((q, _)) = first_branch.filter(|(q, _)| *q != chosen.2) {
+            seeds.push(q);
+        }
+        let path = self.path.clone();
+        let value = |i: usize, _: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
+            if !path.contains(&i) {
+                return 0.0;
+            }
+            self.motion
+                .tangent(i - path.start, &self.candidate.object_from_wrist, mode)
+                .map_or(0.0, |d| mode.task_relevant(jacobian, &d).powi(2))
+        };
+        let options = SelfMotionOptions {
+            max_joint_step: ik.max_joint_step,
+            position_tolerance: ik.ik.position_tolerance,
+            rotation_tolerance: ik.ik.rotation_tolerance,
+            ..SelfMotionOptions::default()
+        };
+        let found = optimize_self_motion(
+            chain,
+            self.targets,
+            &seeds,
+            KeptRows::Pose,
+            &value,
+            &options,
+        )?;
+        let mut jacobian = Matrix6xX::zeros(chain.dof());
+        let m_t = index_along(
+            chain,
+            self.motion,
+            &self.candidate.object_from_wrist,
+            &found.q[self.path.clone()],
+            mode,
+            &mut jacobian,
+        );
+        let samples: Vec<SampleIndex> = m_t
+            .iter()
+            .zip(self.times)
+            .map(|(&value, &time)| SampleIndex { time, value })
+            .collect();
+        let norms = PathNorms::of(&samples);
+        let scores = SelfMotionScores {
+            first_branch_l2: first_branch.map_or(chosen.1.l2, |(_, l2)| *l2),
+            l2_range: (found.worst_total.sqrt(), found.total.sqrt()),
+        };
+        if (norms.linf.is_finite(), norms.l2) <= (chosen.1.linf.is_finite(), chosen.1.l2) {
+            return Some(scores);
+        }
+        let clearance = match self.checker {
+            None => None,
+            Some(checker) => {
+                let check = checker.check(&WholeMotion {
+                    q: &found.q,
+                    object: self.object_along.clone(),
+                });
+                if check.hit.is_some() {
+                    return Some(scores);
+                }
+                check.clearance
+            }
+        };
+        *chosen = (m_t, norms, found.q, clearance);
+        Some(scores)
+    }
+}
 
 /// A collision hit as a failure (whole-motion sample; the caller locates its phase).
 fn collision_failure(hit: &CollisionHit) -> Failure {

@@ -6,7 +6,9 @@ use super::error::TaskError;
 use super::path::{ObjectPath, Sampling, TimedStep};
 use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
 pub(crate) use super::settings::check_count;
-use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
+use super::settings::{
+    defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy, SelectionOptions,
+};
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
 use crate::grasp::Candidate;
@@ -74,8 +76,8 @@ pub struct Task {
     pub selection: SelectionOptions,
     /// Trajectory IK settings.
     pub ik: TrajectoryIkOptions,
-    /// Track every IK branch and keep the best (else the first feasible branch is scored).
-    pub compare_branches: bool,
+    /// How the arm's self-motion is chosen (`ik.redundancy`).
+    pub redundancy: Redundancy,
     /// The bounds the task was checked against.
     pub limits: Limits,
     /// The tool's straight approach to the grasp, if any.
@@ -158,7 +160,7 @@ pub struct TaskBuilder {
     ik_random_seed: u64,
     ik_tolerance: f64,
     grasp_ik_iterations: usize,
-    compare_branches: bool,
+    redundancy: Redundancy,
     limits: Limits,
     approach: Option<Stroke>,
     retreat: Option<Stroke>,
@@ -188,7 +190,7 @@ impl TaskBuilder {
             ik_random_seed: defaults::IK_RANDOM_SEED,
             ik_tolerance: defaults::IK_TOLERANCE,
             grasp_ik_iterations: defaults::GRASP_IK_ITERATIONS,
-            compare_branches: false,
+            redundancy: Redundancy::First,
             limits: Limits::default(),
             approach: None,
             retreat: None,
@@ -326,9 +328,19 @@ impl TaskBuilder {
         self
     }
 
-    /// Track every IK branch and keep the one with the best norm.
-    pub fn compare_branches(mut self, compare: bool) -> Self {
-        self.compare_branches = compare;
+    /// Track every IK branch and keep the one with the best norm (`true`: [`Redundancy::BestBranch`],
+    /// `false`: [`Redundancy::First`]).
+    pub fn compare_branches(self, compare: bool) -> Self {
+        self.redundancy(if compare {
+            Redundancy::BestBranch
+        } else {
+            Redundancy::First
+        })
+    }
+
+    /// How the arm's self-motion is chosen along the path.
+    pub fn redundancy(mut self, redundancy: Redundancy) -> Self {
+        self.redundancy = redundancy;
         self
     }
 
@@ -528,7 +540,7 @@ impl TaskBuilder {
                 min_clearance: self.min_clearance,
             },
             ik,
-            compare_branches: self.compare_branches,
+            redundancy: self.redundancy,
             limits,
             approach: self.approach,
             retreat: self.retreat,

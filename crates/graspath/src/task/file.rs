@@ -499,6 +499,10 @@ pub struct IkFile {
     /// feasible branch is scored; other branches are searched only when it fails).
     #[serde(default)]
     pub compare_branches: Option<bool>,
+    /// `first`, `best_branch` or `optimize` (default `first`; `compare_branches: true` is
+    /// `best_branch`).
+    #[serde(default)]
+    pub redundancy: Option<String>,
 }
 
 impl TaskFile {

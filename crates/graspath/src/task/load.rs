@@ -8,7 +8,7 @@ use super::file::{
     ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, StepFile, TaskFile,
 };
 use super::path::{Sampling, Step, TimedStep};
-use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm};
+use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy};
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
 use crate::geometry::shape::Shape;
@@ -125,6 +125,33 @@ pub fn builder_from_file(
     }
     if let Some(compare) = ik.compare_branches {
         builder = builder.compare_branches(compare);
+    }
+    if let Some(name) = &ik.redundancy {
+        let redundancy = Redundancy::from_name(name).ok_or_else(|| {
+            TaskError::new(
+                source_name,
+                "ik.redundancy",
+                format!("'{name}' is not one of first, best_branch, optimize"),
+            )
+        })?;
+        let compared = |c: bool| {
+            if c {
+                Redundancy::BestBranch
+            } else {
+                Redundancy::First
+            }
+        };
+        if ik
+            .compare_branches
+            .is_some_and(|c| compared(c) != redundancy)
+        {
+            return Err(TaskError::new(
+                source_name,
+                "ik.compare_branches",
+                format!("contradicts ik.redundancy: {name} (give one of them)"),
+            ));
+        }
+        builder = builder.redundancy(redundancy);
     }
     if let Some(min) = s.min_clearance {
         builder = builder.min_clearance(Some(min));

@@ -32,4 +32,6 @@ pub use scene::{
     Collisions, Gripper, GripperBodies, GripperLink, SceneSettings, Stroke, WholeMotionPlan,
     DEFAULT_FINGER, MIN_RESOLUTION,
 };
-pub use settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, SelectionOptions};
+pub use settings::{
+    defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy, SelectionOptions,
+};

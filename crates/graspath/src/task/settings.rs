@@ -40,6 +40,38 @@ impl JacobianRows {
     }
 }
 
+/// How a redundant arm's self-motion is chosen along the path (`ik.redundancy`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Redundancy {
+    /// One IK branch, tracked from the start configuration (the paper's practice); more
+    /// branches are searched only when it fails or collides.
+    #[default]
+    First,
+    /// Every branch tracked; the one with the best norm is kept.
+    BestBranch,
+    /// Every branch tracked, then the self-motion around them searched for the joint path
+    /// with the largest `μ_l2` ([`crate::robot::optimize_self_motion`]).
+    Optimize,
+}
+
+impl Redundancy {
+    /// The task-file spelling: `first`, `best_branch`, `optimize`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Redundancy::First => "first",
+            Redundancy::BestBranch => "best_branch",
+            Redundancy::Optimize => "optimize",
+        }
+    }
+
+    /// The variant spelled `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::First, Self::BestBranch, Self::Optimize]
+            .into_iter()
+            .find(|r| r.as_str() == name)
+    }
+}
+
 /// The norm of `M_T` along the path that is maximised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Norm {

@@ -432,6 +432,7 @@ fn generated_candidates(
             log_likelihood: c.log_likelihood,
             contact: c.contact,
             hand_joints: c.hand_joints,
+            width: None,
         })
         .collect())
 }

@@ -1,0 +1,198 @@
+//! Grasp files of external generators (`tests/data/grasp_files/`, written by
+//! `make_fixtures.py` the way each generator saves them) read back to the poses that script
+//! computed independently (`expected.json`), to 1e-12; frame changes checked by composition.
+
+use graspath::grasp::{read_grasp_file, GraspFileOptions, GraspFormat, GripperConvention};
+use nalgebra::{Isometry3, Matrix4};
+use std::path::{Path, PathBuf};
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grasp_files")
+}
+
+fn expected() -> serde_json::Value {
+    let text = std::fs::read_to_string(dir().join("expected.json")).expect("expected.json");
+    serde_json::from_str(&text).expect("json")
+}
+
+fn matrix(v: &serde_json::Value) -> Matrix4<f64> {
+    Matrix4::from_fn(|i, j| v[i][j].as_f64().expect("number"))
+}
+
+fn isometry(v: &serde_json::Value) -> Isometry3<f64> {
+    graspath::geometry::pose_from_rows(&std::array::from_fn(|i| {
+        std::array::from_fn(|j| v[i][j].as_f64().expect("number"))
+    }))
+    .expect("rigid")
+}
+
+/// The task's `object_from_camera` for camera-frame fixtures.
+fn object_from_camera(e: &serde_json::Value) -> Isometry3<f64> {
+    isometry(&e["world_from_object"]).inverse() * isometry(&e["world_from_camera"])
+}
+
+fn check(name: &str, format: GraspFormat, object_from_frame: Isometry3<f64>) {
+    let e = expected();
+    let want = e["files"][name].as_array().expect(name);
+    let options = GraspFileOptions {
+        object_from_frame,
+        ..GraspFileOptions::default()
+    };
+    let (guessed, got) = read_grasp_file(&dir().join(name), &options).expect(name);
+    assert_eq!(guessed, format, "{name}: format guessed from the content");
+    assert_eq!(got.len(), want.len(), "{name}: number of candidates");
+    for (c, w) in got.iter().zip(want) {
+        assert_eq!(c.id as u64, w["id"].as_u64().unwrap(), "{name}");
+        let diff = (c.object_from_wrist.to_homogeneous() - matrix(&w["object_from_tool"]))
+            .abs()
+            .max();
+        assert!(diff < 1e-12, "{name} id {}: pose differs by {diff}", c.id);
+        let ll = w["log_likelihood"].as_f64().unwrap();
+        assert!(
+            (c.log_likelihood - ll).abs() < 1e-12,
+            "{name} id {}: {} vs {ll}",
+            c.id,
+            c.log_likelihood
+        );
+        assert_eq!(c.width, w["width"].as_f64(), "{name} id {}", c.id);
+        match (&c.contact, w["contact"].as_array()) {
+            (None, None) => {}
+            (Some(p), Some(q)) => {
+                for k in 0..3 {
+                    assert!(
+                        (p[k] - q[k].as_f64().unwrap()).abs() < 1e-12,
+                        "{name} contact"
+                    );
+                }
+            }
+            other => panic!("{name}: contact {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn acronym_hdf5_reads_to_the_scripts_poses_without_failed_grasps() {
+    check("acronym.h5", GraspFormat::Acronym, Isometry3::identity());
+}
+
+#[test]
+fn graspgen_isaac_yaml_and_dataset_json_read_to_the_scripts_poses() {
+    check(
+        "graspgen.yaml",
+        GraspFormat::GraspGen,
+        Isometry3::identity(),
+    );
+    check(
+        "graspgen_dataset.json",
+        GraspFormat::GraspGen,
+        Isometry3::identity(),
+    );
+}
+
+#[test]
+fn contact_graspnet_segments_in_the_camera_frame_land_in_the_object_frame() {
+    check(
+        "contact_graspnet.npz",
+        GraspFormat::ContactGraspnet,
+        object_from_camera(&expected()),
+    );
+}
+
+#[test]
+fn generic_pose_arrays_read_to_the_scripts_poses() {
+    check("poses.npy", GraspFormat::Poses, Isometry3::identity());
+    check("poses.npz", GraspFormat::Poses, Isometry3::identity());
+}
+
+#[test]
+fn graspnet_rows_read_with_widths_and_scores() {
+    check(
+        "graspnet.npy",
+        GraspFormat::GraspNet,
+        object_from_camera(&expected()),
+    );
+}
+
+#[test]
+fn one_segment_of_a_contact_graspnet_file_can_be_chosen() {
+    let options = GraspFileOptions {
+        segment: Some(3),
+        ..GraspFileOptions::default()
+    };
+    let (_, got) = read_grasp_file(&dir().join("contact_graspnet.npz"), &options).unwrap();
+    assert_eq!(got.len(), 2);
+    assert!(got.iter().all(|c| c.label.starts_with("segment 3")));
+    let options = GraspFileOptions {
+        segment: Some(7),
+        ..GraspFileOptions::default()
+    };
+    let err = read_grasp_file(&dir().join("contact_graspnet.npz"), &options).unwrap_err();
+    assert_eq!(err.location, "pred_grasps_cam");
+    assert!(err.message.contains("segments: 1, 3"), "{err}");
+}
+
+/// Frame invariants: reading with `object_from_frame = A` equals `A ·` (reading in the
+/// object frame), and an overriding `gripper_from_tool = B` equals (default reading) ·
+/// default⁻¹ · B.
+#[test]
+fn frame_changes_compose() {
+    let path = dir().join("acronym.h5");
+    let (_, plain) = read_grasp_file(&path, &GraspFileOptions::default()).unwrap();
+    let a = Isometry3::new(
+        nalgebra::Vector3::new(0.1, -0.2, 0.3),
+        nalgebra::Vector3::new(0.4, 0.5, -0.6),
+    );
+    let b = Isometry3::new(
+        nalgebra::Vector3::new(0.0, 0.01, 0.11),
+        nalgebra::Vector3::new(0.0, 0.0, 1.0),
+    );
+    let moved = read_grasp_file(
+        &path,
+        &GraspFileOptions {
+            object_from_frame: a,
+            ..GraspFileOptions::default()
+        },
+    )
+    .unwrap()
+    .1;
+    let tooled = read_grasp_file(
+        &path,
+        &GraspFileOptions {
+            gripper_from_tool: Some(b),
+            ..GraspFileOptions::default()
+        },
+    )
+    .unwrap()
+    .1;
+    let default = GripperConvention::FrankaHand.gripper_from_tool();
+    for ((p, m), t) in plain.iter().zip(&moved).zip(&tooled) {
+        let d1 = ((a * p.object_from_wrist).to_homogeneous()
+            - m.object_from_wrist.to_homogeneous())
+        .abs()
+        .max();
+        let d2 = ((p.object_from_wrist * default.inverse() * b).to_homogeneous()
+            - t.object_from_wrist.to_homogeneous())
+        .abs()
+        .max();
+        assert!(d1 < 1e-12 && d2 < 1e-12, "{d1} {d2}");
+    }
+}
+
+/// The Franka convention maps the hand's closing axis `x` to the tool's `y` and keeps the
+/// approach `z`; GraspNet's approach `x` becomes the tool's `z`.
+#[test]
+fn gripper_conventions_map_the_axes_as_documented() {
+    let f = GripperConvention::FrankaHand.gripper_from_tool();
+    let y = f.rotation * nalgebra::Vector3::y();
+    let z = f.rotation * nalgebra::Vector3::z();
+    assert!(
+        (y - nalgebra::Vector3::x()).norm() < 1e-15 && (z - nalgebra::Vector3::z()).norm() < 1e-15
+    );
+    assert!((f.translation.vector.z - 0.1034).abs() < 1e-15);
+    let g = GripperConvention::GraspNet.gripper_from_tool();
+    let z = g.rotation * nalgebra::Vector3::z();
+    let y = g.rotation * nalgebra::Vector3::y();
+    assert!(
+        (z - nalgebra::Vector3::x()).norm() < 1e-15 && (y - nalgebra::Vector3::y()).norm() < 1e-15
+    );
+}

@@ -196,3 +196,90 @@ fn gripper_conventions_map_the_axes_as_documented() {
         (z - nalgebra::Vector3::x()).norm() < 1e-15 && (y - nalgebra::Vector3::y()).norm() < 1e-15
     );
 }
+
+/// Bad files: one error naming the file and the field, no panic; a header claiming more data
+/// than the file holds is refused before anything is allocated for it.
+#[test]
+fn bad_grasp_files_give_one_clear_error() {
+    let cases: &[(&str, &str, &str)] = &[
+        ("no_transforms.h5", "grasps/transforms", "dataset missing"),
+        (
+            "transforms_3x3.h5",
+            "grasps/transforms",
+            "expected (N, 4, 4)",
+        ),
+        (
+            "wrong_shape.npz",
+            "pred_grasps_cam",
+            "has shape (3, 4), expected (N, 4, 4)",
+        ),
+        ("not_rigid.npy", "not_rigid[1]", "not orthonormal"),
+        ("nan.npy", "nan[0]", "not a finite number"),
+        ("empty.npy", "file", "is empty"),
+        ("scores_mismatch.npz", "scores", "one per grasp"),
+        ("huge_header.npy", "file", "only 128 bytes of data follow"),
+        ("huge_header.h5", "grasps/transforms", "more than a"),
+    ];
+    for (name, location, message) in cases {
+        let path = dir().join("bad").join(name);
+        let err = read_grasp_file(&path, &GraspFileOptions::default())
+            .err()
+            .unwrap_or_else(|| panic!("{name} was accepted"));
+        assert!(err.file.ends_with(name), "{name}: {err}");
+        assert_eq!(err.location, *location, "{name}: {err}");
+        assert!(err.message.contains(message), "{name}: {err}");
+    }
+}
+
+/// A camera-frame format without a camera pose is refused by the task loader, naming the field.
+#[test]
+fn camera_frame_files_need_a_camera_pose_in_the_task() {
+    let task = format!(
+        r#"
+robot: {{ builtin: baxter }}
+arms: left
+object: {{ pose: {{ xyz: [0.75, 0.0, -0.10] }} }}
+candidates: {{ file: {} }}
+trajectory: {{ samples_per_step: 2, steps: [ {{ lift: 0.1 }} ] }}
+"#,
+        dir().join("graspnet.npy").display()
+    );
+    let file = graspath::task::TaskFile::parse(&task, "t.yaml", "yaml").unwrap();
+    let err = graspath::task::Task::from_file(&file, "t.yaml", Path::new("."))
+        .err()
+        .expect("refused");
+    assert_eq!(err.field, "candidates.frame", "{err}");
+    assert!(err.message.contains("world_from_camera"), "{err}");
+}
+
+/// `world_from_camera` in a task file places camera-frame grasps where the hand-computed
+/// `object_from_camera = world_from_object⁻¹ · world_from_camera` puts them.
+#[test]
+fn a_task_file_with_world_from_camera_gives_the_scripts_poses() {
+    let e = expected();
+    let rows = |key: &str| serde_json::to_string(&e[key]).unwrap();
+    let task = format!(
+        r#"{{
+  "robot": {{ "builtin": "baxter" }},
+  "arms": "left",
+  "object": {{ "pose": {{ "matrix": {} }} }},
+  "candidates": {{ "file": "{}", "world_from_camera": {{ "matrix": {} }} }},
+  "trajectory": {{ "samples_per_step": 2, "steps": [ {{ "lift": 0.1 }} ] }}
+}}"#,
+        rows("world_from_object"),
+        dir().join("contact_graspnet.npz").display(),
+        rows("world_from_camera"),
+    );
+    let file = graspath::task::TaskFile::parse(&task, "t.json", "json").unwrap();
+    let builder = graspath::task::builder_from_file(&file, "t.json", Path::new(".")).unwrap();
+    let task = builder.build().unwrap();
+    let want = e["files"]["contact_graspnet.npz"].as_array().unwrap();
+    let got = &task.candidates;
+    assert_eq!(got.len(), want.len());
+    for (c, w) in got.iter().zip(want) {
+        let diff = (c.object_from_wrist.to_homogeneous() - matrix(&w["object_from_tool"]))
+            .abs()
+            .max();
+        assert!(diff < 1e-12, "{diff}");
+    }
+}

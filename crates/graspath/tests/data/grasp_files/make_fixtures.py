@@ -167,6 +167,38 @@ arr = np.array(rows, dtype=np.float32)
 np.save(os.path.join(HERE, "graspnet.npy"), arr)
 record("graspnet.npy", OBJECT_FROM_CAMERA, Q, GRASPNET, arr[:, 0].astype(float), widths=arr[:, 1].astype(float))
 
+# Bad inputs (tests/grasp_files.rs and graspath-cli's bad-input table).
+BAD = os.path.join(HERE, "bad")
+os.makedirs(BAD, exist_ok=True)
+with h5py.File(os.path.join(BAD, "no_transforms.h5"), "w") as f:  # ACRONYM without its grasps
+    f["object/scale"] = 0.01
+    f["grasps/qualities/flex/object_in_gripper"] = np.ones(3, dtype=np.int64)
+with h5py.File(os.path.join(BAD, "transforms_3x3.h5"), "w") as f:  # wrong shape
+    f["grasps/transforms"] = np.tile(np.eye(3), (2, 1, 1))
+np.savez(os.path.join(BAD, "wrong_shape.npz"), pred_grasps_cam=np.zeros((3, 4)), scores=np.ones(3))
+skew = random_poses(2)
+skew[1, 0, 1] += 0.5  # not a rotation
+np.save(os.path.join(BAD, "not_rigid.npy"), skew)
+nan = random_poses(2)
+nan[0, 2, 3] = np.nan
+np.save(os.path.join(BAD, "nan.npy"), nan)
+open(os.path.join(BAD, "empty.npy"), "wb").close()
+scores_short = random_poses(3)
+np.savez(os.path.join(BAD, "scores_mismatch.npz"), grasps=scores_short, scores=np.ones(2))
+# A header declaring 10^12 poses followed by one pose's bytes.
+header = "{'descr': '<f8', 'fortran_order': False, 'shape': (1000000000000, 4, 4), }"
+header += " " * ((64 - (10 + len(header) + 1) % 64) % 64) + "\n"
+with open(os.path.join(BAD, "huge_header.npy"), "wb") as f:
+    f.write(b"\x93NUMPY\x01\x00" + len(header).to_bytes(2, "little") + header.encode() + np.eye(4).tobytes())
+with open(os.path.join(BAD, "huge_header.h5"), "wb") as f:
+    # The ACRONYM fixture with its transforms' dataspace claiming 2^40 grasps.
+    data = bytearray(open(os.path.join(HERE, "acronym.h5"), "rb").read())
+    dims = (12).to_bytes(8, "little") + (4).to_bytes(8, "little") + (4).to_bytes(8, "little")
+    at = data.find(dims)
+    assert at > 0, "dataspace of grasps/transforms not found"
+    data[at:at + 8] = (1 << 40).to_bytes(8, "little")
+    f.write(bytes(data))
+
 with open(os.path.join(HERE, "expected.json"), "w") as f:
     json.dump(expected, f, indent=1)
 print("wrote", ", ".join(sorted(expected["files"])))

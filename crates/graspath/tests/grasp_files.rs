@@ -283,3 +283,41 @@ fn a_task_file_with_world_from_camera_gives_the_scripts_poses() {
         assert!(diff < 1e-12, "{diff}");
     }
 }
+
+/// GraspNet widths feed the gripper-opening check: exactly the grasps wider than the opening
+/// (by the script's widths) fail with `gripper_width`, whether or not the object's shape is known.
+#[test]
+fn widths_from_the_file_wider_than_the_opening_fail_for_gripper_width() {
+    let e = expected();
+    let opening = 0.07;
+    let task = format!(
+        r#"{{
+  "robot": {{ "builtin": "baxter" }},
+  "arms": "left",
+  "object": {{ "pose": {{ "matrix": {} }} }},
+  "candidates": {{ "file": "{}", "world_from_camera": {{ "matrix": {} }} }},
+  "gripper": {{ "opening": {opening} }},
+  "trajectory": {{ "samples_per_step": 2, "steps": [ {{ "lift": 0.1 }} ] }}
+}}"#,
+        serde_json::to_string(&e["world_from_object"]).unwrap(),
+        dir().join("graspnet.npy").display(),
+        serde_json::to_string(&e["world_from_camera"]).unwrap(),
+    );
+    let file = graspath::task::TaskFile::parse(&task, "t.json", "json").unwrap();
+    let task = graspath::task::Task::from_file(&file, "t.json", Path::new(".")).unwrap();
+    let selection = graspath::select::select(&task, &|| {});
+    let want = e["files"]["graspnet.npy"].as_array().unwrap();
+    let scores = &selection.arms[0].scores;
+    assert_eq!(scores.len(), want.len());
+    let mut wide = 0;
+    for (s, w) in scores.iter().zip(want) {
+        let too_wide = w["width"].as_f64().unwrap() > opening;
+        let failed_width = s
+            .failure
+            .as_ref()
+            .is_some_and(|f| f.reason == graspath::failure::FailureReason::GripperWidth);
+        assert_eq!(too_wide, failed_width, "{:?}", s.failure);
+        wide += usize::from(too_wide);
+    }
+    assert_eq!(wide, 2, "the fixture has two grasps wider than 7 cm");
+}

@@ -275,7 +275,10 @@ impl<'a> FingerCheck<'a> {
     }
 
     fn failure(&self, candidate: &Candidate) -> Option<Failure> {
-        if let Some(width) = candidate.width.filter(|w| *w > self.opening + self.tolerance) {
+        if let Some(width) = candidate
+            .width
+            .filter(|w| *w > self.opening + self.tolerance)
+        {
             return Some(Failure {
                 reason: FailureReason::GripperWidth,
                 phase: Phase::Path,
@@ -291,12 +294,8 @@ impl<'a> FingerCheck<'a> {
         let object = self.object?;
         for (name, wrist_from_finger, finger) in &self.fingers {
             let object_from_finger = candidate.object_from_wrist * wrist_from_finger;
-            let depth = signed_distance(
-                finger,
-                &object_from_finger,
-                object,
-                &Isometry3::identity(),
-            );
+            let depth =
+                signed_distance(finger, &object_from_finger, object, &Isometry3::identity());
             if depth < -self.tolerance {
                 return Some(Failure {
                     reason: FailureReason::GripperWidth,

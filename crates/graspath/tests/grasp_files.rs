@@ -321,3 +321,31 @@ fn widths_from_the_file_wider_than_the_opening_fail_for_gripper_width() {
     }
     assert_eq!(wide, 2, "the fixture has two grasps wider than 7 cm");
 }
+
+/// The example's GraspGen file (11 grasps, `grasp_0` … `grasp_10`): ids follow GraspGen's
+/// numbering, not the names' alphabetical order, and the Franka convention puts each tool
+/// point 2 cm below the box's top, approaching down, fingers closing across the box (object x).
+#[test]
+fn the_graspgen_example_reads_in_its_writers_order_with_tool_points_under_the_top() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/grasp_files/graspgen_box.yaml");
+    let (format, got) = read_grasp_file(&path, &GraspFileOptions::default()).unwrap();
+    assert_eq!(format, GraspFormat::GraspGen);
+    assert_eq!(got.len(), 11);
+    for (k, c) in got.iter().enumerate() {
+        assert_eq!((c.id, c.label.as_str()), (k, format!("grasp_{k}").as_str()));
+        let y = -0.18 + 0.036 * k as f64;
+        let t = c.object_from_wrist.translation.vector;
+        assert!(
+            (t - nalgebra::Vector3::new(0.0, y, 0.03)).norm() < 1e-12,
+            "{k}: {t}"
+        );
+        let approach = c.object_from_wrist.rotation * nalgebra::Vector3::z();
+        let closing = c.object_from_wrist.rotation * nalgebra::Vector3::y();
+        assert!(
+            (approach + nalgebra::Vector3::z()).norm() < 1e-12,
+            "{approach}"
+        );
+        assert!((closing.x.abs() - 1.0).abs() < 1e-12, "{closing}");
+    }
+}

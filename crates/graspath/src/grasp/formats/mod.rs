@@ -509,14 +509,32 @@ fn text_grasps(format: GraspFormat, bytes: &[u8]) -> Grasps {
                 ));
             }
         }
-        let map = grasps
+        // GraspGen names its grasps `grasp_<i>` in order; the id is that `i` (the keys are
+        // sorted by it, as the map does not keep the file's order), else the rank by name.
+        let mut map = grasps
             .as_object()
             .map(|m| m.iter().collect::<Vec<_>>())
             .unwrap_or_default();
+        let number = |name: &str| {
+            name.rsplit('_')
+                .next()
+                .and_then(|n| n.parse::<usize>().ok())
+        };
+        map.sort_by_key(|(name, _)| (number(name), name.to_string()));
+        let numbered = {
+            let mut seen = std::collections::HashSet::new();
+            map.iter()
+                .all(|(name, _)| number(name).is_some_and(|n| seen.insert(n)))
+        };
         return map
             .into_iter()
             .enumerate()
-            .map(|(i, (name, g))| {
+            .map(|(rank, (name, g))| {
+                let i = if numbered {
+                    number(name).unwrap_or(rank)
+                } else {
+                    rank
+                };
                 let location = format!("grasps.{name}");
                 let err = |field: &str, m: String| (format!("{location}.{field}"), m);
                 let numbers = |v: Option<&serde_json::Value>,

@@ -245,9 +245,9 @@ trajectory: {{ samples_per_step: 2, steps: [ {{ lift: 0.1 }} ] }}
         dir().join("graspnet.npy").display()
     );
     let file = graspath::task::TaskFile::parse(&task, "t.yaml", "yaml").unwrap();
-    let err = graspath::task::Task::from_file(&file, "t.yaml", Path::new("."))
-        .err()
-        .expect("refused");
+    let Err(err) = graspath::task::Task::from_file(&file, "t.yaml", Path::new(".")) else {
+        panic!("a camera-frame file without a camera pose was accepted");
+    };
     assert_eq!(err.field, "candidates.frame", "{err}");
     assert!(err.message.contains("world_from_camera"), "{err}");
 }

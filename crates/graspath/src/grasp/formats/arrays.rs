@@ -68,7 +68,7 @@ pub(crate) fn parse_npy(bytes: &[u8]) -> Result<Member, String> {
             .map_err(|e| format!("cannot read: {e}"))?;
         return pickle::parse(&rest).map(Member::Object);
     }
-    let size = type_str.num_bytes().unwrap_or(0) as usize;
+    let size = type_str.num_bytes().unwrap_or(0);
     let count = shape
         .iter()
         .try_fold(1usize, |n, &d| n.checked_mul(d))

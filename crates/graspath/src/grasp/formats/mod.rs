@@ -234,7 +234,7 @@ pub fn read_grasp_file(
                     format!("score must be a finite number ≥ 0, got {s}"),
                 ))
             }
-            Some(s) if s == 0.0 => {
+            Some(0.0) => {
                 unscored += 1;
                 continue;
             }
@@ -380,6 +380,9 @@ fn text_value(path: &Path, text: &str) -> Result<serde_json::Value, String> {
 }
 
 type Grasps = Result<Vec<Grasp>, (String, String)>;
+
+/// Arrays by segment id (Contact-GraspNet).
+type Segments = Vec<(i64, Array)>;
 
 /// A pose from 16 row-major numbers; errors name the location.
 fn pose16(values: &[f64], location: &str) -> Result<Isometry3<f64>, (String, String)> {
@@ -769,7 +772,7 @@ fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
             Ok((k, member))
         })
         .collect::<Result<_, (String, String)>>()?;
-    let segments = |key: &str| -> Result<Option<Vec<(i64, Array)>>, (String, String)> {
+    let segments = |key: &str| -> Result<Option<Segments>, (String, String)> {
         let Some((_, member)) = members.iter().find(|(k, _)| k == key) else {
             return Ok(None);
         };
@@ -801,7 +804,7 @@ fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
             format!("{P}[{seg}]")
         };
         let n = transforms.shape.first().copied().unwrap_or(0);
-        let companion = |list: &Option<Vec<(i64, Array)>>,
+        let companion = |list: &Option<Segments>,
                          name: &str,
                          tail: &[Option<usize>],
                          what: &str|
@@ -868,13 +871,13 @@ fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
 }
 
 /// The array of segment `seg`: `None` without the list, `Some(None)` without the segment.
-fn find(list: &Option<Vec<(i64, Array)>>, seg: i64) -> Option<Option<&Array>> {
+fn find(list: &Option<Segments>, seg: i64) -> Option<Option<&Array>> {
     list.as_ref()
         .map(|l| l.iter().find(|(s, _)| *s == seg).map(|(_, a)| a))
 }
 
 /// `{segment: array}` of a pickled dictionary (a bare array counts as segment −1).
-fn by_segment(value: &pickle::Value, key: &str) -> Result<Vec<(i64, Array)>, (String, String)> {
+fn by_segment(value: &pickle::Value, key: &str) -> Result<Segments, (String, String)> {
     match value {
         pickle::Value::Array(a) if a.shape.is_empty() => {
             Err((key.into(), "a 0-d array holds no grasps".into()))

@@ -257,7 +257,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
 }
 
 fn pairs(items: Vec<Value>) -> Result<Vec<(Value, Value)>, String> {
-    if items.len() % 2 != 0 {
+    if !items.len().is_multiple_of(2) {
         return Err("a dictionary in the pickle has a key without a value".into());
     }
     let mut out = Vec::with_capacity(items.len() / 2);

@@ -349,3 +349,20 @@ fn the_graspgen_example_reads_in_its_writers_order_with_tool_points_under_the_to
         assert!((closing.x.abs() - 1.0).abs() < 1e-12, "{closing}");
     }
 }
+
+/// The example task selects among the GraspGen grasps: they are the box's top grasps, so the
+/// arm reaches most of them.
+#[test]
+fn the_graspgen_example_task_runs() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/grasp_files/pick_and_place_graspgen.yaml");
+    let task = graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(task.candidates.len(), 11);
+    let selection = graspath::select::select(&task, &|| {});
+    let feasible = selection.arms[0]
+        .scores
+        .iter()
+        .filter(|s| s.failure.is_none())
+        .count();
+    assert!(feasible >= 6, "{feasible} of 11 feasible");
+}

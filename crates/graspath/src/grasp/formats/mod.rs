@@ -281,6 +281,14 @@ pub fn read_grasp_file(
     Ok((format, candidates))
 }
 
+/// The most an `.npz` of these bytes may expand to: deflate's largest ratio, at most
+/// [`MAX_ARRAY_BYTES`].
+fn npz_limit(bytes: &[u8]) -> u64 {
+    (bytes.len() as u64)
+        .saturating_mul(arrays::DEFLATE_MAX_RATIO)
+        .min(MAX_ARRAY_BYTES)
+}
+
 /// The file's bytes, at most [`MAX_FILE_BYTES`].
 fn read_bytes(path: &Path) -> Result<Vec<u8>, String> {
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
@@ -327,7 +335,7 @@ fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
         };
     }
     if bytes.starts_with(b"PK") {
-        let members = read_npz(bytes, MAX_ARRAY_BYTES)?;
+        let members = read_npz(bytes, npz_limit(bytes))?;
         if members.iter().any(|(k, _)| k == "pred_grasps_cam") {
             return Ok(GraspFormat::ContactGraspnet);
         }
@@ -638,7 +646,7 @@ fn numeric_members(path: &Path, bytes: &[u8]) -> Result<Vec<(String, Member)>, (
             parse_npy(bytes).map_err(|m| ("file".to_string(), m))?,
         )]);
     }
-    read_npz(bytes, MAX_ARRAY_BYTES)
+    read_npz(bytes, npz_limit(bytes))
         .map_err(|m| ("file".to_string(), m))?
         .into_iter()
         .map(|(k, data)| {
@@ -763,7 +771,7 @@ fn graspnet(path: &Path, bytes: &[u8]) -> Grasps {
 /// `inference.py`) or a plain array.
 fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
     const P: &str = "pred_grasps_cam";
-    let members: Vec<(String, Member)> = read_npz(bytes, MAX_ARRAY_BYTES)
+    let members: Vec<(String, Member)> = read_npz(bytes, npz_limit(bytes))
         .map_err(|m| ("file".to_string(), m))?
         .into_iter()
         .filter(|(k, _)| [P, "scores", "contact_pts", "gripper_openings"].contains(&k.as_str()))

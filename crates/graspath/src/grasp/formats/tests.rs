@@ -69,7 +69,7 @@ fn an_npz_expanding_past_its_limit_is_refused() {
 
 fn npy_preamble(header: &str) -> Vec<u8> {
     let mut h = header.to_string();
-    while (10 + h.len() + 1) % 64 != 0 {
+    while !(10 + h.len() + 1).is_multiple_of(64) {
         h.push(' ');
     }
     h.push('\n');

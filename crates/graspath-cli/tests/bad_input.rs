@@ -83,6 +83,38 @@ object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 
 candidates: { file: c.csv }
 trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
 "#;
+/// The task file with the candidates read from a generator's grasp file `g.*` (copied from
+/// graspath's `tests/data/grasp_files/bad/` by the row's setup).
+const TASK_GRASP_H5: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] } }
+candidates: { file: g.h5 }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+"#;
+const TASK_GRASP_NPY: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] } }
+candidates: { file: g.npy }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+"#;
+const TASK_GRASP_NPZ: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] } }
+candidates: { file: g.npz, world_from_camera: { xyz: [0, 0, 1] } }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+"#;
+
+/// Copies the bad grasp file `name` of graspath's test data to `dir/to`.
+fn bad_grasp_file(name: &str, dir: &Path, to: &str) {
+    let from = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../graspath/tests/data/grasp_files/bad")
+        .join(name);
+    std::fs::copy(&from, dir.join(to)).unwrap_or_else(|e| panic!("{}: {e}", from.display()));
+}
+
 const TASK_URDF: &str = r#"
 robot: { urdf: two.urdf, chains: { left: { base: base, tip: nope } } }
 arms: left
@@ -311,6 +343,17 @@ fn table() -> Vec<Row> {
         row("candidates wrong frame", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"{"frame":"world","candidates":[{"xyz":[0,0,0],"quaternion":[0,0,0,1]}]}"#)], 2, "object frame"),
         row("candidates negative likelihood", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1],"likelihood":-1}]"#)], 2, "candidates[0].likelihood"),
         row("candidates csv NaN", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw\n0,0,0.05,0,0,0,1\nNaN,0,0,0,0,0,1\n")], 2, "line 3: xyz: not finite"),
+        // Generator grasp files (docs/grasp-files.md).
+        row("grasp h5 without transforms", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_H5)], 2, "g.h5: grasps/transforms: dataset missing").setup(|d| bad_grasp_file("no_transforms.h5", d, "g.h5")),
+        row("grasp h5 huge dataspace", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_H5)], 2, "g.h5: grasps/transforms: declares shape (1099511627776, 4, 4)").setup(|d| bad_grasp_file("huge_header.h5", d, "g.h5")),
+        row("grasp npz wrong shape", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_NPZ)], 2, "g.npz: pred_grasps_cam: has shape (3, 4), expected (N, 4, 4)").setup(|d| bad_grasp_file("wrong_shape.npz", d, "g.npz")),
+        row("grasp npy not rigid", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_NPY)], 2, "g.npy: g[1]: the 3×3 rotation block is not orthonormal").setup(|d| bad_grasp_file("not_rigid.npy", d, "g.npy")),
+        row("grasp npy NaN", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_NPY)], 2, "g.npy: g[0]: entry [2][3] is not a finite number").setup(|d| bad_grasp_file("nan.npy", d, "g.npy")),
+        row("grasp npy empty", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_NPY), ("g.npy", "")], 2, "g.npy: file: is empty"),
+        row("grasp npy huge header", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_GRASP_NPY)], 2, "only 128 bytes of data follow").setup(|d| bad_grasp_file("huge_header.npy", d, "g.npy")),
+        row("grasp unknown format", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.75, 0, -0.1] } }\ncandidates: { file: g.npy, format: gpd }\ntrajectory: { steps: [ { lift: 0.2 } ] }\n"), ("g.npy", "")], 2, "field 'candidates.format': 'gpd' is not one of"),
+        row("grasp camera frame without camera", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.75, 0, -0.1] } }\ncandidates: { file: g.npz, frame: camera }\ntrajectory: { steps: [ { lift: 0.2 } ] }\n"), ("g.npz", "")], 2, "field 'candidates.frame': poses in the camera frame need"),
+        row("grasp options without file", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.75, 0, -0.1] }, shape: { box: { size: [0.06, 0.4, 0.1] } } }\ncandidates: { family: { edge: { count: 3 } }, frame: world }\ntrajectory: { steps: [ { lift: 0.2 } ] }\n")], 2, "field 'candidates.frame': applies only to a candidate file"),
         row("candidates csv unknown column", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw,score\n0,0,0.05,0,0,0,1,1\n")], 2, "unknown column 'score'"),
         row("candidates csv non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw\n0,0,0.05,0,0,0,1\n0,0,0.05,0,0,0.5,0.5\n")], 2, "line 3: quaternion"),
         // Output folders and files.

@@ -293,6 +293,7 @@ impl PyTask {
                 log_likelihood: log_likelihoods[i],
                 contact: contact_points[i],
                 hand_joints: Vec::new(),
+                width: None,
             })
             .collect();
         let norm = match norm {

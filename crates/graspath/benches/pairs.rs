@@ -28,6 +28,7 @@ fn arm(n: usize, seed: u64) -> Vec<CandidateScore> {
                     log_likelihood: 0.0,
                     contact: Some(Point3::new(0.0, y, 0.0)),
                     hand_joints: Vec::new(),
+                    width: None,
                 }),
                 failure: None,
                 m_t: Vec::new(),

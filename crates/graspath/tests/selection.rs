@@ -77,6 +77,7 @@ fn planar_task(start_x: f64, end_x: f64, samples: usize) -> Task {
             log_likelihood: 0.0,
             contact: None,
             hand_joints: Vec::new(),
+            width: None,
         }])
         .object_motion(
             Isometry3::translation(start_x, 0.3, 0.0),

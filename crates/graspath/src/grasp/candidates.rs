@@ -44,6 +44,10 @@ pub struct Candidate {
     pub contact: Option<Point3<f64>>,
     /// Hand joint values of the grasp (rad or m), when the generator gives them.
     pub hand_joints: Vec<f64>,
+    /// The finger opening the generator predicted for this grasp (m), when its file gives
+    /// one (GraspNet / AnyGrasp widths): wider than the gripper's opening is a
+    /// `gripper_width` failure.
+    pub width: Option<f64>,
 }
 
 impl Candidate {
@@ -203,12 +207,13 @@ impl Raw {
             log_likelihood,
             contact,
             hand_joints: self.hand_joints,
+            width: None,
         })
     }
 }
 
 /// Refuses a position with a coordinate beyond ±[`MAX_OFFSET`].
-fn check_offset(field: &str, xyz: &[f64; 3]) -> Result<(), (String, String)> {
+pub(super) fn check_offset(field: &str, xyz: &[f64; 3]) -> Result<(), (String, String)> {
     let farthest = xyz.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     if farthest > MAX_OFFSET {
         return Err((

@@ -32,6 +32,7 @@ fn candidate(
         log_likelihood: 0.0,
         contact: Some(position),
         hand_joints: Vec::new(),
+        width: None,
     }
 }
 

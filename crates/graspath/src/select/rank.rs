@@ -277,6 +277,7 @@ mod tests {
                 log_likelihood,
                 contact: Some(Point3::new(0.0, y, 0.0)),
                 hand_joints: Vec::new(),
+                width: None,
             }),
             failure: None,
             m_t: Vec::new(),

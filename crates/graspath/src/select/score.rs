@@ -263,19 +263,20 @@ pub fn score_candidates(
     scores
 }
 
-/// The gripper-width check of a task: the open fingers at the grasp must not press into the
-/// object. Built once per arm; the finger bodies are shared by every candidate.
+/// The gripper-width check of a task: a width given by the candidate's file must fit the
+/// opening, and the open fingers at the grasp must not press into the object (when its shape
+/// is known). Built once per arm; the finger bodies are shared by every candidate.
 struct FingerCheck<'a> {
     /// `(name, wrist_from_finger, body)` of each finger, open at the gripper's opening.
     fingers: Vec<(String, Isometry3<f64>, Body)>,
     opening: f64,
     tolerance: f64,
-    object: &'a Body,
+    object: Option<&'a Body>,
 }
 
 impl<'a> FingerCheck<'a> {
     fn new(world: &WorldSetup<'a>) -> Option<Self> {
-        let (gripper, object) = (world.gripper?, world.object?);
+        let (gripper, object) = (world.gripper?, world.object);
         Some(Self {
             fingers: gripper
                 .finger_shapes()
@@ -296,14 +297,27 @@ impl<'a> FingerCheck<'a> {
     }
 
     fn failure(&self, candidate: &Candidate) -> Option<Failure> {
+        if let Some(width) = candidate
+            .width
+            .filter(|w| *w > self.opening + self.tolerance)
+        {
+            return Some(Failure {
+                reason: FailureReason::GripperWidth,
+                phase: Phase::Path,
+                sample: 0,
+                detail: format!(
+                    "the grasp's width from its file, {width:.4} m, is more than the {:.3} m \
+                     opening",
+                    self.opening
+                ),
+                bodies: None,
+            });
+        }
+        let object = self.object?;
         for (name, wrist_from_finger, finger) in &self.fingers {
             let object_from_finger = candidate.object_from_wrist * wrist_from_finger;
-            let depth = signed_distance(
-                finger,
-                &object_from_finger,
-                self.object,
-                &Isometry3::identity(),
-            );
+            let depth =
+                signed_distance(finger, &object_from_finger, object, &Isometry3::identity());
             if depth < -self.tolerance {
                 return Some(Failure {
                     reason: FailureReason::GripperWidth,

@@ -259,9 +259,31 @@ pub struct ObjectFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CandidatesFile {
-    /// A candidate file (JSON or CSV), relative to the task file.
+    /// A candidate file, relative to the task file: graspath JSON or CSV, or a grasp
+    /// generator's file (`docs/grasp-files.md`).
     #[serde(default)]
     pub file: Option<PathBuf>,
+    /// The file's layout (`graspath`, `graspgen`, `acronym`, `contact_graspnet`, `m2t2`,
+    /// `poses`, `graspnet`, `anygrasp`); default: guessed from the content.
+    #[serde(default)]
+    pub format: Option<String>,
+    /// The frame of the file's poses: `object`, `world` or `camera` (default: the format's,
+    /// `camera` for Contact-GraspNet / M2T2 and GraspNet / AnyGrasp, else `object`).
+    #[serde(default)]
+    pub frame: Option<String>,
+    /// With `frame: camera`: the camera in the world, `world_from_camera`.
+    #[serde(default)]
+    pub world_from_camera: Option<PoseSpec>,
+    /// With `frame: camera`, instead of `world_from_camera`: `camera_from_object`.
+    #[serde(default)]
+    pub camera_from_object: Option<PoseSpec>,
+    /// The tool frame in the generator's gripper frame, `gripper_from_tool` (default: the
+    /// format's documented convention).
+    #[serde(default)]
+    pub gripper_from_tool: Option<PoseSpec>,
+    /// Contact-GraspNet / M2T2: read only this segment (default: all).
+    #[serde(default)]
+    pub segment: Option<i64>,
     /// A parametric family on the object's shape.
     #[serde(default)]
     pub family: Option<FamilyFile>,

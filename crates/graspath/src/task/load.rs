@@ -15,7 +15,10 @@ use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
 use crate::grasp::hand::Hand;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
-use crate::grasp::{edge_family, face_family, read_candidates, yaw_family, Candidate};
+use crate::grasp::{
+    edge_family, face_family, guess_format, read_grasp_file, yaw_family, Candidate,
+    GraspFileOptions, GraspFormat, GraspFrame,
+};
 use crate::robot::{Chain, RobotModel, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
@@ -64,7 +67,8 @@ pub fn builder_from_file(
         base_dir,
         file.object.shape.as_ref(),
         &limits,
-        scene.as_ref().map(|s| (s, world_from_object)),
+        world_from_object,
+        scene.as_ref(),
     )?;
     builder = builder.candidates(candidates);
     let (steps, sampling) = setup_steps(file, source_name)?;
@@ -276,8 +280,10 @@ fn setup_candidates(
     base_dir: &Path,
     shape: Option<&Shape>,
     limits: &Limits,
-    scene: Option<(&Scene, Isometry3<f64>)>,
+    world_from_object: Isometry3<f64>,
+    scene: Option<&Scene>,
 ) -> Result<Vec<Candidate>, TaskError> {
+    let scene = scene.map(|s| (s, world_from_object));
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     // A family's count is checked before the family is generated.
     let bounded = |field: &str, count: usize| {
@@ -292,6 +298,23 @@ fn setup_candidates(
             Err(err(field, "must be a length ≥ 0 in metres".into()))
         }
     };
+    let c = &file.candidates;
+    if c.file.is_none() {
+        let given = [
+            ("format", c.format.is_some()),
+            ("frame", c.frame.is_some()),
+            ("world_from_camera", c.world_from_camera.is_some()),
+            ("camera_from_object", c.camera_from_object.is_some()),
+            ("gripper_from_tool", c.gripper_from_tool.is_some()),
+            ("segment", c.segment.is_some()),
+        ];
+        if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
+            return Err(err(
+                &format!("candidates.{name}"),
+                "applies only to a candidate file (candidates.file)".into(),
+            ));
+        }
+    }
     if let Some(generate) = &file.candidates.generate {
         if file.candidates.file.is_some() || file.candidates.family.is_some() {
             return Err(err(
@@ -302,8 +325,9 @@ fn setup_candidates(
         return generated_candidates(generate, source, base_dir, limits, scene);
     }
     match (&file.candidates.file, &file.candidates.family) {
-        (Some(path), None) => read_candidates(&base_dir.join(path))
-            .map_err(|e| TaskError::caused_by(source, "candidates.file", e)),
+        (Some(path), None) => {
+            grasp_file_candidates(file, source, &base_dir.join(path), world_from_object)
+        }
         (None, Some(family)) => {
             let shape = shape.ok_or_else(|| {
                 err(
@@ -390,6 +414,90 @@ fn setup_candidates(
     }
 }
 
+/// Candidates from a candidate or grasp-generator file, converted to the object frame and
+/// the tool frame (`docs/grasp-files.md`).
+fn grasp_file_candidates(
+    file: &TaskFile,
+    source: &str,
+    path: &Path,
+    world_from_object: Isometry3<f64>,
+) -> Result<Vec<Candidate>, TaskError> {
+    let c = &file.candidates;
+    let err = |field: &str, message: String| TaskError::new(source, field, message);
+    let format = match &c.format {
+        None => None,
+        Some(name) => Some(GraspFormat::from_name(name).ok_or_else(|| {
+            err(
+                "candidates.format",
+                format!("'{name}' is not one of {}", GraspFormat::NAMES),
+            )
+        })?),
+    };
+    let guessed = match format {
+        Some(f) => f,
+        None => {
+            guess_format(path).map_err(|e| TaskError::caused_by(source, "candidates.file", e))?
+        }
+    };
+    let frame = match c.frame.as_deref() {
+        None => guessed.default_frame(),
+        Some("object") => GraspFrame::Object,
+        Some("world") => GraspFrame::World,
+        Some("camera") => GraspFrame::Camera,
+        Some(other) => {
+            return Err(err(
+                "candidates.frame",
+                format!("'{other}' is not one of object, world, camera"),
+            ))
+        }
+    };
+    let camera = match (&c.world_from_camera, &c.camera_from_object) {
+        (Some(_), Some(_)) => {
+            return Err(err(
+                "candidates.camera_from_object",
+                "give world_from_camera or camera_from_object, not both".into(),
+            ))
+        }
+        (Some(spec), None) => {
+            Some(world_from_object.inverse() * pose(spec, source, "candidates.world_from_camera")?)
+        }
+        (None, Some(spec)) => Some(pose(spec, source, "candidates.camera_from_object")?.inverse()),
+        (None, None) => None,
+    };
+    let object_from_frame = match frame {
+        GraspFrame::Object => Isometry3::identity(),
+        GraspFrame::World => world_from_object.inverse(),
+        GraspFrame::Camera => camera.ok_or_else(|| {
+            err(
+                "candidates.frame",
+                "poses in the camera frame need candidates.world_from_camera or \
+                 candidates.camera_from_object"
+                    .into(),
+            )
+        })?,
+    };
+    if camera.is_some() && frame != GraspFrame::Camera {
+        return Err(err(
+            "candidates.frame",
+            "a camera pose is given but the frame is not camera".into(),
+        ));
+    }
+    let gripper_from_tool = c
+        .gripper_from_tool
+        .as_ref()
+        .map(|spec| pose(spec, source, "candidates.gripper_from_tool"))
+        .transpose()?;
+    let options = GraspFileOptions {
+        format: Some(guessed),
+        object_from_frame,
+        gripper_from_tool,
+        segment: c.segment,
+    };
+    read_grasp_file(path, &options)
+        .map(|(_, candidates)| candidates)
+        .map_err(|e| TaskError::caused_by(source, "candidates.file", e))
+}
+
 /// Candidates from the learned grasp model, best first, with their log-likelihoods.
 fn generated_candidates(
     g: &GenerateFile,
@@ -459,6 +567,7 @@ fn generated_candidates(
             log_likelihood: c.log_likelihood,
             contact: c.contact,
             hand_joints: c.hand_joints,
+            width: None,
         })
         .collect())
 }

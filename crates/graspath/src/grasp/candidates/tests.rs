@@ -13,6 +13,7 @@ fn the_grasp_point_is_the_contact_else_the_wrist_origin() {
         log_likelihood: 0.0,
         contact: None,
         hand_joints: Vec::new(),
+        width: None,
     };
     assert_eq!(candidate.grasp_point(), Point3::new(0.1, -0.2, 0.3));
     candidate.contact = Some(Point3::new(0.0, 0.01, 0.02));

@@ -1,0 +1,115 @@
+//! ACRONYM grasp files (HDF5): `grasps/transforms` (N×4×4) and
+//! `grasps/qualities/flex/object_in_gripper` (N), read with the pure-Rust `hdf5-reader`.
+//! A dataset's declared size is checked against the file length before it is read.
+
+use super::arrays::{shape_text, Array, DEFLATE_MAX_RATIO};
+use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
+
+/// The HDF5 signature at the start of a file.
+pub(crate) const SIGNATURE: &[u8] = b"\x89HDF\r\n\x1a\n";
+
+/// Reads the named numeric datasets of an HDF5 image; errors are `(dataset, message)`.
+pub(crate) fn read_datasets(
+    bytes: Vec<u8>,
+    names: &[&str],
+) -> Result<Vec<Option<Array>>, (String, String)> {
+    let file_len = bytes.len() as u64;
+    // No dataset can hold more than the file's bytes expanded by deflate's largest ratio.
+    let limit = file_len
+        .saturating_mul(DEFLATE_MAX_RATIO)
+        .min(super::MAX_ARRAY_BYTES);
+    let options = OpenOptions::default()
+        .with_max_read_bytes(limit as usize)
+        .with_max_chunk_bytes((limit as usize).min(256 << 20));
+    let file = Hdf5File::from_vec_with_options(bytes, options)
+        .map_err(|e| ("file".to_string(), format!("not a readable HDF5 file: {e}")))?;
+    names
+        .iter()
+        .map(|&name| {
+            let Ok(dataset) = file.dataset(name) else {
+                return Ok(None);
+            };
+            let err = |m: String| (name.to_string(), m);
+            let shape: Vec<usize> = dataset
+                .shape()
+                .iter()
+                .map(|&d| {
+                    usize::try_from(d).map_err(|_| err(format!("dimension {d} is too large")))
+                })
+                .collect::<Result<_, _>>()?;
+            let size = match dataset.dtype() {
+                Datatype::FloatingPoint { size, .. } => *size as u64,
+                Datatype::FixedPoint { size, .. } => *size as u64,
+                other => return Err(err(format!("holds {other:?}, not numbers"))),
+            };
+            shape
+                .iter()
+                .try_fold(size, |n, &d| n.checked_mul(d as u64))
+                .filter(|&n| n <= limit)
+                .map(|_| ())
+                .ok_or_else(|| {
+                    err(format!(
+                        "declares shape {} ({size}-byte values), more than a {file_len}-byte \
+                         file can hold",
+                        shape_text(&shape)
+                    ))
+                })?;
+            let read_err = |e: hdf5_reader::error::Error| err(format!("cannot be read: {e}"));
+            let data: Vec<f64> = match dataset.dtype() {
+                Datatype::FloatingPoint { size: 8, .. } => dataset
+                    .read_array::<f64>()
+                    .map_err(read_err)?
+                    .into_iter()
+                    .collect(),
+                Datatype::FloatingPoint { size: 4, .. } => dataset
+                    .read_array::<f32>()
+                    .map_err(read_err)?
+                    .into_iter()
+                    .map(f64::from)
+                    .collect(),
+                Datatype::FixedPoint {
+                    size: 8,
+                    signed: true,
+                    ..
+                } => dataset
+                    .read_array::<i64>()
+                    .map_err(read_err)?
+                    .into_iter()
+                    .map(|v| v as f64)
+                    .collect(),
+                Datatype::FixedPoint {
+                    size: 4,
+                    signed: true,
+                    ..
+                } => dataset
+                    .read_array::<i32>()
+                    .map_err(read_err)?
+                    .into_iter()
+                    .map(f64::from)
+                    .collect(),
+                Datatype::FixedPoint {
+                    size: 1,
+                    signed: false,
+                    ..
+                } => dataset
+                    .read_array::<u8>()
+                    .map_err(read_err)?
+                    .into_iter()
+                    .map(f64::from)
+                    .collect(),
+                Datatype::FixedPoint {
+                    size: 1,
+                    signed: true,
+                    ..
+                } => dataset
+                    .read_array::<i8>()
+                    .map_err(read_err)?
+                    .into_iter()
+                    .map(f64::from)
+                    .collect(),
+                other => return Err(err(format!("holds {other:?}, not f32/f64/int numbers"))),
+            };
+            Ok(Some(Array { shape, data }))
+        })
+        .collect()
+}

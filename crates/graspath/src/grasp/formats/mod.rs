@@ -1,0 +1,391 @@
+//! Grasp files written by current grasp generators, read directly as candidates
+//! (`docs/grasp-files.md` documents each layout and frame, with the generator file that
+//! defines it):
+//!
+//! * [`GraspFormat::GraspGen`]: GraspGen's output (the Isaac grasp YAML of
+//!   `save_to_isaac_grasp_format`: `grasps.<name>.{confidence, position, orientation}`) and
+//!   its dataset JSON (`grasps.transforms`, `grasps.object_in_gripper`);
+//! * [`GraspFormat::Acronym`]: ACRONYM HDF5 (`grasps/transforms`,
+//!   `grasps/qualities/flex/object_in_gripper`) or its JSON (`transforms`,
+//!   `quality_flex_object_in_gripper`);
+//! * [`GraspFormat::ContactGraspnet`]: Contact-GraspNet / M2T2 `.npz` (`pred_grasps_cam`,
+//!   `scores`, `contact_pts`, per segment as pickled dictionaries, or plain arrays);
+//! * [`GraspFormat::Poses`]: any `N×4×4` `.npy`, or `.npz` with one `N×4×4` array and
+//!   optionally `scores` (and `widths`);
+//! * [`GraspFormat::GraspNet`]: GraspNet-1Billion / AnyGrasp `N×17` arrays
+//!   (`GraspGroup.save_npy`): score, width, height, depth, rotation (9, row-major),
+//!   translation (3), object id.
+//!
+//! Each pose read is `frame_from_gripper` (the generator's gripper frame in the file's frame);
+//! the candidate's wrist pose is `object_from_wrist = object_from_frame · frame_from_gripper ·
+//! gripper_from_tool`, with [`GripperConvention::gripper_from_tool`] by default. Grasps
+//! scored 0 (ACRONYM's failed simulations) are not candidates; the others keep their row in
+//! the file as their id.
+
+mod arrays;
+mod hdf5;
+mod layouts;
+mod pickle;
+
+use super::candidates::{check_offset, Candidate, CandidateError, MAX_FILE_BYTES};
+use arrays::{parse_npy, read_npz, Member};
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use std::io::Read;
+use std::path::Path;
+
+/// The largest array read from a grasp file (bytes, 1 GiB).
+pub const MAX_ARRAY_BYTES: u64 = 1 << 30;
+
+/// The franka hand's tool centre point along its `z` (m): `panda_hand_tcp` in
+/// franka_description, and Contact-GraspNet's `gripper_depth` (`contact_graspnet.py`,
+/// `build_6d_grasp`).
+pub const FRANKA_TCP_DEPTH: f64 = 0.1034;
+
+/// A grasp-file layout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GraspFormat {
+    /// graspath's own JSON or CSV (`read_candidates`): tool poses in the object frame.
+    Graspath,
+    /// GraspGen output YAML/JSON (Isaac grasp format) or dataset JSON; Franka hand frame.
+    GraspGen,
+    /// ACRONYM HDF5 or JSON; Franka hand frame, object frame.
+    Acronym,
+    /// Contact-GraspNet or M2T2 `.npz`; Franka hand frame, camera frame.
+    ContactGraspnet,
+    /// Generic `N×4×4` `.npy` / `.npz`; tool poses unless `gripper_from_tool` is given.
+    Poses,
+    /// GraspNet-1Billion / AnyGrasp `N×17` arrays; GraspNet gripper frame, camera frame.
+    GraspNet,
+}
+
+impl GraspFormat {
+    /// The format of a task file's `format:` (`graspath`, `graspgen`, `acronym`,
+    /// `contact_graspnet` or `m2t2`, `poses`, `graspnet` or `anygrasp`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "graspath" => Self::Graspath,
+            "graspgen" => Self::GraspGen,
+            "acronym" => Self::Acronym,
+            "contact_graspnet" | "m2t2" => Self::ContactGraspnet,
+            "poses" => Self::Poses,
+            "graspnet" | "anygrasp" => Self::GraspNet,
+            _ => return None,
+        })
+    }
+
+    /// The names [`Self::from_name`] accepts, for messages.
+    pub const NAMES: &'static str =
+        "graspath, graspgen, acronym, contact_graspnet (m2t2), poses, graspnet (anygrasp)";
+
+    /// The gripper whose frame the format's poses are in.
+    pub fn gripper(self) -> GripperConvention {
+        match self {
+            Self::Graspath | Self::Poses => GripperConvention::Tool,
+            Self::GraspGen | Self::Acronym | Self::ContactGraspnet => GripperConvention::FrankaHand,
+            Self::GraspNet => GripperConvention::GraspNet,
+        }
+    }
+
+    /// The frame the format's poses are in unless the task says otherwise: `camera` for
+    /// Contact-GraspNet / M2T2 (`pred_grasps_cam`) and GraspNet / AnyGrasp, else `object`.
+    pub fn default_frame(self) -> GraspFrame {
+        match self {
+            Self::ContactGraspnet | Self::GraspNet => GraspFrame::Camera,
+            _ => GraspFrame::Object,
+        }
+    }
+}
+
+/// The frame a grasp file's poses are in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GraspFrame {
+    /// The object frame (the task's `object.pose` places it in the world).
+    Object,
+    /// The task's world frame.
+    World,
+    /// A camera frame, placed by `world_from_camera` or `camera_from_object`.
+    Camera,
+}
+
+/// A generator's gripper frame and how it maps to graspath's tool frame (`z` approach, the
+/// fingers closing along `y`, the tool point at the origin).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GripperConvention {
+    /// Poses are already tool poses.
+    Tool,
+    /// The Franka (Panda) hand frame of ACRONYM, GraspGen, Contact-GraspNet and M2T2: origin
+    /// at the hand's base, `z` approach, fingers closing along `x`; the tool point
+    /// [`FRANKA_TCP_DEPTH`] along `z`.
+    FrankaHand,
+    /// GraspNet-1Billion / AnyGrasp: origin at the grasp centre, approach along `x`, fingers
+    /// closing along `y` (graspnetAPI `plot_gripper_pro_max`).
+    GraspNet,
+}
+
+impl GripperConvention {
+    /// `gripper_from_tool`: the tool frame in the generator's gripper frame.
+    /// Franka: `Trans(0, 0, 0.1034) · Rz(−90°)` (tool `y` = hand `x`, tool `z` = hand `z`);
+    /// GraspNet: `Ry(90°)` (tool `z` = gripper `x`, tool `y` = gripper `y`).
+    pub fn gripper_from_tool(self) -> Isometry3<f64> {
+        match self {
+            Self::Tool => Isometry3::identity(),
+            Self::FrankaHand => Isometry3::from_parts(
+                Translation3::new(0.0, 0.0, FRANKA_TCP_DEPTH),
+                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -std::f64::consts::FRAC_PI_2),
+            ),
+            Self::GraspNet => Isometry3::from_parts(
+                Translation3::identity(),
+                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2),
+            ),
+        }
+    }
+}
+
+/// How to read a grasp file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraspFileOptions {
+    /// The layout; `None`: guessed from the content (and extension) where unambiguous.
+    pub format: Option<GraspFormat>,
+    /// `object_from_frame`: where the file's frame is in the object frame (identity for
+    /// object-frame files).
+    pub object_from_frame: Isometry3<f64>,
+    /// `gripper_from_tool`; `None`: the format's [`GripperConvention::gripper_from_tool`].
+    pub gripper_from_tool: Option<Isometry3<f64>>,
+    /// Contact-GraspNet: read only this segment (default: every segment).
+    pub segment: Option<i64>,
+}
+
+impl Default for GraspFileOptions {
+    fn default() -> Self {
+        Self {
+            format: None,
+            object_from_frame: Isometry3::identity(),
+            gripper_from_tool: None,
+            segment: None,
+        }
+    }
+}
+
+/// One grasp as the file gives it.
+struct Grasp {
+    /// Where in the file (`grasps/transforms[3]`).
+    location: String,
+    /// Row in the file, the candidate's id.
+    id: usize,
+    label: String,
+    frame_from_gripper: Isometry3<f64>,
+    score: Option<f64>,
+    width: Option<f64>,
+    contact: Option<Point3<f64>>,
+}
+
+/// Reads a grasp file of any [`GraspFormat`] as candidates in the object frame.
+pub fn read_grasp_file(
+    path: &Path,
+    options: &GraspFileOptions,
+) -> Result<(GraspFormat, Vec<Candidate>), CandidateError> {
+    let file = path.display().to_string();
+    let error = |location: &str, message: String| CandidateError {
+        file: file.clone(),
+        location: location.to_string(),
+        message,
+    };
+    let bytes = read_bytes(path).map_err(|m| error("file", m))?;
+    if bytes.is_empty() {
+        return Err(error("file", "is empty".into()));
+    }
+    let format = match options.format {
+        Some(f) => f,
+        None => guess(path, &bytes).map_err(|m| error("file", m))?,
+    };
+    if format == GraspFormat::Graspath {
+        if options.object_from_frame != Isometry3::identity() || options.gripper_from_tool.is_some()
+        {
+            return Err(error(
+                "file",
+                "graspath candidate files hold tool poses in the object frame: frame and \
+                 gripper_from_tool do not apply"
+                    .into(),
+            ));
+        }
+        return super::read_candidates(path).map(|c| (format, c));
+    }
+    let grasps = match format {
+        GraspFormat::Graspath => unreachable!("handled above"),
+        GraspFormat::GraspGen | GraspFormat::Acronym if !bytes.starts_with(hdf5::SIGNATURE) => {
+            layouts::text_grasps(format, &bytes)
+        }
+        GraspFormat::GraspGen | GraspFormat::Acronym => layouts::acronym_h5(bytes),
+        GraspFormat::ContactGraspnet => layouts::contact_graspnet(&bytes, options.segment),
+        GraspFormat::Poses => layouts::poses(path, &bytes),
+        GraspFormat::GraspNet => layouts::graspnet(path, &bytes),
+    }
+    .map_err(|(l, m)| error(&l, m))?;
+    let gripper_from_tool = options
+        .gripper_from_tool
+        .unwrap_or_else(|| format.gripper().gripper_from_tool());
+    let mut candidates = Vec::with_capacity(grasps.len());
+    let mut unscored = 0usize;
+    for g in grasps {
+        let log_likelihood = match g.score {
+            Some(s) if !s.is_finite() || s < 0.0 => {
+                return Err(error(
+                    &g.location,
+                    format!("score must be a finite number ≥ 0, got {s}"),
+                ))
+            }
+            Some(0.0) => {
+                unscored += 1;
+                continue;
+            }
+            Some(s) => s.ln(),
+            None => 0.0,
+        };
+        if let Some(w) = g.width {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(error(
+                    &g.location,
+                    format!("width must be a finite length ≥ 0 (m), got {w}"),
+                ));
+            }
+        }
+        let object_from_wrist =
+            options.object_from_frame * g.frame_from_gripper * gripper_from_tool;
+        check_offset("pose", &object_from_wrist.translation.vector.into())
+            .map_err(|(f, m)| error(&format!("{} ({f} in the object frame)", g.location), m))?;
+        let contact = g.contact.map(|c| options.object_from_frame * c);
+        if let Some(c) = contact {
+            check_offset("contact", &c.coords.into())
+                .map_err(|(f, m)| error(&format!("{} ({f} in the object frame)", g.location), m))?;
+        }
+        candidates.push(Candidate {
+            id: g.id,
+            label: g.label,
+            object_from_wrist,
+            log_likelihood,
+            contact,
+            hand_joints: Vec::new(),
+            width: g.width,
+        });
+    }
+    if candidates.is_empty() {
+        return Err(error(
+            "file",
+            if unscored > 0 {
+                format!("all {unscored} grasps have score 0 (failed): no candidates")
+            } else {
+                "contains no grasps".into()
+            },
+        ));
+    }
+    Ok((format, candidates))
+}
+
+/// The most an `.npz` of these bytes may expand to: deflate's largest ratio, at most
+/// [`MAX_ARRAY_BYTES`].
+fn npz_limit(bytes: &[u8]) -> u64 {
+    (bytes.len() as u64)
+        .saturating_mul(arrays::DEFLATE_MAX_RATIO)
+        .min(MAX_ARRAY_BYTES)
+}
+
+/// The file's bytes, at most [`MAX_FILE_BYTES`].
+fn read_bytes(path: &Path) -> Result<Vec<u8>, String> {
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(format!("is larger than {MAX_FILE_BYTES} bytes"));
+    }
+    Ok(bytes)
+}
+
+/// The format of a file from its content (signature, keys, shapes) and extension.
+pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
+    let bytes = read_bytes(path).map_err(|m| CandidateError {
+        file: path.display().to_string(),
+        location: "file".into(),
+        message: m,
+    })?;
+    guess(path, &bytes).map_err(|m| CandidateError {
+        file: path.display().to_string(),
+        location: "file".into(),
+        message: m,
+    })
+}
+
+fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
+    let ask = |what: &str| format!("{what}; give candidates.format ({})", GraspFormat::NAMES);
+    if bytes.starts_with(hdf5::SIGNATURE) {
+        return Ok(GraspFormat::Acronym);
+    }
+    if bytes.starts_with(b"\x93NUMPY") {
+        let Member::Numeric(a) = parse_npy(bytes)? else {
+            return Err(ask("a .npy of Python objects"));
+        };
+        return match a.shape.as_slice() {
+            [_, 4, 4] => Ok(GraspFormat::Poses),
+            [_, 17] => Ok(GraspFormat::GraspNet),
+            _ => Err(ask(&format!(
+                "a .npy of shape {} is neither N×4×4 poses nor N×17 GraspNet grasps",
+                a.shape_text()
+            ))),
+        };
+    }
+    if bytes.starts_with(b"PK") {
+        let members = read_npz(bytes, npz_limit(bytes))?;
+        if members.iter().any(|(k, _)| k == "pred_grasps_cam") {
+            return Ok(GraspFormat::ContactGraspnet);
+        }
+        let mut kinds = Vec::new();
+        for (key, data) in &members {
+            if let Ok(Member::Numeric(a)) = parse_npy(data) {
+                match a.shape.as_slice() {
+                    [_, 4, 4] => kinds.push((key.clone(), GraspFormat::Poses)),
+                    [_, 17] => kinds.push((key.clone(), GraspFormat::GraspNet)),
+                    _ => {}
+                }
+            }
+        }
+        return match kinds.as_slice() {
+            [(_, f)] => Ok(*f),
+            [] => Err(ask("an .npz without pred_grasps_cam, N×4×4 or N×17 arrays")),
+            _ => Err(ask("an .npz with several grasp arrays")),
+        };
+    }
+    let is_csv = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    if is_csv {
+        return Ok(GraspFormat::Graspath);
+    }
+    let text = std::str::from_utf8(bytes).map_err(|_| ask("not a known binary layout nor text"))?;
+    let value = text_value(path, text).map_err(|m| ask(&m))?;
+    if value.get("format").and_then(|f| f.as_str()) == Some("isaac_grasp") {
+        return Ok(GraspFormat::GraspGen);
+    }
+    if value.pointer("/grasps/transforms").is_some() {
+        return Ok(GraspFormat::GraspGen);
+    }
+    if value.get("transforms").is_some() {
+        return Ok(GraspFormat::Acronym);
+    }
+    Ok(GraspFormat::Graspath)
+}
+
+fn text_value(path: &Path, text: &str) -> Result<serde_json::Value, String> {
+    let yaml = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
+    if !yaml {
+        if let Ok(v) = serde_json::from_str(text) {
+            return Ok(v);
+        }
+    }
+    serde_saphyr::from_str(text).map_err(|e| format!("not JSON or YAML: {e}"))
+}
+
+#[cfg(test)]
+mod tests;

@@ -9,9 +9,10 @@
 //! followed by Gauss–Newton corrections back onto the target, until a joint limit or
 //! `reach` steps on either side. Those configurations are the states of a dynamic programme
 //! over the samples: a state follows a state of the previous sample only when no joint moves
-//! more than `max_joint_step`, and the best chain of states is kept. The given paths are
-//! among the states, so the result is never worse than the best of them. A second,
-//! finer pass (`spacing / REFINE`) around the chosen path refines the optimum.
+//! more than `max_joint_step`, and the best chain of states is kept. The self-motion is traced
+//! around the first given path; the others join the states as they are. Every given path is
+//! among the states, so the result is never worse than the best of them. A second, finer pass
+//! (`spacing / REFINE`, half as far) around the chosen path refines the optimum.
 //!
 //! With one redundant degree of freedom (a 7-joint arm keeping a pose, a planar 3R arm keeping
 //! a position) the traced curve is the self-motion manifold near the given paths; with more,
@@ -51,11 +52,11 @@ pub struct SelfMotionOptions {
 }
 
 impl Default for SelfMotionOptions {
-    /// 0.05 rad spacing, 16 steps each side (±0.8 rad), 0.5 rad joint steps, 1e-5 m / rad.
+    /// 0.1 rad spacing, 8 steps each side (±0.8 rad), 0.5 rad joint steps, 1e-5 m / rad.
     fn default() -> Self {
         Self {
-            spacing: 0.05,
-            reach: 16,
+            spacing: 0.1,
+            reach: 8,
             max_joint_step: 0.5,
             position_tolerance: 1e-5,
             rotation_tolerance: 1e-5,
@@ -82,8 +83,9 @@ pub struct SelfMotionPath {
 pub type SampleValue<'a> = dyn Fn(usize, &[f64], &Matrix6xX<f64>) -> f64 + Sync + 'a;
 
 /// The joint path through `base_from_targets` (tip poses, chain base frame) that maximises
-/// `Σ value(i, q_i, J(q_i))` over the self-motion traced around the given `paths` (each one
-/// configuration per target, feasible: on target, inside the limits, steps within the bound).
+/// `Σ value(i, q_i, J(q_i))` over the self-motion traced around the first of `paths`, the
+/// other paths joining as they are (each one configuration per target, feasible: on target,
+/// inside the limits, steps within the bound); never worse than any of them.
 /// `None` when no path is given or none has the right length.
 pub fn optimize_self_motion(
     chain: &Chain,
@@ -105,7 +107,7 @@ pub fn optimize_self_motion(
     let coarse = best_chain(chain, &targets, &paths, rows, value, options)?;
     let fine_options = SelfMotionOptions {
         spacing: options.spacing / REFINE,
-        reach: REFINE as usize,
+        reach: REFINE as usize / 2,
         ..*options
     };
     let fine = best_chain(chain, &targets, &[&coarse.q], rows, value, &fine_options)?;
@@ -120,6 +122,7 @@ pub fn optimize_self_motion(
 }
 
 /// One state of the programme: a configuration on target and its value.
+#[derive(Debug, Clone)]
 struct State {
     q: Vec<f64>,
     value: f64,
@@ -139,13 +142,15 @@ fn best_chain(
         .iter()
         .enumerate()
         .map(|(i, target)| {
-            let mut at = Vec::new();
-            for path in paths {
-                for q in tracer.trace(&path[i], target) {
-                    if tracer.jacobian_at(&q) {
-                        let v = value(i, &q, &tracer.jacobian);
-                        at.push(State { q, value: v });
-                    }
+            let mut at = tracer.trace(&paths[0][i], target, &|q, j| value(i, q, j));
+            // The other paths join as they are.
+            for path in &paths[1..] {
+                if tracer.jacobian_at(&path[i]) {
+                    let v = value(i, &path[i], &tracer.jacobian);
+                    at.push(State {
+                        q: path[i].clone(),
+                        value: v,
+                    });
                 }
             }
             at
@@ -231,6 +236,7 @@ const CORRECTIONS: usize = 8;
 const DAMPING: f64 = 1e-12;
 
 /// The kept rows of the Jacobian at one configuration and the solve through them.
+#[derive(Clone)]
 struct Kept {
     /// The Jacobian with the rows that are not kept set to zero.
     a: Matrix6xX<f64>,
@@ -300,16 +306,31 @@ impl<'c> Tracer<'c> {
     }
 
     /// `q` itself and up to `reach` configurations on each side of it along the self-motion
-    /// (nearest first on each side), each on target and inside the limits.
-    fn trace(&mut self, q: &[f64], target: &IsometryMatrix3<f64>) -> Vec<Vec<f64>> {
-        let mut out = vec![q.to_vec()];
+    /// (nearest first on each side), each on target and inside the limits, with their
+    /// `value` (of the configuration and the full Jacobian there).
+    fn trace(
+        &mut self,
+        q: &[f64],
+        target: &IsometryMatrix3<f64>,
+        value: &dyn Fn(&[f64], &Matrix6xX<f64>) -> f64,
+    ) -> Vec<State> {
+        let Some(start) = self.kept(q, target) else {
+            return Vec::new();
+        };
+        let mut out = vec![State {
+            q: q.to_vec(),
+            value: value(q, &self.jacobian),
+        }];
         let dof = self.chain.dof();
         for side in [1.0, -1.0] {
             let mut current = q.to_vec();
             let mut heading: Option<DVector<f64>> = None;
+            // The solve at `current`, reused for the next step's direction.
+            let mut at_current: Option<Kept> = None;
             for _ in 0..self.options.reach {
-                let Some(kept) = self.kept(&current, target) else {
-                    break;
+                let kept = match at_current.take() {
+                    Some(k) => k,
+                    None => start.clone(),
                 };
                 // Continue the previous heading; at the start, the projected joint axis of
                 // largest norm, turned by `side`.
@@ -330,13 +351,13 @@ impl<'c> Tracer<'c> {
                     .zip(step.iter())
                     .map(|(v, d)| v + self.options.spacing * d)
                     .collect();
-                let mut converged = false;
+                let mut converged = None;
                 for _ in 0..CORRECTIONS {
                     let Some(kept) = self.kept(&next, target) else {
                         break;
                     };
                     if self.on_target(&kept.error) {
-                        converged = true;
+                        converged = Some(kept);
                         break;
                     }
                     let correction = kept.lift(&kept.error);
@@ -344,11 +365,16 @@ impl<'c> Tracer<'c> {
                         *v += d;
                     }
                 }
-                if !converged || !self.inside(&next) {
+                let Some(kept) = converged.filter(|_| self.inside(&next)) else {
                     break;
-                }
+                };
+                // `self.jacobian` is the full Jacobian at `next` (the last solve).
+                out.push(State {
+                    value: value(&next, &self.jacobian),
+                    q: next.clone(),
+                });
+                at_current = Some(kept);
                 heading = Some(step);
-                out.push(next.clone());
                 current = next;
             }
         }

@@ -219,20 +219,23 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         })
         .collect();
     let pairs = pairs_json(selection);
-    let best_pair = pairs.as_array().and_then(|p| p.first().cloned()).map(|mut best| {
-        best["tied_with"] = Value::Array(
-            tied_pairs(selection, task.selection.tie_tolerance)
-                .iter()
-                .map(|p| {
-                    let mut m = Map::new();
-                    m.insert(selection.arms[0].arm.clone(), json!(p.first.id));
-                    m.insert(selection.arms[1].arm.clone(), json!(p.second.id));
-                    Value::Object(m)
-                })
-                .collect(),
-        );
-        best
-    });
+    let best_pair = pairs
+        .as_array()
+        .and_then(|p| p.first().cloned())
+        .map(|mut best| {
+            best["tied_with"] = Value::Array(
+                tied_pairs(selection, task.selection.tie_tolerance)
+                    .iter()
+                    .map(|p| {
+                        let mut m = Map::new();
+                        m.insert(selection.arms[0].arm.clone(), json!(p.first.id));
+                        m.insert(selection.arms[1].arm.clone(), json!(p.second.id));
+                        Value::Object(m)
+                    })
+                    .collect(),
+            );
+            best
+        });
     let mut summary = json!({
         "task": task.source_name,
         "robot": task.robot_name,

@@ -53,7 +53,9 @@ fn slice_heatmap(
     let mut cells = vec![Cell::Missing; nx * ny];
     for r in slice {
         let [ix, iy, _, _] = r.index;
-        cells[iy * nx + ix] = value(r).filter(|v| v.is_finite()).map_or(Cell::Missing, Cell::Value);
+        cells[iy * nx + ix] = value(r)
+            .filter(|v| v.is_finite())
+            .map_or(Cell::Missing, Cell::Value);
     }
     Heatmap {
         title,
@@ -158,7 +160,9 @@ pub fn placement_figures(map: &PlacementMap) -> Vec<Figure> {
                 let with_parameter = map.parameter.is_some();
                 push(
                     name,
-                    format!("Arm {arm}: the selected candidate at each placement{where_}: {label}."),
+                    format!(
+                        "Arm {arm}: the selected candidate at each placement{where_}: {label}."
+                    ),
                     slice_heatmap(
                         map,
                         &slice,

@@ -37,7 +37,10 @@ pub fn best_sentence(task: &Task, arm: &ArmResult) -> Option<String> {
             ids.join(", ")
         )
     };
-    Some(format!("{} arm best: {} (id {}), {ties}", arm.arm, c.label, c.id))
+    Some(format!(
+        "{} arm best: {} (id {}), {ties}",
+        arm.arm, c.label, c.id
+    ))
 }
 
 /// The best pair and its ties among the kept pairs; `None` without a pair.

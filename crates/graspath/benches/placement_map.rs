@@ -18,7 +18,11 @@ fn map_10x10(c: &mut Criterion) {
     let file = TaskFile::load(&path).expect("the example loads");
     let builder = builder_from_file(&file, "pick_and_place_both.yaml", &examples)
         .expect("the example builds");
-    let candidates = builder.clone().build().expect("the example builds").candidates;
+    let candidates = builder
+        .clone()
+        .build()
+        .expect("the example builds")
+        .candidates;
     let parameter = FamilyParameter::from_task_file(&file, &candidates);
     let grid = PlacementGrid {
         x: GridAxis::new(0.55, 0.95, 10, "--x").unwrap(),

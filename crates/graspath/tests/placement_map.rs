@@ -67,11 +67,19 @@ fn each_placement_equals_select_on_the_task_file_with_that_pose() {
         let t = placement.world_from_object.translation.vector;
         let yaml = task_yaml(&format!("{{ xyz: [{:?}, {:?}, {:?}] }}", t.x, t.y, t.z));
         let task = Task::from_file(&parse(&yaml), "task.yaml", Path::new(".")).unwrap();
-        assert_eq!(task.path.samples[0].world_from_object, placement.world_from_object);
+        assert_eq!(
+            task.path.samples[0].world_from_object,
+            placement.world_from_object
+        );
         let selection = select(&task, &|| {});
         let expected =
             PlacementRecord::from_selection(&task, &selection, placement, parameter.as_ref());
-        assert_eq!(bytes(record), bytes(&expected), "placement {:?}", placement.index);
+        assert_eq!(
+            bytes(record),
+            bytes(&expected),
+            "placement {:?}",
+            placement.index
+        );
         // And the record says what the selection says.
         for (arm, result) in record.arms.iter().zip(&selection.arms) {
             assert_eq!(arm.feasible, result.feasible_count());
@@ -90,7 +98,10 @@ fn each_placement_equals_select_on_the_task_file_with_that_pose() {
             selected_somewhere |= arm.best.is_some();
         }
     }
-    assert!(selected_somewhere, "the grid should reach the object somewhere");
+    assert!(
+        selected_somewhere,
+        "the grid should reach the object somewhere"
+    );
 }
 
 #[test]
@@ -98,7 +109,8 @@ fn the_map_is_the_same_at_any_thread_count() {
     let file = parse(&task_yaml("{ xyz: [0.75, 0.0, -0.10] }"));
     let builder = builder_from_file(&file, "task.yaml", Path::new(".")).unwrap();
     let mut grid = grid();
-    grid.yaw = Some(GridAxis::new(-30f64.to_radians(), 30f64.to_radians(), 2, "--yaw-deg").unwrap());
+    grid.yaw =
+        Some(GridAxis::new(-30f64.to_radians(), 30f64.to_radians(), 2, "--yaw-deg").unwrap());
     let run = |threads: usize| -> Vec<u8> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -126,7 +138,11 @@ fn a_yawed_placement_turns_the_start_pose_and_the_relative_steps_follow() {
         yaw: Some(GridAxis::single(yaw, "--yaw-deg").unwrap()),
     };
     let p = grid.placements(&builder.object_start().unwrap()).unwrap()[0];
-    let task = builder.with_object_start(p.world_from_object).unwrap().build().unwrap();
+    let task = builder
+        .with_object_start(p.world_from_object)
+        .unwrap()
+        .build()
+        .unwrap();
     let first = task.path.samples[0].world_from_object;
     assert!((first.rotation.angle() - yaw).abs() < 1e-12);
     assert!((first.translation.vector - nalgebra::Vector3::new(0.7, 0.1, -0.1)).norm() < 1e-15);

@@ -514,7 +514,11 @@ fn a_urdf_hand_is_the_gripper_its_shapes_describe() {
     assert!((gb.opening - 0.07).abs() < 1e-9, "opening {}", gb.opening);
     let (mut ha, mut hb) = (ga.hand_shapes(), gb.hand_shapes());
     assert_eq!(ha.len(), hb.len());
-    let key = |x: &(String, nalgebra::Isometry3<f64>, graspath::geometry::shape::Shape)| {
+    let key = |x: &(
+        String,
+        nalgebra::Isometry3<f64>,
+        graspath::geometry::shape::Shape,
+    )| {
         let t = x.1.translation.vector;
         (t.y * 1e6).round() as i64 * 1_000_000 + (t.z * 1e6).round() as i64
     };

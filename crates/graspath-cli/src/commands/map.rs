@@ -31,7 +31,11 @@ pub struct MapArgs {
     z: Option<String>,
     /// Yaw about the world vertical through the object's origin (degrees), added to the
     /// task's orientation: START:END:COUNT or one value (default: none).
-    #[arg(long = "yaw-deg", value_name = "START:END:COUNT", allow_hyphen_values = true)]
+    #[arg(
+        long = "yaw-deg",
+        value_name = "START:END:COUNT",
+        allow_hyphen_values = true
+    )]
     yaw_deg: Option<String>,
     /// Where to write `map.json` and the figures: a new or empty folder (or, with --force, a
     /// folder whose contents are replaced as a whole).
@@ -68,11 +72,17 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
     let grid = grid(args)?;
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
     let name = args.task.display().to_string();
-    let base_dir = args.task.parent().map(Path::to_path_buf).unwrap_or_default();
-    let builder =
-        builder_from_file(&file, &name, &base_dir).context("cannot use the task file")?;
+    let base_dir = args
+        .task
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let builder = builder_from_file(&file, &name, &base_dir).context("cannot use the task file")?;
     // The family parameter is read off the task at its own pose (candidates do not move).
-    let task = builder.clone().build().context("cannot use the task file")?;
+    let task = builder
+        .clone()
+        .build()
+        .context("cannot use the task file")?;
     let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
     drop(task);
     let bar = progress_bar(&args.output, grid.len() as u64, &name);
@@ -102,7 +112,11 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
     Ok(Finished::Done)
 }
 
-fn print_map_table(map: &graspath::placement::PlacementMap, name: &str, elapsed: std::time::Duration) {
+fn print_map_table(
+    map: &graspath::placement::PlacementMap,
+    name: &str,
+    elapsed: std::time::Duration,
+) {
     crate::say!(
         "{name}: {} placements x {} arm(s), {:.3} s",
         map.records.len(),

@@ -144,15 +144,10 @@ pub struct Placement {
 impl PlacementGrid {
     /// How many placements (checked against [`MAX_PLACEMENTS`] by [`placements`](Self::placements)).
     pub fn len(&self) -> usize {
-        [
-            Some(self.x),
-            Some(self.y),
-            self.z,
-            self.yaw,
-        ]
-        .iter()
-        .flatten()
-        .fold(1usize, |n, a| n.saturating_mul(a.count))
+        [Some(self.x), Some(self.y), self.z, self.yaw]
+            .iter()
+            .flatten()
+            .fold(1usize, |n, a| n.saturating_mul(a.count))
     }
 
     /// Always false: every axis has at least one value.
@@ -162,7 +157,10 @@ impl PlacementGrid {
 
     /// Every placement, the task's start pose `world_from_object` moved to it: x fastest, then
     /// y, then yaw, then z (so `placements[((iz · n_yaw + iyaw) · n_y + iy) · n_x + ix]`).
-    pub fn placements(&self, world_from_object: &Isometry3<f64>) -> Result<Vec<Placement>, AxisError> {
+    pub fn placements(
+        &self,
+        world_from_object: &Isometry3<f64>,
+    ) -> Result<Vec<Placement>, AxisError> {
         let n = self.len();
         if n > MAX_PLACEMENTS {
             return Err(AxisError {
@@ -181,8 +179,8 @@ impl PlacementGrid {
         let mut out = Vec::with_capacity(n);
         for (iz, &z) in zs.iter().enumerate() {
             for (iyaw, &yaw) in yaws.iter().enumerate() {
-                let rotation =
-                    UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw) * world_from_object.rotation;
+                let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw)
+                    * world_from_object.rotation;
                 for (iy, &y) in ys.iter().enumerate() {
                     for (ix, &x) in xs.iter().enumerate() {
                         out.push(Placement {
@@ -215,8 +213,13 @@ mod tests {
         for k in 0..5 {
             assert!((v[k] - (0.5 + 0.1 * k as f64)).abs() < 1e-15);
         }
-        assert_eq!(GridAxis::parse(" -0.2 ", "--y").unwrap().values(), vec![-0.2]);
-        for bad in ["", "a:1:2", "0:1:0", "0:1", "0:1:x", "0:1:1", "0:inf:3", "0:1:2:3"] {
+        assert_eq!(
+            GridAxis::parse(" -0.2 ", "--y").unwrap().values(),
+            vec![-0.2]
+        );
+        for bad in [
+            "", "a:1:2", "0:1:0", "0:1", "0:1:x", "0:1:1", "0:inf:3", "0:1:2:3",
+        ] {
             let e = GridAxis::parse(bad, "--z").unwrap_err();
             assert_eq!(e.field, "--z", "{bad}");
         }
@@ -236,7 +239,10 @@ mod tests {
         assert_eq!(grid.len(), 12);
         let last = &p[11];
         assert_eq!(last.index, [2, 1, 0, 1]);
-        assert_eq!(last.world_from_object.translation.vector, Vector3::new(0.8, 0.1, -0.1));
+        assert_eq!(
+            last.world_from_object.translation.vector,
+            Vector3::new(0.8, 0.1, -0.1)
+        );
         // A quarter turn about world z maps the object's x axis to world y.
         let x_axis = last.world_from_object.rotation * Vector3::x();
         assert!((x_axis - Vector3::y()).norm() < 1e-15);

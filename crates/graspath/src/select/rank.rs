@@ -493,7 +493,10 @@ mod tests {
             for (id, tied) in &original {
                 for other in tied {
                     let back = &original[*other].1;
-                    assert!(back.contains(id), "seed {seed}: {id} ~ {other} not symmetric");
+                    assert!(
+                        back.contains(id),
+                        "seed {seed}: {id} ~ {other} not symmetric"
+                    );
                 }
                 // Oracle: the definition, pair by pair, on the norms themselves.
                 let own = scores[*id].norms.unwrap().l2;
@@ -515,7 +518,11 @@ mod tests {
                 shuffled.swap(k, j);
             }
             let shuffled_rankings = rank_candidates(&shuffled, &options);
-            assert_eq!(groups(&shuffled, &shuffled_rankings), original, "seed {seed}");
+            assert_eq!(
+                groups(&shuffled, &shuffled_rankings),
+                original,
+                "seed {seed}"
+            );
         }
     }
 }

@@ -272,7 +272,10 @@ impl TaskBuilder {
     /// `pose` steps stay where they are. The task is the one a task file with this
     /// `object.pose` describes. Errors (naming `trajectory`) when the path is not given as
     /// steps.
-    pub fn with_object_start(mut self, world_from_object: Isometry3<f64>) -> Result<Self, TaskError> {
+    pub fn with_object_start(
+        mut self,
+        world_from_object: Isometry3<f64>,
+    ) -> Result<Self, TaskError> {
         match &mut self.path {
             Some(PathInput::Steps {
                 world_from_object: start,

@@ -210,8 +210,8 @@ mod tests {
         assert_eq!(v.len(), 5);
         assert_eq!(v[0], 0.5);
         assert_eq!(v[4], 0.9);
-        for k in 0..5 {
-            assert!((v[k] - (0.5 + 0.1 * k as f64)).abs() < 1e-15);
+        for (k, value) in v.iter().enumerate() {
+            assert!((value - (0.5 + 0.1 * k as f64)).abs() < 1e-15);
         }
         assert_eq!(
             GridAxis::parse(" -0.2 ", "--y").unwrap().values(),

@@ -24,6 +24,9 @@ enum Command {
     Kinematics(commands::kinematics::KinematicsArgs),
     /// Score every grasp candidate along a task and rank them (one arm or arm pairs).
     Select(commands::select::SelectArgs),
+    /// Run the selection with the object started at every placement of a grid (x, y, z, yaw):
+    /// map.json and heatmaps.
+    Map(commands::map::MapArgs),
     /// Reproduce the paper's experiments on the built-in Baxter (no files needed).
     Demo(commands::demo::DemoArgs),
     /// Inverse kinematics of tip poses (JSON Lines) or of a whole trajectory (--trajectory).
@@ -49,6 +52,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Kinematics(args) => done(commands::kinematics::run(&args)),
         Command::Select(args) => commands::select::run(&args),
+        Command::Map(args) => commands::map::run(&args),
         Command::Demo(args) => done(commands::demo::run(&args)),
         Command::Ik(args) => done(commands::ik::run(&args)),
         Command::Train(args) => done(commands::train::run(&args)),

@@ -12,7 +12,7 @@ macro_rules! say {
 use clap::Args;
 use graspath::select::Selection;
 use graspath::task::Task;
-use graspath_report::nothing_selected;
+use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Duration;
@@ -96,12 +96,23 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             .filter(|&i| arm.rankings[i].rank.is_some())
             .collect();
         ranked.sort_by_key(|&i| arm.rankings[i].rank);
+        // Candidates tied with the best (see `selection.tie_tolerance`) show `=` before their rank.
+        let tied_with_best = arm
+            .best()
+            .map(|b| arm.tied_with(b, &task.selection))
+            .unwrap_or_default();
         for &i in ranked.iter().take(5) {
             let s = &arm.scores[i];
             let c = &s.candidate;
+            let rank = arm.rankings[i].rank.unwrap_or(0);
+            let rank = if tied_with_best.contains(&c.id) {
+                format!("={rank}")
+            } else {
+                rank.to_string()
+            };
             say!(
                 "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
-                arm.rankings[i].rank.unwrap_or(0),
+                rank,
                 c.id,
                 c.label.chars().take(28).collect::<String>(),
                 number(arm.rankings[i].score),
@@ -115,16 +126,8 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             );
         }
     }
-    if let Some(best) = selection.pairs.first() {
-        let (a, b) = (&selection.arms[0], &selection.arms[1]);
-        say!(
-            "  best pair: {} {} + {} {} (sum {:.4})",
-            a.arm,
-            best.first.label,
-            b.arm,
-            best.second.label,
-            best.score
-        );
+    for sentence in findings_sentences(task, selection) {
+        say!("  {sentence}");
     }
     if selection.colliding_pairs > 0 {
         say!(

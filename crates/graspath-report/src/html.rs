@@ -72,6 +72,14 @@ pub enum Inline {
 /// The HTML page for a selection whose figures are already rendered.
 pub fn report_html(task: &Task, selection: &Selection, figures: &[(Figure, Inline)]) -> String {
     let mut plots = String::new();
+    let sentences = crate::text::findings_sentences(task, selection);
+    if !sentences.is_empty() {
+        plots.push_str("<ul id=\"findings\">\n");
+        for s in sentences {
+            plots.push_str(&format!("<li>{}</li>\n", escape_html(&s)));
+        }
+        plots.push_str("</ul>\n");
+    }
     for (figure, inline) in figures {
         let body = match inline {
             Inline::Svg(svg) => svg.clone(),

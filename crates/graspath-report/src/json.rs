@@ -5,7 +5,7 @@
 
 use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
-use graspath::select::Selection;
+use graspath::select::{values_tied, ArmPair, Selection};
 use graspath::task::JacobianRows;
 use graspath::task::{Norm, Task};
 use serde::Serialize;
@@ -171,7 +171,23 @@ pub fn nothing_selected(selection: &Selection) -> bool {
     }
 }
 
-/// `summary.json`: the task in brief and the selected grasp per arm (and pair). A task that
+/// The kept pairs after the best whose summed norm is tied with the best pair's (relative
+/// difference at most `tolerance`, see [`graspath::select::values_tied`]), best first. Only the
+/// kept pairs (`selection.pairs`, task setting `pairs`) are looked at.
+pub fn tied_pairs(selection: &Selection, tolerance: f64) -> Vec<&ArmPair> {
+    let Some(best) = selection.pairs.first() else {
+        return Vec::new();
+    };
+    selection.pairs[1..]
+        .iter()
+        .filter(|p| values_tied(best.score, p.score, tolerance))
+        .collect()
+}
+
+/// `summary.json`: the task in brief and the selected grasp per arm (and pair). The selected
+/// grasp lists in `tied_with` the ids of the other eligible candidates whose score is within
+/// `tie_tolerance` of its own (see [`graspath::select::scores_tied`]); the best pair lists the
+/// kept pairs tied with it. A task that
 /// describes its world (a scene, an approach or retreat, or a gripper) also gets, per arm,
 /// `failures`: how many candidates failed for each reason (`collision`, `gripper_width`, ...;
 /// reasons that did not occur are left out) and, with two arms, `colliding_pairs`: how many
@@ -194,6 +210,7 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
                     "mu_linf": s.norms.and_then(|n| finite(n.linf)),
                     "mu_l1": s.norms.map(|n| n.l1),
                     "yoshikawa_at_grasp": s.yoshikawa_at_grasp,
+                    "tied_with": arm.tied_with(i, &task.selection),
                 })
             });
             let by_yoshikawa = arm
@@ -218,6 +235,23 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         })
         .collect();
     let pairs = pairs_json(selection);
+    let best_pair = pairs
+        .as_array()
+        .and_then(|p| p.first().cloned())
+        .map(|mut best| {
+            best["tied_with"] = Value::Array(
+                tied_pairs(selection, task.selection.tie_tolerance)
+                    .iter()
+                    .map(|p| {
+                        let mut m = Map::new();
+                        m.insert(selection.arms[0].arm.clone(), json!(p.first.id));
+                        m.insert(selection.arms[1].arm.clone(), json!(p.second.id));
+                        Value::Object(m)
+                    })
+                    .collect(),
+            );
+            best
+        });
     let mut summary = json!({
         "task": task.source_name,
         "robot": task.robot_name,
@@ -228,7 +262,8 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
         "mu0": task.selection.mu0,
         "arms": arms,
-        "best_pair": pairs.as_array().and_then(|p| p.first().cloned()),
+        "best_pair": best_pair,
+        "tie_tolerance": task.selection.tie_tolerance,
         "nothing_selected": nothing_selected(selection),
     });
     if world && selection.arms.len() == 2 {

@@ -28,7 +28,9 @@
 //! 8. [`select`] — every candidate scored along its whole motion for each arm (approach, the
 //!    object's path, retreat: trajectory IK, collisions in a scene, `M_T` per path sample,
 //!    norms), ranked, and paired for two arms (best first, refusing pairs whose arms touch).
-//!    Each result carries its candidate.
+//!    Each result carries its candidate;
+//! 9. [`placement`] — placement maps: the selection run with the object started at every
+//!    placement of a grid (x, y, optionally z and yaw), in parallel, one record per placement.
 //!
 //! Every module has its own error type naming the file and field at fault; [`Error`] gathers
 //! them for applications that handle errors once.
@@ -72,6 +74,7 @@ pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
 pub mod manipulability;
+pub mod placement;
 pub mod random;
 pub mod robot;
 pub mod select;

@@ -4,5 +4,6 @@ pub mod demo;
 pub mod generate;
 pub mod ik;
 pub mod kinematics;
+pub mod map;
 pub mod select;
 pub mod train;

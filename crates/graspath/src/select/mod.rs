@@ -5,7 +5,9 @@ mod rank;
 mod run;
 mod score;
 
-pub use rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
+pub use rank::{
+    rank_candidates, rank_pairs, scores_tied, tied_with, values_tied, ArmPair, Ranking,
+};
 pub use run::{select, ArmResult, Selection};
 pub use score::{
     for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,

@@ -143,6 +143,48 @@ fn pareto_front(items: &[usize], value: impl Fn(usize) -> (f64, f64)) -> Vec<usi
     front
 }
 
+/// Whether two ranking scores are tied: they differ by at most `options.tie_tolerance` relative
+/// to the larger magnitude (`|a − b| ≤ t · max(|a|, |b|)`), or, for the weighted likelihood
+/// rule whose score is `ln(norm) + …`, by at most `t` absolutely (a difference of logarithms
+/// is already relative). Symmetric in `a` and `b`; equal scores are always tied.
+pub fn scores_tied(a: f64, b: f64, options: &SelectionOptions) -> bool {
+    let t = options.tie_tolerance;
+    a == b
+        || match options.likelihood {
+            LikelihoodRule::Weighted { .. } => (a - b).abs() <= t,
+            _ => values_tied(a, b, t),
+        }
+}
+
+/// `|a − b| ≤ tolerance · max(|a|, |b|)`: the relative tie of two sums of norms (pairs).
+pub fn values_tied(a: f64, b: f64, tolerance: f64) -> bool {
+    a == b || (a - b).abs() <= tolerance * a.abs().max(b.abs())
+}
+
+/// The ids of the other eligible candidates whose score is tied with candidate `i`'s (see
+/// [`scores_tied`]), in increasing id order; empty when `i` is not eligible. The relation
+/// depends only on the two scores, so the answer is symmetric (`j` is tied with `i` exactly
+/// when `i` is tied with `j`) and the same in any candidate order. O(n).
+pub fn tied_with(
+    scores: &[CandidateScore],
+    rankings: &[Ranking],
+    i: usize,
+    options: &SelectionOptions,
+) -> Vec<usize> {
+    let Some(own) = rankings.get(i).and_then(|r| r.score) else {
+        return Vec::new();
+    };
+    let mut ids: Vec<usize> = scores
+        .iter()
+        .zip(rankings)
+        .enumerate()
+        .filter(|&(j, (_, r))| j != i && r.score.is_some_and(|v| scores_tied(own, v, options)))
+        .map(|(_, (s, _))| s.candidate.id)
+        .collect();
+    ids.sort_unstable();
+    ids
+}
+
 /// A pair of grasps, one per arm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmPair {
@@ -379,6 +421,110 @@ mod tests {
                 });
                 assert_eq!(r.pareto, !dominated, "seed {seed} candidate {i}");
             }
+        }
+    }
+
+    /// Candidates whose norms are `base · (1 + k · step)`: closed-form tie groups.
+    fn spaced(factors: &[f64]) -> Vec<CandidateScore> {
+        factors
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| scored(i, 2.0 * f, 0.0, i as f64))
+            .collect()
+    }
+
+    #[test]
+    fn ties_follow_the_relative_tolerance_in_closed_form() {
+        // t = 1e-4: 1 and 1 + 0.5e-4 differ by 5e-5 relative (tied); 1 + 2e-4 is 2e-4 from 1
+        // and 1.5e-4 from 1 + 0.5e-4 (not tied); 1 + 2.9e-4 is 0.9e-4 from 1 + 2e-4 (tied).
+        let scores = spaced(&[1.0, 1.0 + 0.5e-4, 1.0 + 2e-4, 1.0 + 2.9e-4, 1.5]);
+        let options = SelectionOptions {
+            likelihood: LikelihoodRule::Ignore,
+            ..SelectionOptions::default()
+        };
+        let rankings = rank_candidates(&scores, &options);
+        let ties: Vec<Vec<usize>> = (0..scores.len())
+            .map(|i| tied_with(&scores, &rankings, i, &options))
+            .collect();
+        assert_eq!(ties, vec![vec![1], vec![0], vec![3], vec![2], vec![]]);
+        // Tolerance zero: only equal scores tie.
+        let exact = SelectionOptions {
+            tie_tolerance: 0.0,
+            ..options
+        };
+        let equal = spaced(&[1.0, 1.0, 1.0 + 1e-12]);
+        let r = rank_candidates(&equal, &exact);
+        assert_eq!(tied_with(&equal, &r, 0, &exact), vec![1]);
+        assert_eq!(tied_with(&equal, &r, 2, &exact), Vec::<usize>::new());
+        // The weighted rule's score is ln(norm): a relative norm difference d is a log
+        // difference ln(1 + d).
+        let weighted = SelectionOptions {
+            likelihood: LikelihoodRule::Weighted { weight: 1.0 },
+            ..SelectionOptions::default()
+        };
+        let r = rank_candidates(&scores, &weighted);
+        assert_eq!(tied_with(&scores, &r, 0, &weighted), vec![1]);
+        assert_eq!(tied_with(&scores, &r, 2, &weighted), vec![3]);
+    }
+
+    #[test]
+    fn ties_are_symmetric_and_the_same_in_any_candidate_order() {
+        for seed in 0..20 {
+            // Norms on a grid of 3e-5 steps: many ties and many near misses.
+            let scores: Vec<CandidateScore> = (0..40)
+                .map(|i| {
+                    let r = crate::random::derive_seed(seed, 7, i as u64);
+                    scored(i, 1.0 + (r % 12) as f64 * 3e-5, 0.0, i as f64)
+                })
+                .collect();
+            let options = SelectionOptions::default();
+            let rankings = rank_candidates(&scores, &options);
+            let groups = |scores: &[CandidateScore], rankings: &[Ranking]| {
+                let mut by_id: Vec<(usize, Vec<usize>)> = (0..scores.len())
+                    .map(|i| {
+                        (
+                            scores[i].candidate.id,
+                            tied_with(scores, rankings, i, &options),
+                        )
+                    })
+                    .collect();
+                by_id.sort();
+                by_id
+            };
+            let original = groups(&scores, &rankings);
+            for (id, tied) in &original {
+                for other in tied {
+                    let back = &original[*other].1;
+                    assert!(
+                        back.contains(id),
+                        "seed {seed}: {id} ~ {other} not symmetric"
+                    );
+                }
+                // Oracle: the definition, pair by pair, on the norms themselves.
+                let own = scores[*id].norms.unwrap().l2;
+                let expected: Vec<usize> = scores
+                    .iter()
+                    .filter(|s| s.candidate.id != *id)
+                    .filter(|s| {
+                        let v = s.norms.unwrap().l2;
+                        (v - own).abs() <= 1e-4 * v.max(own)
+                    })
+                    .map(|s| s.candidate.id)
+                    .collect();
+                assert_eq!(tied, &expected, "seed {seed} candidate {id}");
+            }
+            // Shuffle (seeded Fisher–Yates) and rank again: the same tie sets by id.
+            let mut shuffled = scores.clone();
+            for k in (1..shuffled.len()).rev() {
+                let j = (crate::random::derive_seed(seed, 8, k as u64) % (k as u64 + 1)) as usize;
+                shuffled.swap(k, j);
+            }
+            let shuffled_rankings = rank_candidates(&shuffled, &options);
+            assert_eq!(
+                groups(&shuffled, &shuffled_rankings),
+                original,
+                "seed {seed}"
+            );
         }
     }
 }

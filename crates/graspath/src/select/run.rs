@@ -34,6 +34,12 @@ impl ArmResult {
             .map(|(i, _)| i)
     }
 
+    /// The ids of the other eligible candidates tied with candidate `i` (see
+    /// [`tied_with`](super::tied_with)), in increasing id order.
+    pub fn tied_with(&self, i: usize, options: &crate::task::SelectionOptions) -> Vec<usize> {
+        super::rank::tied_with(&self.scores, &self.rankings, i, options)
+    }
+
     /// How many candidates are feasible along the whole path.
     pub fn feasible_count(&self) -> usize {
         self.scores.iter().filter(|s| s.feasible()).count()

@@ -155,6 +155,7 @@ pub struct TaskBuilder {
     pairs: usize,
     min_separation: f64,
     min_clearance: Option<f64>,
+    tie_tolerance: f64,
     max_joint_step: f64,
     ik_branches: usize,
     ik_random_seed: u64,
@@ -185,6 +186,7 @@ impl TaskBuilder {
             pairs: defaults::PAIRS,
             min_separation: defaults::MIN_SEPARATION,
             min_clearance: None,
+            tie_tolerance: defaults::TIE_TOLERANCE,
             max_joint_step: defaults::MAX_JOINT_STEP,
             ik_branches: defaults::IK_BRANCHES,
             ik_random_seed: defaults::IK_RANDOM_SEED,
@@ -256,6 +258,44 @@ impl TaskBuilder {
         self
     }
 
+    /// The object's start pose `world_from_object` when its trajectory is given as steps
+    /// ([`object_motion`](Self::object_motion)); `None` for an already sampled path or none.
+    pub fn object_start(&self) -> Option<Isometry3<f64>> {
+        match &self.path {
+            Some(PathInput::Steps {
+                world_from_object, ..
+            }) => Some(*world_from_object),
+            _ => None,
+        }
+    }
+
+    /// Moves the object's start pose to `world_from_object`, keeping its steps and sampling:
+    /// relative steps (`lift`, `move`, `rotate`, `place`) start from the new pose, absolute
+    /// `pose` steps stay where they are. The task is the one a task file with this
+    /// `object.pose` describes. Errors (naming `trajectory`) when the path is not given as
+    /// steps.
+    pub fn with_object_start(
+        mut self,
+        world_from_object: Isometry3<f64>,
+    ) -> Result<Self, TaskError> {
+        match &mut self.path {
+            Some(PathInput::Steps {
+                world_from_object: start,
+                ..
+            }) => {
+                *start = world_from_object;
+                Ok(self)
+            }
+            _ => Err(TaskError::new(
+                &self.name,
+                "trajectory",
+                "the object's start pose can be moved only for a trajectory given as steps \
+                 from object.pose"
+                    .to_string(),
+            )),
+        }
+    }
+
     /// Which rows of `J` and of the tangent enter `M_T` (default: the full twist, L = 1 m).
     pub fn rows(mut self, rows: JacobianRows) -> Self {
         self.rows = rows;
@@ -295,6 +335,13 @@ impl TaskBuilder {
     /// Reject candidates whose clearance from the scene is below `metres` (default: none).
     pub fn min_clearance(mut self, metres: Option<f64>) -> Self {
         self.min_clearance = metres;
+        self
+    }
+
+    /// Scores within this relative difference are reported as tied (default
+    /// [`defaults::TIE_TOLERANCE`]; absolute for the weighted likelihood rule's log score).
+    pub fn tie_tolerance(mut self, tolerance: f64) -> Self {
+        self.tie_tolerance = tolerance;
         self
     }
 
@@ -435,6 +482,15 @@ impl TaskBuilder {
                 ));
             }
         }
+        if !(self.tie_tolerance.is_finite() && (0.0..1.0).contains(&self.tie_tolerance)) {
+            return Err(err(
+                "selection.tie_tolerance",
+                format!(
+                    "must be a relative difference in [0, 1), got {}",
+                    self.tie_tolerance
+                ),
+            ));
+        }
         if !(self.max_joint_step.is_finite() && self.max_joint_step > 0.0) {
             return Err(err(
                 "ik.max_joint_step",
@@ -538,6 +594,7 @@ impl TaskBuilder {
                 pairs: self.pairs,
                 min_separation: self.min_separation,
                 min_clearance: self.min_clearance,
+                tie_tolerance: self.tie_tolerance,
             },
             ik,
             redundancy: self.redundancy,

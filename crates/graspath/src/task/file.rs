@@ -494,6 +494,9 @@ pub struct SelectionFile {
     /// Reject candidates whose clearance from the scene is below this (m; default none).
     #[serde(default)]
     pub min_clearance: Option<f64>,
+    /// Scores within this relative difference are reported as tied (default 1e-4).
+    #[serde(default)]
+    pub tie_tolerance: Option<f64>,
 }
 
 /// Trajectory IK settings.

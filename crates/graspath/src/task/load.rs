@@ -111,6 +111,9 @@ pub fn builder_from_file(
     if let Some(d) = s.min_separation {
         builder = builder.min_separation(d);
     }
+    if let Some(t) = s.tie_tolerance {
+        builder = builder.tie_tolerance(t);
+    }
     let ik = &file.ik;
     if let Some(step) = ik.max_joint_step {
         builder = builder.max_joint_step(step);

@@ -114,6 +114,10 @@ pub struct SelectionOptions {
     /// Reject candidates whose clearance from the scene along the motion is below this (m;
     /// `None`: only collisions reject).
     pub min_clearance: Option<f64>,
+    /// Two eligible candidates whose scores differ by at most this, relative to the larger
+    /// (absolute for [`LikelihoodRule::Weighted`], whose score is a logarithm), are reported as
+    /// tied (see [`crate::select::scores_tied`]); ranks are not changed by it.
+    pub tie_tolerance: f64,
 }
 
 impl Default for SelectionOptions {
@@ -125,6 +129,7 @@ impl Default for SelectionOptions {
             pairs: defaults::PAIRS,
             min_separation: defaults::MIN_SEPARATION,
             min_clearance: None,
+            tie_tolerance: defaults::TIE_TOLERANCE,
         }
     }
 }
@@ -138,6 +143,14 @@ pub mod defaults {
     pub const PAIRS: usize = 10;
     /// Two grasps closer than this overlap (m; Baxter's gripper width).
     pub const MIN_SEPARATION: f64 = 0.08;
+    /// Relative score difference under which two candidates are reported as tied (1 = 100 %).
+    ///
+    /// The IK stops within [`IK_TOLERANCE`] (m and rad) of each wrist pose, so the Jacobians
+    /// are those of a configuration off by that much: `J` changes by about `ε / ℓ` relative,
+    /// with `ℓ` the lever arm between the joints and the wrist (≥ 0.2 m on Baxter), and
+    /// `M_T = ‖Jᵀ u‖²` by twice that, `2 · 1e-5 / 0.2 = 1e-4`. Score differences below it are
+    /// within what the solver's tolerance alone can produce.
+    pub const TIE_TOLERANCE: f64 = 1e-4;
     /// Samples per step of the object path when no sampling is given.
     pub const SAMPLES_PER_STEP: usize = 10;
     /// Duration of a step (s).

@@ -8,6 +8,7 @@ use super::settings::Limits;
 use crate::cloud::OutlierOptions;
 use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
+use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -528,6 +529,12 @@ pub struct IkFile {
     /// `best_branch`).
     #[serde(default)]
     pub redundancy: Option<String>,
+}
+
+/// A pose from its file form; `field` names it in errors.
+pub fn pose(spec: &PoseSpec, file: &str, field: &str) -> Result<Isometry3<f64>, TaskError> {
+    spec.to_isometry()
+        .map_err(|e| TaskError::new(file, format!("{field}.{}", e.field), e.message))
 }
 
 impl TaskFile {

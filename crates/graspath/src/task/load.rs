@@ -5,14 +5,13 @@
 use super::builder::{check_count, Task, TaskBuilder};
 use super::error::TaskError;
 use super::file::{
-    ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, StepFile, TaskFile,
+    pose, ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, StepFile, TaskFile,
 };
 use super::path::{Sampling, Step, TimedStep};
 use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy};
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
 use crate::geometry::shape::Shape;
-use crate::geometry::PoseSpec;
 use crate::grasp::hand::Hand;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{
@@ -164,12 +163,6 @@ pub fn builder_from_file(
         builder = builder.min_clearance(Some(min));
     }
     super::load_scene::add_world(builder, file, source_name, base_dir, scene, &model)
-}
-
-/// A pose from its file form; `field` names it in errors.
-pub fn pose(spec: &PoseSpec, file: &str, field: &str) -> Result<Isometry3<f64>, TaskError> {
-    spec.to_isometry()
-        .map_err(|e| TaskError::new(file, format!("{field}.{}", e.field), e.message))
 }
 
 /// An arm as the file describes it: name, chain, `world_from_base`.

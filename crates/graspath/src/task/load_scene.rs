@@ -4,8 +4,8 @@
 
 use super::builder::TaskBuilder;
 use super::error::TaskError;
+use super::file::pose;
 use super::file::{GripperFile, StrokeFile, TaskFile};
-use super::load::pose;
 use super::scene::{Gripper, GripperBodies, SceneSettings, Stroke};
 use crate::cloud::{load_collision_mesh, read_cloud, read_mesh};
 use crate::collision::{Body, CollisionOptions, LinkShape, Scene, SelfPairs};

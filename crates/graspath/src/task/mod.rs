@@ -21,11 +21,11 @@ mod settings;
 pub use builder::{ArmSetup, Task, TaskBuilder};
 pub use error::TaskError;
 pub use file::{
-    ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile, LikelihoodFile,
-    NormFile, ObjectFile, RobotFile, RotateFile, SelectionFile, SpacingFile, StepFile, TaskFile,
-    TrajectoryFile,
+    pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,
+    LikelihoodFile, NormFile, ObjectFile, RobotFile, RotateFile, SelectionFile, SpacingFile,
+    StepFile, TaskFile, TrajectoryFile,
 };
-pub use load::{builder_from_file, pose};
+pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
 pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
 pub use scene::{

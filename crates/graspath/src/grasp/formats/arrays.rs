@@ -2,35 +2,10 @@
 //! shape is checked against the bytes that follow it before anything is allocated, and an
 //! archive member is read through a limit (deflate cannot expand more than 1032:1).
 
+use super::array::{fortran_to_c, shape_text, Array};
 use super::pickle;
 use npyz::{DType, NpyFile, Order, TypeChar};
 use std::io::Read;
-
-/// A numeric array in C (row-major) order, its values as `f64`.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Array {
-    /// The dimensions.
-    pub shape: Vec<usize>,
-    /// The values, row-major.
-    pub data: Vec<f64>,
-}
-
-impl Array {
-    /// `[a, b, ...]` as written in messages.
-    pub fn shape_text(&self) -> String {
-        shape_text(&self.shape)
-    }
-}
-
-/// `(a, b, …)` as NumPy prints a shape.
-pub(crate) fn shape_text(shape: &[usize]) -> String {
-    let parts: Vec<String> = shape.iter().map(ToString::to_string).collect();
-    if parts.len() == 1 {
-        format!("({},)", parts[0])
-    } else {
-        format!("({})", parts.join(", "))
-    }
-}
 
 /// One array of a `.npy` file or `.npz` member: numbers, or a pickled Python object (what
 /// `np.savez` writes for a dictionary, as Contact-GraspNet's per-segment results).
@@ -135,31 +110,6 @@ fn numeric_values(
 
 fn ints<T: Into<i128>>(values: Vec<T>) -> Vec<f64> {
     values.into_iter().map(|v| v.into() as f64).collect()
-}
-
-/// Reorders column-major (Fortran) values into row-major order.
-pub(crate) fn fortran_to_c(shape: &[usize], values: &[f64]) -> Vec<f64> {
-    let n = values.len();
-    let mut out = vec![0.0; n];
-    let mut index = vec![0usize; shape.len()];
-    for slot in out.iter_mut() {
-        // `index` walks C order; its Fortran offset is Σ index[k] · Π_{j<k} shape[j].
-        let mut offset = 0;
-        let mut stride = 1;
-        for (k, &i) in index.iter().enumerate() {
-            offset += i * stride;
-            stride *= shape[k];
-        }
-        *slot = values[offset];
-        for k in (0..shape.len()).rev() {
-            index[k] += 1;
-            if index[k] < shape[k] {
-                break;
-            }
-            index[k] = 0;
-        }
-    }
-    out
 }
 
 /// The members of an `.npz` archive, `(name without .npy, bytes)`, in archive order. The

@@ -2,7 +2,8 @@
 //! `grasps/qualities/flex/object_in_gripper` (N), read with the pure-Rust `hdf5-reader`.
 //! A dataset's declared size is checked against the file length before it is read.
 
-use super::arrays::{shape_text, Array, DEFLATE_MAX_RATIO};
+use super::array::{shape_text, Array};
+use super::arrays::DEFLATE_MAX_RATIO;
 use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 
 /// The HDF5 signature at the start of a file.

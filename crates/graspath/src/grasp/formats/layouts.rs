@@ -1,7 +1,8 @@
 //! The readers of each layout (`docs/grasp-files.md`): every grasp as the file gives it, in
 //! the file's frame and the generator's gripper frame, with where it is in the file.
 
-use super::arrays::{parse_npy, read_npz, Array, Member};
+use super::array::Array;
+use super::arrays::{parse_npy, read_npz, Member};
 use super::{hdf5, npz_limit, pickle, Grasp, GraspFormat};
 use crate::geometry::pose_from_rows;
 use nalgebra::{Isometry3, Point3};

@@ -22,6 +22,7 @@
 //! scored 0 (ACRONYM's failed simulations) are not candidates; the others keep their row in
 //! the file as their id.
 
+mod array;
 mod arrays;
 mod hdf5;
 mod layouts;

@@ -8,7 +8,7 @@
 //! numeric arrays. Any other callable is refused by name. Every length is checked against the
 //! bytes that remain before anything is allocated.
 
-use super::arrays::{fortran_to_c, Array};
+use super::array::{fortran_to_c, Array};
 use std::rc::Rc;
 
 /// A decoded pickle value.

@@ -11,7 +11,8 @@ use graspath::robot::Chain;
 use graspath::select::wrist_trajectory;
 use graspath::task::defaults;
 use graspath::task::{
-    ArmSetup, JacobianRows, LikelihoodRule, Norm, ObjectPath, PathSample, Task, TaskFile,
+    ArmSetup, JacobianRows, LikelihoodRule, Norm, ObjectPath, PathSample, Redundancy, Task,
+    TaskFile,
 };
 use nalgebra::{Isometry3, Point3};
 use numpy::PyArray1;
@@ -154,9 +155,10 @@ impl PyTask {
     ///   ``length_scale``, ``norm`` (``l2``/``l1``), ``mu0``, ``likelihood`` (``"product"``,
     ///   ``"ignore"`` or a weight), ``pairs``, ``min_separation`` (m), and the trajectory IK's
     ///   ``max_joint_step``, ``branches``, ``ik_random_seed`` (the random seed of the IK's
-    ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``compare_branches`` (track
-    ///   every IK branch and keep the best). ``ik_seed`` is the deprecated earlier name of
-    ///   ``ik_random_seed``.
+    ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``redundancy``
+    ///   (``"first"``, ``"best_branch"`` or ``"optimize"``: the task file's ``ik.redundancy``)
+    ///   and its older form ``compare_branches`` (``True`` is ``"best_branch"``). ``ik_seed`` is
+    ///   the deprecated earlier name of ``ik_random_seed``.
     #[staticmethod]
     #[pyo3(signature = (
         arms,
@@ -180,6 +182,7 @@ impl PyTask {
         ik_tolerance = defaults::IK_TOLERANCE,
         ik_iterations = defaults::GRASP_IK_ITERATIONS,
         compare_branches = false,
+        redundancy = None,
         name = "<arrays>",
         robot_name = "robot",
         ik_seed = None
@@ -206,6 +209,7 @@ impl PyTask {
         ik_tolerance: f64,
         ik_iterations: usize,
         compare_branches: bool,
+        redundancy: Option<&str>,
         name: &str,
         robot_name: &str,
         ik_seed: Option<u64>,
@@ -331,7 +335,7 @@ impl PyTask {
             .ik_random_seed(ik_random_seed)
             .ik_tolerance(ik_tolerance)
             .grasp_ik_iterations(ik_iterations)
-            .compare_branches(compare_branches)
+            .redundancy(redundancy_of(redundancy, compare_branches)?)
             .build()
             .map_err(error)?;
         Ok(Self { task })
@@ -491,4 +495,27 @@ impl PyTask {
             self.task.path.samples.len()
         )
     }
+}
+
+/// `redundancy` by name, or from `compare_branches` when it is not given; the two must agree.
+fn redundancy_of(name: Option<&str>, compare_branches: bool) -> PyResult<Redundancy> {
+    let compared = if compare_branches {
+        Redundancy::BestBranch
+    } else {
+        Redundancy::First
+    };
+    let Some(name) = name else {
+        return Ok(compared);
+    };
+    let redundancy = Redundancy::from_name(name).ok_or_else(|| {
+        error(format!(
+            "redundancy: '{name}' is not one of first, best_branch, optimize"
+        ))
+    })?;
+    if compare_branches && redundancy != Redundancy::BestBranch {
+        return Err(error(format!(
+            "compare_branches=True contradicts redundancy='{name}' (give one of them)"
+        )));
+    }
+    Ok(redundancy)
 }

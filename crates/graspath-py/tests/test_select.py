@@ -286,3 +286,46 @@ def test_a_task_in_a_scene_reports_clearance_and_where_candidates_collide(tmp_pa
             assert record["failure"]["reason"] == "collision"
             assert "table" in record["failure"]["bodies"]
             assert record["failure"]["phase"] in ("approach", "path", "retreat")
+
+
+def test_array_task_redundancy_matches_the_file(left_selection, tmp_path):
+    """``redundancy="optimize"`` from arrays scores as ``ik.redundancy: optimize`` in the
+    task file; a name that does not exist, or one that contradicts ``compare_branches``,
+    is refused."""
+    task, _ = left_selection
+    c = task.candidates
+    arrays = dict(
+        times=task.times,
+        labels=[x["label"] for x in c],
+        contacts=np.array([x["contact"] for x in c]),
+        likelihoods=np.array([x["likelihood"] for x in c]),
+        branches=8,
+        ik_iterations=2000,
+    )
+    from_arrays = graspath.Task.from_arrays(
+        {"left": task.robot("left")},
+        task.object_poses,
+        task.candidate_poses,
+        redundancy="optimize",
+        **arrays,
+    )
+    text = LEFT.read_text().replace(
+        "ik: { compare_branches: true,", "ik: { redundancy: optimize,"
+    )
+    assert "redundancy: optimize" in text
+    path = tmp_path / "optimize.yaml"
+    path.write_text(text)
+    from_file = graspath.select(graspath.Task.load(str(path)))
+    result = graspath.select(from_arrays)
+    for a, b in zip(result.candidates, from_file.candidates):
+        assert a["mu_l2"] == b["mu_l2"]
+        assert a.get("self_motion") == b.get("self_motion")
+    assert any(a.get("self_motion") for a in result.candidates)
+    for bad in [dict(redundancy="elbow_up"), dict(redundancy="first", compare_branches=True)]:
+        with pytest.raises(ValueError, match="redundancy"):
+            graspath.Task.from_arrays(
+                {"left": task.robot("left")},
+                task.object_poses,
+                task.candidate_poses,
+                **{**arrays, **bad},
+            )

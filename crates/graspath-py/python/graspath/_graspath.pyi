@@ -177,13 +177,15 @@ class Task:
         ik_tolerance: float = 1e-5,
         ik_iterations: int = 200,
         compare_branches: bool = False,
+        redundancy: Optional[Literal["first", "best_branch", "optimize"]] = None,
         name: str = "<arrays>",
         robot_name: str = "robot",
         ik_seed: Optional[int] = None,
     ) -> Task:
         """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
         ``(k, 4, 4)`` (object_from_wrist). ``ik_random_seed`` (default 0) seeds the IK's
-        restarts; ``ik_seed`` is its deprecated name."""
+        restarts; ``ik_seed`` is its deprecated name. ``redundancy`` is the task file's
+        ``ik.redundancy``; ``compare_branches=True`` is ``"best_branch"``."""
     def with_arms(self, arms: Sequence[str]) -> Task:
         """The same task with only the named arms, in that order."""
     @property

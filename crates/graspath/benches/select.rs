@@ -2,13 +2,14 @@
 //! lift 0.2 m, move +0.3 m along y, place 0.2 m down, 50 samples, Baxter's left arm
 //! (`examples/workload_1000_faces.yaml`), on all cores; and the same workload in a scene
 //! (`examples/workload_1000_faces_scene.yaml`: a table, three obstacles, a 0.10 m approach and
-//! retreat, the Baxter gripper), measured in the same run.
+//! retreat, the Baxter gripper), and the collision-free workload with `ik.redundancy: first`
+//! and `optimize` (the self-motion search), all measured in the same run.
 //!
 //! `cargo bench -p graspath --bench select`
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use graspath::select::select;
-use graspath::task::Task;
+use graspath::task::{Redundancy, Task};
 use std::collections::BTreeMap;
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -49,6 +50,15 @@ fn load(name: &str) -> Task {
 fn workload(c: &mut Criterion) {
     let free = load("workload_1000_faces.yaml");
     let scene = load("workload_1000_faces_scene.yaml");
+    let with_redundancy = |redundancy: Redundancy| {
+        let mut task = free.clone();
+        task.redundancy = redundancy;
+        task
+    };
+    let (first, optimize) = (
+        with_redundancy(Redundancy::First),
+        with_redundancy(Redundancy::Optimize),
+    );
     let mut group = c.benchmark_group("select");
     group.sample_size(10);
     group.bench_function("workload_1000_faces_left_arm", |b| {
@@ -56,6 +66,12 @@ fn workload(c: &mut Criterion) {
     });
     group.bench_function("workload_1000_faces_scene_left_arm", |b| {
         b.iter(|| black_box(select(black_box(&scene), &|| {})));
+    });
+    group.bench_function("workload_1000_faces_redundancy_first", |b| {
+        b.iter(|| black_box(select(black_box(&first), &|| {})));
+    });
+    group.bench_function("workload_1000_faces_redundancy_optimize", |b| {
+        b.iter(|| black_box(select(black_box(&optimize), &|| {})));
     });
     group.finish();
 }

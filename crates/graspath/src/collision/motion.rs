@@ -672,7 +672,7 @@ impl ArmInScene<'_> {
         let arm = self.arm;
         let slots = Slots::new(*self, &motion.object);
         let mut frames = vec![IsometryMatrix3::identity(); arm.rigid.len()];
-        let mut placed = Vec::new();
+        let mut placed: Vec<Option<Placed<'_>>> = Vec::new();
         for (at, samples) in motion.object.stretches(motion.base_from_tool.len()) {
             let pairs: Vec<Pair> = slots
                 .pairs(at)
@@ -681,6 +681,12 @@ impl ArmInScene<'_> {
                 .collect();
             if pairs.is_empty() {
                 continue;
+            }
+            // Only the slots these pairs name are placed.
+            let mut used = vec![false; slots.object_slot() + 1];
+            for p in &pairs {
+                used[p.a] = true;
+                used[p.b] = true;
             }
             for s in samples {
                 let base_from_tool: IsometryMatrix3<f64> =
@@ -692,9 +698,16 @@ impl ArmInScene<'_> {
                         RigidLink::Moving => {}
                     }
                 }
-                slots.place_into(&frames, at, &mut placed);
+                placed.clear();
+                placed.extend(
+                    used.iter()
+                        .enumerate()
+                        .map(|(i, &u)| u.then(|| slots.slot(i, &frames, at))),
+                );
                 for pair in &pairs {
-                    let (x, y) = (&placed[pair.a], &placed[pair.b]);
+                    let (Some(x), Some(y)) = (&placed[pair.a], &placed[pair.b]) else {
+                        continue;
+                    };
                     let k = measure(pair, x, y, Level::Sphere);
                     if pair.violated_by(k.value) {
                         return Some(hit(pair, x, y, k.value, s, false));

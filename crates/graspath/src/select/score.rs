@@ -464,7 +464,7 @@ fn score_one(
                 .map(|(&value, &time)| SampleIndex { time, value })
                 .collect();
             let norms = PathNorms::of(&samples);
-            if first_branch.is_none() && attempt == 0 {
+            if redundancy == Redundancy::Optimize && first_branch.is_none() && attempt == 0 {
                 first_branch = Some((branch.q.clone(), norms.l2));
             }
             let better = match &best {

@@ -23,74 +23,58 @@ use crate::robot::collision::LinkCollisions;
 use crate::robot::spec::ChainSpec;
 use std::f64::consts::{FRAC_PI_2, PI};
 
-const fn row(
-    joint: &'static str,
-    child: &'static str,
-    xyz: [f64; 3],
-    roll: f64,
-    motion: Motion,
-) -> JointRow {
-    JointRow {
-        joint,
-        child,
-        xyz,
-        rpy: [roll, 0.0, 0.0],
-        motion,
-    }
-}
-
 /// The parameter table: joint, child link, origin xyz (m), origin roll (rad), limits (rad).
 const ROWS: [JointRow; 8] = [
-    row(
+    JointRow::rolled(
         "joint_1",
         "shoulder_link",
         [0.0, 0.0, 0.15643],
         PI,
         Motion::Continuous,
     ),
-    row(
+    JointRow::rolled(
         "joint_2",
         "half_arm_1_link",
         [0.0, 0.005375, -0.12838],
         FRAC_PI_2,
         Motion::Revolute(-2.41, 2.41),
     ),
-    row(
+    JointRow::rolled(
         "joint_3",
         "half_arm_2_link",
         [0.0, -0.21038, -0.006375],
         -FRAC_PI_2,
         Motion::Continuous,
     ),
-    row(
+    JointRow::rolled(
         "joint_4",
         "forearm_link",
         [0.0, 0.006375, -0.21038],
         FRAC_PI_2,
         Motion::Revolute(-2.66, 2.66),
     ),
-    row(
+    JointRow::rolled(
         "joint_5",
         "spherical_wrist_1_link",
         [0.0, -0.20843, -0.006375],
         -FRAC_PI_2,
         Motion::Continuous,
     ),
-    row(
+    JointRow::rolled(
         "joint_6",
         "spherical_wrist_2_link",
         [0.0, 0.00017505, -0.10593],
         FRAC_PI_2,
         Motion::Revolute(-2.23, 2.23),
     ),
-    row(
+    JointRow::rolled(
         "joint_7",
         "bracelet_link",
         [0.0, -0.10593, -0.00017505],
         -FRAC_PI_2,
         Motion::Continuous,
     ),
-    row(
+    JointRow::rolled(
         "end_effector",
         "end_effector_link",
         [0.0, 0.0, -0.061525],

@@ -209,6 +209,26 @@ pub struct JointRow {
     pub motion: Motion,
 }
 
+impl JointRow {
+    /// A row whose origin rotation is a roll alone (about the parent's `x`, rad): the
+    /// modified-DH-like tables of xArm and Kinova.
+    pub const fn rolled(
+        joint: &'static str,
+        child: &'static str,
+        xyz: [f64; 3],
+        roll: f64,
+        motion: Motion,
+    ) -> Self {
+        Self {
+            joint,
+            child,
+            xyz,
+            rpy: [roll, 0.0, 0.0],
+            motion,
+        }
+    }
+}
+
 /// One row of a standard (distal) Denavit–Hartenberg table: link `i` is placed by
 /// `Rz(θᵢ) · Tz(dᵢ) · Tx(aᵢ) · Rx(αᵢ)` in frame `i − 1`, with `θᵢ = qᵢ`.
 #[derive(Debug, Clone, Copy, PartialEq)]

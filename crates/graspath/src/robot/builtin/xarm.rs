@@ -22,74 +22,58 @@ use crate::robot::collision::LinkCollisions;
 use crate::robot::spec::ChainSpec;
 use std::f64::consts::{PI, TAU};
 
-const fn row(
-    joint: &'static str,
-    child: &'static str,
-    xyz: [f64; 3],
-    roll: f64,
-    motion: Motion,
-) -> JointRow {
-    JointRow {
-        joint,
-        child,
-        xyz,
-        rpy: [roll, 0.0, 0.0],
-        motion,
-    }
-}
-
 /// The parameter table: joint, child link, origin xyz (m), origin roll (rad), limits (rad).
 const ROWS: [JointRow; 8] = [
-    row(
+    JointRow::rolled(
         "joint1",
         "link1",
         [0.0, 0.0, 0.267],
         0.0,
         Motion::Revolute(-TAU, TAU),
     ),
-    row(
+    JointRow::rolled(
         "joint2",
         "link2",
         [0.0, 0.0, 0.0],
         -1.5708,
         Motion::Revolute(-2.059, 2.0944),
     ),
-    row(
+    JointRow::rolled(
         "joint3",
         "link3",
         [0.0, -0.293, 0.0],
         1.5708,
         Motion::Revolute(-TAU, TAU),
     ),
-    row(
+    JointRow::rolled(
         "joint4",
         "link4",
         [0.0525, 0.0, 0.0],
         1.5708,
         Motion::Revolute(-0.19198, 3.927),
     ),
-    row(
+    JointRow::rolled(
         "joint5",
         "link5",
         [0.0775, -0.3425, 0.0],
         1.5708,
         Motion::Revolute(-TAU, TAU),
     ),
-    row(
+    JointRow::rolled(
         "joint6",
         "link6",
         [0.0, 0.0, 0.0],
         1.5708,
         Motion::Revolute(-1.69297, PI),
     ),
-    row(
+    JointRow::rolled(
         "joint7",
         "link7",
         [0.076, 0.097, 0.0],
         -1.5708,
         Motion::Revolute(-TAU, TAU),
     ),
-    row("joint_eef", "link_eef", [0.0, 0.0, 0.0], 0.0, Motion::Fixed),
+    JointRow::rolled("joint_eef", "link_eef", [0.0, 0.0, 0.0], 0.0, Motion::Fixed),
 ];
 
 /// The arm's chain description, `link_base → link_eef`.

@@ -11,8 +11,10 @@
 //! over the samples: a state follows a state of the previous sample only when no joint moves
 //! more than `max_joint_step`, and the best chain of states is kept. The self-motion is traced
 //! around the first given path; the others join the states as they are. Every given path is
-//! among the states, so the result is never worse than the best of them. A second, finer pass
-//! (`spacing / REFINE`, half as far) around the chosen path refines the optimum.
+//! among the states, so the result is never worse than the best of them. Each chosen traced
+//! state is then refined between its two neighbours on the curve: the peak of the parabola
+//! through their three values is traced to, and kept when it is better and still within the
+//! step bound of the neighbouring samples' choices (one more configuration per sample).
 //!
 //! With one redundant degree of freedom (a 7-joint arm keeping a pose, a planar 3R arm keeping
 //! a position) the traced curve is the self-motion manifold near the given paths; with more,
@@ -22,9 +24,6 @@ use crate::robot::chain::Chain;
 use nalgebra::{
     Cholesky, DVector, Isometry3, IsometryMatrix3, Matrix6, Matrix6xX, Vector3, Vector6, U6,
 };
-
-/// How much finer the second pass is than the first.
-pub const REFINE: f64 = 8.0;
 
 /// Which rows of the tip pose the path keeps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -52,11 +51,11 @@ pub struct SelfMotionOptions {
 }
 
 impl Default for SelfMotionOptions {
-    /// 0.1 rad spacing, 8 steps each side (±0.8 rad), 0.5 rad joint steps, 1e-5 m / rad.
+    /// 0.2 rad spacing, 4 steps each side (±0.8 rad), 0.5 rad joint steps, 1e-5 m / rad.
     fn default() -> Self {
         Self {
-            spacing: 0.1,
-            reach: 8,
+            spacing: 0.2,
+            reach: 4,
             max_joint_step: 0.5,
             position_tolerance: 1e-5,
             rotation_tolerance: 1e-5,
@@ -104,20 +103,48 @@ pub fn optimize_self_motion(
         .iter()
         .map(|t| nalgebra::convert(*t))
         .collect();
-    let coarse = best_chain(chain, &targets, &paths, rows, value, options)?;
-    let fine_options = SelfMotionOptions {
-        spacing: options.spacing / REFINE,
-        reach: REFINE as usize / 2,
-        ..*options
-    };
-    let fine = best_chain(chain, &targets, &[&coarse.q], rows, value, &fine_options)?;
-    Some(if fine.total >= coarse.total {
-        SelfMotionPath {
-            worst_total: coarse.worst_total.min(fine.worst_total),
-            ..fine
-        }
-    } else {
-        coarse
+    let mut tracer = Tracer::new(chain, rows, options);
+    let traced: Vec<Traced> = targets
+        .iter()
+        .enumerate()
+        .map(|(i, target)| {
+            let mut at = tracer.trace(&paths[0][i], target, &|q, j| value(i, q, j));
+            // The other paths join as they are, off the traced curve.
+            for path in &paths[1..] {
+                if tracer.jacobian_at(&path[i]) {
+                    let v = value(i, &path[i], &tracer.jacobian);
+                    at.states.push(State {
+                        q: path[i].clone(),
+                        value: v,
+                    });
+                }
+            }
+            at
+        })
+        .collect();
+    let chosen = best_chain(&traced, options.max_joint_step)?;
+    let mut q: Vec<Vec<f64>> = Vec::with_capacity(n);
+    let mut values = Vec::with_capacity(n);
+    for (i, &k) in chosen.states.iter().enumerate() {
+        let next = traced
+            .get(i + 1)
+            .map(|t| t.states[chosen.states[i + 1]].q.as_slice());
+        let refined = tracer.refine(
+            &traced[i],
+            k,
+            &targets[i],
+            [q.last().map(Vec::as_slice), next],
+            &|q, j| value(i, q, j),
+        );
+        let state = refined.unwrap_or_else(|| traced[i].states[k].clone());
+        q.push(state.q);
+        values.push(state.value);
+    }
+    Some(SelfMotionPath {
+        total: values.iter().sum(),
+        q,
+        values,
+        worst_total: chosen.worst_total,
     })
 }
 
@@ -128,48 +155,39 @@ struct State {
     value: f64,
 }
 
-/// The dynamic programme over the states traced around `paths`.
-fn best_chain(
-    chain: &Chain,
-    targets: &[IsometryMatrix3<f64>],
-    paths: &[&[Vec<f64>]],
-    rows: KeptRows,
-    value: &SampleValue<'_>,
-    options: &SelfMotionOptions,
-) -> Option<SelfMotionPath> {
-    let mut tracer = Tracer::new(chain, rows, options);
-    let states: Vec<Vec<State>> = targets
-        .iter()
-        .enumerate()
-        .map(|(i, target)| {
-            let mut at = tracer.trace(&paths[0][i], target, &|q, j| value(i, q, j));
-            // The other paths join as they are.
-            for path in &paths[1..] {
-                if tracer.jacobian_at(&path[i]) {
-                    let v = value(i, &path[i], &tracer.jacobian);
-                    at.push(State {
-                        q: path[i].clone(),
-                        value: v,
-                    });
-                }
-            }
-            at
-        })
-        .collect();
+/// The states of one sample: the first `curve` in order along the traced self-motion (each
+/// `spacing` from the next), then the given paths' configurations.
+struct Traced {
+    states: Vec<State>,
+    curve: usize,
+}
+
+/// The dynamic programme's answer: the chosen state per sample and the smallest sum any
+/// chain of states reaches.
+struct Chosen {
+    states: Vec<usize>,
+    worst_total: f64,
+}
+
+/// The best chain of states under the joint-step bound, by dynamic programming.
+fn best_chain(traced: &[Traced], max_joint_step: f64) -> Option<Chosen> {
     // best[i][k]: the largest (and smallest) sum over chains ending in state k of sample i,
     // and the state of sample i − 1 it follows.
-    let mut best: Vec<Vec<(f64, f64, usize)>> = Vec::with_capacity(states.len());
-    for (i, at) in states.iter().enumerate() {
+    let mut best: Vec<Vec<(f64, f64, usize)>> = Vec::with_capacity(traced.len());
+    for (i, at) in traced.iter().enumerate() {
         let row = at
+            .states
             .iter()
             .map(|s| {
                 if i == 0 {
                     return (s.value, s.value, 0);
                 }
                 let mut found = (f64::NEG_INFINITY, f64::INFINITY, 0);
-                for (k, (before, previous)) in states[i - 1].iter().zip(&best[i - 1]).enumerate() {
+                for (k, (before, previous)) in
+                    traced[i - 1].states.iter().zip(&best[i - 1]).enumerate()
+                {
                     if previous.0 == f64::NEG_INFINITY
-                        || max_difference(&before.q, &s.q) > options.max_joint_step
+                        || max_difference(&before.q, &s.q) > max_joint_step
                     {
                         continue;
                     }
@@ -185,7 +203,7 @@ fn best_chain(
         best.push(row);
     }
     let last = best.last()?;
-    let (mut k, end) = last
+    let (mut k, _) = last
         .iter()
         .enumerate()
         .filter(|(_, b)| b.0.is_finite())
@@ -198,17 +216,13 @@ fn best_chain(
         .filter(|b| b.1.is_finite())
         .map(|b| b.1)
         .fold(f64::INFINITY, f64::min);
-    let mut q = vec![Vec::new(); states.len()];
-    let mut values = vec![0.0; states.len()];
-    for i in (0..states.len()).rev() {
-        q[i] = states[i][k].q.clone();
-        values[i] = states[i][k].value;
+    let mut states = vec![0; traced.len()];
+    for i in (0..traced.len()).rev() {
+        states[i] = k;
         k = best[i][k].2;
     }
-    Some(SelfMotionPath {
-        q,
-        values,
-        total: end,
+    Some(Chosen {
+        states,
         worst_total,
     })
 }
@@ -218,6 +232,18 @@ fn max_difference(a: &[f64], b: &[f64]) -> f64 {
         .zip(b)
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, f64::max)
+}
+
+/// The vertex of the parabola through `(−before, v_before)`, `(0, v)`, `(after, v_after)`
+/// when it is a maximum strictly between the outer points.
+fn parabola_peak(before: (f64, f64), v: f64, after: (f64, f64)) -> Option<f64> {
+    let (d0, v0) = before;
+    let (d1, v1) = after;
+    let (s0, s1) = ((v0 - v) / d0, (v1 - v) / d1);
+    let curvature = (s0 + s1) / (d0 + d1);
+    let slope = s1 - curvature * d1;
+    let peak = -slope / (2.0 * curvature);
+    (curvature < 0.0 && peak > -d0 && peak < d1).then_some(peak)
 }
 
 /// Traces the self-motion through a configuration.
@@ -247,14 +273,32 @@ struct Kept {
 }
 
 impl Kept {
+    /// The kept rows `a` (the others zero) and the error on them, factored; `None` when
+    /// `A Aᵀ + DAMPING · I` is not positive definite (a non-finite Jacobian). Written column
+    /// by column: the matrices are 6 × dof, too small for a general product to pay off.
+    fn new(a: Matrix6xX<f64>, error: Vector6<f64>) -> Option<Self> {
+        let mut normal = Matrix6::identity() * DAMPING;
+        for column in a.column_iter() {
+            let c: Vector6<f64> = column.into_owned();
+            normal += c * c.transpose();
+        }
+        let normal = normal.cholesky()?;
+        Some(Self { a, normal, error })
+    }
+
     /// `Aᵀ (A Aᵀ)⁻¹ r`: the smallest joint change that moves the kept rows by `r`.
     fn lift(&self, r: &Vector6<f64>) -> DVector<f64> {
-        self.a.transpose() * self.normal.solve(r)
+        let y = self.normal.solve(r);
+        DVector::from_iterator(self.a.ncols(), self.a.column_iter().map(|c| c.dot(&y)))
     }
 
     /// The part of `h` in the null space of the kept rows.
     fn project(&self, h: &DVector<f64>) -> DVector<f64> {
-        h - self.lift(&(&self.a * h))
+        let mut moved = Vector6::zeros();
+        for (column, v) in self.a.column_iter().zip(h.iter()) {
+            moved += column * *v;
+        }
+        h - self.lift(&moved)
     }
 }
 
@@ -289,8 +333,7 @@ impl<'c> Tracer<'c> {
             a.fixed_rows_mut::<3>(3).fill(0.0);
             error.fixed_rows_mut::<3>(3).fill(0.0);
         }
-        let normal = (&a * a.transpose() + Matrix6::identity() * DAMPING).cholesky()?;
-        Some(Kept { a, normal, error })
+        Kept::new(a, error)
     }
 
     fn on_target(&self, e: &Vector6<f64>) -> bool {
@@ -305,67 +348,42 @@ impl<'c> Tracer<'c> {
             .all(|(j, v)| v.is_finite() && *v >= lower[j] && *v <= upper[j])
     }
 
-    /// `q` itself and up to `reach` configurations on each side of it along the self-motion
-    /// (nearest first on each side), each on target and inside the limits, with their
-    /// `value` (of the configuration and the full Jacobian there).
+    /// `q` itself and up to `reach` configurations on each side of it along the self-motion,
+    /// each on target and inside the limits, with their `value` (of the configuration and
+    /// the full Jacobian there), in order along the curve.
     fn trace(
         &mut self,
         q: &[f64],
         target: &IsometryMatrix3<f64>,
         value: &dyn Fn(&[f64], &Matrix6xX<f64>) -> f64,
-    ) -> Vec<State> {
+    ) -> Traced {
         let Some(start) = self.kept(q, target) else {
-            return Vec::new();
+            return Traced {
+                states: Vec::new(),
+                curve: 0,
+            };
         };
-        let mut out = vec![State {
+        let middle = State {
             q: q.to_vec(),
             value: value(q, &self.jacobian),
-        }];
+        };
         let dof = self.chain.dof();
-        for side in [1.0, -1.0] {
+        // The projected joint axis of largest norm: the first step's direction, both ways.
+        let initial = (0..dof)
+            .map(|j| start.project(&DVector::from_fn(dof, |r, _| f64::from(r == j))))
+            .max_by(|x, y| x.norm().total_cmp(&y.norm()))
+            .unwrap_or_else(|| DVector::zeros(dof));
+        let mut sides = [Vec::new(), Vec::new()];
+        for (side, out) in [1.0, -1.0].into_iter().zip(&mut sides) {
             let mut current = q.to_vec();
-            let mut heading: Option<DVector<f64>> = None;
-            // The solve at `current`, reused for the next step's direction.
-            let mut at_current: Option<Kept> = None;
+            let mut kept = start.clone();
+            let mut heading = &initial * side;
             for _ in 0..self.options.reach {
-                let kept = match at_current.take() {
-                    Some(k) => k,
-                    None => start.clone(),
-                };
-                // Continue the previous heading; at the start, the projected joint axis of
-                // largest norm, turned by `side`.
-                let direction = match &heading {
-                    Some(h) => kept.project(h),
-                    None => (0..dof)
-                        .map(|j| kept.project(&DVector::from_fn(dof, |r, _| f64::from(r == j))))
-                        .max_by(|x, y| x.norm().total_cmp(&y.norm()))
-                        .map_or_else(|| DVector::zeros(dof), |d| d * side),
-                };
-                let norm = direction.norm();
-                if norm < 1e-9 {
-                    break;
-                }
-                let step = direction / norm;
-                let mut next: Vec<f64> = current
-                    .iter()
-                    .zip(step.iter())
-                    .map(|(v, d)| v + self.options.spacing * d)
-                    .collect();
-                let mut converged = None;
-                for _ in 0..CORRECTIONS {
-                    let Some(kept) = self.kept(&next, target) else {
-                        break;
-                    };
-                    if self.on_target(&kept.error) {
-                        converged = Some(kept);
-                        break;
-                    }
-                    let correction = kept.lift(&kept.error);
-                    for (v, d) in next.iter_mut().zip(correction.iter()) {
-                        *v += d;
-                    }
-                }
-                let Some(kept) = converged.filter(|_| self.inside(&next)) else {
+                // Continue the previous heading in the null space at `current`.
+                let direction = kept.project(&heading);
+                let Some((next, at_next)) =
+                    self.advance(&current, &direction, self.options.spacing, target)
+                else {
                     break;
                 };
                 // `self.jacobian` is the full Jacobian at `next` (the last solve).
@@ -373,11 +391,97 @@ impl<'c> Tracer<'c> {
                     value: value(&next, &self.jacobian),
                     q: next.clone(),
                 });
-                at_current = Some(kept);
-                heading = Some(step);
+                heading = direction;
+                kept = at_next;
                 current = next;
             }
         }
-        out
+        let [forward, backward] = sides;
+        let mut states: Vec<State> = backward.into_iter().rev().collect();
+        states.push(middle);
+        states.extend(forward);
+        let curve = states.len();
+        Traced { states, curve }
+    }
+
+    /// The configuration `length` from `from` along `direction` (joint space), corrected back
+    /// onto `target` by Gauss–Newton steps; `None` when it does not converge or leaves the
+    /// limits. `self.jacobian` is then the full Jacobian there.
+    fn advance(
+        &mut self,
+        from: &[f64],
+        direction: &DVector<f64>,
+        length: f64,
+        target: &IsometryMatrix3<f64>,
+    ) -> Option<(Vec<f64>, Kept)> {
+        let norm = direction.norm();
+        if norm < 1e-9 {
+            return None;
+        }
+        let scale = length / norm;
+        let mut next: Vec<f64> = from
+            .iter()
+            .zip(direction.iter())
+            .map(|(v, d)| v + scale * d)
+            .collect();
+        for _ in 0..CORRECTIONS {
+            let kept = self.kept(&next, target)?;
+            if self.on_target(&kept.error) {
+                return self.inside(&next).then_some((next, kept));
+            }
+            let correction = kept.lift(&kept.error);
+            for (v, d) in next.iter_mut().zip(correction.iter()) {
+                *v += d;
+            }
+        }
+        None
+    }
+
+    /// State `k` of `traced` moved to the peak of the parabola through it and its two
+    /// neighbours on the curve, when that is better and still joins `[before, after]`
+    /// (the chosen configurations of the neighbouring samples) within the step bound.
+    fn refine(
+        &mut self,
+        traced: &Traced,
+        k: usize,
+        target: &IsometryMatrix3<f64>,
+        [before, after]: [Option<&[f64]>; 2],
+        value: &dyn Fn(&[f64], &Matrix6xX<f64>) -> f64,
+    ) -> Option<State> {
+        if k == 0 || k + 1 >= traced.curve {
+            return None;
+        }
+        let [previous, here, next] = [
+            &traced.states[k - 1],
+            &traced.states[k],
+            &traced.states[k + 1],
+        ];
+        let distance = |a: &State| {
+            a.q.iter()
+                .zip(&here.q)
+                .map(|(x, y)| (x - y).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let peak = parabola_peak(
+            (distance(previous), previous.value),
+            here.value,
+            (distance(next), next.value),
+        )?;
+        let towards = if peak > 0.0 { next } else { previous };
+        let kept = self.kept(&here.q, target)?;
+        let chord = DVector::from_iterator(
+            here.q.len(),
+            towards.q.iter().zip(&here.q).map(|(a, b)| a - b),
+        );
+        let (q, _) = self.advance(&here.q, &kept.project(&chord), peak.abs(), target)?;
+        let state = State {
+            value: value(&q, &self.jacobian),
+            q,
+        };
+        let joins = |other: Option<&[f64]>| {
+            other.is_none_or(|o| max_difference(o, &state.q) <= self.options.max_joint_step)
+        };
+        (state.value > here.value && joins(before) && joins(after)).then_some(state)
     }
 }

@@ -43,10 +43,16 @@ struct CandidateRecord<'a> {
     mu_l1: Option<f64>,
     skipped_samples: Option<usize>,
     m_t: &'a [Option<f64>],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ranked_index: Option<&'a [Option<f64>]>,
     yoshikawa_at_grasp: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    yoshikawa_penalized_at_grasp: Option<f64>,
     inverse_condition_at_grasp: Option<f64>,
     inverse_condition_squared_at_grasp: Option<f64>,
     feasible_branches: usize,
+    limit_distance_min: Option<f64>,
+    hugs_limit: Option<bool>,
     joint_trajectory: &'a [Vec<f64>],
     #[serde(skip_serializing_if = "Option::is_none")]
     clearance: Option<f64>,
@@ -103,10 +109,20 @@ pub fn candidates_json(selection: &Selection) -> Value {
                 mu_l1: score.norms.map(|n| n.l1),
                 skipped_samples: score.norms.map(|n| n.skipped),
                 m_t: &score.m_t,
+                ranked_index: score.ranked_values.as_deref(),
                 yoshikawa_at_grasp: score.yoshikawa_at_grasp,
+                yoshikawa_penalized_at_grasp: score.yoshikawa_penalized_at_grasp,
                 inverse_condition_at_grasp: score.inverse_condition_at_grasp,
                 inverse_condition_squared_at_grasp: score.inverse_condition_squared_at_grasp,
                 feasible_branches: score.feasible_branches,
+                limit_distance_min: finite(
+                    score
+                        .limit_distance
+                        .iter()
+                        .copied()
+                        .fold(f64::INFINITY, f64::min),
+                ),
+                hugs_limit: score.feasible().then(|| score.hugs_limit()),
                 joint_trajectory: &score.joint_trajectory,
                 clearance: score.clearance,
                 approach_trajectory: &score.approach,
@@ -149,14 +165,21 @@ pub fn pairs_json(selection: &Selection) -> Value {
     )
 }
 
-fn mode_json(mode: JacobianRows) -> Value {
-    match mode {
+/// The task's `index` section as run: the rows, and the measure and penalty when the ranked
+/// index is not the paper's `M_T`.
+fn index_json(task: &Task) -> Value {
+    let mut index = match task.rows {
         JacobianRows::Twist { length_scale } => {
             json!({"mode": "twist", "length_scale": length_scale})
         }
         JacobianRows::Translation => json!({"mode": "translation"}),
         JacobianRows::Rotation => json!({"mode": "rotation"}),
+    };
+    if !task.ranked.is_task_relevant() {
+        index["measure"] = json!(task.ranked.measure.as_str());
+        index["joint_limit_penalty"] = json!(task.ranked.joint_limit_penalty);
     }
+    index
 }
 
 /// True when the task selected nothing: with one arm, no candidate is ranked (none is feasible,
@@ -258,7 +281,7 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         "samples": task.path.samples.len(),
         "steps": task.path.step_labels,
         "duration_s": task.path.samples.last().map(|s| s.time),
-        "index": mode_json(task.rows),
+        "index": index_json(task),
         "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
         "mu0": task.selection.mu0,
         "arms": arms,

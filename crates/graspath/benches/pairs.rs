@@ -21,17 +21,6 @@ fn arm(n: usize, seed: u64) -> Vec<CandidateScore> {
             let norm = 3.0 + (r >> 11) as f64 / (1u64 << 53) as f64;
             let y = ((r >> 3) % 4000) as f64 * 1e-4 - 0.2;
             CandidateScore {
-                candidate: Arc::new(Candidate {
-                    id: i,
-                    label: format!("c{i}"),
-                    object_from_wrist: Isometry3::translation(0.0, y, 0.0),
-                    log_likelihood: 0.0,
-                    contact: Some(Point3::new(0.0, y, 0.0)),
-                    hand_joints: Vec::new(),
-                    width: None,
-                }),
-                failure: None,
-                m_t: Vec::new(),
                 norms: Some(PathNorms {
                     l2: norm,
                     linf: 1.0,
@@ -39,15 +28,16 @@ fn arm(n: usize, seed: u64) -> Vec<CandidateScore> {
                     evaluated: 1,
                     skipped: 0,
                 }),
-                yoshikawa_at_grasp: None,
-                inverse_condition_at_grasp: None,
-                inverse_condition_squared_at_grasp: None,
-                joint_trajectory: Vec::new(),
-                approach: Vec::new(),
-                retreat: Vec::new(),
-                clearance: None,
                 feasible_branches: 1,
-                self_motion: None,
+                ..CandidateScore::unscored(Arc::new(Candidate {
+                    id: i,
+                    label: format!("c{i}"),
+                    object_from_wrist: Isometry3::translation(0.0, y, 0.0),
+                    log_likelihood: 0.0,
+                    contact: Some(Point3::new(0.0, y, 0.0)),
+                    hand_joints: Vec::new(),
+                    width: None,
+                }))
             }
         })
         .collect()

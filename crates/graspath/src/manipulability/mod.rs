@@ -8,9 +8,12 @@
 //! * task-relevant manipulability `M_T = Σ_j λ_j (v_j·u)² = uᵀ J Jᵀ u = ‖Jᵀ u‖²` for a unit
 //!   direction `u` (3-D for `Jv` or `Jω`, 6-D for the full `J`);
 //! * the velocity transmission ratio `1/sqrt(uᵀ (J Jᵀ)⁻¹ u)`;
+//! * the distance to the nearest joint limit and Tsai's joint-limit penalty
+//!   `P(q) = 1 − exp(−k Π (q−l)(u−q)/(u−l)²)`, a multiplier of any of the above;
 //! * over a path: `μ_l2 = ‖M‖₂`, `μ_l∞ = max_i 1/M_i`, `μ_l1 = ½ Σ (M_i + M_{i+1}) Δt_i`.
 
 mod indices;
+mod limits;
 mod norms;
 mod tangent;
 
@@ -18,5 +21,6 @@ pub use indices::{
     inverse_condition, inverse_condition_squared, singular_values, task_relevant,
     velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
 };
+pub use limits::{joint_limit_penalty, limit_distance};
 pub use norms::{PathNorms, SampleIndex};
 pub use tangent::{wrist_tangent, STILL_TWIST_TOLERANCE};

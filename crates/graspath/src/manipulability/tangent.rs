@@ -1,9 +1,10 @@
 //! The unit tangent of a wrist path at a sample, in the base frame, for the task-relevant index.
 
-use super::indices::{task_relevant, Direction};
+use super::indices::{task_relevant, velocity_transmission_ratio, Direction};
+use super::limits::joint_limit_penalty;
 use crate::geometry::se3_log;
-use crate::task::JacobianRows;
-use nalgebra::{Dim, Isometry3, Matrix, Storage, Vector3, Vector6, U6};
+use crate::task::{IndexMeasure, JacobianRows, RankedIndex};
+use nalgebra::{Dim, Isometry3, Matrix, Matrix6xX, Storage, Vector3, Vector6, U6};
 
 /// Twists (m or rad per step) below this norm count as "the object is still": the sample is
 /// skipped rather than divided by.
@@ -88,6 +89,46 @@ impl JacobianRows {
                 task_relevant(jacobian, &Direction::Full(weighted))
             }
             _ => task_relevant(jacobian, direction),
+        }
+    }
+
+    /// The velocity transmission ratio `1 / √(uᵀ (J' J'ᵀ)⁻¹ u)` in this mode for the unit
+    /// `direction` from [`wrist_tangent`], with `J'` as in [`JacobianRows::task_relevant`].
+    pub fn velocity_ratio<C: Dim, S: Storage<f64, U6, C>>(
+        &self,
+        jacobian: &Matrix<f64, U6, C, S>,
+        direction: &Direction,
+    ) -> f64 {
+        match *self {
+            JacobianRows::Twist { length_scale } => {
+                let weighted = Matrix6xX::from_fn(jacobian.ncols(), |r, c| {
+                    jacobian[(r, c)] * if r < 3 { 1.0 } else { length_scale }
+                });
+                velocity_transmission_ratio(&weighted, direction)
+            }
+            _ => velocity_transmission_ratio(jacobian, direction),
+        }
+    }
+}
+
+impl RankedIndex {
+    /// The ranked value at configuration `q` (joint limits `lower`, `upper`) with Jacobian
+    /// `jacobian` (base frame, rows `[v; ω]`), for the unit `direction` of motion measured in
+    /// `rows`: the measure, times the joint-limit penalty when one is set.
+    pub fn value<C: Dim, S: Storage<f64, U6, C>>(
+        &self,
+        rows: JacobianRows,
+        jacobian: &Matrix<f64, U6, C, S>,
+        direction: &Direction,
+        [q, lower, upper]: [&[f64]; 3],
+    ) -> f64 {
+        let measure = match self.measure {
+            IndexMeasure::TaskRelevant => rows.task_relevant(jacobian, direction),
+            IndexMeasure::VelocityRatio => rows.velocity_ratio(jacobian, direction),
+        };
+        match self.joint_limit_penalty {
+            None => measure,
+            Some(k) => measure * joint_limit_penalty(q, lower, upper, k),
         }
     }
 }

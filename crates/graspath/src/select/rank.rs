@@ -312,17 +312,6 @@ mod tests {
 
     fn scored(id: usize, norm: f64, log_likelihood: f64, y: f64) -> CandidateScore {
         CandidateScore {
-            candidate: Arc::new(Candidate {
-                id,
-                label: format!("c{id}"),
-                object_from_wrist: Isometry3::identity(),
-                log_likelihood,
-                contact: Some(Point3::new(0.0, y, 0.0)),
-                hand_joints: Vec::new(),
-                width: None,
-            }),
-            failure: None,
-            m_t: Vec::new(),
             norms: Some(PathNorms {
                 l2: norm,
                 linf: 1.0,
@@ -330,15 +319,16 @@ mod tests {
                 evaluated: 1,
                 skipped: 0,
             }),
-            yoshikawa_at_grasp: None,
-            inverse_condition_at_grasp: None,
-            inverse_condition_squared_at_grasp: None,
-            joint_trajectory: Vec::new(),
-            approach: Vec::new(),
-            retreat: Vec::new(),
-            clearance: None,
             feasible_branches: 1,
-            self_motion: None,
+            ..CandidateScore::unscored(Arc::new(Candidate {
+                id,
+                label: format!("c{id}"),
+                object_from_wrist: Isometry3::identity(),
+                log_likelihood,
+                contact: Some(Point3::new(0.0, y, 0.0)),
+                hand_joints: Vec::new(),
+                width: None,
+            }))
         }
     }
 

@@ -68,6 +68,7 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
                 arm,
                 path: &task.path,
                 rows: task.rows,
+                ranked: task.ranked,
                 ik: &task.ik,
                 redundancy: task.redundancy,
                 world: WorldSetup {

@@ -11,15 +11,15 @@ use crate::failure::{FailureReason, Phase};
 use crate::geometry::se3_log;
 use crate::grasp::Candidate;
 use crate::manipulability::{
-    inverse_condition, inverse_condition_squared, yoshikawa, Direction, JacobianPart, PathNorms,
-    SampleIndex,
+    inverse_condition, inverse_condition_squared, joint_limit_penalty, limit_distance, yoshikawa,
+    Direction, JacobianPart, PathNorms, SampleIndex,
 };
 use crate::robot::{
-    optimize_self_motion, solve_ik, solve_trajectory, Chain, KeptRows, SelfMotionOptions,
-    TrajectoryIkOptions,
+    optimize_self_motion, solve_trajectory, Chain, KeptRows, SelfMotionOptions, TrajectoryIkOptions,
 };
 use crate::task::{
-    ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, Redundancy, Stroke, WholeMotionPlan,
+    defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
+    Stroke, WholeMotionPlan,
 };
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 use rayon::prelude::*;
@@ -37,14 +37,27 @@ pub struct CandidateScore {
     pub failure: Option<Failure>,
     /// `M_T` at each sample (`None` where the object is still), along the chosen IK branch.
     pub m_t: Vec<Option<f64>>,
-    /// The norms of `m_t` (when feasible).
+    /// The ranked index at each sample when it is not `M_T` itself (`index.measure:
+    /// velocity_ratio` or a joint-limit penalty; `None` otherwise).
+    pub ranked_values: Option<Vec<Option<f64>>>,
+    /// The norms of the ranked index, `ranked_values` or else `m_t` (when feasible).
     pub norms: Option<PathNorms>,
-    /// Yoshikawa's index of the full `J` at the grasp configuration (when the grasp is reachable).
+    /// Yoshikawa's index of the full `J` at the grasp (when the grasp is reachable), at the
+    /// grasp's own configuration: the grasp pose's IK from the arm's mid configuration (the
+    /// first solution of the trajectory solver's search there), whatever branch or
+    /// self-motion the task then follows — so the classical indices depend on the grasp pose
+    /// only, never on the task.
     pub yoshikawa_at_grasp: Option<f64>,
+    /// Yoshikawa's index at the grasp times the joint-limit penalty there (with
+    /// `index.joint_limit_penalty`).
+    pub yoshikawa_penalized_at_grasp: Option<f64>,
     /// `σmin/σmax` of `J` at the grasp configuration.
     pub inverse_condition_at_grasp: Option<f64>,
     /// `λmin/λmax` of `J Jᵀ` at the grasp configuration (the paper's eq. 12).
     pub inverse_condition_squared_at_grasp: Option<f64>,
+    /// Per path sample, how far the joint nearest to a limit is from it (rad or m; `+∞`
+    /// without limited joints), along the chosen motion (when feasible).
+    pub limit_distance: Vec<f64>,
     /// Joint configurations along the path (rad / m), one per sample, of the chosen branch.
     pub joint_trajectory: Vec<Vec<f64>>,
     /// Joint configurations of the approach, before the grasp (empty without an approach).
@@ -72,9 +85,44 @@ pub struct SelfMotionScores {
 }
 
 impl CandidateScore {
+    /// A candidate not scored yet: no failure, no values, no trajectory.
+    pub fn unscored(candidate: Arc<Candidate>) -> Self {
+        Self {
+            candidate,
+            failure: None,
+            m_t: Vec::new(),
+            ranked_values: None,
+            norms: None,
+            yoshikawa_at_grasp: None,
+            yoshikawa_penalized_at_grasp: None,
+            inverse_condition_at_grasp: None,
+            inverse_condition_squared_at_grasp: None,
+            limit_distance: Vec::new(),
+            joint_trajectory: Vec::new(),
+            approach: Vec::new(),
+            retreat: Vec::new(),
+            clearance: None,
+            feasible_branches: 0,
+            self_motion: None,
+        }
+    }
+
     /// Whether IK succeeded along the whole path.
     pub fn feasible(&self) -> bool {
         self.failure.is_none()
+    }
+
+    /// Whether the chosen motion hugs a joint limit: at least
+    /// [`defaults::LIMIT_HUG_SHARE`] of the path samples have a joint within
+    /// [`defaults::LIMIT_HUG_DISTANCE`] of a limit.
+    pub fn hugs_limit(&self) -> bool {
+        let near = self
+            .limit_distance
+            .iter()
+            .filter(|d| **d <= defaults::LIMIT_HUG_DISTANCE)
+            .count();
+        !self.limit_distance.is_empty()
+            && near as f64 >= defaults::LIMIT_HUG_SHARE * self.limit_distance.len() as f64
     }
 }
 
@@ -144,26 +192,48 @@ pub fn wrist_trajectory(
         .collect()
 }
 
-/// `M_T` at every sample along one joint path.
+/// The per-sample indices along one joint path (`None` where the object is still).
+#[derive(Debug, Clone, PartialEq)]
+struct IndexSeries {
+    /// `M_T` (eq. 13).
+    m_t: Vec<Option<f64>>,
+    /// The ranked index, when it is not `M_T` itself.
+    ranked: Option<Vec<Option<f64>>>,
+}
+
+impl IndexSeries {
+    /// The values the norms are taken of.
+    fn ranked(&self) -> &[Option<f64>] {
+        self.ranked.as_deref().unwrap_or(&self.m_t)
+    }
+}
+
+/// `M_T` and the ranked index at every sample along one joint path.
 fn index_along(
     chain: &Chain,
     motion: &ObjectMotion,
     object_from_wrist: &Isometry3<f64>,
     joints: &[Vec<f64>],
-    mode: JacobianRows,
+    (mode, ranked): (JacobianRows, RankedIndex),
     jacobian: &mut Matrix6xX<f64>,
-) -> Vec<Option<f64>> {
-    joints
-        .iter()
-        .enumerate()
-        .map(|(i, q)| {
-            let direction = motion.tangent(i, object_from_wrist, mode)?;
-            chain
-                .pose_and_jacobian_into(q, jacobian)
-                .ok()
-                .map(|_| mode.task_relevant(jacobian, &direction))
-        })
-        .collect()
+) -> IndexSeries {
+    let mut m_t = Vec::with_capacity(joints.len());
+    let mut values = Vec::with_capacity(joints.len());
+    for (i, q) in joints.iter().enumerate() {
+        let at = motion
+            .tangent(i, object_from_wrist, mode)
+            .filter(|_| chain.pose_and_jacobian_into(q, jacobian).is_ok());
+        m_t.push(at.map(|d| mode.task_relevant(jacobian, &d)));
+        if !ranked.is_task_relevant() {
+            values.push(
+                at.map(|d| ranked.value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])),
+            );
+        }
+    }
+    IndexSeries {
+        m_t,
+        ranked: (!ranked.is_task_relevant()).then_some(values),
+    }
 }
 
 /// What scoring needs besides the candidate: the arm, the object path, which rows of `J` enter
@@ -176,6 +246,8 @@ pub struct ScoringSetup<'a> {
     pub path: &'a ObjectPath,
     /// Which rows of `J` and of the tangent enter `M_T`.
     pub rows: JacobianRows,
+    /// The per-sample index that is ranked.
+    pub ranked: RankedIndex,
     /// Trajectory IK settings.
     pub ik: &'a TrajectoryIkOptions,
     /// How the arm's self-motion is chosen (first branch, best branch, or optimised).
@@ -347,6 +419,7 @@ fn score_one(
         arm,
         path,
         rows: mode,
+        ranked,
         ik,
         redundancy,
         world,
@@ -364,21 +437,7 @@ fn score_one(
         .collect();
     let q_start = chain.mid_configuration();
     let mut jacobian = Matrix6xX::zeros(chain.dof());
-    let mut score = CandidateScore {
-        candidate: Arc::clone(candidate),
-        failure: None,
-        m_t: Vec::new(),
-        norms: None,
-        yoshikawa_at_grasp: None,
-        inverse_condition_at_grasp: None,
-        inverse_condition_squared_at_grasp: None,
-        joint_trajectory: Vec::new(),
-        approach: Vec::new(),
-        retreat: Vec::new(),
-        clearance: None,
-        feasible_branches: 0,
-        self_motion: None,
-    };
+    let mut score = CandidateScore::unscored(Arc::clone(candidate));
     if let Some(failure) = fingers.and_then(|f| f.failure(candidate)) {
         score.failure = Some(failure);
         return score;
@@ -439,6 +498,9 @@ fn score_one(
     let mut last_failure: Option<Failure> = None;
     // The first branch's whole motion and `μ_l2`, for the self-motion search.
     let mut first_branch: Option<(Vec<Vec<f64>>, f64)> = None;
+    // The grasp's own configuration (see `CandidateScore::yoshikawa_at_grasp`), when the
+    // motion starts at the grasp.
+    let mut grasp_configuration: Option<Vec<f64>> = None;
     for (attempt, options) in tries.iter().enumerate() {
         let result = match solve_trajectory(chain, &targets, &q_start, options) {
             Ok(r) => r,
@@ -447,18 +509,22 @@ fn score_one(
                 return score;
             }
         };
+        if attempt == 0 && before == 0 {
+            grasp_configuration = result.first_pose.first().cloned();
+        }
         score.feasible_branches = result.branches.len();
         for branch in &result.branches {
             let path_q = &branch.q[before..before + n];
-            let m_t = index_along(
+            let series = index_along(
                 chain,
                 motion,
                 &candidate.object_from_wrist,
                 path_q,
-                mode,
+                (mode, ranked),
                 &mut jacobian,
             );
-            let samples: Vec<SampleIndex> = m_t
+            let samples: Vec<SampleIndex> = series
+                .ranked()
                 .iter()
                 .zip(times)
                 .map(|(&value, &time)| SampleIndex { time, value })
@@ -500,7 +566,7 @@ fn score_one(
                     check.clearance
                 }
             };
-            best = Some((m_t, norms, branch.q.clone(), clearance));
+            best = Some((series, norms, branch.q.clone(), clearance));
         }
         last_failure = result.failure;
         // Another attempt with more branches only helps when the first pose was solved.
@@ -525,15 +591,21 @@ fn score_one(
         };
         score.self_motion = search.improve(chosen, first_branch.as_ref());
     }
-    let grasp_q = match best {
-        Some((m_t, norms, q, clearance)) => {
-            score.m_t = m_t;
+    let grasp_reached = match best {
+        Some((series, norms, q, clearance)) => {
+            score.m_t = series.m_t;
+            score.ranked_values = series.ranked;
             score.norms = Some(norms);
             score.clearance = clearance;
             score.approach = q[..before].to_vec();
             score.retreat = q[before + n..].to_vec();
             score.joint_trajectory = q[before..before + n].to_vec();
-            score.joint_trajectory.first().cloned()
+            score.limit_distance = score
+                .joint_trajectory
+                .iter()
+                .map(|q| limit_distance(q, chain.lower(), chain.upper()))
+                .collect();
+            true
         }
         None => {
             let failure = collision.or(last_failure.map(located)).unwrap_or_else(|| {
@@ -547,18 +619,30 @@ fn score_one(
                 || failure.phase == Phase::Retreat
                 || failure.reason == FailureReason::Collision;
             score.failure = Some(failure);
-            if grasp_reached {
-                solve_ik(chain, &targets[before], &q_start, &ik.ik)
-                    .ok()
-                    .and_then(|s| s.q)
-            } else {
-                None
-            }
+            grasp_reached
         }
     };
+    if !grasp_reached {
+        return score;
+    }
+    // With an approach, the motion starts at the pre-grasp: the grasp pose is solved alone,
+    // by the same search from the same start.
+    let grasp_q = grasp_configuration.or_else(|| {
+        let alone = TrajectoryIkOptions {
+            branches: 1,
+            ..ik.clone()
+        };
+        solve_trajectory(chain, &targets[before..=before], &q_start, &alone)
+            .ok()
+            .and_then(|r| r.first_pose.into_iter().next())
+    });
     if let Some(q) = grasp_q {
         if chain.pose_and_jacobian_into(&q, &mut jacobian).is_ok() {
-            score.yoshikawa_at_grasp = Some(yoshikawa(&jacobian, JacobianPart::Full));
+            let w = yoshikawa(&jacobian, JacobianPart::Full);
+            score.yoshikawa_at_grasp = Some(w);
+            score.yoshikawa_penalized_at_grasp = ranked
+                .joint_limit_penalty
+                .map(|k| w * joint_limit_penalty(&q, chain.lower(), chain.upper(), k));
             score.inverse_condition_at_grasp =
                 Some(inverse_condition(&jacobian, JacobianPart::Full));
             score.inverse_condition_squared_at_grasp =
@@ -570,7 +654,7 @@ fn score_one(
 
 /// The branch kept so far: `M_T` per path sample, its norms, the whole motion's joints and
 /// its clearance.
-type ChosenBranch = (Vec<Option<f64>>, PathNorms, Vec<Vec<f64>>, Option<f64>);
+type ChosenBranch = (IndexSeries, PathNorms, Vec<Vec<f64>>, Option<f64>);
 
 /// The self-motion search of one candidate ([`Redundancy::Optimize`]).
 struct SelfMotionSearch<'a> {
@@ -588,7 +672,7 @@ struct SelfMotionSearch<'a> {
 
 impl SelfMotionSearch<'_> {
     /// Searches the self-motion around the chosen branch and the first branch for the whole
-    /// motion with the largest `Σ M_T²` on the path; replaces `chosen` when that motion is
+    /// motion with the largest `Σ v²` of the ranked index `v` on the path; replaces `chosen` when that motion is
     /// better and collision-free. Returns what was found.
     fn improve(
         &self,
@@ -598,6 +682,7 @@ impl SelfMotionSearch<'_> {
         let ScoringSetup {
             arm,
             rows: mode,
+            ranked,
             ik,
             ..
         } = *self.setup;
@@ -607,13 +692,17 @@ impl SelfMotionSearch<'_> {
             seeds.push(q);
         }
         let path = self.path.clone();
-        let value = |i: usize, _: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
+        let value = |i: usize, q: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
             if !path.contains(&i) {
                 return 0.0;
             }
             self.motion
                 .tangent(i - path.start, &self.candidate.object_from_wrist, mode)
-                .map_or(0.0, |d| mode.task_relevant(jacobian, &d).powi(2))
+                .map_or(0.0, |d| {
+                    ranked
+                        .value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])
+                        .powi(2)
+                })
         };
         let options = SelfMotionOptions {
             max_joint_step: ik.max_joint_step,
@@ -630,15 +719,16 @@ impl SelfMotionSearch<'_> {
             &options,
         )?;
         let mut jacobian = Matrix6xX::zeros(chain.dof());
-        let m_t = index_along(
+        let series = index_along(
             chain,
             self.motion,
             &self.candidate.object_from_wrist,
             &found.q[self.path.clone()],
-            mode,
+            (mode, ranked),
             &mut jacobian,
         );
-        let samples: Vec<SampleIndex> = m_t
+        let samples: Vec<SampleIndex> = series
+            .ranked()
             .iter()
             .zip(self.times)
             .map(|(&value, &time)| SampleIndex { time, value })
@@ -664,7 +754,7 @@ impl SelfMotionSearch<'_> {
                 check.clearance
             }
         };
-        *chosen = (m_t, norms, found.q, clearance);
+        *chosen = (series, norms, found.q, clearance);
         Some(scores)
     }
 }

@@ -7,7 +7,7 @@ use super::path::{ObjectPath, Sampling, TimedStep};
 use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
 pub(crate) use super::settings::check_count;
 use super::settings::{
-    defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy, SelectionOptions,
+    defaults, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy, SelectionOptions,
 };
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
@@ -72,6 +72,8 @@ pub struct Task {
     pub path: ObjectPath,
     /// Which rows of `J` and of the tangent enter `M_T`.
     pub rows: JacobianRows,
+    /// The per-sample index that is ranked (default: `M_T`).
+    pub ranked: RankedIndex,
     /// How candidates are ranked.
     pub selection: SelectionOptions,
     /// Trajectory IK settings.
@@ -149,6 +151,7 @@ pub struct TaskBuilder {
     candidates: Vec<Candidate>,
     path: Option<PathInput>,
     rows: JacobianRows,
+    ranked: RankedIndex,
     norm: Norm,
     mu0: Option<f64>,
     likelihood: LikelihoodRule,
@@ -180,6 +183,7 @@ impl TaskBuilder {
             candidates: Vec::new(),
             path: None,
             rows: JacobianRows::default(),
+            ranked: RankedIndex::default(),
             norm: Norm::default(),
             mu0: None,
             likelihood: LikelihoodRule::default(),
@@ -385,6 +389,12 @@ impl TaskBuilder {
         })
     }
 
+    /// The per-sample index that is ranked (default: the paper's `M_T`, no penalty).
+    pub fn ranked(mut self, ranked: RankedIndex) -> Self {
+        self.ranked = ranked;
+        self
+    }
+
     /// How the arm's self-motion is chosen along the path.
     pub fn redundancy(mut self, redundancy: Redundancy) -> Self {
         self.redundancy = redundancy;
@@ -452,6 +462,14 @@ impl TaskBuilder {
                 return Err(err(
                     "index.length_scale",
                     "must be a positive length in metres".into(),
+                ));
+            }
+        }
+        if let Some(k) = self.ranked.joint_limit_penalty {
+            if !(k.is_finite() && k > 0.0) {
+                return Err(err(
+                    "index.joint_limit_penalty",
+                    format!("the penalty's gain k must be a positive number, got {k}"),
                 ));
             }
         }
@@ -587,6 +605,7 @@ impl TaskBuilder {
             candidates: self.candidates.into_iter().map(Arc::new).collect(),
             path,
             rows: self.rows,
+            ranked: self.ranked,
             selection: SelectionOptions {
                 norm: self.norm,
                 mu0: self.mu0,

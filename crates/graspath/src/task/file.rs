@@ -443,6 +443,23 @@ pub struct IndexFile {
     /// The characteristic length L (m) of `twist` mode (default 1, the paper's raw J).
     #[serde(default)]
     pub length_scale: Option<f64>,
+    /// What is measured and ranked: `task_relevant` (default, the paper's `M_T`) or
+    /// `velocity_ratio`.
+    #[serde(default)]
+    pub measure: Option<String>,
+    /// Multiply the ranked index by Tsai's joint-limit penalty: `true` (gain 50) or the gain.
+    #[serde(default)]
+    pub joint_limit_penalty: Option<PenaltyFile>,
+}
+
+/// `index.joint_limit_penalty`: on with the default gain, off, or a gain.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PenaltyFile {
+    /// `true`: the default gain; `false`: no penalty.
+    On(bool),
+    /// The gain `k`.
+    Gain(f64),
 }
 
 /// Which norm ranks candidates.

@@ -5,10 +5,13 @@
 use super::builder::{check_count, Task, TaskBuilder};
 use super::error::TaskError;
 use super::file::{
-    pose, ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, StepFile, TaskFile,
+    pose, ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, PenaltyFile, StepFile,
+    TaskFile,
 };
 use super::path::{Sampling, Step, TimedStep};
-use super::settings::{defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy};
+use super::settings::{
+    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy,
+};
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
 use crate::geometry::shape::Shape;
@@ -91,9 +94,27 @@ pub fn builder_from_file(
             "only applies to mode 'twist'".into(),
         ));
     }
+    let measure = match file.index.measure.as_deref() {
+        None => IndexMeasure::default(),
+        Some(name) => IndexMeasure::from_name(name).ok_or_else(|| {
+            err(
+                "index.measure",
+                format!("'{name}' is not one of task_relevant, velocity_ratio"),
+            )
+        })?,
+    };
+    let joint_limit_penalty = match file.index.joint_limit_penalty {
+        None | Some(PenaltyFile::On(false)) => None,
+        Some(PenaltyFile::On(true)) => Some(defaults::JOINT_LIMIT_PENALTY_GAIN),
+        Some(PenaltyFile::Gain(k)) => Some(k),
+    };
     let s = &file.selection;
     builder = builder
         .rows(rows)
+        .ranked(RankedIndex {
+            measure,
+            joint_limit_penalty,
+        })
         .norm(match s.norm.unwrap_or_default() {
             NormFile::L2 => Norm::L2,
             NormFile::L1 => Norm::L1,

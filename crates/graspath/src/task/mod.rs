@@ -22,8 +22,8 @@ pub use builder::{ArmSetup, Task, TaskBuilder};
 pub use error::TaskError;
 pub use file::{
     pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,
-    LikelihoodFile, NormFile, ObjectFile, RobotFile, RotateFile, SelectionFile, SpacingFile,
-    StepFile, TaskFile, TrajectoryFile,
+    LikelihoodFile, NormFile, ObjectFile, PenaltyFile, RobotFile, RotateFile, SelectionFile,
+    SpacingFile, StepFile, TaskFile, TrajectoryFile,
 };
 pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
@@ -33,5 +33,6 @@ pub use scene::{
     DEFAULT_FINGER, MIN_RESOLUTION,
 };
 pub use settings::{
-    defaults, JacobianRows, LikelihoodRule, Limits, Norm, Redundancy, SelectionOptions,
+    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy,
+    SelectionOptions,
 };

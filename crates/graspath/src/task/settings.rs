@@ -40,6 +40,54 @@ impl JacobianRows {
     }
 }
 
+/// What is measured at each sample and ranked by its norms over the path (`index.measure`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IndexMeasure {
+    /// The paper's task-relevant manipulability `M_T = uᵀ J' J'ᵀ u` (eq. 13).
+    #[default]
+    TaskRelevant,
+    /// The velocity transmission ratio along the tangent, `1 / √(uᵀ (J' J'ᵀ)⁻¹ u)`: the speed
+    /// along `u` a unit joint velocity reaches (0 where `u` is a singular direction). Not the
+    /// paper's index: it weighs the directions the arm is slow in, not the fast ones.
+    VelocityRatio,
+}
+
+impl IndexMeasure {
+    /// The task-file spelling: `task_relevant`, `velocity_ratio`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            IndexMeasure::TaskRelevant => "task_relevant",
+            IndexMeasure::VelocityRatio => "velocity_ratio",
+        }
+    }
+
+    /// The variant spelled `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::TaskRelevant, Self::VelocityRatio]
+            .into_iter()
+            .find(|m| m.as_str() == name)
+    }
+}
+
+/// The per-sample index that is ranked: the measure, optionally multiplied by a joint-limit
+/// penalty (`index: { measure, joint_limit_penalty }`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RankedIndex {
+    /// What is measured at each sample.
+    pub measure: IndexMeasure,
+    /// With `Some(k)`, each sample's value is multiplied by Tsai's joint-limit penalty
+    /// `P(q) = 1 − exp(−k Π_i (q_i − l_i)(u_i − q_i) / (u_i − l_i)²)` (the product over the
+    /// joints with limits; see [`crate::manipulability::joint_limit_penalty`]); `k > 0`.
+    pub joint_limit_penalty: Option<f64>,
+}
+
+impl RankedIndex {
+    /// Whether the ranked value is the paper's `M_T` itself.
+    pub fn is_task_relevant(&self) -> bool {
+        self.measure == IndexMeasure::TaskRelevant && self.joint_limit_penalty.is_none()
+    }
+}
+
 /// How a redundant arm's self-motion is chosen along the path (`ik.redundancy`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Redundancy {
@@ -143,6 +191,13 @@ pub mod defaults {
     pub const PAIRS: usize = 10;
     /// Two grasps closer than this overlap (m; Baxter's gripper width).
     pub const MIN_SEPARATION: f64 = 0.08;
+    /// Tsai's penalty gain `k` when `index.joint_limit_penalty: true` (Simox's default).
+    pub const JOINT_LIMIT_PENALTY_GAIN: f64 = 50.0;
+    /// A joint closer than this to a limit (rad or m) counts as at the limit.
+    pub const LIMIT_HUG_DISTANCE: f64 = 0.02;
+    /// A candidate whose path has at least this share of samples with a joint at a limit
+    /// ([`LIMIT_HUG_DISTANCE`]) hugs the limit (flagged in its results).
+    pub const LIMIT_HUG_SHARE: f64 = 0.5;
     /// Relative score difference under which two candidates are reported as tied (1 = 100 %).
     ///
     /// The IK stops within [`IK_TOLERANCE`] (m and rad) of each wrist pose, so the Jacobians

@@ -96,6 +96,12 @@ pub struct TrajectoryIkResult {
     /// Set when no branch follows the whole trajectory: the first failing sample of the branch
     /// that got furthest (the earliest branch among equals).
     pub failure: Option<Failure>,
+    /// The configurations found at the first pose, in the order the search found them,
+    /// whether or not their branch followed the trajectory. The first depends only on the
+    /// first pose, `q_start` and the IK options (not on `branches`): the first pose's IK
+    /// from `q_start`.
+    #[serde(default)]
+    pub first_pose: Vec<Vec<f64>>,
 }
 
 impl TrajectoryIkResult {
@@ -163,6 +169,7 @@ pub fn solve_trajectory(
             return Ok(TrajectoryIkResult {
                 branches: Vec::new(),
                 failure: Some(failure),
+                first_pose: Vec::new(),
             })
         }
     };
@@ -193,7 +200,11 @@ pub fn solve_trajectory(
             })
     });
     let failure = if branches.is_empty() { furthest } else { None };
-    Ok(TrajectoryIkResult { branches, failure })
+    Ok(TrajectoryIkResult {
+        branches,
+        failure,
+        first_pose: starts,
+    })
 }
 
 /// Largest absolute difference between two configurations (rad / m).

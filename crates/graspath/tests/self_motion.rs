@@ -175,3 +175,61 @@ fn optimum_along_a_line_equals_brute_force(spacing: f64, reach: usize) {
     );
     assert!(found.worst_total <= seed_total);
 }
+
+#[test]
+fn the_null_space_moves_no_kept_row_of_the_tip() {
+    use graspath::robot::builtin::{baxter, Arm};
+    use graspath::robot::null_space;
+    // Baxter's 7-joint arm keeping the pose: one self-motion direction.
+    let chain = baxter(Arm::Left);
+    let planar = parse_urdf_chain(&planar_3r(), "planar3r.urdf", "base", "tip").unwrap();
+    for (chain, rows, expected) in [
+        (&chain, KeptRows::Pose, 1),
+        (&planar, KeptRows::Position, 1),
+    ] {
+        let (lower, upper) = (chain.lower(), chain.upper());
+        for k in 0..5 {
+            let q: Vec<f64> = (0..chain.dof())
+                .map(|j| {
+                    let t = (0.5 + 0.4 * ((k * 7 + j) as f64 * 1.3).sin()).clamp(0.05, 0.95);
+                    lower[j] + t * (upper[j] - lower[j])
+                })
+                .collect();
+            let mut jacobian = Matrix6xX::zeros(chain.dof());
+            let pose = chain.pose_and_jacobian_into(&q, &mut jacobian).unwrap();
+            let basis = null_space(&jacobian, rows, 1e-9);
+            assert_eq!(basis.ncols(), expected);
+            // Orthonormal, and a small motion along it moves the kept rows only to second
+            // order (finite differences on forward kinematics, not the Jacobian).
+            assert!(((basis.transpose() * &basis)[(0, 0)] - 1.0).abs() < 1e-12);
+            let eps = 1e-5;
+            let moved: Vec<f64> = q
+                .iter()
+                .zip(basis.column(0).iter())
+                .map(|(v, d)| v + eps * d)
+                .collect();
+            let after = chain.pose(&moved).unwrap();
+            let shift = (after.translation.vector - pose.translation.vector).norm();
+            assert!(shift < 1e-8, "the tip moved {shift} m along the null space");
+            if rows == KeptRows::Pose {
+                // From the skew part of the relative rotation, exact for small angles (acos of
+                // the trace loses them to rounding).
+                let relative = (after.rotation.inverse() * pose.rotation).into_inner();
+                let turn = (relative - relative.transpose()).norm() / 2.0_f64.sqrt();
+                assert!(
+                    turn < 1e-8,
+                    "the tip turned {turn} rad along the null space"
+                );
+            }
+            // A joint velocity that is not in it does move the tip.
+            let other: Vec<f64> = q
+                .iter()
+                .enumerate()
+                .map(|(j, v)| v + eps * f64::from(j == 0))
+                .collect();
+            let off =
+                (chain.pose(&other).unwrap().translation.vector - pose.translation.vector).norm();
+            assert!(off > 1e-7 || basis[(0, 0)].abs() > 0.99);
+        }
+    }
+}

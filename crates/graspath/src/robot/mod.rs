@@ -23,8 +23,8 @@ pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound}
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{
-    optimize_self_motion, solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution, JointPath,
-    KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath, TrajectoryIkOptions,
+    null_space, optimize_self_motion, solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution,
+    JointPath, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath, TrajectoryIkOptions,
     TrajectoryIkResult,
 };
 pub use source::{RobotModel, RobotSource};

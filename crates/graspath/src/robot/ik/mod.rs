@@ -26,7 +26,7 @@ mod self_motion;
 mod trajectory;
 
 pub use self_motion::{
-    optimize_self_motion, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
+    null_space, optimize_self_motion, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
 };
 pub use trajectory::{solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult};
 

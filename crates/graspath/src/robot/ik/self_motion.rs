@@ -22,7 +22,8 @@
 
 use crate::robot::chain::Chain;
 use nalgebra::{
-    Cholesky, DVector, Isometry3, IsometryMatrix3, Matrix6, Matrix6xX, Vector3, Vector6, U6,
+    Cholesky, DMatrix, DVector, Isometry3, IsometryMatrix3, Matrix6, Matrix6xX, Vector3, Vector6,
+    U6,
 };
 
 /// Which rows of the tip pose the path keeps.
@@ -146,6 +147,65 @@ pub fn optimize_self_motion(
         values,
         worst_total: chosen.worst_total,
     })
+}
+
+/// An orthonormal basis of the joint velocities that leave the kept rows of the tip's twist
+/// unchanged — the directions of the self-motion at a configuration — from its geometric
+/// Jacobian (6 × dof, rows `[v; ω]`): one column per direction (dof × k, rad/s or m/s per
+/// unit). A direction counts when its singular value is at most `relative_tolerance` times
+/// the largest. Each column's largest-magnitude entry is positive, so the basis is the same
+/// for the same Jacobian; with several directions, the most exactly null comes first.
+/// Empty (dof × 0) for a non-finite Jacobian.
+pub fn null_space(
+    jacobian: &Matrix6xX<f64>,
+    rows: KeptRows,
+    relative_tolerance: f64,
+) -> DMatrix<f64> {
+    let dof = jacobian.ncols();
+    let kept = match rows {
+        KeptRows::Pose => 6,
+        KeptRows::Position => 3,
+    };
+    let a = jacobian.rows(0, kept);
+    if !a.iter().all(|v| v.is_finite()) {
+        return DMatrix::zeros(dof, 0);
+    }
+    // The right singular vectors of A padded with zero rows to a square matrix: a thin SVD of
+    // the wide A alone would leave its null space out.
+    let size = dof.max(kept);
+    let padded = DMatrix::from_fn(size, dof, |r, c| if r < kept { a[(r, c)] } else { 0.0 });
+    let Some(svd) = padded.try_svd(false, true, f64::EPSILON, 10_000) else {
+        return DMatrix::zeros(dof, 0);
+    };
+    let Some(v_t) = svd.v_t else {
+        return DMatrix::zeros(dof, 0);
+    };
+    let largest = svd.singular_values.iter().copied().fold(0.0, f64::max);
+    let threshold = largest * relative_tolerance;
+    let mut columns: Vec<(f64, DVector<f64>)> = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .filter(|(_, sigma)| **sigma <= threshold)
+        .map(|(k, sigma)| {
+            let mut v: DVector<f64> = v_t.row(k).transpose();
+            let peak = v
+                .iter()
+                .copied()
+                .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
+            if peak < 0.0 {
+                v.neg_mut();
+            }
+            (*sigma, v)
+        })
+        .collect();
+    columns.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let vectors: Vec<DVector<f64>> = columns.into_iter().map(|(_, v)| v).collect();
+    if vectors.is_empty() {
+        DMatrix::zeros(dof, 0)
+    } else {
+        DMatrix::from_columns(&vectors)
+    }
 }
 
 /// One state of the programme: a configuration on target and its value.

@@ -38,9 +38,15 @@
 //! Not supported (an error names the element): `<include>`, `<replicate>`, `<attach>`,
 //! `<composite>`, `<flexcomp>`, joints inside `<frame>`. Sites, cameras, lights, inertials and
 //! actuators are ignored.
+//!
+//! Files: `dom.rs` (the element tree, via quick-xml), `parse.rs` (compiler, defaults, bodies,
+//! joints), `values.rs` (numbers, angles, orientations), `geom.rs` (collision shapes), this file
+//! (the model's chains and collisions).
 
 mod dom;
+mod geom;
 mod parse;
+mod values;
 
 use super::chain::Chain;
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};

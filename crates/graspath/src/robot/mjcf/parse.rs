@@ -1,13 +1,14 @@
 //! From the element tree to bodies, joints and geoms: the `<compiler>` settings (angle unit,
 //! Euler sequence, mesh folder), `<default>` classes (nested, inherited, chosen by `class` or
-//! an enclosing `childclass`), orientations (`quat`, `euler`, `axisangle`, `xyaxes`, `zaxis`)
-//! and geom sizes, all checked with errors that name the line, the element and the attribute.
+//! an enclosing `childclass`), mesh assets, the body tree and its joints. Attribute values and
+//! poses are read in `values.rs`, geoms in `geom.rs`; errors name the line, the element and the
+//! attribute.
 
 use super::dom::Element;
 use crate::geometry::shape::Shape;
 use crate::robot::chain::unit_axis;
 use crate::robot::error::RobotError;
-use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Unit, Vector3};
 use std::collections::HashMap;
 
 /// The class of elements outside any `class` / `childclass`.
@@ -97,9 +98,9 @@ pub(crate) struct Body {
 
 /// A mesh asset.
 #[derive(Debug, Clone)]
-struct MeshAsset {
-    file: Option<String>,
-    scale: [f64; 3],
+pub(super) struct MeshAsset {
+    pub file: Option<String>,
+    pub scale: [f64; 3],
 }
 
 /// The parsed model.
@@ -114,12 +115,12 @@ pub(crate) struct Model {
 /// Attribute values by element kind (`joint`, `geom`, `mesh`, ...), for one default class.
 type ClassDefaults = HashMap<String, HashMap<String, String>>;
 
-struct Reader<'a> {
-    source_name: &'a str,
-    compiler: Compiler,
-    classes: HashMap<String, ClassDefaults>,
-    meshes: HashMap<String, MeshAsset>,
-    bodies: Vec<Body>,
+pub(super) struct Reader<'a> {
+    pub(super) source_name: &'a str,
+    pub(super) compiler: Compiler,
+    pub(super) classes: HashMap<String, ClassDefaults>,
+    pub(super) meshes: HashMap<String, MeshAsset>,
+    pub(super) bodies: Vec<Body>,
 }
 
 /// Reads the model under the root `<mujoco>` element.
@@ -184,7 +185,7 @@ fn describe(element: &Element) -> String {
 }
 
 impl Reader<'_> {
-    fn error(&self, element: &Element, attribute: &str, message: String) -> RobotError {
+    pub(super) fn error(&self, element: &Element, attribute: &str, message: String) -> RobotError {
         RobotError::Mjcf {
             source_name: self.source_name.to_string(),
             line: element.line,
@@ -237,18 +238,6 @@ impl Reader<'_> {
         Ok(())
     }
 
-    fn boolean(&self, element: &Element, attribute: &str, value: &str) -> Result<bool, RobotError> {
-        match value {
-            "true" => Ok(true),
-            "false" => Ok(false),
-            other => Err(self.error(
-                element,
-                attribute,
-                format!("'{other}' is neither true nor false"),
-            )),
-        }
-    }
-
     /// One `<default>` element and the classes nested in it.
     fn defaults(&mut self, element: &Element, parent: Option<&str>) -> Result<(), RobotError> {
         let class = match (element.get("class"), parent) {
@@ -283,7 +272,7 @@ impl Reader<'_> {
     }
 
     /// The class an element takes: its own `class`, else the enclosing `childclass`.
-    fn class_of<'e>(
+    pub(super) fn class_of<'e>(
         &self,
         element: &'e Element,
         inherited: &'e str,
@@ -295,7 +284,7 @@ impl Reader<'_> {
     }
 
     /// `class` if it is a defined default class, else an error naming `attribute`.
-    fn require_class<'e>(
+    pub(super) fn require_class<'e>(
         &self,
         element: &Element,
         attribute: &str,
@@ -315,7 +304,12 @@ impl Reader<'_> {
     }
 
     /// The attribute as written, else from the element's default class.
-    fn value<'e>(&'e self, element: &'e Element, class: &str, key: &str) -> Option<&'e str> {
+    pub(super) fn value<'e>(
+        &'e self,
+        element: &'e Element,
+        class: &str,
+        key: &str,
+    ) -> Option<&'e str> {
         element.get(key).or_else(|| {
             self.classes
                 .get(class)
@@ -323,156 +317,6 @@ impl Reader<'_> {
                 .and_then(|attrs| attrs.get(key))
                 .map(String::as_str)
         })
-    }
-
-    /// `count` finite numbers (any count within `counts`), or an error naming the attribute.
-    fn numbers(
-        &self,
-        element: &Element,
-        key: &str,
-        text: &str,
-        counts: std::ops::RangeInclusive<usize>,
-    ) -> Result<Vec<f64>, RobotError> {
-        let mut out = Vec::new();
-        for word in text.split_ascii_whitespace() {
-            let value: f64 = word.parse().map_err(|_| {
-                self.error(
-                    element,
-                    key,
-                    format!("'{word}' is not a number (in \"{text}\")"),
-                )
-            })?;
-            if !value.is_finite() {
-                return Err(self.error(
-                    element,
-                    key,
-                    format!("must be finite, got {word} (in \"{text}\")"),
-                ));
-            }
-            out.push(value);
-            if out.len() > *counts.end() {
-                break;
-            }
-        }
-        if !counts.contains(&out.len()) {
-            let expected = if counts.start() == counts.end() {
-                counts.start().to_string()
-            } else {
-                format!("{} to {}", counts.start(), counts.end())
-            };
-            return Err(self.error(
-                element,
-                key,
-                format!("expected {expected} numbers, got \"{text}\""),
-            ));
-        }
-        Ok(out)
-    }
-
-    fn vector(&self, element: &Element, key: &str, text: &str) -> Result<Vector3<f64>, RobotError> {
-        let v = self.numbers(element, key, text, 3..=3)?;
-        Ok(Vector3::new(v[0], v[1], v[2]))
-    }
-
-    fn angle(&self, value: f64) -> f64 {
-        if self.compiler.degrees {
-            value.to_radians()
-        } else {
-            value
-        }
-    }
-
-    /// `pos` and the one orientation attribute of a body, geom or frame (looked up through
-    /// `class` when given).
-    fn pose(&self, element: &Element, class: Option<&str>) -> Result<Isometry3<f64>, RobotError> {
-        let get = |key: &str| match class {
-            Some(class) => self.value(element, class, key),
-            None => element.get(key),
-        };
-        let pos = match get("pos") {
-            Some(text) => self.vector(element, "pos", text)?,
-            None => Vector3::zeros(),
-        };
-        let given: Vec<&str> = ["quat", "axisangle", "euler", "xyaxes", "zaxis"]
-            .into_iter()
-            .filter(|k| get(k).is_some())
-            .collect();
-        if given.len() > 1 {
-            return Err(self.error(
-                element,
-                given[1],
-                format!("give one orientation, not {}", given.join(" and ")),
-            ));
-        }
-        let rotation = match given.first() {
-            None => UnitQuaternion::identity(),
-            Some(&key) => self.orientation(element, key, get(key).unwrap_or_default())?,
-        };
-        Ok(Isometry3::from_parts(Translation3::from(pos), rotation))
-    }
-
-    fn orientation(
-        &self,
-        element: &Element,
-        key: &str,
-        text: &str,
-    ) -> Result<UnitQuaternion<f64>, RobotError> {
-        let zero = |what: &str| self.error(element, key, format!("{what} is zero: \"{text}\""));
-        match key {
-            "quat" => {
-                let v = self.numbers(element, key, text, 4..=4)?;
-                let q = nalgebra::Quaternion::new(v[0], v[1], v[2], v[3]);
-                if q.norm() < 1e-12 {
-                    return Err(zero("the quaternion"));
-                }
-                Ok(UnitQuaternion::from_quaternion(q))
-            }
-            "axisangle" => {
-                let v = self.numbers(element, key, text, 4..=4)?;
-                let axis =
-                    unit_axis(&Vector3::new(v[0], v[1], v[2])).ok_or_else(|| zero("the axis"))?;
-                Ok(UnitQuaternion::from_axis_angle(
-                    &Unit::new_unchecked(axis),
-                    self.angle(v[3]),
-                ))
-            }
-            "euler" => {
-                let v = self.numbers(element, key, text, 3..=3)?;
-                let mut q = UnitQuaternion::identity();
-                for (axis, angle) in self.compiler.euler_seq.iter().zip(&v) {
-                    let unit = match axis.to_ascii_lowercase() {
-                        b'x' => Vector3::x_axis(),
-                        b'y' => Vector3::y_axis(),
-                        _ => Vector3::z_axis(),
-                    };
-                    let turn = UnitQuaternion::from_axis_angle(&unit, self.angle(*angle));
-                    // Lower case: about the moving (already turned) axes; upper: the fixed ones.
-                    q = if axis.is_ascii_lowercase() {
-                        q * turn
-                    } else {
-                        turn * q
-                    };
-                }
-                Ok(q)
-            }
-            "xyaxes" => {
-                let v = self.numbers(element, key, text, 6..=6)?;
-                let x = unit_axis(&Vector3::new(v[0], v[1], v[2])).ok_or_else(|| zero("x"))?;
-                let y = Vector3::new(v[3], v[4], v[5]);
-                let y = unit_axis(&(y - x * x.dot(&y)))
-                    .ok_or_else(|| zero("the part of y orthogonal to x"))?;
-                let z = x.cross(&y);
-                let m = Matrix3::from_columns(&[x, y, z]);
-                Ok(UnitQuaternion::from_rotation_matrix(
-                    &Rotation3::from_matrix_unchecked(m),
-                ))
-            }
-            _ => {
-                let v = self.vector(element, key, text)?;
-                let z = unit_axis(&v).ok_or_else(|| zero("the axis"))?;
-                Ok(z_onto(&z))
-            }
-        }
     }
 
     fn mesh_asset(&mut self, element: &Element) -> Result<(), RobotError> {
@@ -671,163 +515,4 @@ impl Reader<'_> {
             reference,
         })
     }
-
-    /// A colliding geom, or `None` for a visual-only one (`contype` and `conaffinity` both 0).
-    fn geom(&self, element: &Element, childclass: &str) -> Result<Option<Geom>, RobotError> {
-        let class = self.class_of(element, childclass)?;
-        let get = |key: &str| self.value(element, class, key);
-        let mask = |key: &str| -> Result<i64, RobotError> {
-            match get(key) {
-                None => Ok(1),
-                Some(text) => text
-                    .trim()
-                    .parse()
-                    .map_err(|_| self.error(element, key, format!("'{text}' is not an integer"))),
-            }
-        };
-        if mask("contype")? == 0 && mask("conaffinity")? == 0 {
-            return Ok(None);
-        }
-        let mesh = get("mesh");
-        let kind_name = get("type").unwrap_or(if mesh.is_some() { "mesh" } else { "sphere" });
-        if mesh.is_some() && kind_name != "mesh" && get("size").is_none() {
-            return Ok(Some(Geom {
-                name: element.get("name").map(str::to_string),
-                line: element.line,
-                body_from_geom: self.pose(element, Some(class))?,
-                kind: GeomKind::Skipped(format!(
-                    "a {kind_name} fitted to a mesh (type=\"{kind_name}\" with mesh=) is not supported"
-                )),
-            }));
-        }
-        let size = match get("size") {
-            Some(text) => self.numbers(element, "size", text, 1..=3)?,
-            None => Vec::new(),
-        };
-        let fromto = match get("fromto") {
-            Some(text) => Some(self.numbers(element, "fromto", text, 6..=6)?),
-            None => None,
-        };
-        let mut body_from_geom = self.pose(element, Some(class))?;
-        let need = |count: usize| -> Result<&[f64], RobotError> {
-            if size.len() < count {
-                Err(self.error(
-                    element,
-                    "size",
-                    format!(
-                        "a {kind_name} geom needs {count} size values, got {}",
-                        size.len()
-                    ),
-                ))
-            } else {
-                Ok(&size[..count])
-            }
-        };
-        let bad_size =
-            |e: crate::geometry::shape::ShapeError| self.error(element, "size", e.to_string());
-        // `fromto`: the geom's z axis runs from the first point to the second, centred between them.
-        let mut half_length = None;
-        if let Some(ft) = &fromto {
-            if !matches!(kind_name, "capsule" | "cylinder" | "box") {
-                return Err(self.error(
-                    element,
-                    "fromto",
-                    format!("a {kind_name} geom takes no fromto"),
-                ));
-            }
-            let (from, to) = (
-                Vector3::new(ft[0], ft[1], ft[2]),
-                Vector3::new(ft[3], ft[4], ft[5]),
-            );
-            let along = to - from;
-            let z = unit_axis(&along).ok_or_else(|| {
-                self.error(element, "fromto", "the two points are the same".into())
-            })?;
-            body_from_geom =
-                Isometry3::from_parts(Translation3::from((from + to) / 2.0), z_onto(&z));
-            half_length = Some(along.norm() / 2.0);
-        }
-        let shape = match kind_name {
-            "sphere" => Shape::sphere(need(1)?[0]).map_err(bad_size)?,
-            "capsule" | "cylinder" => {
-                let (radius, half) = match half_length {
-                    Some(h) => (need(1)?[0], h),
-                    None => {
-                        let s = need(2)?;
-                        (s[0], s[1])
-                    }
-                };
-                if kind_name == "capsule" {
-                    Shape::capsule(radius, 2.0 * half).map_err(bad_size)?
-                } else {
-                    Shape::cylinder(radius, 2.0 * half).map_err(bad_size)?
-                }
-            }
-            "box" => {
-                let half = match half_length {
-                    Some(h) => {
-                        let s = need(2)?;
-                        [s[0], s[1], h]
-                    }
-                    None => {
-                        let s = need(3)?;
-                        [s[0], s[1], s[2]]
-                    }
-                };
-                Shape::cuboid(half.map(|h| 2.0 * h)).map_err(bad_size)?
-            }
-            "mesh" => {
-                let Some(mesh) = mesh else {
-                    return Err(self.error(element, "mesh", "a mesh geom needs a mesh attribute".into()));
-                };
-                let Some(asset) = self.meshes.get(mesh) else {
-                    return Err(self.error(element, "mesh", format!("no <mesh name=\"{mesh}\"> in <asset>")));
-                };
-                let kind = match &asset.file {
-                    Some(file) => GeomKind::Mesh {
-                        file: file.clone(),
-                        scale: asset.scale,
-                    },
-                    None => GeomKind::Skipped(format!(
-                        "mesh '{mesh}' has inline vertex data, not a file"
-                    )),
-                };
-                return Ok(Some(Geom {
-                    name: element.get("name").map(str::to_string),
-                    line: element.line,
-                    body_from_geom,
-                    kind,
-                }));
-            }
-            "plane" | "hfield" | "ellipsoid" | "sdf" => {
-                return Ok(Some(Geom {
-                    name: element.get("name").map(str::to_string),
-                    line: element.line,
-                    body_from_geom,
-                    kind: GeomKind::Skipped(format!("{kind_name} geoms are not collision shapes here")),
-                }))
-            }
-            other => {
-                return Err(self.error(
-                    element,
-                    "type",
-                    format!("'{other}' is not a geom type (plane, hfield, sphere, capsule, ellipsoid, cylinder, box, mesh, sdf)"),
-                ))
-            }
-        };
-        Ok(Some(Geom {
-            name: element.get("name").map(str::to_string),
-            line: element.line,
-            body_from_geom,
-            kind: GeomKind::Shape(shape),
-        }))
-    }
-}
-
-/// The smallest rotation taking `z` onto the unit vector `axis` (half a turn about `x` for `−z`),
-/// as MuJoCo's `zaxis` and `fromto`.
-fn z_onto(axis: &Vector3<f64>) -> UnitQuaternion<f64> {
-    UnitQuaternion::rotation_between(&Vector3::z(), axis).unwrap_or_else(|| {
-        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
-    })
 }

@@ -620,3 +620,40 @@ fn the_urdf_reader_points_mjcf_files_to_the_mjcf_source() {
     let err = UrdfRobot::from_xml(&text, "ur5.xml").unwrap_err();
     assert!(err.to_string().contains("mjcf: FILE"), "{err}");
 }
+
+/// `robot: {mjcf: FILE}` in a task file: chains name bodies, and a scene builds the arm's
+/// collision bodies from the geoms; giving two robot sources is refused.
+#[test]
+fn task_files_take_mjcf_robots() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = data("ur5.xml");
+    let body = |robot: &str| {
+        format!(
+            "robot:\n  {robot}\n  chains: {{ arm: {{ base: base, tip: tool0 }} }}\n\
+             object:\n  pose: {{ xyz: [0.45, 0.0, 0.2] }}\n  shape: {{ box: {{ size: [0.05, 0.05, 0.1] }} }}\n\
+             candidates:\n  family: {{ edge: {{ count: 3 }} }}\n\
+             trajectory:\n  samples_per_step: 3\n  steps:\n    - {{ lift: 0.1 }}\n\
+             scene: {{ table: {{ height: 0.0 }} }}\n"
+        )
+    };
+    let path = write(
+        dir.path(),
+        "task.yaml",
+        &body(&format!("mjcf: {}", model.display())),
+    );
+    let task = graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(task.robot_name, "ur5");
+    assert_eq!(task.arms.len(), 1);
+    assert_eq!(task.arms[0].chain.dof(), 6);
+    assert!(task.arms[0].bodies.is_some());
+    let path = write(
+        dir.path(),
+        "both.yaml",
+        &body(&format!("mjcf: {}\n  urdf: arm.urdf", model.display())),
+    );
+    let err = graspath::task::Task::load(&path).unwrap_err().to_string();
+    assert!(
+        err.contains("robot") && err.contains("not several"),
+        "{err}"
+    );
+}

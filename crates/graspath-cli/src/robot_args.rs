@@ -7,13 +7,17 @@ use graspath::robot::{Chain, RobotSource};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use std::path::PathBuf;
 
-/// Either a URDF chain (`--urdf --base --tip`) or a built-in robot (`--robot --arm`).
+/// A URDF chain (`--urdf --base --tip`), an MJCF chain (`--mjcf --base --tip`) or a built-in
+/// robot (`--robot --arm`).
 #[derive(Debug, Args)]
 pub struct RobotArgs {
-    /// A URDF file (expand .xacro files with `xacro` first).
+    /// A URDF file (a .xacro file is expanded when the `xacro` command is installed).
     #[arg(long, value_name = "FILE", conflicts_with = "robot", requires_all = ["base", "tip"])]
     pub urdf: Option<PathBuf>,
-    /// The chain's base link: poses and Jacobians are expressed in its frame.
+    /// A MuJoCo MJCF file; --base and --tip name its bodies.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["robot", "urdf"], requires_all = ["base", "tip"])]
+    pub mjcf: Option<PathBuf>,
+    /// The chain's base link (MJCF: body): poses and Jacobians are expressed in its frame.
     #[arg(long, value_name = "LINK")]
     pub base: Option<String>,
     /// The chain's tip link.
@@ -60,6 +64,12 @@ impl RobotArgs {
     /// Loads the chain the options name, through the library's one robot resolver.
     pub fn load(&self) -> Result<Chain> {
         let tool = self.tool()?;
+        if let Some(path) = &self.mjcf {
+            let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
+                return Err(bad_input!("--mjcf needs --base BODY and --tip BODY"));
+            };
+            return Ok(RobotSource::mjcf(path).load()?.chain(base, tip, tool)?);
+        }
         match (&self.urdf, &self.robot) {
             (Some(path), None) => {
                 let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
@@ -79,7 +89,7 @@ impl RobotArgs {
                     .named_chain(&arm, tool)
                     .map_err(|e| bad_input!("--arm: {e}"))?)
             }
-            _ => Err(bad_input!("choose a robot: --robot NAME (e.g. --robot baxter --arm left, --robot ur5e), or --urdf FILE --base LINK --tip LINK")),
+            _ => Err(bad_input!("choose a robot: --robot NAME (e.g. --robot baxter --arm left, --robot ur5e), --urdf FILE --base LINK --tip LINK, or --mjcf FILE --base BODY --tip BODY")),
         }
     }
 }

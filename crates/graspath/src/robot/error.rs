@@ -12,11 +12,52 @@ pub enum RobotError {
         /// The operating system's message.
         message: String,
     },
-    /// A `.xacro` file was given; it must be expanded first.
-    #[error("{source_name}: this is a xacro file; expand it first, e.g. `xacro {source_name} > robot.urdf`, and load the .urdf")]
+    /// A `.xacro` file was given and no `xacro` command could expand it (or xacro text was
+    /// given without its file).
+    #[error("{source_name}: this is a xacro file; {}", xacro_hint(.reason))]
     Xacro {
         /// The file.
         source_name: String,
+        /// Why it was not expanded (empty: xacro text given without a file).
+        reason: String,
+    },
+    /// The `xacro` command ran but failed (its exit status and standard error are included).
+    #[error("{source_name}: `{command}` failed: {message}")]
+    XacroFailed {
+        /// The file.
+        source_name: String,
+        /// The command line that was run.
+        command: String,
+        /// Exit status and the end of the command's standard error.
+        message: String,
+    },
+    /// An MJCF (MuJoCo XML) element or attribute cannot be used: a missing or malformed
+    /// value, an unknown default class, an unsupported element.
+    #[error("{source_name}:{line}: {element}, attribute '{attribute}': {message}")]
+    Mjcf {
+        /// The file.
+        source_name: String,
+        /// 1-based line of the element's start tag.
+        line: usize,
+        /// The element, e.g. `<joint name="j1"> in body 'link1'`.
+        element: String,
+        /// The attribute at fault (`pos`, `range`, ...; `-` for the element itself).
+        attribute: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An MJCF joint that a serial chain cannot hold (a `ball` or `free` joint, an unlimited
+    /// `slide` joint) lies between the chain's base and tip bodies.
+    #[error("{source_name}: body '{body}', joint '{joint}': {message}")]
+    MjcfJointInChain {
+        /// The file.
+        source_name: String,
+        /// The body that carries the joint.
+        body: String,
+        /// The joint's name (or `#k`, its index in the body, when unnamed).
+        joint: String,
+        /// What is wrong and what to do.
+        message: String,
     },
     /// The XML is malformed or is not a URDF robot.
     #[error("{source_name}: not a valid URDF: {message}")]
@@ -215,6 +256,15 @@ fn suggestion_text(suggestions: &[String]) -> String {
         String::new()
     } else {
         format!("; did you mean: {}?", suggestions.join(", "))
+    }
+}
+
+fn xacro_hint(reason: &str) -> String {
+    let install = "install xacro (`pip install xacro`, or ROS's xacro package) so it is expanded on load, or expand it yourself (`xacro FILE > robot.urdf`) and load the .urdf";
+    if reason.is_empty() {
+        format!("expand it first: {install}")
+    } else {
+        format!("expand it first ({reason}): {install}")
     }
 }
 

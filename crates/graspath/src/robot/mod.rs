@@ -1,4 +1,4 @@
-//! Robot kinematics: serial chains loaded from URDF or built in, forward kinematics, the
+//! Robot kinematics: serial chains loaded from URDF (or xacro), MJCF or built in, forward kinematics, the
 //! geometric Jacobian, inverse kinematics of single poses ([`solve_ik`]) and of whole
 //! trajectories ([`solve_trajectory`]).
 //!
@@ -12,12 +12,14 @@ mod chain;
 mod collision;
 mod error;
 mod ik;
+mod mjcf;
 mod source;
 mod spec;
 mod srdf;
 mod trig;
 mod urdf;
 mod urdf_scan;
+mod xacro;
 
 pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound};
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
@@ -27,7 +29,9 @@ pub use ik::{
     JointPath, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath, TrajectoryIkOptions,
     TrajectoryIkResult,
 };
+pub use mjcf::{MjcfRobot, SkippedGeom};
 pub use source::{RobotModel, RobotSource};
 pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
 pub use srdf::{DisabledPair, EndEffector, Srdf, SrdfGroup};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};
+pub use xacro::{expand_xacro, expand_xacro_with, XacroCommand};

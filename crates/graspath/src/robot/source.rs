@@ -1,4 +1,4 @@
-//! The one place that decides "built-in robot or URDF file": a [`RobotSource`] loads into a
+//! The one place that decides "built-in robot, URDF file or MJCF file": a [`RobotSource`] loads into a
 //! [`RobotModel`], which gives chains (by name for built-in arms, by base and tip link for any
 //! robot), its link names and its links' collision geometry.
 //!
@@ -16,7 +16,8 @@
 //! // A typo gets a suggestion.
 //! let err = RobotSource::builtin("baxtor").load().unwrap_err();
 //! assert!(err.to_string().contains("did you mean: baxter?"));
-//! // A URDF file: `RobotSource::urdf("robot.urdf").load()?.chain("base_link", "tool0", None)?`.
+//! // A URDF file: `RobotSource::urdf("robot.urdf").load()?.chain("base_link", "tool0", None)?`;
+//! // an MJCF file, by body names: `RobotSource::mjcf("ur5.xml").load()?.chain("base", "tool0", None)?`.
 //! # Ok::<(), graspath::robot::RobotError>(())
 //! ```
 
@@ -24,6 +25,7 @@ use super::builtin::{BuiltinRobot, BUILTIN_NAMES};
 use super::chain::Chain;
 use super::collision::{LinkCollisions, MeshResolver};
 use super::error::RobotError;
+use super::mjcf::MjcfRobot;
 use super::spec::ChainSpec;
 use super::urdf::{closest_names, UrdfRobot};
 use nalgebra::Isometry3;
@@ -45,6 +47,12 @@ pub enum RobotSource {
         /// Extra folders for mesh lookup.
         search_paths: Vec<PathBuf>,
     },
+    /// A MuJoCo MJCF file (see [`MjcfRobot`]): links are its bodies; mesh files are relative
+    /// to its `<compiler meshdir>`.
+    Mjcf {
+        /// The MJCF file.
+        path: PathBuf,
+    },
 }
 
 impl RobotSource {
@@ -61,8 +69,14 @@ impl RobotSource {
         }
     }
 
+    /// An MJCF (MuJoCo XML) file.
+    pub fn mjcf(path: impl Into<PathBuf>) -> Self {
+        RobotSource::Mjcf { path: path.into() }
+    }
+
     /// Loads the model: a built-in one is checked by name ("did you mean"), a URDF file is
-    /// read and checked (see [`UrdfRobot`]). Meshes are not read.
+    /// read and checked (see [`UrdfRobot`]; a `.xacro` file is expanded first when the `xacro`
+    /// command is installed), an MJCF file likewise (see [`MjcfRobot`]). Meshes are not read.
     pub fn load(&self) -> Result<RobotModel, RobotError> {
         match self {
             RobotSource::Builtin(name) => match BuiltinRobot::from_name(name) {
@@ -87,6 +101,16 @@ impl RobotSource {
                     },
                 })
             }
+            RobotSource::Mjcf { path } => {
+                let robot = MjcfRobot::from_file(path)?;
+                Ok(RobotModel {
+                    source_name: robot.source_name().to_string(),
+                    kind: Kind::Mjcf {
+                        meshes: robot.mesh_resolver(),
+                        robot: Box::new(robot),
+                    },
+                })
+            }
         }
     }
 }
@@ -96,6 +120,10 @@ enum Kind {
     Builtin(BuiltinRobot),
     Urdf {
         robot: Box<UrdfRobot>,
+        meshes: MeshResolver,
+    },
+    Mjcf {
+        robot: Box<MjcfRobot>,
         meshes: MeshResolver,
     },
 }
@@ -109,11 +137,13 @@ pub struct RobotModel {
 }
 
 impl RobotModel {
-    /// The robot's name: the built-in name (`baxter`, `panda`, …), or the URDF `<robot name>`.
+    /// The robot's name: the built-in name (`baxter`, `panda`, …), the URDF `<robot name>`
+    /// or the MJCF `<mujoco model>`.
     pub fn name(&self) -> &str {
         match &self.kind {
             Kind::Builtin(robot) => robot.name(),
             Kind::Urdf { robot, .. } => robot.name(),
+            Kind::Mjcf { robot, .. } => robot.name(),
         }
     }
 
@@ -131,7 +161,15 @@ impl RobotModel {
     pub fn builtin(&self) -> Option<BuiltinRobot> {
         match self.kind {
             Kind::Builtin(robot) => Some(robot),
-            Kind::Urdf { .. } => None,
+            Kind::Urdf { .. } | Kind::Mjcf { .. } => None,
+        }
+    }
+
+    /// The parsed MJCF model, for an MJCF robot.
+    pub fn mjcf(&self) -> Option<&MjcfRobot> {
+        match &self.kind {
+            Kind::Mjcf { robot, .. } => Some(robot),
+            _ => None,
         }
     }
 
@@ -139,20 +177,21 @@ impl RobotModel {
     pub fn urdf(&self) -> Option<&UrdfRobot> {
         match &self.kind {
             Kind::Urdf { robot, .. } => Some(robot),
-            Kind::Builtin(_) => None,
+            Kind::Builtin(_) | Kind::Mjcf { .. } => None,
         }
     }
 
-    /// Where the robot's mesh URIs are looked up (a URDF robot's; `None` for a built-in one).
+    /// Where the robot's mesh URIs are looked up (a URDF or MJCF robot's; `None` for a
+    /// built-in one).
     pub fn mesh_resolver(&self) -> Option<&MeshResolver> {
         match &self.kind {
-            Kind::Urdf { meshes, .. } => Some(meshes),
+            Kind::Urdf { meshes, .. } | Kind::Mjcf { meshes, .. } => Some(meshes),
             Kind::Builtin(_) => None,
         }
     }
 
     /// The chains known by name: `left` and `right` for Baxter, `arm` for a single-arm
-    /// built-in robot, none for a URDF robot (give base and tip links to
+    /// built-in robot, none for a URDF or MJCF robot (give base and tip links to
     /// [`RobotModel::chain`]).
     pub fn chain_names(&self) -> Vec<String> {
         match &self.kind {
@@ -161,7 +200,7 @@ impl RobotModel {
                 .iter()
                 .map(ToString::to_string)
                 .collect(),
-            Kind::Urdf { .. } => Vec::new(),
+            Kind::Urdf { .. } | Kind::Mjcf { .. } => Vec::new(),
         }
     }
 
@@ -175,7 +214,7 @@ impl RobotModel {
         let known = self.chain_names();
         let spec = match &self.kind {
             Kind::Builtin(robot) => robot.chain_spec(name),
-            Kind::Urdf { .. } => None,
+            Kind::Urdf { .. } | Kind::Mjcf { .. } => None,
         };
         let Some(mut spec) = spec else {
             return Err(RobotError::UnknownChain {
@@ -200,6 +239,7 @@ impl RobotModel {
     ) -> Result<Chain, RobotError> {
         match &self.kind {
             Kind::Urdf { robot, .. } => robot.chain(base_link, tip_link, tip_from_tool),
+            Kind::Mjcf { robot, .. } => robot.chain(base_link, tip_link, tip_from_tool),
             Kind::Builtin(robot) => {
                 let mut spec = builtin_sub_chain(*robot, base_link, tip_link, &self.link_names())?;
                 spec.tip_from_tool = tip_from_tool;
@@ -208,11 +248,15 @@ impl RobotModel {
         }
     }
 
-    /// Every link name (URDF: file order; built-in: base, then each chain's links).
+    /// Every link name (URDF: file order; MJCF: body names, `world` first, then file order;
+    /// built-in: base, then each chain's links).
     pub fn link_names(&self) -> Vec<String> {
         match &self.kind {
             Kind::Urdf { robot, .. } => {
                 robot.link_names().iter().map(ToString::to_string).collect()
+            }
+            Kind::Mjcf { robot, .. } => {
+                robot.body_names().iter().map(ToString::to_string).collect()
             }
             Kind::Builtin(robot) => {
                 let mut names = Vec::new();
@@ -232,11 +276,13 @@ impl RobotModel {
     }
 
     /// The collision geometry of every link that has any: a URDF robot's `<collision>`
-    /// elements (mesh URIs resolved, not read), or a built-in model's primitives
+    /// elements (mesh URIs resolved, not read), an MJCF robot's colliding geoms
+    /// ([`MjcfRobot::collisions`]), or a built-in model's primitives
     /// ([`BuiltinRobot::collisions`]).
     pub fn collisions(&self) -> Result<Vec<LinkCollisions>, RobotError> {
         match &self.kind {
             Kind::Urdf { robot, meshes } => robot.collisions(meshes),
+            Kind::Mjcf { robot, meshes } => robot.collisions(meshes),
             Kind::Builtin(robot) => Ok(robot.collisions()),
         }
     }

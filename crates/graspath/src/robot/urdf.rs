@@ -4,7 +4,8 @@
 //! revolute or prismatic joint needs its `<limit>` (the URDF specification requires it), and
 //! a link may be the child of one joint only. Collision geometry is read on request
 //! ([`UrdfRobot::collisions`]), so `package://` mesh paths never slow down or stop chain
-//! building. A `.xacro` file is refused with the command that expands it.
+//! building. A `.xacro` file is expanded by the `xacro` command when it is installed, else
+//! refused with the way to install it.
 
 use super::chain::{unit_axis, Chain};
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
@@ -23,24 +24,35 @@ pub struct UrdfRobot {
 }
 
 impl UrdfRobot {
-    /// Reads and parses a URDF file.
+    /// Reads and parses a URDF file. A `.xacro` file (or a file using `<xacro:` elements) is
+    /// first expanded by the `xacro` command when it is installed
+    /// ([`super::xacro::expand_xacro`]); otherwise the error says how to install it.
     pub fn from_file(path: &Path) -> Result<Self, RobotError> {
         let source_name = path.display().to_string();
-        if path.extension().is_some_and(|e| e == "xacro") {
-            return Err(RobotError::Xacro { source_name });
-        }
         let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
             source_name: source_name.clone(),
             message: e.to_string(),
         })?;
+        if path.extension().is_some_and(|e| e == "xacro") || text.contains("<xacro:") {
+            let expanded = super::xacro::expand_xacro(path)?;
+            return Self::from_xml(&expanded, &source_name);
+        }
         Self::from_xml(&text, &source_name)
     }
 
-    /// Parses URDF text; `source_name` names it in errors.
+    /// Parses URDF text; `source_name` names it in errors. Xacro text is refused (it can only
+    /// be expanded from its file: [`UrdfRobot::from_file`]).
     pub fn from_xml(text: &str, source_name: &str) -> Result<Self, RobotError> {
         if text.contains("<xacro:") {
             return Err(RobotError::Xacro {
                 source_name: source_name.to_string(),
+                reason: String::new(),
+            });
+        }
+        if super::mjcf::is_mjcf(text) {
+            return Err(RobotError::Parse {
+                source_name: source_name.to_string(),
+                message: "this is a MuJoCo MJCF file (root <mujoco>): give it as `robot: {mjcf: FILE}` in a task file or `--mjcf FILE` on the command line".into(),
             });
         }
         let scan = super::urdf_scan::scan(text, source_name)?;

@@ -219,7 +219,10 @@ pub struct RobotFile {
     /// A URDF file (relative to the task file).
     #[serde(default)]
     pub urdf: Option<PathBuf>,
-    /// Arm chains by name (required with `urdf`; with `builtin` they may add a tool or base pose).
+    /// A MuJoCo MJCF file (relative to the task file); chains name bodies as links.
+    #[serde(default)]
+    pub mjcf: Option<PathBuf>,
+    /// Arm chains by name (required with `urdf` or `mjcf`; with `builtin` they may add a tool or base pose).
     #[serde(default)]
     pub chains: BTreeMap<String, ArmFile>,
     /// A tool offset `tip_from_tool` applied to every arm that does not set its own.

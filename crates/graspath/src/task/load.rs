@@ -202,16 +202,20 @@ fn setup_arms(
         .map(|t| pose(t, source, "robot.tool"))
         .transpose()?;
     // The one robot-source resolver (shared with the CLI, Python and the hand loader).
-    let (robot_source, source_field) = match (&robot.builtin, &robot.urdf) {
-        (Some(name), None) => (RobotSource::builtin(name.as_str()), "robot.builtin"),
-        (None, Some(path)) => (RobotSource::urdf(base_dir.join(path)), "robot.urdf"),
-        (Some(_), Some(_)) => {
-            return Err(err("robot", "give either builtin or urdf, not both".into()))
-        }
-        (None, None) => {
+    let (robot_source, source_field) = match (&robot.builtin, &robot.urdf, &robot.mjcf) {
+        (Some(name), None, None) => (RobotSource::builtin(name.as_str()), "robot.builtin"),
+        (None, Some(path), None) => (RobotSource::urdf(base_dir.join(path)), "robot.urdf"),
+        (None, None, Some(path)) => (RobotSource::mjcf(base_dir.join(path)), "robot.mjcf"),
+        (None, None, None) => {
             return Err(err(
                 "robot",
-                "give builtin: baxter, or urdf: FILE with chains".into(),
+                "give builtin: baxter, or urdf: FILE (or mjcf: FILE) with chains".into(),
+            ))
+        }
+        _ => {
+            return Err(err(
+                "robot",
+                "give one of builtin, urdf and mjcf, not several".into(),
             ))
         }
     };
@@ -226,7 +230,7 @@ fn setup_arms(
     if available.is_empty() {
         return Err(err(
             "robot.chains",
-            "a URDF robot needs at least one chain (name: {base, tip})".into(),
+            "a URDF or MJCF robot needs at least one chain (name: {base, tip})".into(),
         ));
     }
     let names: Vec<String> = match &file.arms {

@@ -172,6 +172,16 @@ fn tick_decimals(span: f64) -> usize {
     }
 }
 
+/// A tick's text with `decimals` decimals; a value that rounds to zero is `0`, not `-0`.
+fn tick(v: f64, decimals: usize) -> String {
+    let text = format!("{v:.decimals$}");
+    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        format!("{:.decimals$}", 0.0)
+    } else {
+        text
+    }
+}
+
 /// Draws a path with a style's pattern (solid, dashed, dotted) in data or pixel coordinates.
 macro_rules! stroke {
     ($target:expr, $points:expr, $style:expr, $shape:expr) => {
@@ -213,10 +223,11 @@ where
         x: (x0, x1),
         y: (y0, y1),
     } = p.axes();
+    let upper = upper.titled(&p.title, ("sans-serif", 20))?;
     let mut chart = ChartBuilder::on(&upper)
-        .caption(&p.title, ("sans-serif", 20))
         .margin(12)
-        .margin_top(if p.secondary.is_some() { 30 } else { 12 })
+        // Room between the title and the chart for the secondary labels.
+        .margin_top(if p.secondary.is_some() { 28 } else { 4 })
         .x_label_area_size(48)
         .y_label_area_size(78)
         .build_cartesian_2d(x0..x1, y0..y1)?;
@@ -229,8 +240,8 @@ where
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 15))
         .light_line_style(RGBColor(240, 240, 240))
-        .x_label_formatter(&|v| format!("{v:.x_decimals$}"))
-        .y_label_formatter(&|v| format!("{v:.y_decimals$}"))
+        .x_label_formatter(&|v| tick(*v, x_decimals))
+        .y_label_formatter(&|v| tick(*v, y_decimals))
         .draw()?;
     for (line, entry) in p.lines.iter().zip(&legend) {
         let shape = entry.colour.stroke_width(STROKE);

@@ -239,11 +239,13 @@ where
     let (width, height) = root.dim_in_pixel();
     let (main, side) = root.split_horizontally(width.saturating_sub(130));
     let (main, note_area) = main.split_vertically(height.saturating_sub(26));
+    // Room for the longest row tick (about 8 px a character at 13 px) and the description.
+    let longest = p.row_ticks.iter().map(|t| t.chars().count()).max().unwrap_or(0);
     let mut chart = ChartBuilder::on(&main)
         .caption(&p.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(48)
-        .y_label_area_size(70)
+        .y_label_area_size((30 + 8 * longest as u32).max(70))
         .build_cartesian_2d(
             // Segmented ranges include their end: one segment per column and row.
             (0..columns as i32 - 1).into_segmented(),

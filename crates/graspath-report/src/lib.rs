@@ -25,6 +25,8 @@ pub use plots::{
     MARKED_COLOUR, MISSING_COLOUR,
 };
 pub use scene::{scene_json, MAX_BODY_MOTIONS_PER_ARM, MAX_MOTIONS_PER_ARM, MAX_WITNESSES_PER_ARM};
-pub use stage::{stage, Stage, Torso, VIEW_ASPECT, VIEW_AZIMUTH, VIEW_ELEVATION, VIEW_FOV_DEG};
+pub use stage::{
+    stage, Stage, Torso, VIEW_ASPECT, VIEW_AZIMUTH, VIEW_ELEVATION, VIEW_FILL, VIEW_FOV_DEG,
+};
 pub use text::{best_pair_sentence, best_sentence, findings_sentences, percent};
 pub use world::{MAX_VIEW_POINTS, MAX_VIEW_TRIANGLES};

@@ -175,7 +175,11 @@ fn tick_decimals(span: f64) -> usize {
 /// A tick's text with `decimals` decimals; a value that rounds to zero is `0`, not `-0`.
 fn tick(v: f64, decimals: usize) -> String {
     let text = format!("{v:.decimals$}");
-    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+    if text
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
         format!("{:.decimals$}", 0.0)
     } else {
         text

@@ -240,7 +240,12 @@ where
     let (main, side) = root.split_horizontally(width.saturating_sub(130));
     let (main, note_area) = main.split_vertically(height.saturating_sub(26));
     // Room for the longest row tick (about 8 px a character at 13 px) and the description.
-    let longest = p.row_ticks.iter().map(|t| t.chars().count()).max().unwrap_or(0);
+    let longest = p
+        .row_ticks
+        .iter()
+        .map(|t| t.chars().count())
+        .max()
+        .unwrap_or(0);
     let mut chart = ChartBuilder::on(&main)
         .caption(&p.title, ("sans-serif", 20))
         .margin(12)

@@ -21,6 +21,9 @@ pub const VIEW_AZIMUTH: f64 = 0.75;
 /// The camera's initial elevation above the horizontal (rad).
 pub const VIEW_ELEVATION: f64 = 0.5;
 
+/// The part of the view's half-size the box's farthest-out corner reaches on load.
+pub const VIEW_FILL: f64 = 0.9;
+
 /// The view's staging: bounds, camera, torso and table (world frame, m).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stage {
@@ -31,8 +34,9 @@ pub struct Stage {
     pub max: Point3<f64>,
     /// The point the camera looks at: the box's centre.
     pub target: Point3<f64>,
-    /// The camera's distance from the target: the box's bounding sphere fits the field of view
-    /// with 8 % to spare.
+    /// The camera's distance from the target: the nearest at which every corner of the box is
+    /// within [`VIEW_FILL`] of the view's half-width and half-height (and 5 cm before the
+    /// camera).
     pub distance: f64,
     /// The arms' base origins (`world_from_base` of each arm).
     pub bases: Vec<Point3<f64>>,
@@ -99,6 +103,41 @@ fn fitted_points(task: &Task, selection: &Selection) -> Vec<Point3<f64>> {
     points
 }
 
+/// The camera's unit axes (forward, right, up) for the opening direction, world frame.
+fn camera_axes() -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    let (a, e) = (VIEW_AZIMUTH, VIEW_ELEVATION);
+    // The camera sits at `target + d · toward`, looking back at the target, `z` up.
+    let toward = Vector3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin());
+    let forward = -toward;
+    let right = forward.cross(&Vector3::z()).normalize();
+    let up = right.cross(&forward);
+    (forward, right, up)
+}
+
+/// The nearest distance from `target` at which the box's corners fit the view (see
+/// [`Stage::distance`]): a corner at offset `v` from the target is at depth `v·f + d`, and
+/// needs `|v·r| ≤ fill · tan(h/2) · depth` and `|v·u| ≤ fill · tan(v/2) · depth`.
+fn fitted_distance(min: &Point3<f64>, max: &Point3<f64>, target: &Point3<f64>) -> f64 {
+    let (forward, right, up) = camera_axes();
+    let tan_v = (VIEW_FOV_DEG.to_radians() / 2.0).tan();
+    let tan_h = tan_v * VIEW_ASPECT;
+    let mut distance: f64 = 0.1;
+    for m in 0..8 {
+        let corner = Point3::new(
+            if m & 1 == 0 { min.x } else { max.x },
+            if m & 2 == 0 { min.y } else { max.y },
+            if m & 4 == 0 { min.z } else { max.z },
+        );
+        let v = corner - target;
+        let ahead = v.dot(&forward);
+        distance = distance
+            .max(v.dot(&right).abs() / (VIEW_FILL * tan_h) - ahead)
+            .max(v.dot(&up).abs() / (VIEW_FILL * tan_v) - ahead)
+            .max(0.05 - ahead);
+    }
+    distance
+}
+
 fn bounds(points: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {
     let mut min = Point3::from(Vector3::repeat(f64::INFINITY));
     let mut max = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
@@ -119,11 +158,7 @@ fn bounds(points: &[Point3<f64>]) -> (Point3<f64>, Point3<f64>) {
 pub fn stage(task: &Task, selection: &Selection) -> Stage {
     let (min, max) = bounds(&fitted_points(task, selection));
     let target = nalgebra::center(&min, &max);
-    // The bounding sphere fits the narrower of the two fields of view.
-    let radius = ((max - min).norm() / 2.0).max(0.05);
-    let half_vertical = VIEW_FOV_DEG.to_radians() / 2.0;
-    let half_horizontal = (half_vertical.tan() * VIEW_ASPECT).atan();
-    let distance = 1.08 * radius / half_vertical.min(half_horizontal).sin();
+    let distance = fitted_distance(&min, &max, &target);
     let bases: Vec<Point3<f64>> = task
         .arms
         .iter()

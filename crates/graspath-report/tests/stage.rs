@@ -5,7 +5,7 @@
 
 use graspath::select::select;
 use graspath::task::Task;
-use graspath_report::{stage, VIEW_ASPECT, VIEW_AZIMUTH, VIEW_ELEVATION, VIEW_FOV_DEG};
+use graspath_report::{stage, VIEW_ASPECT, VIEW_AZIMUTH, VIEW_ELEVATION, VIEW_FILL, VIEW_FOV_DEG};
 use nalgebra::{Point3, Vector3};
 use std::path::PathBuf;
 use std::sync::Arc;

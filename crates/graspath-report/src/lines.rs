@@ -216,7 +216,7 @@ where
             return Err("the secondary labels need one label per x".into());
         }
     }
-    if p.x.windows(2).any(|w| !(w[1] > w[0])) {
+    if !p.x.iter().all(|v| v.is_finite()) || p.x.windows(2).any(|w| w[1] <= w[0]) {
         return Err("x must be finite and increasing".into());
     }
     let legend = p.legend();

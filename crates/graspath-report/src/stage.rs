@@ -74,7 +74,11 @@ fn fitted_points(task: &Task, selection: &Selection) -> Vec<Point3<f64>> {
                     .position(|t| std::sync::Arc::ptr_eq(t, c))
             })
             .collect(),
-        None => selection.arms.iter().map(|a| a.best()).collect(),
+        None => selection
+            .arms
+            .iter()
+            .map(graspath::select::ArmResult::best)
+            .collect(),
     };
     for (k, setup) in task.arms.iter().enumerate() {
         let world_from_base = setup.world_from_base;

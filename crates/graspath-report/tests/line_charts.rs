@@ -259,11 +259,8 @@ fn group_stroke(points: &[(u32, u32)], keep: (f64, f64)) -> (LineStyle, usize, u
         points.iter().map(|p| p.1).max().unwrap(),
     );
     let horizontal = x1 - x0 >= y1 - y0;
-    let (lo, hi, along): (u32, u32, Box<dyn Fn(&(u32, u32)) -> u32>) = if horizontal {
-        (x0, x1, Box::new(|p| p.0))
-    } else {
-        (y0, y1, Box::new(|p| p.1))
-    };
+    let along = |p: &(u32, u32)| if horizontal { p.0 } else { p.1 };
+    let (lo, hi) = if horizontal { (x0, x1) } else { (y0, y1) };
     let mut mask = vec![false; (hi - lo + 1) as usize];
     for p in points {
         mask[(along(p) - lo) as usize] = true;

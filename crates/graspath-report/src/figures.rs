@@ -2,7 +2,9 @@
 //! over candidate × sample (Fig. 6), the classical indices at the grasp (Fig. 8) and, for two
 //! arms, the summed norm over first × second arm candidates (Fig. 7, 9).
 
-use crate::plots::{Cell, Heatmap, Line, LinePlot, Plot};
+use crate::lines::{Line, LinePlot, LineStyle, SecondaryLabels};
+use crate::plots::{Cell, Heatmap, Plot};
+use graspath::placement::FamilyParameter;
 use graspath::select::{ArmResult, Selection};
 use graspath::task::{JacobianRows, Norm, Task};
 
@@ -40,50 +42,160 @@ fn normalised(values: &[Option<f64>]) -> Vec<Option<f64>> {
         .collect()
 }
 
-fn ids(arm: &ArmResult) -> Vec<f64> {
-    arm.scores.iter().map(|s| s.candidate.id as f64).collect()
+/// The x axis of the line charts over the candidates: the family's parameter when it gives
+/// one distinct finite value per candidate (then sorted by it, with the candidate ids as
+/// secondary labels), else the candidate id in candidate order.
+struct CandidateAxis {
+    /// The axis description with its unit.
+    label: String,
+    /// Candidate indices in the order drawn (increasing x).
+    order: Vec<usize>,
+    /// The x value of each candidate index.
+    x_of: Vec<f64>,
+    /// The ids as secondary labels (only with a parameter).
+    secondary: bool,
+}
+
+impl CandidateAxis {
+    fn new(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Self {
+        let n = arm.scores.len();
+        let usable = parameter.filter(|p| {
+            let mut sorted = p.values.clone();
+            sorted.sort_by(f64::total_cmp);
+            p.values.len() == n
+                && sorted.iter().all(|v| v.is_finite())
+                && sorted.windows(2).all(|w| w[1] > w[0])
+        });
+        match usable {
+            Some(p) => {
+                let mut order: Vec<usize> = (0..n).collect();
+                order.sort_by(|&a, &b| p.values[a].total_cmp(&p.values[b]));
+                Self {
+                    label: p.name.clone(),
+                    order,
+                    x_of: p.values.clone(),
+                    secondary: true,
+                }
+            }
+            None => {
+                let mut order: Vec<usize> = (0..n).collect();
+                order.sort_by_key(|&i| arm.scores[i].candidate.id);
+                Self {
+                    label: "candidate id".into(),
+                    order,
+                    x_of: arm.scores.iter().map(|s| s.candidate.id as f64).collect(),
+                    secondary: false,
+                }
+            }
+        }
+    }
+
+    fn x(&self) -> Vec<f64> {
+        self.order.iter().map(|&i| self.x_of[i]).collect()
+    }
+
+    /// Values given in candidate order, in the drawn order.
+    fn arrange(&self, values: Vec<Option<f64>>) -> Vec<Option<f64>> {
+        self.order.iter().map(|&i| values[i]).collect()
+    }
+
+    fn secondary(&self, arm: &ArmResult) -> Option<SecondaryLabels> {
+        self.secondary.then(|| SecondaryLabels {
+            name: "candidate id".into(),
+            labels: self
+                .order
+                .iter()
+                .map(|&i| arm.scores[i].candidate.id.to_string())
+                .collect(),
+        })
+    }
+}
+
+/// How a candidate is named in a legend: its id and label (a family's label gives its
+/// parameter).
+fn candidate_name(arm: &ArmResult, i: usize) -> String {
+    let c = &arm.scores[i].candidate;
+    format!("{} ({})", c.id, c.label)
+}
+
+/// Row tick text of a heatmap over the candidates: the id, and the parameter's value with one.
+fn row_ticks(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Vec<String> {
+    let values = parameter.filter(|p| p.values.len() == arm.scores.len());
+    arm.scores
+        .iter()
+        .enumerate()
+        .map(|(i, s)| match values {
+            Some(p) => format!("{} · {}", s.candidate.id, short(p.values[i])),
+            None => s.candidate.id.to_string(),
+        })
+        .collect()
+}
+
+/// A parameter value in a tick: 3 decimals under 10, else whole.
+fn short(v: f64) -> String {
+    if v.abs() < 10.0 {
+        format!("{v:+.3}")
+    } else {
+        format!("{v:+.0}")
+    }
+}
+
+/// The heatmap rows' description: the ids, and the parameter with one.
+fn row_label(base: &str, parameter: Option<&FamilyParameter>) -> String {
+    match parameter {
+        Some(p) => format!("{base} · {}", p.name),
+        None => base.to_string(),
+    }
 }
 
 /// Fig. 5: the norms over the candidates, each normalised to its maximum.
-fn norms_figure(arm: &ArmResult) -> Figure {
+fn norms_figure(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure {
+    let axis = CandidateAxis::new(arm, parameter);
     let l2: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.l2)).collect();
     let linf: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.linf)).collect();
     let mut marks = Vec::new();
     if let Some(best) = arm.best() {
-        let c = &arm.scores[best].candidate;
-        marks.push((c.id as f64, format!("selected: {} ({})", c.id, c.label)));
+        marks.push((
+            axis.x_of[best],
+            format!("selected: {}", candidate_name(arm, best)),
+        ));
     }
+    let plot = LinePlot {
+        title: format!("Task-relevant norms, {} arm", arm.arm),
+        x_label: axis.label.clone(),
+        y_label: "norm / its maximum (1)".into(),
+        x: axis.x(),
+        secondary: axis.secondary(arm),
+        lines: vec![
+            Line {
+                name: "μ_l∞ = max 1/M_T (constraint)".into(),
+                values: axis.arrange(normalised(&linf)),
+                style: LineStyle::Solid,
+            },
+            Line {
+                name: "μ_l2 = ‖M_T‖₂ (maximised)".into(),
+                values: axis.arrange(normalised(&l2)),
+                style: LineStyle::Dashed,
+            },
+        ],
+        marks,
+    };
     Figure {
         name: format!("norms-{}", arm.arm),
         caption: format!(
-            "Arm {}: μ_l2 and μ_l∞ of the task-relevant manipulability over the candidates, each \
-             divided by its maximum (paper Fig. 5). Gaps are infeasible candidates.",
-            arm.arm
+            "Arm {}: μ_l2 and μ_l∞ of the task-relevant manipulability over the candidates \
+             (x: {}), each divided by its maximum (paper Fig. 5); {} (not from zero). Gaps \
+             are infeasible candidates.",
+            arm.arm,
+            axis.label,
+            plot.range_note(),
         ),
-        plot: Plot::Line(LinePlot {
-            title: format!("Task-relevant norms, {} arm", arm.arm),
-            x_label: "candidate id".into(),
-            y_label: "norm / its maximum (1)".into(),
-            x: ids(arm),
-            lines: vec![
-                Line {
-                    name: "μ_l∞ = max 1/M_T (constraint)".into(),
-                    values: normalised(&linf),
-                    dashed: false,
-                },
-                Line {
-                    name: "μ_l2 = ‖M_T‖₂ (maximised)".into(),
-                    values: normalised(&l2),
-                    dashed: true,
-                },
-            ],
-            marks,
-        }),
+        plot: Plot::Line(plot),
     }
 }
 
 /// Fig. 6: `M_T` at every sample for every candidate, scaled to the largest value.
-fn m_t_figure(task: &Task, arm: &ArmResult) -> Figure {
+fn m_t_figure(task: &Task, arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure {
     let samples = task.path.samples.len();
     let mut cells = Vec::with_capacity(samples * arm.scores.len());
     for s in &arm.scores {
@@ -112,7 +224,7 @@ fn m_t_figure(task: &Task, arm: &ArmResult) -> Figure {
         plot: Plot::Heatmap(Heatmap {
             title: format!("M_T along the task, {} arm", arm.arm),
             x_label: "time along the object path (s)".into(),
-            y_label: "candidate id".into(),
+            y_label: row_label("candidate id", parameter),
             value_label: unit.into(),
             column_ticks: task
                 .path
@@ -120,11 +232,7 @@ fn m_t_figure(task: &Task, arm: &ArmResult) -> Figure {
                 .iter()
                 .map(|s| format!("{:.1}", s.time))
                 .collect(),
-            row_ticks: arm
-                .scores
-                .iter()
-                .map(|s| s.candidate.id.to_string())
-                .collect(),
+            row_ticks: row_ticks(arm, parameter),
             cells,
             note: Some("grey: infeasible candidate, or the object is still".into()),
         }),
@@ -142,7 +250,8 @@ fn argmax(values: &[Option<f64>]) -> Option<usize> {
 
 /// Fig. 8: Yoshikawa's index and the inverse condition number at the grasp configuration,
 /// normalised, with the task-relevant choice marked.
-fn classical_figure(arm: &ArmResult) -> Figure {
+fn classical_figure(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure {
+    let axis = CandidateAxis::new(arm, parameter);
     let feasible = |v: Option<f64>, ok: bool| if ok { v } else { None };
     let yoshikawa: Vec<Option<f64>> = arm
         .scores
@@ -161,45 +270,52 @@ fn classical_figure(arm: &ArmResult) -> Figure {
     };
     let mut marks = Vec::new();
     if let Some(best) = arm.best() {
-        let c = &arm.scores[best].candidate;
         marks.push((
-            c.id as f64,
-            format!("task-relevant choice: {} ({})", c.id, c.label),
+            axis.x_of[best],
+            format!("task-relevant choice: {}", candidate_name(arm, best)),
         ));
     }
+    let plot = LinePlot {
+        title: format!("Indices at the grasp, {} arm", arm.arm),
+        x_label: axis.label.clone(),
+        y_label: "index / its maximum (1)".into(),
+        x: axis.x(),
+        secondary: axis.secondary(arm),
+        lines: vec![
+            Line {
+                name: name("Yoshikawa w at grasp", &yoshikawa),
+                values: axis.arrange(normalised(&yoshikawa)),
+                style: LineStyle::Dashed,
+            },
+            Line {
+                name: name("inverse condition λmin/λmax at grasp", &inverse),
+                values: axis.arrange(normalised(&inverse)),
+                style: LineStyle::Solid,
+            },
+        ],
+        marks,
+    };
     Figure {
         name: format!("classical-indices-{}", arm.arm),
         caption: format!(
             "Arm {}: the classical indices at the grasp configuration only — Yoshikawa's \
              w = sqrt(det J Jᵀ) and the inverse condition number λmin/λmax of J Jᵀ — each \
-             divided by its maximum over the feasible candidates, with the task-relevant choice \
-             marked (paper Fig. 8).",
-            arm.arm
+             divided by its maximum over the feasible candidates (x: {}), with the \
+             task-relevant choice marked (paper Fig. 8); {} (not from zero).",
+            arm.arm,
+            axis.label,
+            plot.range_note(),
         ),
-        plot: Plot::Line(LinePlot {
-            title: format!("Indices at the grasp, {} arm", arm.arm),
-            x_label: "candidate id".into(),
-            y_label: "index / its maximum (1)".into(),
-            x: ids(arm),
-            lines: vec![
-                Line {
-                    name: name("Yoshikawa w at grasp", &yoshikawa),
-                    values: normalised(&yoshikawa),
-                    dashed: true,
-                },
-                Line {
-                    name: name("inverse condition λmin/λmax at grasp", &inverse),
-                    values: normalised(&inverse),
-                    dashed: false,
-                },
-            ],
-            marks,
-        }),
+        plot: Plot::Line(plot),
     }
 }
 
 /// Fig. 7 and 9: the sum of the two arms' norms over first-arm × second-arm candidates.
-fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
+fn pairs_figure(
+    task: &Task,
+    selection: &Selection,
+    parameter: Option<&FamilyParameter>,
+) -> Option<Figure> {
     let [first, second] = selection.arms.as_slice() else {
         return None;
     };
@@ -247,13 +363,13 @@ fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
         plot: Plot::Heatmap(Heatmap {
             title: format!("Sum of {norm}, {} × {} arm", first.arm, second.arm),
             x_label: format!("{} arm candidate id", second.arm),
-            y_label: format!("{} arm candidate id", first.arm),
+            y_label: row_label(&format!("{} arm candidate id", first.arm), parameter),
             value_label: format!(
                 "{norm}({}) + {norm}({}), unit of M_T",
                 first.arm, second.arm
             ),
             column_ticks: ticks(second),
-            row_ticks: ticks(first),
+            row_ticks: row_ticks(first, parameter),
             cells,
             note: Some(
                 "light grey: infeasible or rejected; dark grey with a cross: overlap".into(),
@@ -264,13 +380,24 @@ fn pairs_figure(task: &Task, selection: &Selection) -> Option<Figure> {
 
 /// Every figure of a selection, in a fixed order: per arm norms, `M_T` heatmap and classical
 /// indices, then the pair heatmap for two arms.
-pub fn figures(task: &Task, selection: &Selection) -> Vec<Figure> {
+///
+/// `parameter` is the candidate family's parameter (one value per candidate, in the task's
+/// candidate order; see [`FamilyParameter::from_task_file`]): the line charts then use it as
+/// their x axis with the candidate ids as secondary labels, and the heatmaps' rows name it.
+/// Without one (candidate files, the faces family), or when its values are not one distinct
+/// finite value per candidate, the x axis is the candidate id.
+pub fn figures(
+    task: &Task,
+    selection: &Selection,
+    parameter: Option<&FamilyParameter>,
+) -> Vec<Figure> {
+    let parameter = parameter.filter(|p| p.values.len() == task.candidates.len());
     let mut figures = Vec::new();
     for arm in &selection.arms {
-        figures.push(norms_figure(arm));
-        figures.push(m_t_figure(task, arm));
-        figures.push(classical_figure(arm));
+        figures.push(norms_figure(arm, parameter));
+        figures.push(m_t_figure(task, arm, parameter));
+        figures.push(classical_figure(arm, parameter));
     }
-    figures.extend(pairs_figure(task, selection));
+    figures.extend(pairs_figure(task, selection, parameter));
     figures
 }

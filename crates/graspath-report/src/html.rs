@@ -5,6 +5,8 @@
 use crate::figures::{figures, Figure};
 use crate::plots::{render_png, render_svg, Plot, PlotError};
 use crate::scene::scene_json;
+use crate::stage::{stage, stage_json};
+use graspath::placement::FamilyParameter;
 use graspath::select::Selection;
 use graspath::task::Task;
 
@@ -109,18 +111,24 @@ pub fn report_html(task: &Task, selection: &Selection, figures: &[(Figure, Inlin
         .replace("@TITLE@", &escape_html(&title))
         .replace("<!--@PLOTS@-->", &plots)
         .replace("/*@DATA@*/", &script_json(&scene_json(task, selection)))
+        .replace(
+            "/*@STAGE@*/",
+            &script_json(&stage_json(&stage(task, selection))),
+        )
         .replace("/*@THREE@*/", &format!("{licence}\n{THREE}"))
 }
 
 /// Every report file of a selection besides the JSON documents: each figure as `NAME.svg` and
-/// `NAME.png`, and `report.html`. Rendered in memory; nothing is written.
+/// `NAME.png`, and `report.html`. Rendered in memory; nothing is written. `parameter` is the
+/// candidate family's parameter, the x axis of the line charts (see [`figures`]).
 pub fn render_report(
     task: &Task,
     selection: &Selection,
+    parameter: Option<&FamilyParameter>,
 ) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
     let mut files = Vec::new();
     let mut rendered = Vec::new();
-    for figure in figures(task, selection) {
+    for figure in figures(task, selection, parameter) {
         let svg = render_svg(&figure.plot)?;
         let png = render_png(&figure.plot)?;
         let inline = match &figure.plot {
@@ -166,7 +174,13 @@ mod tests {
 
     #[test]
     fn the_template_has_every_placeholder() {
-        for marker in ["@TITLE@", "<!--@PLOTS@-->", "/*@DATA@*/", "/*@THREE@*/"] {
+        for marker in [
+            "@TITLE@",
+            "<!--@PLOTS@-->",
+            "/*@DATA@*/",
+            "/*@STAGE@*/",
+            "/*@THREE@*/",
+        ] {
             assert!(TEMPLATE.contains(marker), "{marker}");
         }
         assert!(!THREE.contains("</script"));

@@ -6,9 +6,11 @@
 mod figures;
 mod html;
 mod json;
+mod lines;
 mod map;
 mod plots;
 mod scene;
+mod stage;
 mod text;
 mod witness;
 mod world;
@@ -16,11 +18,15 @@ mod world;
 pub use figures::{figures, Figure};
 pub use html::{render_report, report_html, Inline, INLINE_SVG_MAX_CELLS};
 pub use json::{candidates_json, nothing_selected, pairs_json, summary_json, tied_pairs};
+pub use lines::{Axes, LegendEntry, Line, LinePlot, LineStyle, SecondaryLabels, MARK_STYLE};
 pub use map::{placement_figures, placement_map_json};
 pub use plots::{
-    render_png, render_svg, viridis, Cell, Heatmap, Line, LinePlot, Plot, PlotError, HEATMAP_SIZE,
-    LINE_SIZE, MARKED_COLOUR, MISSING_COLOUR,
+    render_png, render_svg, viridis, Cell, Heatmap, Plot, PlotError, HEATMAP_SIZE, LINE_SIZE,
+    MARKED_COLOUR, MISSING_COLOUR,
 };
 pub use scene::{scene_json, MAX_BODY_MOTIONS_PER_ARM, MAX_MOTIONS_PER_ARM, MAX_WITNESSES_PER_ARM};
+pub use stage::{
+    stage, Stage, Torso, VIEW_ASPECT, VIEW_AZIMUTH, VIEW_ELEVATION, VIEW_FILL, VIEW_FOV_DEG,
+};
 pub use text::{best_pair_sentence, best_sentence, findings_sentences, percent};
 pub use world::{MAX_VIEW_POINTS, MAX_VIEW_TRIANGLES};

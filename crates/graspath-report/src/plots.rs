@@ -1,10 +1,11 @@
-//! Rendering plots to SVG and PNG with `plotters`: line charts over the candidates and heatmaps
-//! with a colour bar. Text uses DejaVu Sans compiled into the binary (no system font is read),
+//! Rendering plots to SVG and PNG with `plotters`: line charts over the candidates (see
+//! `lines`) and heatmaps with a colour bar. Text uses DejaVu Sans compiled into the binary (no system font is read),
 //! and the output bytes depend only on the input.
 //!
 //! Heatmap layout (a contract the tests rely on): column `c` of the data is drawn at the `c`-th
 //! cell from the left, row `r` at the `r`-th cell from the bottom; the colour bar is on the right.
 
+use crate::lines::LinePlot;
 use plotters::coord::types::{RangedCoordf64, RangedCoordi32};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -15,15 +16,15 @@ use std::sync::Once;
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// Size in pixels of a line chart's PNG (width, height); the SVG has the same size in px.
-pub const LINE_SIZE: (u32, u32) = (800, 500);
+pub const LINE_SIZE: (u32, u32) = (800, 560);
 /// Size in pixels of a heatmap's PNG (width, height).
 pub const HEATMAP_SIZE: (u32, u32) = (900, 600);
 
-/// Series colours: blue, red, black, green, orange.
-const PALETTE: [RGBColor; 5] = [
+/// Series colours: blue, red, purple, green, orange (none close to the text's black).
+pub(crate) const PALETTE: [RGBColor; 5] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
-    RGBColor(20, 20, 20),
+    RGBColor(148, 103, 189),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
 ];
@@ -31,34 +32,6 @@ const PALETTE: [RGBColor; 5] = [
 pub const MISSING_COLOUR: RGBColor = RGBColor(225, 225, 225);
 /// Heatmap cells that are marked (e.g. two grasps that overlap).
 pub const MARKED_COLOUR: RGBColor = RGBColor(110, 110, 110);
-
-/// One line of a [`LinePlot`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct Line {
-    /// Legend text.
-    pub name: String,
-    /// One value per x; `None` leaves a gap.
-    pub values: Vec<Option<f64>>,
-    /// Dashed instead of solid.
-    pub dashed: bool,
-}
-
-/// A chart of lines over a shared x axis, with optional vertical markers.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LinePlot {
-    /// Title above the chart.
-    pub title: String,
-    /// X axis description, with its unit.
-    pub x_label: String,
-    /// Y axis description, with its unit.
-    pub y_label: String,
-    /// The x coordinates, increasing.
-    pub x: Vec<f64>,
-    /// The lines.
-    pub lines: Vec<Line>,
-    /// Vertical markers `(x, legend text)`.
-    pub marks: Vec<(f64, String)>,
-}
 
 /// One cell of a [`Heatmap`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,7 +184,7 @@ fn plot_error(plot: &Plot, message: String) -> PlotError {
     PlotError { title, message }
 }
 
-type DrawResult = Result<(), Box<dyn Error>>;
+pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
 
 fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> DrawResult
 where
@@ -219,101 +192,9 @@ where
 {
     root.fill(&WHITE)?;
     match plot {
-        Plot::Line(p) => draw_lines(p, root),
+        Plot::Line(p) => crate::lines::draw_lines(p, root),
         Plot::Heatmap(p) => draw_heatmap(p, root),
     }
-}
-
-/// `[lo, hi]` with a margin, never empty.
-fn padded_range(values: impl Iterator<Item = f64>, include_zero: bool) -> (f64, f64) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.filter(|v| v.is_finite()) {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if !lo.is_finite() {
-        return (0.0, 1.0);
-    }
-    if include_zero {
-        lo = lo.min(0.0);
-    }
-    let span = (hi - lo).max(1e-9);
-    (lo - 0.02 * span, hi + 0.06 * span)
-}
-
-fn draw_lines<DB: DrawingBackend>(p: &LinePlot, root: &DrawingArea<DB, Shift>) -> DrawResult
-where
-    DB::ErrorType: 'static,
-{
-    if p.lines.iter().any(|l| l.values.len() != p.x.len()) {
-        return Err("every line needs one value per x".into());
-    }
-    let (x0, x1) = match (p.x.first(), p.x.last()) {
-        (Some(&a), Some(&b)) if b > a => (a - 0.5, b + 0.5),
-        (Some(&a), _) => (a - 1.0, a + 1.0),
-        _ => (0.0, 1.0),
-    };
-    let (y0, y1) = padded_range(
-        p.lines
-            .iter()
-            .flat_map(|l| l.values.iter().flatten().copied()),
-        true,
-    );
-    let mut chart = ChartBuilder::on(root)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(48)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc(&p.x_label)
-        .y_desc(&p.y_label)
-        .label_style(("sans-serif", 14))
-        .axis_desc_style(("sans-serif", 15))
-        .light_line_style(RGBColor(240, 240, 240))
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .draw()?;
-    for (k, line) in p.lines.iter().enumerate() {
-        let colour = PALETTE[k % PALETTE.len()];
-        let style = colour.stroke_width(2);
-        // Contiguous runs of values, so a missing value leaves a gap.
-        let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-        for (x, v) in p.x.iter().zip(&line.values) {
-            match v {
-                Some(v) if v.is_finite() => runs.last_mut().expect("non-empty").push((*x, *v)),
-                _ => runs.push(Vec::new()),
-            }
-        }
-        for run in runs.iter().filter(|r| !r.is_empty()) {
-            if line.dashed {
-                chart.draw_series(DashedLineSeries::new(run.clone(), 8, 5, style))?;
-            } else {
-                chart.draw_series(LineSeries::new(run.clone(), style))?;
-            }
-        }
-        let points = runs.into_iter().flatten();
-        chart
-            .draw_series(points.map(|(x, y)| Circle::new((x, y), 3, colour.filled())))?
-            .label(&line.name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
-    }
-    for (k, (x, name)) in p.marks.iter().enumerate() {
-        let colour = PALETTE[(p.lines.len() + k) % PALETTE.len()];
-        let style = colour.stroke_width(2);
-        chart
-            .draw_series(DashedLineSeries::new(vec![(*x, y0), (*x, y1)], 4, 4, style))?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], style));
-    }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .label_font(("sans-serif", 14))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(160, 160, 160))
-        .draw()?;
-    Ok(())
 }
 
 fn segment_label(ticks: &[String], v: &SegmentValue<i32>) -> String {
@@ -358,11 +239,18 @@ where
     let (width, height) = root.dim_in_pixel();
     let (main, side) = root.split_horizontally(width.saturating_sub(130));
     let (main, note_area) = main.split_vertically(height.saturating_sub(26));
+    // Room for the longest row tick (about 8 px a character at 13 px) and the description.
+    let longest = p
+        .row_ticks
+        .iter()
+        .map(|t| t.chars().count())
+        .max()
+        .unwrap_or(0);
     let mut chart = ChartBuilder::on(&main)
         .caption(&p.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(48)
-        .y_label_area_size(70)
+        .y_label_area_size((30 + 8 * longest as u32).max(70))
         .build_cartesian_2d(
             // Segmented ranges include their end: one segment per column and row.
             (0..columns as i32 - 1).into_segmented(),

@@ -2,7 +2,10 @@
 //! runs its own checks (no errors, the canvas is drawn, every candidate is listed, clicking a row
 //! shows that candidate, the animation advances) and writes the results into the DOM, which
 //! `--dump-dom` hands back; a report of a task in a scene also checks that the scene is drawn,
-//! the collision shapes move and a collision is shown with its bodies highlighted. Screenshots
+//! the collision shapes move and a collision is shown with its bodies highlighted. Every report
+//! also checks the staging: the "loading" text is shown until the scene is ready and then
+//! hidden, the camera as placed on load sees the whole box of the robot and the task, the legend
+//! names each arm in its colour, the torso is drawn, and the side panel follows the slider. Screenshots
 //! are saved to `target/test-artifacts/report.png` and `report-scene.png`.
 //!
 //! Skipped with a message when Chromium is not installed, except under CI (`CI` set), where
@@ -81,7 +84,7 @@ fn artifacts_dir() -> PathBuf {
 /// Writes the report of `task` into `dir` and returns the page's self-test result.
 fn self_test(browser: &Path, task: &Task, dir: &Path) -> String {
     let selection = select(task, &|| {});
-    let files = render_report(task, &selection).unwrap();
+    let files = render_report(task, &selection, None).unwrap();
     write_files(dir, &files, Existing::Refuse).unwrap();
     let page = dir.join("report.html");
     let url = format!("file://{}", page.display());
@@ -155,6 +158,10 @@ fn the_report_of_a_scene_passes_its_self_test_in_headless_chromium() {
         "PASS collision shapes move with the arm",
         "PASS a collision is shown with its two bodies highlighted",
         "PASS clicking a row shows that candidate",
+        "PASS loading text until the scene is ready",
+        "PASS camera fits the robot and the task",
+        "PASS legend names every arm in its colour",
+        "PASS side panel follows the slider",
         "PASS no errors",
     ] {
         assert!(result.contains(check), "missing '{check}' in:\n{result}");
@@ -183,9 +190,18 @@ fn the_report_passes_its_self_test_in_headless_chromium() {
         "PASS canvas has drawn pixels",
         "PASS table lists every candidate",
         "PASS clicking a row shows that candidate",
+        "PASS loading text until the scene is ready",
+        "PASS camera fits the robot and the task",
+        "PASS legend names every arm in its colour",
+        "PASS torso drawn",
+        "PASS side panel follows the slider",
         "PASS no errors",
     ] {
         assert!(result.contains(check), "missing '{check}' in:\n{result}");
+    }
+    // Both arms are named in the legend (the page's check compares their colours).
+    for arm in ["left arm", "right arm"] {
+        assert!(result.contains(arm), "the legend lacks '{arm}':\n{result}");
     }
 
     screenshot(&browser, &url, "report.png");

@@ -5,7 +5,8 @@
 use graspath::select::select;
 use graspath::task::Task;
 use graspath_report::{
-    figures, render_png, render_svg, Cell, Heatmap, Line, LinePlot, Plot, HEATMAP_SIZE, LINE_SIZE,
+    figures, render_png, render_svg, Cell, Heatmap, Line, LinePlot, LineStyle, Plot, HEATMAP_SIZE,
+    LINE_SIZE,
 };
 use std::path::PathBuf;
 
@@ -106,18 +107,19 @@ fn line_plot() -> Plot {
         x_label: "candidate id".into(),
         y_label: "norm / its maximum (1)".into(),
         x: (0..10).map(f64::from).collect(),
+        secondary: None,
         lines: vec![
             Line {
                 name: "rising".into(),
                 values: (0..10).map(|i| Some(i as f64 / 9.0)).collect(),
-                dashed: false,
+                style: LineStyle::Solid,
             },
             Line {
                 name: "with a gap".into(),
                 values: (0..10)
                     .map(|i| (i != 4).then_some(1.0 - i as f64 / 20.0))
                     .collect(),
-                dashed: true,
+                style: LineStyle::Dashed,
             },
         ],
         marks: vec![(9.0, "selected: 9".into())],
@@ -170,7 +172,7 @@ fn example(name: &str) -> PathBuf {
 fn figures_of_a_selection_carry_its_values() {
     let task = Task::load(&example("pick_and_place_left.yaml")).unwrap();
     let selection = select(&task, &|| {});
-    let figures = figures(&task, &selection);
+    let figures = figures(&task, &selection, None);
     let names: Vec<&str> = figures.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(
         names,
@@ -225,7 +227,7 @@ fn figures_of_a_selection_carry_its_values() {
 fn the_pair_heatmap_sums_eligible_norms_and_marks_overlaps() {
     let task = Task::load(&example("pick_and_place_both.yaml")).unwrap();
     let selection = select(&task, &|| {});
-    let figures = figures(&task, &selection);
+    let figures = figures(&task, &selection, None);
     let pairs = figures.iter().find(|f| f.name == "pairs-heatmap").unwrap();
     let Plot::Heatmap(h) = &pairs.plot else {
         panic!("a heatmap")

@@ -498,8 +498,8 @@ fn two_arms_in_a_scene_report_the_refused_pairs() {
 fn the_report_of_a_scene_is_deterministic() {
     let dir = tempfile::tempdir().unwrap();
     let task = load(dir.path(), SCENE_TASK);
-    let a = render_report(&task, &select(&task, &|| {})).unwrap();
-    let b = render_report(&task, &select(&task, &|| {})).unwrap();
+    let a = render_report(&task, &select(&task, &|| {}), None).unwrap();
+    let b = render_report(&task, &select(&task, &|| {}), None).unwrap();
     assert_eq!(a, b);
     let c = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}))).unwrap();
     let d = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}))).unwrap();

@@ -8,6 +8,7 @@ use crate::output::{print_summary_table, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, write_files, Existing};
+use graspath::placement::FamilyParameter;
 use graspath::select::Selection;
 use graspath::task::Task;
 use graspath::task::TaskFile;
@@ -133,7 +134,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         } else {
             args.output.clone()
         };
-        let run = run_task(&task, &per_run, &title, true)
+        let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+        let run = run_task(&task, parameter.as_ref(), &per_run, &title, true)
             .with_context(|| format!("experiment {}", experiment.name))?;
         if !per_run.quiet {
             print_summary_table(&task, &run.selection, &title, run.elapsed);

@@ -8,8 +8,9 @@ use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, write_files, Existing};
+use graspath::placement::FamilyParameter;
 use graspath::select::{select, Selection};
-use graspath::task::Task;
+use graspath::task::{Task, TaskFile};
 use graspath_report::{candidates_json, nothing_selected, pairs_json, render_report, summary_json};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -52,8 +53,15 @@ pub struct TaskRun {
 }
 
 /// Runs a loaded task and renders its files (with the figures and `report.html` when `report`
-/// is set); nothing is written yet.
-pub fn run_task(task: &Task, output: &OutputArgs, title: &str, report: bool) -> Result<TaskRun> {
+/// is set; `parameter`, the candidate family's parameter, is their x axis); nothing is written
+/// yet.
+pub fn run_task(
+    task: &Task,
+    parameter: Option<&FamilyParameter>,
+    output: &OutputArgs,
+    title: &str,
+    report: bool,
+) -> Result<TaskRun> {
     let total = task.candidates.len() * task.arms.len();
     let bar = progress_bar(output, total as u64, title);
     let started = std::time::Instant::now();
@@ -79,7 +87,7 @@ pub fn run_task(task: &Task, output: &OutputArgs, title: &str, report: bool) -> 
         files.push(("pairs.json".to_string(), pretty(pairs_json(&selection))?));
     }
     if report {
-        files.extend(render_report(task, &selection)?);
+        files.extend(render_report(task, &selection, parameter)?);
     }
     Ok(TaskRun {
         selection,
@@ -94,9 +102,12 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     let existing = Existing::replace_if(args.force);
     // Refuse a bad --out before the work, not after it.
     check_folder_target(&args.out, existing)?;
-    let task = Task::load(&args.task).context("cannot use the task file")?;
+    let file = TaskFile::load(&args.task).context("cannot use the task file")?;
     let title = args.task.display().to_string();
-    let run = run_task(&task, &args.output, &title, args.report)?;
+    let base_dir = args.task.parent().map(PathBuf::from).unwrap_or_default();
+    let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
+    let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+    let run = run_task(&task, parameter.as_ref(), &args.output, &title, args.report)?;
     write_files(&args.out, &run.files, existing)?;
     let empty = nothing_selected(&run.selection);
     if args.output.json {

@@ -11,6 +11,7 @@ mod map;
 mod plots;
 mod scene;
 mod stage;
+mod style;
 mod text;
 mod witness;
 mod world;

@@ -8,7 +8,7 @@
 //! area, the y range printed at the top right of the plotting area, and the legend in its own
 //! band under the x axis (it never hides data).
 
-use crate::plots::{DrawResult, PALETTE};
+use crate::style::{DrawResult, PALETTE};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

@@ -6,10 +6,10 @@
 //! cell from the left, row `r` at the `r`-th cell from the bottom; the colour bar is on the right.
 
 use crate::lines::LinePlot;
+use crate::style::DrawResult;
 use plotters::coord::types::{RangedCoordf64, RangedCoordi32};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::error::Error;
 use std::sync::Once;
 
 /// The font every plot uses (DejaVu Sans; licence in `assets/DejaVuSans-LICENSE.txt`).
@@ -20,14 +20,6 @@ pub const LINE_SIZE: (u32, u32) = (800, 560);
 /// Size in pixels of a heatmap's PNG (width, height).
 pub const HEATMAP_SIZE: (u32, u32) = (900, 600);
 
-/// Series colours: blue, red, purple, green, orange (none close to the text's black).
-pub(crate) const PALETTE: [RGBColor; 5] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-];
 /// Heatmap cells without a value (infeasible, rejected).
 pub const MISSING_COLOUR: RGBColor = RGBColor(225, 225, 225);
 /// Heatmap cells that are marked (e.g. two grasps that overlap).
@@ -183,8 +175,6 @@ fn plot_error(plot: &Plot, message: String) -> PlotError {
     };
     PlotError { title, message }
 }
-
-pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
 
 fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> DrawResult
 where

@@ -286,3 +286,24 @@ fn mesh_hint(uri: &str) -> &'static str {
         ""
     }
 }
+
+/// Up to five names closest to `name` (by edit distance, or sharing a substring).
+pub(crate) fn closest_names(name: &str, candidates: Vec<&str>) -> Vec<String> {
+    let mut scored: Vec<(usize, &str)> = candidates
+        .into_iter()
+        .map(|c| {
+            let mut d = strsim::levenshtein(name, c);
+            if c.contains(name) || name.contains(c) {
+                d = d.min(1);
+            }
+            (d, c)
+        })
+        .filter(|(d, c)| *d <= (name.len().max(c.len()) / 2).max(2))
+        .collect();
+    scored.sort();
+    scored
+        .into_iter()
+        .take(5)
+        .map(|(_, c)| c.to_string())
+        .collect()
+}

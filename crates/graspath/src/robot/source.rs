@@ -24,10 +24,11 @@
 use super::builtin::{BuiltinRobot, BUILTIN_NAMES};
 use super::chain::Chain;
 use super::collision::{LinkCollisions, MeshResolver};
+use super::error::closest_names;
 use super::error::RobotError;
 use super::mjcf::MjcfRobot;
 use super::spec::ChainSpec;
-use super::urdf::{closest_names, UrdfRobot};
+use super::urdf::UrdfRobot;
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
 

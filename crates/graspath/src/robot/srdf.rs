@@ -178,7 +178,7 @@ impl Srdf {
             source_name: self.source_name.clone(),
             link: link.to_string(),
             role,
-            suggestions: super::urdf::closest_names(
+            suggestions: super::error::closest_names(
                 link,
                 links.iter().map(String::as_str).collect(),
             ),

@@ -9,7 +9,7 @@
 
 use super::chain::{unit_axis, Chain};
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
-use super::error::RobotError;
+use super::error::{closest_names, RobotError};
 use super::spec::{ChainSpec, JointKind, JointSpec, Mimic};
 use crate::geometry::shape::Shape;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -383,25 +383,4 @@ pub fn parse_urdf_chain(
     tip_link: &str,
 ) -> Result<Chain, RobotError> {
     UrdfRobot::from_xml(text, source_name)?.chain(base_link, tip_link, None)
-}
-
-/// Up to five names closest to `name` (by edit distance, or sharing a substring).
-pub(crate) fn closest_names(name: &str, candidates: Vec<&str>) -> Vec<String> {
-    let mut scored: Vec<(usize, &str)> = candidates
-        .into_iter()
-        .map(|c| {
-            let mut d = strsim::levenshtein(name, c);
-            if c.contains(name) || name.contains(c) {
-                d = d.min(1);
-            }
-            (d, c)
-        })
-        .filter(|(d, c)| *d <= (name.len().max(c.len()) / 2).max(2))
-        .collect();
-    scored.sort();
-    scored
-        .into_iter()
-        .take(5)
-        .map(|(_, c)| c.to_string())
-        .collect()
 }

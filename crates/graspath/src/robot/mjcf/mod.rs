@@ -50,9 +50,9 @@ mod values;
 
 use super::chain::Chain;
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
+use super::error::closest_names;
 use super::error::RobotError;
 use super::spec::{ChainSpec, JointKind, JointSpec};
-use super::urdf::closest_names;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use parse::{GeomKind, JointType, Model};
 use std::path::{Path, PathBuf};

@@ -6,6 +6,7 @@
 
 use crate::GraspathError;
 use graspath::geometry::{pose_from_rows, pose_to_rows};
+use graspath::task::JacobianRows;
 use nalgebra::{Isometry3, IsometryMatrix3};
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
@@ -15,6 +16,19 @@ use std::fmt::Display;
 
 /// Any array-like that numpy can convert to `float64`.
 pub type FloatArray<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+/// Parses an index mode (`mode`, `length_scale` of `Task.from_arrays` and
+/// `Robot.optimize_self_motion`), as a task file's `index`.
+pub fn index_mode(mode: &str, length_scale: f64) -> PyResult<JacobianRows> {
+    match mode {
+        "twist" => Ok(JacobianRows::Twist { length_scale }),
+        "translation" => Ok(JacobianRows::Translation),
+        "rotation" => Ok(JacobianRows::Rotation),
+        other => Err(error(format!(
+            "mode '{other}' is not one of 'twist', 'translation', 'rotation'"
+        ))),
+    }
+}
 
 /// A library error as a `graspath.GraspathError` carrying the library's message.
 pub fn error(e: impl Display) -> PyErr {

@@ -9,18 +9,18 @@
 //! requires in one `#[pymethods]` block.
 
 use crate::convert::{
-    array, check_finite, error, poses, renamed_keyword, rows, shape_text, single_pose,
+    array, check_finite, error, index_mode, poses, renamed_keyword, rows, shape_text, single_pose,
     write_matrix_pose, FloatArray,
 };
 use crate::memory::populate;
 use graspath::manipulability::{
     inverse_condition, inverse_condition_squared, singular_values, task_relevant,
-    velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
+    velocity_transmission_ratio, wrist_tangent, yoshikawa, Direction, JacobianPart,
 };
 
 use graspath::robot::{
-    solve_ik, solve_trajectory, Chain, IkOptions, IkSolution, RobotError, RobotSource,
-    TrajectoryIkOptions, UrdfRobot,
+    null_space, optimize_self_motion, solve_ik, solve_trajectory, Chain, IkOptions, IkSolution,
+    KeptRows, RobotError, RobotSource, SelfMotionOptions, TrajectoryIkOptions, UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
@@ -79,6 +79,17 @@ fn direction_of(part: JacobianPart, u: &[f64]) -> Direction {
         JacobianPart::Full => Direction::Full(Vector6::from_column_slice(u)),
         JacobianPart::Translation => Direction::Translation(Vector3::from_column_slice(u)),
         JacobianPart::Rotation => Direction::Rotation(Vector3::from_column_slice(u)),
+    }
+}
+
+/// The kept rows of the self-motion by name: `pose` or `position`.
+fn kept_rows(rows: &str) -> PyResult<KeptRows> {
+    match rows {
+        "pose" => Ok(KeptRows::Pose),
+        "position" => Ok(KeptRows::Position),
+        other => Err(error(format!(
+            "rows '{other}' is not one of 'pose', 'position'"
+        ))),
     }
 }
 
@@ -690,6 +701,197 @@ impl PyRobot {
                 dict.set_item("failure", failure)?;
             }
         }
+        Ok(dict)
+    }
+
+    /// An orthonormal basis of the joint velocities that leave the tip's twist unchanged at
+    /// ``q`` (its self-motion directions), shape ``(dof, k)``: ``k = dof − rank`` (1 for a
+    /// 7-joint arm away from singularities). ``rows`` is ``"pose"`` (all six rows of J) or
+    /// ``"position"`` (the linear rows only: the orientation is free). A direction counts
+    /// when its singular value is at most ``tolerance`` times the largest.
+    #[pyo3(signature = (q, rows = "pose", tolerance = 1e-9))]
+    fn nullspace<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        rows: &str,
+        tolerance: f64,
+    ) -> PyResult<Py<PyAny>> {
+        let rows = kept_rows(rows)?;
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(error(format!(
+                "tolerance must be a non-negative number, got {tolerance}"
+            )));
+        }
+        let q = match self.configurations(&q)? {
+            (data, None) => data,
+            (_, Some(_)) => return Err(error("q must have shape (dof,)")),
+        };
+        let mut jacobian = Matrix6xX::zeros(self.chain.dof());
+        self.chain
+            .pose_and_jacobian_into(&q, &mut jacobian)
+            .map_err(error)?;
+        let basis = null_space(&jacobian, rows, tolerance);
+        let (dof, k) = basis.shape();
+        // nalgebra is column-major; numpy wants rows.
+        let flat: Vec<f64> = (0..dof)
+            .flat_map(|r| (0..k).map(move |c| (r, c)))
+            .map(|(r, c)| basis[(r, c)])
+            .collect();
+        Ok(array(py, flat, &[dof, k])?.into_any().unbind())
+    }
+
+    /// Moves a joint path along the arm's self-motion to maximise the task-relevant index
+    /// along it: the path through the tip poses ``targets`` ``(n, 4, 4)`` (base frame) that
+    /// maximises ``Σ M_T²`` (``μ_l2²``), where ``M_T`` at each sample is measured along the
+    /// direction the tip moves to the next pose (the last sample: from the previous one),
+    /// no joint moving more than ``max_joint_step`` between samples, inside the limits —
+    /// what ``ik.redundancy: optimize`` does for a candidate. ``q`` ``(n, dof)`` is a joint
+    /// path on the targets (e.g. a branch from :meth:`ik_trajectory`); the result is never
+    /// worse than it. ``mode`` and ``length_scale`` as in a task file's ``index``;
+    /// ``spacing`` (rad) and ``reach`` set how the self-motion is traced around ``q``.
+    ///
+    /// Returns a dict: ``q`` ``(n, dof)``, ``m_t`` ``(n,)`` (NaN where the tip is still),
+    /// ``mu_l2`` (of the result, over samples, as ``sqrt(Σ M_T²)``), ``mu_l2_seed`` (of
+    /// ``q``) and ``mu_l2_min`` (the smallest over the traced self-motion).
+    #[pyo3(signature = (
+        targets,
+        q,
+        *,
+        mode = "twist",
+        length_scale = 1.0,
+        max_joint_step = 0.5,
+        spacing = 0.2,
+        reach = 4,
+        position_tolerance = 1e-5,
+        rotation_tolerance = 1e-5
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn optimize_self_motion<'py>(
+        &self,
+        py: Python<'py>,
+        targets: FloatArray<'py>,
+        q: FloatArray<'py>,
+        mode: &str,
+        length_scale: f64,
+        max_joint_step: f64,
+        spacing: f64,
+        reach: usize,
+        position_tolerance: f64,
+        rotation_tolerance: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let dof = self.chain.dof();
+        let (targets, _) = poses(&targets, "targets")?;
+        let n = targets.len();
+        let (data, batch) = self.configurations(&q)?;
+        if batch != Some(n) {
+            return Err(error(format!(
+                "q must have shape ({n}, {dof}): one configuration per target"
+            )));
+        }
+        for (name, value) in [
+            ("max_joint_step", max_joint_step),
+            ("spacing", spacing),
+            ("position_tolerance", position_tolerance),
+            ("rotation_tolerance", rotation_tolerance),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(error(format!(
+                    "{name} must be a positive number, got {value}"
+                )));
+            }
+        }
+        if reach == 0 || reach > 1000 {
+            return Err(error(format!(
+                "reach must be between 1 and 1000, got {reach}"
+            )));
+        }
+        let rows = index_mode(mode, length_scale)?;
+        let seed: Vec<Vec<f64>> = data.chunks(dof).map(<[f64]>::to_vec).collect();
+        // The seed must be a feasible path: on its targets, inside the limits, small steps.
+        let (lower, upper) = (self.chain.lower(), self.chain.upper());
+        for (i, (q, target)) in seed.iter().zip(&targets).enumerate() {
+            let pose = self.chain.pose(q).map_err(error)?;
+            let off = (pose.translation.vector - target.translation.vector).norm();
+            let turn = pose
+                .rotation
+                .angle_to(&target.rotation.to_rotation_matrix());
+            if off > position_tolerance * 10.0 || turn > rotation_tolerance * 10.0 {
+                return Err(error(format!(
+                    "q[{i}] puts the tip {off:.3e} m and {turn:.3e} rad from targets[{i}]: \
+                     give a joint path on the targets (e.g. a branch of ik_trajectory)"
+                )));
+            }
+            if let Some(j) = (0..dof).find(|&j| q[j] < lower[j] || q[j] > upper[j]) {
+                return Err(error(format!("q[{i}, {j}] is outside the joint limits")));
+            }
+            if i > 0 {
+                let step = q
+                    .iter()
+                    .zip(&seed[i - 1])
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                if step > max_joint_step {
+                    return Err(error(format!(
+                        "q moves a joint {step:.3} between samples {} and {i}, more than \
+                         max_joint_step ({max_joint_step})",
+                        i - 1
+                    )));
+                }
+            }
+        }
+        let directions: Vec<Option<Direction>> = (0..n)
+            .map(|i| {
+                let (a, b) = if i + 1 < n {
+                    (i, i + 1)
+                } else {
+                    (i.saturating_sub(1), i)
+                };
+                (a != b)
+                    .then(|| wrist_tangent(&targets[a], &targets[b], rows))
+                    .flatten()
+            })
+            .collect();
+        let value = |i: usize, _: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
+            directions[i].map_or(0.0, |d| rows.task_relevant(jacobian, &d).powi(2))
+        };
+        let options = SelfMotionOptions {
+            spacing,
+            reach,
+            max_joint_step,
+            position_tolerance,
+            rotation_tolerance,
+        };
+        let chain = &self.chain;
+        let found = py
+            .detach(|| {
+                optimize_self_motion(chain, &targets, &[&seed], KeptRows::Pose, &value, &options)
+            })
+            .ok_or_else(|| error("no joint path was found around q"))?;
+        let seed_total: f64 = {
+            let mut jacobian = Matrix6xX::zeros(dof);
+            seed.iter()
+                .enumerate()
+                .map(|(i, q)| {
+                    chain
+                        .pose_and_jacobian_into(q, &mut jacobian)
+                        .map_or(0.0, |_| value(i, q, &jacobian))
+                })
+                .sum()
+        };
+        let m_t: Vec<f64> = found
+            .values
+            .iter()
+            .zip(&directions)
+            .map(|(v, d)| if d.is_some() { v.sqrt() } else { f64::NAN })
+            .collect();
+        let dict = PyDict::new(py);
+        let flat: Vec<f64> = found.q.iter().flatten().copied().collect();
+        dict.set_item("q", array(py, flat, &[n, dof])?)?;
+        dict.set_item("m_t", PyArray1::from_vec(py, m_t))?;
+        dict.set_item("mu_l2", found.total.sqrt())?;
+        dict.set_item("mu_l2_seed", seed_total.sqrt())?;
+        dict.set_item("mu_l2_min", found.worst_total.sqrt())?;
         Ok(dict)
     }
 

@@ -77,8 +77,11 @@ impl PySelection {
     /// ranked), ``score``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``,
     /// ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
     /// ``inverse_condition_squared_at_grasp``, ``clearance`` (m, the smallest distance to the
-    /// scene along the motion) (float64, NaN where absent), ``contact``
-    /// ``(k, 3)`` and ``m_t`` ``(k, n)`` (NaN where absent: infeasible, or the object still),
+    /// scene along the motion), ``yoshikawa_penalized_at_grasp`` (with a joint-limit penalty),
+    /// ``limit_distance_min`` (rad or m, the path's closest approach to a joint limit) (float64,
+    /// NaN where absent), ``hugs_limit`` (bool), ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)`` and
+    /// ``ranked_index`` ``(k, n)`` (the ranked per-sample index: ``m_t`` unless the task sets
+    /// ``measure`` or ``joint_limit_penalty``) (NaN where absent: infeasible, or the object still),
     /// and ``failure_sample`` (int64, -1 when feasible).
     fn arrays<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Bound<'py, PyDict>> {
         let result = self.arm_result(arm)?;
@@ -139,6 +142,32 @@ impl PySelection {
             "clearance",
             PyArray1::from_vec(py, at_grasp(|s| s.clearance)),
         )?;
+        dict.set_item(
+            "yoshikawa_penalized_at_grasp",
+            PyArray1::from_vec(py, at_grasp(|s| s.yoshikawa_penalized_at_grasp)),
+        )?;
+        let limit_distance_min: Vec<f64> = result
+            .scores
+            .iter()
+            .map(|s| {
+                let d = s
+                    .limit_distance
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                if d.is_finite() {
+                    d
+                } else {
+                    nan
+                }
+            })
+            .collect();
+        dict.set_item(
+            "limit_distance_min",
+            PyArray1::from_vec(py, limit_distance_min),
+        )?;
+        let hugs: Vec<bool> = result.scores.iter().map(|s| s.hugs_limit()).collect();
+        dict.set_item("hugs_limit", PyArray1::from_vec(py, hugs))?;
         let contact: Vec<f64> = result
             .scores
             .iter()
@@ -154,6 +183,16 @@ impl PySelection {
             }
         }
         dict.set_item("m_t", array(py, m_t, &[k, samples])?)?;
+        let mut ranked = vec![nan; k * samples];
+        for (row, s) in result.scores.iter().enumerate() {
+            let values = s.ranked_values.as_ref().unwrap_or(&s.m_t);
+            for (i, v) in values.iter().enumerate().take(samples) {
+                if let Some(v) = v {
+                    ranked[row * samples + i] = *v;
+                }
+            }
+        }
+        dict.set_item("ranked_index", array(py, ranked, &[k, samples])?)?;
         let failure_sample: Vec<i64> = result
             .scores
             .iter()

@@ -2,8 +2,8 @@
 //! ranking settings) from a task file, task text, a dict, or numpy arrays.
 
 use crate::convert::{
-    array, check_shape, error, poses, push_isometry, renamed_keyword, single_pose, Buffer,
-    FloatArray,
+    array, check_shape, error, index_mode, poses, push_isometry, renamed_keyword, single_pose,
+    Buffer, FloatArray,
 };
 use crate::robot::PyRobot;
 use graspath::grasp::Candidate;
@@ -11,8 +11,8 @@ use graspath::robot::Chain;
 use graspath::select::wrist_trajectory;
 use graspath::task::defaults;
 use graspath::task::{
-    ArmSetup, JacobianRows, LikelihoodRule, Norm, ObjectPath, PathSample, Redundancy, Task,
-    TaskFile,
+    ArmSetup, IndexMeasure, LikelihoodRule, Norm, ObjectPath, PathSample, RankedIndex, Redundancy,
+    Task, TaskFile,
 };
 use nalgebra::{Isometry3, Point3};
 use numpy::PyArray1;
@@ -42,18 +42,6 @@ impl PyTask {
 
     fn arm_names(&self) -> Vec<String> {
         self.task.arms.iter().map(|a| a.name.clone()).collect()
-    }
-}
-
-/// Parses the index mode of `Task.from_arrays`.
-fn index_mode(mode: &str, length_scale: f64) -> PyResult<JacobianRows> {
-    match mode {
-        "twist" => Ok(JacobianRows::Twist { length_scale }),
-        "translation" => Ok(JacobianRows::Translation),
-        "rotation" => Ok(JacobianRows::Rotation),
-        other => Err(error(format!(
-            "mode '{other}' is not one of 'twist', 'translation', 'rotation'"
-        ))),
     }
 }
 
@@ -157,7 +145,10 @@ impl PyTask {
     ///   ``max_joint_step``, ``branches``, ``ik_random_seed`` (the random seed of the IK's
     ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``redundancy``
     ///   (``"first"``, ``"best_branch"`` or ``"optimize"``: the task file's ``ik.redundancy``)
-    ///   and its older form ``compare_branches`` (``True`` is ``"best_branch"``). ``ik_seed`` is
+    ///   and its older form ``compare_branches`` (``True`` is ``"best_branch"``); ``measure``
+    ///   (``"task_relevant"`` or ``"velocity_ratio"``) and ``joint_limit_penalty`` (Tsai's
+    ///   penalty gain ``k``, e.g. 50; ``None``: none), the task file's ``index.measure`` and
+    ///   ``index.joint_limit_penalty``. ``ik_seed`` is
     ///   the deprecated earlier name of ``ik_random_seed``.
     #[staticmethod]
     #[pyo3(signature = (
@@ -183,6 +174,8 @@ impl PyTask {
         ik_iterations = defaults::GRASP_IK_ITERATIONS,
         compare_branches = false,
         redundancy = None,
+        measure = "task_relevant",
+        joint_limit_penalty = None,
         name = "<arrays>",
         robot_name = "robot",
         ik_seed = None
@@ -210,6 +203,8 @@ impl PyTask {
         ik_iterations: usize,
         compare_branches: bool,
         redundancy: Option<&str>,
+        measure: &str,
+        joint_limit_penalty: Option<f64>,
         name: &str,
         robot_name: &str,
         ik_seed: Option<u64>,
@@ -336,6 +331,14 @@ impl PyTask {
             .ik_tolerance(ik_tolerance)
             .grasp_ik_iterations(ik_iterations)
             .redundancy(redundancy_of(redundancy, compare_branches)?)
+            .ranked(RankedIndex {
+                measure: IndexMeasure::from_name(measure).ok_or_else(|| {
+                    error(format!(
+                        "measure: '{measure}' is not one of task_relevant, velocity_ratio"
+                    ))
+                })?,
+                joint_limit_penalty,
+            })
             .build()
             .map_err(error)?;
         Ok(Self { task })

@@ -134,6 +134,30 @@ class Robot:
         configuration ``q_start`` ``(dof,)`` (default the middle of the limits): ``feasible``,
         ``branches`` (list of ``(n, dof)``), ``failure`` (``None`` or ``sample``, ``reason``,
         ``detail``). ``seed`` is the deprecated name of ``q_start``."""
+    def nullspace(
+        self,
+        q: ArrayLike,
+        rows: Literal["pose", "position"] = "pose",
+        tolerance: float = 1e-9,
+    ) -> FloatArray:
+        """An orthonormal basis ``(dof, k)`` of the joint velocities that leave the tip's
+        twist (``"pose"``) or its linear velocity (``"position"``) unchanged at ``q``."""
+    def optimize_self_motion(
+        self,
+        targets: ArrayLike,
+        q: ArrayLike,
+        *,
+        mode: Literal["twist", "translation", "rotation"] = "twist",
+        length_scale: float = 1.0,
+        max_joint_step: float = 0.5,
+        spacing: float = 0.2,
+        reach: int = 4,
+        position_tolerance: float = 1e-5,
+        rotation_tolerance: float = 1e-5,
+    ) -> Dict[str, Any]:
+        """The joint path through ``targets`` ``(n, 4, 4)`` in the self-motion around ``q``
+        ``(n, dof)`` (a path on the targets) with the largest ``Σ M_T²``: ``q``, ``m_t``
+        (NaN where the tip is still), ``mu_l2``, ``mu_l2_seed``, ``mu_l2_min``."""
 
 class Task:
     """A selection task: arms, object path, grasp candidates and settings."""
@@ -178,6 +202,8 @@ class Task:
         ik_iterations: int = 200,
         compare_branches: bool = False,
         redundancy: Optional[Literal["first", "best_branch", "optimize"]] = None,
+        measure: Literal["task_relevant", "velocity_ratio"] = "task_relevant",
+        joint_limit_penalty: Optional[float] = None,
         name: str = "<arrays>",
         robot_name: str = "robot",
         ik_seed: Optional[int] = None,
@@ -185,7 +211,9 @@ class Task:
         """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
         ``(k, 4, 4)`` (object_from_wrist). ``ik_random_seed`` (default 0) seeds the IK's
         restarts; ``ik_seed`` is its deprecated name. ``redundancy`` is the task file's
-        ``ik.redundancy``; ``compare_branches=True`` is ``"best_branch"``."""
+        ``ik.redundancy``; ``compare_branches=True`` is ``"best_branch"``. ``measure`` and
+        ``joint_limit_penalty`` (a gain ``k``) are the task file's ``index.measure`` and
+        ``index.joint_limit_penalty``."""
     def with_arms(self, arms: Sequence[str]) -> Task:
         """The same task with only the named arms, in that order."""
     @property
@@ -237,8 +265,9 @@ class Selection:
     def arrays(self, arm: str) -> Dict[str, npt.NDArray[Any]]:
         """Per-candidate numpy arrays: ``id``, ``feasible``, ``rank``, ``score``, ``mu_l2``,
         ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
-        ``inverse_condition_squared_at_grasp``, ``clearance``, ``contact`` ``(k, 3)``,
-        ``m_t`` ``(k, n)``, ``failure_sample``."""
+        ``inverse_condition_squared_at_grasp``, ``clearance``,
+        ``yoshikawa_penalized_at_grasp``, ``limit_distance_min``, ``hugs_limit``, ``contact``
+        ``(k, 3)``, ``m_t`` ``(k, n)``, ``ranked_index`` ``(k, n)``, ``failure_sample``."""
     def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
     def write(self, out_dir: StrPath) -> List[Path]:

@@ -723,9 +723,8 @@ impl PyRobot {
                 "tolerance must be a non-negative number, got {tolerance}"
             )));
         }
-        let q = match self.configurations(&q)? {
-            (data, None) => data,
-            (_, Some(_)) => return Err(error("q must have shape (dof,)")),
+        let (q, None) = self.configurations(&q)? else {
+            return Err(error("q must have shape (dof,)"));
         };
         let mut jacobian = Matrix6xX::zeros(self.chain.dof());
         self.chain

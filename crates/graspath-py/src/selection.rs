@@ -166,7 +166,11 @@ impl PySelection {
             "limit_distance_min",
             PyArray1::from_vec(py, limit_distance_min),
         )?;
-        let hugs: Vec<bool> = result.scores.iter().map(|s| s.hugs_limit()).collect();
+        let hugs: Vec<bool> = result
+            .scores
+            .iter()
+            .map(graspath::select::CandidateScore::hugs_limit)
+            .collect();
         dict.set_item("hugs_limit", PyArray1::from_vec(py, hugs))?;
         let contact: Vec<f64> = result
             .scores

@@ -52,6 +52,8 @@ struct CandidateRecord<'a> {
     inverse_condition_squared_at_grasp: Option<f64>,
     feasible_branches: usize,
     limit_distance_min: Option<f64>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    limit_distance: Vec<Option<f64>>,
     hugs_limit: Option<bool>,
     joint_trajectory: &'a [Vec<f64>],
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -122,6 +124,7 @@ pub fn candidates_json(selection: &Selection) -> Value {
                         .copied()
                         .fold(f64::INFINITY, f64::min),
                 ),
+                limit_distance: score.limit_distance.iter().map(|d| finite(*d)).collect(),
                 hugs_limit: score.feasible().then(|| score.hugs_limit()),
                 joint_trajectory: &score.joint_trajectory,
                 clearance: score.clearance,

@@ -48,7 +48,7 @@ order = np.argsort(-contact_y)  # left-most (+y) first, as in the paper
 print(f"{'id':>3} {'contact y':>9} {'feasible':>8} {'mu_l2':>8} {'mu_linf':>9} {'rank':>4}")
 for i in order:
     print(f"{a['id'][i]:>3} {contact_y[i]:>9.3f} {str(feasible[i]):>8} {a['mu_l2'][i]:>8.4f} "
-          f"{a['mu_linf'][i]:>9.3f} {a['rank'][i] or '-':>4}")
+          f"{a['mu_linf'][i]:>9.3f} {'-' if np.isnan(a['rank'][i]) else int(a['rank'][i]):>4}")
 best = selection.best(args.arm)
 record = next(r for r in selection.candidates if r["id"] == best and r["arm"] == args.arm)
 print(f"selected: candidate {best} ({record['label']}), mu_l2 = {record['mu_l2']:.4f}, "

@@ -49,6 +49,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<task::PyTask>()?;
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
+    module.add("DEFAULTS", task::defaults_dict(py)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -502,7 +502,10 @@ impl PyRobot {
         max_time = Some(0.005),
         random_seed = 0,
         seed = None
-    ))]
+    ),
+    text_signature = "(self, target, q_start=None, *, position_tolerance=1e-05, \
+                      rotation_tolerance=1e-05, max_iterations=100000, max_time=0.005, \
+                      random_seed=0, seed=None)")]
     #[allow(clippy::too_many_arguments)]
     fn ik<'py>(
         &self,

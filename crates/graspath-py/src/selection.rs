@@ -73,8 +73,8 @@ impl PySelection {
     }
 
     /// One arm's results as numpy arrays over the candidates (in candidate order), for
-    /// plotting and analysis: ``id`` (int64), ``feasible`` (bool), ``rank`` (int64, 0 = not
-    /// ranked), ``score``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``,
+    /// plotting and analysis: ``id`` (int64), ``feasible`` (bool), ``rank`` (float64, 1 for
+    /// the best, NaN when not ranked), ``score``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``,
     /// ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
     /// ``inverse_condition_squared_at_grasp``, ``clearance`` (m, the smallest distance to the
     /// scene along the motion), ``yoshikawa_penalized_at_grasp`` (with a joint-limit penalty),
@@ -82,7 +82,8 @@ impl PySelection {
     /// NaN where absent), ``hugs_limit`` (bool), ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)`` and
     /// ``ranked_index`` ``(k, n)`` (the ranked per-sample index: ``m_t`` unless the task sets
     /// ``measure`` or ``joint_limit_penalty``) (NaN where absent: infeasible, or the object still),
-    /// and ``failure_sample`` (int64, -1 when feasible).
+    /// and ``failure_sample`` (float64, the first failing sample, NaN when feasible). No value
+    /// is a sentinel: whatever is absent is NaN.
     fn arrays<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Bound<'py, PyDict>> {
         let result = self.arm_result(arm)?;
         let samples = self.task.path.samples.len();
@@ -101,10 +102,10 @@ impl PySelection {
             .map(graspath::select::CandidateScore::feasible)
             .collect();
         dict.set_item("feasible", PyArray1::from_vec(py, feasible))?;
-        let ranks: Vec<i64> = result
+        let ranks: Vec<f64> = result
             .rankings
             .iter()
-            .map(|r| r.rank.map_or(0, |v| v as i64))
+            .map(|r| r.rank.map_or(nan, |v| v as f64))
             .collect();
         dict.set_item("rank", PyArray1::from_vec(py, ranks))?;
         let scores: Vec<f64> = result
@@ -197,10 +198,10 @@ impl PySelection {
             }
         }
         dict.set_item("ranked_index", array(py, ranked, &[k, samples])?)?;
-        let failure_sample: Vec<i64> = result
+        let failure_sample: Vec<f64> = result
             .scores
             .iter()
-            .map(|s| s.failure.as_ref().map_or(-1, |f| f.sample as i64))
+            .map(|s| s.failure.as_ref().map_or(nan, |f| f.sample as f64))
             .collect();
         dict.set_item("failure_sample", PyArray1::from_vec(py, failure_sample))?;
         Ok(dict)

@@ -45,6 +45,21 @@ impl PyTask {
     }
 }
 
+/// The task defaults that `Task.from_arrays` spells out in its signature (literals, so that
+/// Python shows them), keyed by keyword: `graspath.DEFAULTS`, which a test compares with the
+/// signature. The values come from the library's `defaults`, defined once.
+pub fn defaults_dict(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("length_scale", defaults::LENGTH_SCALE)?;
+    dict.set_item("pairs", defaults::PAIRS)?;
+    dict.set_item("min_separation", defaults::MIN_SEPARATION)?;
+    dict.set_item("max_joint_step", defaults::MAX_JOINT_STEP)?;
+    dict.set_item("branches", defaults::IK_BRANCHES)?;
+    dict.set_item("ik_tolerance", defaults::IK_TOLERANCE)?;
+    dict.set_item("ik_iterations", defaults::GRASP_IK_ITERATIONS)?;
+    Ok(dict)
+}
+
 /// Parses `likelihood`: `"product"`, `"ignore"` or a float weight (`"weighted"` rule).
 fn likelihood_rule(value: &Bound<'_, PyAny>) -> PyResult<LikelihoodRule> {
     if let Ok(text) = value.extract::<String>() {
@@ -161,17 +176,17 @@ impl PyTask {
         labels = None,
         contacts = None,
         mode = "twist",
-        length_scale = defaults::LENGTH_SCALE,
+        length_scale = 1.0,
         norm = "l2",
         mu0 = None,
         likelihood = None,
-        pairs = defaults::PAIRS,
-        min_separation = defaults::MIN_SEPARATION,
-        max_joint_step = defaults::MAX_JOINT_STEP,
-        branches = defaults::IK_BRANCHES,
+        pairs = 10,
+        min_separation = 0.08,
+        max_joint_step = 0.5,
+        branches = 4,
         ik_random_seed = None,
-        ik_tolerance = defaults::IK_TOLERANCE,
-        ik_iterations = defaults::GRASP_IK_ITERATIONS,
+        ik_tolerance = 1e-5,
+        ik_iterations = 200,
         compare_branches = false,
         redundancy = None,
         measure = "task_relevant",

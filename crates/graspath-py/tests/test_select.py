@@ -81,7 +81,9 @@ def test_arrays_agree_with_records(left_selection):
     assert arrays["id"].dtype == np.int64 and arrays["feasible"].dtype == np.bool_
     for i, r in enumerate(records):
         assert arrays["id"][i] == r["id"] and arrays["feasible"][i] == r["feasible"]
-        assert arrays["rank"][i] == (r["rank"] or 0)
+        assert (math.isnan(arrays["rank"][i]) if r["rank"] is None else arrays["rank"][i] == r["rank"])
+        failure = r["failure"]
+        assert (math.isnan(arrays["failure_sample"][i]) if failure is None else arrays["failure_sample"][i] == failure["sample"])
         for key in ("mu_l2", "mu_l1", "score", "yoshikawa_at_grasp"):
             value = r[key]
             assert (math.isnan(arrays[key][i]) if value is None else arrays[key][i] == value)

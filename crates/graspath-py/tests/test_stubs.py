@@ -18,3 +18,24 @@ def test_stubs_match_the_module():
     functions = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
     assert functions == {"select"}
     assert (STUB.parent / "py.typed").is_file()
+
+
+def test_signatures_show_their_defaults():
+    """Every default is a value Python can show (no ``...``), and the task defaults in
+    ``Task.from_arrays``'s signature are the library's (``graspath.DEFAULTS``)."""
+    import inspect
+
+    callables = [graspath.select]
+    for cls in (graspath.Robot, graspath.Task, graspath.Selection):
+        callables += [getattr(cls, n) for n in dir(cls) if not n.startswith("_") and callable(getattr(cls, n))]
+    for f in callables:
+        try:
+            signature = inspect.signature(f)
+        except ValueError:
+            continue
+        for p in signature.parameters.values():
+            assert p.default is not Ellipsis, f"{f.__qualname__}({p.name}=...)"
+    parameters = inspect.signature(graspath.Task.from_arrays).parameters
+    assert graspath.DEFAULTS, "no defaults exposed"
+    for name, value in graspath.DEFAULTS.items():
+        assert parameters[name].default == value, name

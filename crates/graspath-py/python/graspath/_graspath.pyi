@@ -12,6 +12,8 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+DEFAULTS: Dict[str, float]
+"""The library's task defaults that ``Task.from_arrays`` spells out in its signature."""
 
 ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.float64]
@@ -267,7 +269,9 @@ class Selection:
         ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
         ``inverse_condition_squared_at_grasp``, ``clearance``,
         ``yoshikawa_penalized_at_grasp``, ``limit_distance_min``, ``hugs_limit``, ``contact``
-        ``(k, 3)``, ``m_t`` ``(k, n)``, ``ranked_index`` ``(k, n)``, ``failure_sample``."""
+        ``(k, 3)``, ``m_t`` ``(k, n)``, ``ranked_index`` ``(k, n)``, ``failure_sample``.
+        Everything absent is NaN, never a sentinel: ``rank`` (float64, 1 for the best) is NaN
+        when not ranked, ``failure_sample`` (float64) NaN when feasible."""
     def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
     def write(self, out_dir: StrPath) -> List[Path]:

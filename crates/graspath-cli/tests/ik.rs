@@ -267,3 +267,43 @@ fn bad_input_gives_a_clear_error() {
     assert!(fails(&args, r#"{"pose":[]}"#).contains("unknown field"));
     assert!(fails(&args, "").contains("not a valid trajectory document"));
 }
+
+/// The README's example runs on the file the repository ships: the first pose is reached (its
+/// solution checked by forward kinematics), the second, 3 m further, is a result with no `q`.
+#[test]
+fn the_readme_example_runs_on_the_shipped_poses() {
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/poses.jsonl");
+    let text = std::fs::read_to_string(file).expect("examples/poses.jsonl is shipped");
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
+    assert!(
+        readme.contains("--input examples/poses.jsonl"),
+        "the README names the file"
+    );
+    let out = graspath(
+        &["ik", "--robot", "baxter", "--arm", "left", "--input", file],
+        "",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), text.lines().count());
+    let q: Vec<f64> = serde_json::from_value(lines[0]["q"].clone()).expect("reached");
+    let reached = pose_at(&q);
+    let wanted: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    for r in 0..3 {
+        let (a, b) = (
+            reached[r][3].as_f64().unwrap(),
+            wanted["pose"][r][3].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() < 1e-5, "row {r}: {a} vs {b}");
+    }
+    assert!(lines[1]["q"].is_null());
+}

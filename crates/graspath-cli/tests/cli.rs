@@ -360,6 +360,29 @@ fn every_example_task_loads_and_the_demo_runs() {
     let findings: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("findings.json")).unwrap()).unwrap();
     assert_eq!(findings.as_array().unwrap().len(), 6);
+    // Both readings of every task: norms over every sample as the file says, and over the
+    // paper's waypoints (initial pose and each step's end: steps + 1 samples).
+    for (finding, name) in findings.as_array().unwrap().iter().zip([
+        "pick_and_place_left",
+        "pick_and_place_both",
+        "pick_rotate_place_both",
+        "t_shape_rotate",
+        "t_shape_move",
+        "t_shape_move_rotate",
+    ]) {
+        let file = graspath::task::TaskFile::load(&examples.join(format!("{name}.yaml"))).unwrap();
+        let steps = file.trajectory.steps.len();
+        let waypoints = finding["ours_at_waypoints"]["sampling"].as_str().unwrap();
+        assert!(
+            waypoints.starts_with(&format!("waypoints: {} samples", steps + 1)),
+            "{name}: {waypoints}"
+        );
+        assert!(finding["ours"]["sampling"]
+            .as_str()
+            .unwrap()
+            .starts_with("dense"));
+        assert!(finding["ours_at_waypoints"]["arms"].as_array().is_some());
+    }
     assert!(out.join("pick_and_place_both/pairs.json").is_file());
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("paper:") && stdout.contains("ours:"));

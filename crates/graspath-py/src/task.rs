@@ -353,6 +353,8 @@ impl PyTask {
                     ))
                 })?,
                 joint_limit_penalty,
+                // An array task is one step: its norms are over every sample.
+                ..RankedIndex::default()
             })
             .build()
             .map_err(error)?;

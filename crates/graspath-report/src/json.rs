@@ -7,7 +7,7 @@ use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
 use graspath::select::{values_tied, ArmPair, Selection};
 use graspath::task::JacobianRows;
-use graspath::task::{Norm, Task};
+use graspath::task::{Norm, NormSamples, Task};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -181,6 +181,9 @@ fn index_json(task: &Task) -> Value {
     if !task.ranked.is_task_relevant() {
         index["measure"] = json!(task.ranked.measure.as_str());
         index["joint_limit_penalty"] = json!(task.ranked.joint_limit_penalty);
+    }
+    if task.ranked.over != NormSamples::All {
+        index["over"] = json!(task.ranked.over.as_str());
     }
     index
 }

@@ -231,3 +231,35 @@ fn a_bad_measure_or_penalty_is_named() {
         assert!(error.contains(field), "{index}: {error}");
     }
 }
+
+#[test]
+fn norms_over_the_waypoints_count_the_initial_pose_and_each_steps_end() {
+    let dense = task("first", "{}");
+    let waypoints = task("first", "{ over: waypoints }");
+    let (a, b) = (select(&dense, &|| {}), select(&waypoints, &|| {}));
+    // The waypoints, from the path's own step indices: the first sample and the last of
+    // each step.
+    let steps: Vec<usize> = dense.path.samples.iter().map(|s| s.step).collect();
+    let marked: Vec<usize> = (0..steps.len())
+        .filter(|&i| i == 0 || steps.get(i + 1).is_none_or(|next| *next != steps[i]))
+        .collect();
+    assert_eq!(marked.len(), dense.path.step_labels.len() + 1);
+    let mut checked = 0;
+    for (x, y) in a.arms[0].scores.iter().zip(&b.arms[0].scores) {
+        // The same motion and feasibility: only the norms change.
+        assert_eq!(x.feasible(), y.feasible());
+        assert_eq!(x.joint_trajectory, y.joint_trajectory);
+        assert_eq!(x.m_t, y.m_t);
+        let Some(norms) = y.norms else { continue };
+        let values: Vec<f64> = marked.iter().filter_map(|&i| y.m_t[i]).collect();
+        let l2 = values.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!((norms.l2 - l2).abs() <= 1e-12 * l2, "{} vs {l2}", norms.l2);
+        assert_eq!(norms.evaluated, values.len());
+        checked += 1;
+    }
+    assert!(checked > 10);
+    // The ranking differs from the dense one somewhere (otherwise the option means nothing
+    // on the paper's task).
+    let best = |s: &graspath::select::Selection| s.arms[0].best();
+    assert_ne!(best(&a), best(&b));
+}

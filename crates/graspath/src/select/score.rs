@@ -18,8 +18,8 @@ use crate::robot::{
     optimize_self_motion, solve_trajectory, Chain, KeptRows, SelfMotionOptions, TrajectoryIkOptions,
 };
 use crate::task::{
-    defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
-    Stroke, WholeMotionPlan,
+    defaults, ArmSetup, Collisions, Gripper, JacobianRows, NormSamples, ObjectPath, RankedIndex,
+    Redundancy, Stroke, WholeMotionPlan,
 };
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 use rayon::prelude::*;
@@ -206,6 +206,34 @@ impl IndexSeries {
     fn ranked(&self) -> &[Option<f64>] {
         self.ranked.as_deref().unwrap_or(&self.m_t)
     }
+
+    /// The norms of the ranked values at the path samples marked in `counted` (`times`: the
+    /// samples' times, s).
+    fn norms(&self, times: &[f64], counted: &[bool]) -> PathNorms {
+        let samples: Vec<SampleIndex> = self
+            .ranked()
+            .iter()
+            .zip(times)
+            .zip(counted)
+            .filter(|(_, counted)| **counted)
+            .map(|((&value, &time), _)| SampleIndex { time, value })
+            .collect();
+        PathNorms::of(&samples)
+    }
+}
+
+/// Which path samples the norms are taken over ([`NormSamples`]): all of them, or the
+/// initial pose and the last sample of each step.
+fn counted_samples(path: &ObjectPath, over: NormSamples) -> Vec<bool> {
+    let samples = &path.samples;
+    (0..samples.len())
+        .map(|i| match over {
+            NormSamples::All => true,
+            NormSamples::Waypoints => {
+                i == 0 || i + 1 == samples.len() || samples[i + 1].step != samples[i].step
+            }
+        })
+        .collect()
 }
 
 /// `M_T` and the ranked index at every sample along one joint path.
@@ -498,6 +526,7 @@ fn score_one(
     let mut last_failure: Option<Failure> = None;
     // The first branch's whole motion and `μ_l2`, for the self-motion search.
     let mut first_branch: Option<(Vec<Vec<f64>>, f64)> = None;
+    let counted = counted_samples(path, ranked.over);
     // The grasp's own configuration (see `CandidateScore::yoshikawa_at_grasp`), when the
     // motion starts at the grasp.
     let mut grasp_configuration: Option<Vec<f64>> = None;
@@ -523,13 +552,7 @@ fn score_one(
                 (mode, ranked),
                 &mut jacobian,
             );
-            let samples: Vec<SampleIndex> = series
-                .ranked()
-                .iter()
-                .zip(times)
-                .map(|(&value, &time)| SampleIndex { time, value })
-                .collect();
-            let norms = PathNorms::of(&samples);
+            let norms = series.norms(times, &counted);
             if redundancy == Redundancy::Optimize && first_branch.is_none() && attempt == 0 {
                 first_branch = Some((branch.q.clone(), norms.l2));
             }
@@ -584,6 +607,7 @@ fn score_one(
             candidate,
             motion,
             times,
+            counted: &counted,
             targets: &targets,
             path: before..before + n,
             checker: checker.as_ref(),
@@ -662,6 +686,8 @@ struct SelfMotionSearch<'a> {
     candidate: &'a Candidate,
     motion: &'a ObjectMotion,
     times: &'a [f64],
+    /// Which path samples the norms count.
+    counted: &'a [bool],
     /// The whole motion's tool poses, chain base frame.
     targets: &'a [Isometry3<f64>],
     /// The object's path within the whole motion.
@@ -727,13 +753,7 @@ impl SelfMotionSearch<'_> {
             (mode, ranked),
             &mut jacobian,
         );
-        let samples: Vec<SampleIndex> = series
-            .ranked()
-            .iter()
-            .zip(self.times)
-            .map(|(&value, &time)| SampleIndex { time, value })
-            .collect();
-        let norms = PathNorms::of(&samples);
+        let norms = series.norms(self.times, self.counted);
         let scores = SelfMotionScores {
             first_branch_l2: first_branch.map_or(chosen.1.l2, |(_, l2)| *l2),
             l2_range: (found.worst_total.sqrt(), found.total.sqrt()),

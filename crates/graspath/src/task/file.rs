@@ -453,6 +453,10 @@ pub struct IndexFile {
     /// Multiply the ranked index by Tsai's joint-limit penalty: `true` (gain 50) or the gain.
     #[serde(default)]
     pub joint_limit_penalty: Option<PenaltyFile>,
+    /// Which samples the norms are taken over: `samples` (default) or `waypoints` (the
+    /// initial pose and each step's end, the paper's reading).
+    #[serde(default)]
+    pub over: Option<String>,
 }
 
 /// `index.joint_limit_penalty`: on with the default gain, off, or a gain.

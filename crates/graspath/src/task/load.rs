@@ -10,7 +10,8 @@ use super::file::{
 };
 use super::path::{Sampling, Step, TimedStep};
 use super::settings::{
-    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy,
+    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
+    Redundancy,
 };
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
@@ -108,12 +109,22 @@ pub fn builder_from_file(
         Some(PenaltyFile::On(true)) => Some(defaults::JOINT_LIMIT_PENALTY_GAIN),
         Some(PenaltyFile::Gain(k)) => Some(k),
     };
+    let over = match file.index.over.as_deref() {
+        None => NormSamples::default(),
+        Some(name) => NormSamples::from_name(name).ok_or_else(|| {
+            err(
+                "index.over",
+                format!("'{name}' is not one of samples, waypoints"),
+            )
+        })?,
+    };
     let s = &file.selection;
     builder = builder
         .rows(rows)
         .ranked(RankedIndex {
             measure,
             joint_limit_penalty,
+            over,
         })
         .norm(match s.norm.unwrap_or_default() {
             NormFile::L2 => Norm::L2,

@@ -33,6 +33,6 @@ pub use scene::{
     DEFAULT_FINGER, MIN_RESOLUTION,
 };
 pub use settings::{
-    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy,
-    SelectionOptions,
+    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
+    Redundancy, SelectionOptions,
 };

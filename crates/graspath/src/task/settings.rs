@@ -69,8 +69,39 @@ impl IndexMeasure {
     }
 }
 
+/// Which path samples the norms are taken over (`index.over`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NormSamples {
+    /// Every sample of the path.
+    #[default]
+    All,
+    /// The paper's reading of a task (eq. 15 over its waypoints): the initial pose and the
+    /// last sample of each step (initial / pick / move / place for a three-step task). The path
+    /// is still sampled densely for the IK, the continuity and the collision checks; `M_T` at a
+    /// waypoint is measured along the motion leaving it (the last one: arriving at it).
+    Waypoints,
+}
+
+impl NormSamples {
+    /// The task-file spelling: `samples`, `waypoints`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            NormSamples::All => "samples",
+            NormSamples::Waypoints => "waypoints",
+        }
+    }
+
+    /// The variant spelled `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::All, Self::Waypoints]
+            .into_iter()
+            .find(|m| m.as_str() == name)
+    }
+}
+
 /// The per-sample index that is ranked: the measure, optionally multiplied by a joint-limit
-/// penalty (`index: { measure, joint_limit_penalty }`).
+/// penalty, and the samples its norms are taken over (`index: { measure,
+/// joint_limit_penalty, over }`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RankedIndex {
     /// What is measured at each sample.
@@ -79,6 +110,8 @@ pub struct RankedIndex {
     /// `P(q) = 1 − exp(−k Π_i (q_i − l_i)(u_i − q_i) / (u_i − l_i)²)` (the product over the
     /// joints with limits; see [`crate::manipulability::joint_limit_penalty`]); `k > 0`.
     pub joint_limit_penalty: Option<f64>,
+    /// Which samples the norms are taken over.
+    pub over: NormSamples,
 }
 
 impl RankedIndex {

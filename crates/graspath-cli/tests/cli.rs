@@ -374,7 +374,7 @@ fn every_example_task_loads_and_the_demo_runs() {
         let steps = file.trajectory.steps.len();
         let waypoints = finding["ours_at_waypoints"]["sampling"].as_str().unwrap();
         assert!(
-            waypoints.starts_with(&format!("waypoints: {} samples", steps + 1)),
+            waypoints.starts_with(&format!("waypoints: {} of ", steps + 1)),
             "{name}: {waypoints}"
         );
         assert!(finding["ours"]["sampling"]
@@ -386,4 +386,134 @@ fn every_example_task_loads_and_the_demo_runs() {
     assert!(out.join("pick_and_place_both/pairs.json").is_file());
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("paper:") && stdout.contains("ours:"));
+    readme_table_matches(&findings);
+}
+
+/// What one row of the README's table of findings quotes, read from `findings.json`.
+#[derive(Clone, Copy)]
+enum Quote {
+    /// The best candidate of the (first) arm.
+    Best,
+    /// The candidates Yoshikawa's index and the inverse condition number pick at the grasp.
+    Classical,
+    /// Yoshikawa's pick alone.
+    Yoshikawa,
+    /// The best pair's two candidates.
+    Pair,
+    /// `F of C` feasible of the last arm.
+    Feasible,
+    /// The μ_l2 spread of the first arm.
+    Spread,
+}
+
+/// The values (`code` spans) that a README cell must quote for `quotes` of one reading.
+fn quoted(reading: &serde_json::Value, quotes: &[Quote]) -> std::collections::BTreeSet<String> {
+    let arms = reading["arms"].as_array().unwrap();
+    let text = |v: &serde_json::Value| v.as_str().unwrap().to_string();
+    let mut out = std::collections::BTreeSet::new();
+    for quote in quotes {
+        match quote {
+            Quote::Best => {
+                out.insert(text(&arms[0]["best_task_relevant"]));
+            }
+            Quote::Classical => {
+                out.insert(text(&arms[0]["best_yoshikawa_at_grasp"]));
+                out.insert(text(&arms[0]["best_inverse_condition_at_grasp"]));
+            }
+            Quote::Yoshikawa => {
+                out.insert(text(&arms[0]["best_yoshikawa_at_grasp"]));
+            }
+            Quote::Pair => {
+                let pair = &reading["best_pair"];
+                out.insert(text(&pair["left"]));
+                out.insert(text(&pair["right"]));
+            }
+            Quote::Feasible => {
+                for arm in arms.iter().skip(arms.len() - 1) {
+                    out.insert(format!("{} of {}", arm["feasible"], arm["candidates"]));
+                }
+            }
+            Quote::Spread => {
+                out.insert(text(&arms[0]["mu_l2_spread"]));
+            }
+        }
+    }
+    out
+}
+
+/// The README's table of the paper's experiments quotes what the demo finds, cell by cell.
+fn readme_table_matches(findings: &serde_json::Value) {
+    use Quote::*;
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    // (the row's figure, the experiment, what the dense column quotes, what the waypoint
+    // column quotes)
+    let rows: [(&str, &str, &[Quote], &[Quote]); 7] = [
+        (
+            "(Fig. 5, 6)",
+            "pick_and_place_left",
+            &[Best, Feasible, Spread],
+            &[Best, Spread],
+        ),
+        ("(Fig. 8)", "pick_and_place_left", &[Classical], &[]),
+        (
+            "(Fig. 7)",
+            "pick_and_place_both",
+            &[Pair, Feasible],
+            &[Pair],
+        ),
+        (
+            "(Fig. 9)",
+            "pick_rotate_place_both",
+            &[Pair, Feasible],
+            &[Pair],
+        ),
+        (
+            "(Fig. 10 c, d)",
+            "t_shape_rotate",
+            &[Best, Yoshikawa, Spread],
+            &[Best, Spread],
+        ),
+        (
+            "(Fig. 10 e, f)",
+            "t_shape_move",
+            &[Best, Yoshikawa, Spread],
+            &[Best, Spread],
+        ),
+        (
+            "(Fig. 10 g, h)",
+            "t_shape_move_rotate",
+            &[Best, Yoshikawa, Spread],
+            &[Best, Spread],
+        ),
+    ];
+    let code_spans = |cell: &str| -> std::collections::BTreeSet<String> {
+        cell.split('`')
+            .skip(1)
+            .step_by(2)
+            .map(str::to_string)
+            .collect()
+    };
+    for (figure, experiment, dense, waypoints) in rows {
+        let line = readme
+            .lines()
+            .find(|l| l.starts_with("| ") && l.contains(figure))
+            .unwrap_or_else(|| panic!("no README row for {figure}"));
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        let finding = findings
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["experiment"] == experiment)
+            .unwrap();
+        assert_eq!(
+            code_spans(cells[3]),
+            quoted(&finding["ours"], dense),
+            "README row {figure}, every sample"
+        );
+        assert_eq!(
+            code_spans(cells[4]),
+            quoted(&finding["ours_at_waypoints"], waypoints),
+            "README row {figure}, waypoints"
+        );
+    }
 }

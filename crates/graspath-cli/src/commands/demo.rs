@@ -99,9 +99,21 @@ fn our_finding(selection: &Selection) -> Value {
             let by_inverse_condition = arm
                 .best_by(|s| s.inverse_condition_at_grasp)
                 .map(|i| label_of(selection, k, i));
+            // The effect size: how far apart the feasible candidates' μ_l2 are, relative to
+            // the largest (one decimal, in per cent, as the README quotes it).
+            let l2: Vec<f64> = arm
+                .scores
+                .iter()
+                .filter_map(|s| s.norms.map(|n| n.l2))
+                .collect();
+            let largest = l2.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let smallest = l2.iter().copied().fold(f64::INFINITY, f64::min);
+            let spread = (largest > 0.0 && largest.is_finite())
+                .then(|| format!("{:.1} %", 100.0 * (largest - smallest) / largest));
             json!({
                 "arm": arm.arm,
                 "feasible": arm.feasible_count(),
+                "mu_l2_spread": spread,
                 "candidates": arm.scores.len(),
                 "best_task_relevant": best,
                 "best_yoshikawa_at_grasp": by_yoshikawa,

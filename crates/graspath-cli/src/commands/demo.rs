@@ -14,7 +14,7 @@ use crate::output::{print_summary_table, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, write_files, Existing};
-use graspath::placement::FamilyParameter;
+use graspath::placement::{placement_map, FamilyParameter, GridAxis, PlacementGrid};
 use graspath::select::{select, Selection};
 use graspath::task::Task;
 use graspath::task::TaskFile;
@@ -162,6 +162,50 @@ fn at_waypoints(file: &TaskFile, source: &str) -> Result<Value> {
     Ok(ours)
 }
 
+/// Where the left arm's Pick-and-Place finding (the best contact on the cuboid's left part)
+/// holds: the object's start swept over a 5 × 5 grid in front of the robot, the best contact
+/// `y` (object frame, m) at each placement (world x, y of the object, m; the task's own
+/// placement, x = 0.75, y = 0, is on the grid), and the placements where it is on the left quarter
+/// of the edge (`y ≥ +0.09`: the finding holds), on the right quarter (`y ≤ −0.09`: it
+/// reverses), or between.
+fn left_finding_map(file: &TaskFile, source: &str) -> Result<Value> {
+    const QUARTER: f64 = 0.09;
+    let builder = graspath::task::builder_from_file(file, source, Path::new("."))?;
+    let task = builder.clone().build()?;
+    let parameter = FamilyParameter::from_task_file(file, &task.candidates);
+    let grid = PlacementGrid {
+        x: GridAxis::new(0.55, 0.95, 5, "x")?,
+        y: GridAxis::new(-0.40, 0.40, 5, "y")?,
+        z: None,
+        yaw: None,
+    };
+    let map = placement_map(&builder, &grid, parameter, &|| {})?;
+    // Millimetres: the grid's values without the rounding of their arithmetic.
+    let mm = |v: f64| (v * 1000.0).round() / 1000.0;
+    let mut holds = Vec::new();
+    let mut reverses = Vec::new();
+    let mut best_contact = Vec::new();
+    for record in &map.records {
+        let at = json!([mm(record.x), mm(record.y)]);
+        let best = record.arms[0].best.as_ref().and_then(|b| b.parameter);
+        match best {
+            Some(y) if y >= QUARTER => holds.push(at.clone()),
+            Some(y) if y <= -QUARTER => reverses.push(at.clone()),
+            _ => {}
+        }
+        best_contact.push(json!({ "at": at, "best_contact_y": best.map(mm) }));
+    }
+    Ok(json!({
+        "grid": {
+            "x": grid.x.values().into_iter().map(mm).collect::<Vec<_>>(),
+            "y": grid.y.values().into_iter().map(mm).collect::<Vec<_>>(),
+        },
+        "holds_at": holds,
+        "reverses_at": reverses,
+        "placements": best_contact,
+    }))
+}
+
 /// Runs the subcommand.
 pub fn run(args: &DemoArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
@@ -204,13 +248,18 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             crate::say!("  ours:  {}", summarise(&ours));
             crate::say!("  ours at the four waypoints: {}\n", summarise(&waypoints));
         }
-        findings.push(json!({
+        let mut finding = json!({
             "experiment": experiment.name,
             "figure": experiment.figure,
             "paper": experiment.paper_finding,
             "ours": ours,
             "ours_at_waypoints": waypoints,
-        }));
+        });
+        if experiment.name == "pick_and_place_left" {
+            finding["where_it_holds"] = left_finding_map(&file, &source)
+                .with_context(|| format!("experiment {}: placement map", experiment.name))?;
+        }
+        findings.push(finding);
     }
     let findings = Value::Array(findings);
     let mut bytes = serde_json::to_vec_pretty(&findings)?;

@@ -25,6 +25,7 @@
 
 mod convert;
 mod memory;
+mod placement;
 mod robot;
 mod selection;
 mod task;
@@ -49,6 +50,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<task::PyTask>()?;
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
+    module.add_function(wrap_pyfunction!(placement::placement_map, module)?)?;
     module.add("DEFAULTS", task::defaults_dict(py)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

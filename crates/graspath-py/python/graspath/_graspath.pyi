@@ -277,5 +277,17 @@ class Selection:
     def write(self, out_dir: StrPath) -> List[Path]:
         """Writes the CLI's JSON files into ``out_dir``."""
 
+def placement_map(
+    task: StrPath,
+    x: Tuple[float, float, int],
+    y: Tuple[float, float, int],
+    *,
+    z: Optional[Tuple[float, float, int]] = None,
+    yaw_deg: Optional[Tuple[float, float, int]] = None,
+) -> Dict[str, Any]:
+    """The task file run with the object started at every placement of a grid (world x, y,
+    optionally z in m and yaw in degrees, each ``(start, end, count)``): the document
+    ``graspath map`` writes as ``map.json``."""
+
 def select(task: Task) -> Selection:
     """Scores and ranks every candidate of ``task`` (single arm, or pairs with two arms)."""

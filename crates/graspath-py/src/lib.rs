@@ -25,6 +25,7 @@
 
 mod convert;
 mod memory;
+mod model;
 mod placement;
 mod robot;
 mod selection;
@@ -51,6 +52,8 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
     module.add_function(wrap_pyfunction!(placement::placement_map, module)?)?;
+    module.add_function(wrap_pyfunction!(model::train, module)?)?;
+    module.add_function(wrap_pyfunction!(model::generate, module)?)?;
     module.add("DEFAULTS", task::defaults_dict(py)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -19,6 +19,6 @@ Grasp generation from point clouds (the learned grasp model) is not offered by t
 see the extension point described in ``crates/graspath-py/README.md``.
 """
 
-from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, placement_map, select
+from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, generate, placement_map, select, train
 
-__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "placement_map", "select", "__version__"]
+__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "generate", "placement_map", "select", "train", "__version__"]

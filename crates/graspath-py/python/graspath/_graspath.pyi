@@ -289,5 +289,25 @@ def placement_map(
     optionally z in m and yaw in degrees, each ``(start, end, count)``): the document
     ``graspath map`` writes as ``map.json``."""
 
+def train(demonstration: StrPath, out: StrPath, *, force: bool = False) -> Dict[str, Any]:
+    """Trains a grasp model from a demonstration file and writes it to ``out``: ``label``,
+    ``hand``, ``contact_links`` (link -> contact points)."""
+
+def generate(
+    model: StrPath,
+    cloud: StrPath,
+    *,
+    initial_grasps: Optional[int] = None,
+    steps: Optional[int] = None,
+    query_kernels: Optional[int] = None,
+    seed: int = 0,
+    max_candidates: Optional[int] = None,
+    out: Optional[StrPath] = None,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """Grasp candidates on a cloud from a trained model, best first: ``object_from_wrist``
+    ``(k, 4, 4)``, ``log_likelihood`` ``(k,)``, ``label``; ``out`` also writes the candidates
+    file ``graspath generate`` writes. ``None`` options take the model spec's defaults."""
+
 def select(task: Task) -> Selection:
     """Scores and ranks every candidate of ``task`` (single arm, or pairs with two arms)."""

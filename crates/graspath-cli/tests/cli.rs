@@ -390,39 +390,47 @@ fn every_example_task_loads_and_the_demo_runs() {
     readme_placements_match(&findings);
 }
 
-/// The README's lists of placements where the left arm's finding holds and reverses are the
+/// The README's lists of placements where each cuboid finding holds and reverses are the
 /// demo's `where_it_holds`.
 fn readme_placements_match(findings: &serde_json::Value) {
     let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
-    let map = &findings[0]["where_it_holds"];
-    assert_eq!(findings[0]["experiment"], "pick_and_place_left");
-    for (prefix, key) in [
-        ("* the finding holds at:", "holds_at"),
-        ("* it reverses at:", "reverses_at"),
+    for (figure, experiment) in [
+        ("Fig. 5, 6", "pick_and_place_left"),
+        ("Fig. 7", "pick_and_place_both"),
+        ("Fig. 9", "pick_rotate_place_both"),
     ] {
-        let line = readme
-            .lines()
-            .find(|l| l.starts_with(prefix))
-            .unwrap_or_else(|| panic!("no README line {prefix}"));
-        let quoted: Vec<String> = line
-            .split('`')
-            .skip(1)
-            .step_by(2)
-            .map(str::to_string)
-            .collect();
-        let expected: Vec<String> = map[key]
+        let map = &findings
             .as_array()
             .unwrap()
             .iter()
-            .map(|p| {
-                format!(
-                    "({:.2}, {:.2})",
-                    p[0].as_f64().unwrap(),
-                    p[1].as_f64().unwrap()
-                )
-            })
-            .collect();
-        assert_eq!(quoted, expected, "README: {prefix}");
+            .find(|f| f["experiment"] == experiment)
+            .unwrap()["where_it_holds"];
+        for (marker, key) in [("Holds at:", "holds_at"), ("reverses at:", "reverses_at")] {
+            let line = readme
+                .lines()
+                .find(|l| l.contains(figure) && l.contains(marker))
+                .unwrap_or_else(|| panic!("no README line for {figure} {marker}"));
+            let after = &line[line.find(marker).unwrap()..];
+            let quoted: Vec<String> = after
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .map(str::to_string)
+                .collect();
+            let expected: Vec<String> = map[key]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| {
+                    format!(
+                        "({:.2}, {:.2})",
+                        p[0].as_f64().unwrap(),
+                        p[1].as_f64().unwrap()
+                    )
+                })
+                .collect();
+            assert_eq!(quoted, expected, "README: {figure} {marker}");
+        }
     }
 }
 

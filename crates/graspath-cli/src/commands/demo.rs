@@ -162,17 +162,55 @@ fn at_waypoints(file: &TaskFile, source: &str) -> Result<Value> {
     Ok(ours)
 }
 
-/// Where the left arm's Pick-and-Place finding (the best contact on the cuboid's left part)
-/// holds: the object's start swept over a 5 × 5 grid in front of the robot, the best contact
-/// `y` (object frame, m) at each placement (world x, y of the object, m; the task's own
-/// placement, x = 0.75, y = 0, is on the grid), and the placements where it is on the left quarter
-/// of the edge (`y ≥ +0.09`: the finding holds), on the right quarter (`y ≤ −0.09`: it
-/// reverses), or between.
-fn left_finding_map(file: &TaskFile, source: &str) -> Result<Value> {
-    const QUARTER: f64 = 0.09;
+/// A quarter of the cuboid's edge (m): a contact this far from the middle is on the left
+/// (`y ≥ +QUARTER`) or the right (`y ≤ −QUARTER`) part.
+const QUARTER: f64 = 0.09;
+
+/// Whether a paper finding holds at a placement, from the contacts `y` (object frame, m) of
+/// the best candidate (one arm) or the best pair (left, right): `Some(true)` holds,
+/// `Some(false)` reverses, `None` neither (or nothing selected).
+type Judge = fn(&[f64]) -> Option<bool>;
+
+/// The judges of the cuboid experiments' findings, by experiment.
+fn judge_of(experiment: &str) -> Option<Judge> {
+    match experiment {
+        // Fig. 5, 6: the left arm's best contact on the left part.
+        "pick_and_place_left" => Some(|y| match y {
+            [y] if *y >= QUARTER => Some(true),
+            [y] if *y <= -QUARTER => Some(false),
+            _ => None,
+        }),
+        // Fig. 7: the left hand on the left part, the right hand on the right half.
+        "pick_and_place_both" => Some(|y| match y {
+            [l, r] if *l >= QUARTER && *r < 0.0 => Some(true),
+            [l, _] if *l <= -QUARTER => Some(false),
+            _ => None,
+        }),
+        // Fig. 9: the left hand on the left half, the right hand on the right half.
+        "pick_rotate_place_both" => Some(|y| match y {
+            [l, r] if *l > 0.0 && *r < 0.0 => Some(true),
+            [l, r] if *l < 0.0 && *r > 0.0 => Some(false),
+            _ => None,
+        }),
+        _ => None,
+    }
+}
+
+/// Where an experiment's finding holds: the object's start swept over a 5 × 5 grid in front of
+/// the robot (world x, y, m; the task's own placement, x = 0.75, y = 0, is on the grid), the
+/// best contacts at each placement (the best candidate with one arm, the best pair with two),
+/// and the placements where `judge` says the finding holds or reverses.
+fn where_it_holds(file: &TaskFile, source: &str, judge: Judge) -> Result<Value> {
     let builder = graspath::task::builder_from_file(file, source, Path::new("."))?;
     let task = builder.clone().build()?;
     let parameter = FamilyParameter::from_task_file(file, &task.candidates);
+    let contact_of: Vec<(usize, f64)> = task
+        .candidates
+        .iter()
+        .zip(parameter.iter().flat_map(|p| p.values.iter()))
+        .map(|(c, v)| (c.id, *v))
+        .collect();
+    let contact = |id: usize| contact_of.iter().find(|(c, _)| *c == id).map(|(_, v)| *v);
     let grid = PlacementGrid {
         x: GridAxis::new(0.55, 0.95, 5, "x")?,
         y: GridAxis::new(-0.40, 0.40, 5, "y")?,
@@ -184,16 +222,28 @@ fn left_finding_map(file: &TaskFile, source: &str) -> Result<Value> {
     let mm = |v: f64| (v * 1000.0).round() / 1000.0;
     let mut holds = Vec::new();
     let mut reverses = Vec::new();
-    let mut best_contact = Vec::new();
+    let mut placements = Vec::new();
     for record in &map.records {
         let at = json!([mm(record.x), mm(record.y)]);
-        let best = record.arms[0].best.as_ref().and_then(|b| b.parameter);
-        match best {
-            Some(y) if y >= QUARTER => holds.push(at.clone()),
-            Some(y) if y <= -QUARTER => reverses.push(at.clone()),
-            _ => {}
+        let contacts: Option<Vec<f64>> = if record.arms.len() == 2 {
+            record
+                .best_pair
+                .as_ref()
+                .and_then(|p| Some(vec![contact(p.first)?, contact(p.second)?]))
+        } else {
+            record.arms[0]
+                .best
+                .as_ref()
+                .and_then(|b| b.parameter)
+                .map(|y| vec![y])
+        };
+        match contacts.as_deref().and_then(judge) {
+            Some(true) => holds.push(at.clone()),
+            Some(false) => reverses.push(at.clone()),
+            None => {}
         }
-        best_contact.push(json!({ "at": at, "best_contact_y": best.map(mm) }));
+        let contacts: Option<Vec<f64>> = contacts.map(|c| c.into_iter().map(mm).collect());
+        placements.push(json!({ "at": at, "best_contacts_y": contacts }));
     }
     Ok(json!({
         "grid": {
@@ -202,7 +252,7 @@ fn left_finding_map(file: &TaskFile, source: &str) -> Result<Value> {
         },
         "holds_at": holds,
         "reverses_at": reverses,
-        "placements": best_contact,
+        "placements": placements,
     }))
 }
 
@@ -255,8 +305,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             "ours": ours,
             "ours_at_waypoints": waypoints,
         });
-        if experiment.name == "pick_and_place_left" {
-            finding["where_it_holds"] = left_finding_map(&file, &source)
+        if let Some(judge) = judge_of(experiment.name) {
+            finding["where_it_holds"] = where_it_holds(&file, &source, judge)
                 .with_context(|| format!("experiment {}: placement map", experiment.name))?;
         }
         findings.push(finding);

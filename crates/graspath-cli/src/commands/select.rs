@@ -168,7 +168,7 @@ fn stream_task(
     let elapsed = started.elapsed();
     lines
         .into_inner()
-        .map_err(|e| e.into_error())
+        .map_err(std::io::IntoInnerError::into_error)
         .with_context(|| cannot("candidates.jsonl"))?;
     let mut ranking = BufWriter::new(folder.create("ranking.jsonl")?);
     write_ranking_jsonl(&mut ranking, &selection)

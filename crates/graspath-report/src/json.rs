@@ -5,12 +5,13 @@
 
 use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
-use graspath::select::{values_tied, ArmPair, Selection};
+use graspath::select::{values_tied, ArmPair, CandidateScore, Ranking, Selection, Streamed};
 use graspath::task::JacobianRows;
 use graspath::task::{Norm, NormSamples, Task};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
+use std::io::Write;
 
 #[derive(Serialize)]
 struct FailureRecord<'a> {
@@ -34,9 +35,14 @@ struct CandidateRecord<'a> {
     feasible: bool,
     failure: Option<FailureRecord<'a>>,
     rejected: Option<&'a str>,
-    rank: Option<usize>,
+    /// `Some(rank)` in `candidates.json`; left out of a streamed record (the rank needs every
+    /// candidate).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rank: Option<Option<usize>>,
     score: Option<f64>,
-    pareto: bool,
+    /// Left out of a streamed record, like `rank`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pareto: Option<bool>,
     mu_l2: Option<f64>,
     mu_linf: Option<f64>,
     mu_linf_infinite: bool,
@@ -55,7 +61,8 @@ struct CandidateRecord<'a> {
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     limit_distance: Vec<Option<f64>>,
     hugs_limit: Option<bool>,
-    joint_trajectory: &'a [Vec<f64>],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    joint_trajectory: Option<&'a [Vec<f64>]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     clearance: Option<f64>,
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
@@ -79,67 +86,166 @@ fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
+/// Which candidates' joint trajectories (`joint_trajectory`, `approach_trajectory`,
+/// `retreat_trajectory`; rad or m per joint and sample) a candidate record carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Trajectories {
+    /// None: the three fields are left out of every record.
+    None,
+    /// Only feasible candidates' (the fields are left out of an infeasible candidate's record).
+    Feasible,
+    /// Every candidate's (an infeasible candidate has no motion: `joint_trajectory: []`, and
+    /// the approach and retreat are left out). `candidates.json` has always been written so.
+    #[default]
+    All,
+}
+
+impl Trajectories {
+    fn keep(self, feasible: bool) -> bool {
+        match self {
+            Self::None => false,
+            Self::Feasible => feasible,
+            Self::All => true,
+        }
+    }
+}
+
+/// One candidate's record: `ranking` complete (`candidates.json`) or, when `streamed`, without
+/// `rank` and `pareto`, which need every candidate.
+fn candidate_record<'a>(
+    arm: &'a str,
+    score: &'a CandidateScore,
+    ranking: &'a Ranking,
+    trajectories: Trajectories,
+    streamed: bool,
+) -> CandidateRecord<'a> {
+    let c = &score.candidate;
+    let motion = trajectories.keep(score.feasible());
+    let motion_part = |q: &'a [Vec<f64>]| if motion { q } else { &[] };
+    CandidateRecord {
+        id: c.id,
+        arm,
+        label: &c.label,
+        object_from_wrist: pose_to_rows(&c.object_from_wrist),
+        contact: c.contact.map(|p| [p.x, p.y, p.z]),
+        likelihood: c.log_likelihood.exp(),
+        log_likelihood: c.log_likelihood,
+        feasible: score.feasible(),
+        failure: score.failure.as_ref().map(|f| FailureRecord {
+            reason: f.reason.as_str(),
+            phase: f.phase.as_str(),
+            sample: f.sample,
+            detail: &f.detail,
+            bodies: f.bodies.as_ref(),
+        }),
+        rejected: ranking.rejected.as_deref(),
+        rank: (!streamed).then_some(ranking.rank),
+        score: ranking.score.and_then(finite),
+        pareto: (!streamed).then_some(ranking.pareto),
+        mu_l2: score.norms.map(|n| n.l2),
+        mu_linf: score.norms.and_then(|n| finite(n.linf)),
+        mu_linf_infinite: score.norms.is_some_and(|n| n.linf.is_infinite()),
+        mu_l1: score.norms.map(|n| n.l1),
+        skipped_samples: score.norms.map(|n| n.skipped),
+        m_t: &score.m_t,
+        ranked_index: score.ranked_values.as_deref(),
+        yoshikawa_at_grasp: score.yoshikawa_at_grasp,
+        yoshikawa_penalized_at_grasp: score.yoshikawa_penalized_at_grasp,
+        inverse_condition_at_grasp: score.inverse_condition_at_grasp,
+        inverse_condition_squared_at_grasp: score.inverse_condition_squared_at_grasp,
+        feasible_branches: score.feasible_branches,
+        limit_distance_min: finite(
+            score
+                .limit_distance
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
+        ),
+        limit_distance: score.limit_distance.iter().map(|d| finite(*d)).collect(),
+        hugs_limit: score.feasible().then(|| score.hugs_limit()),
+        joint_trajectory: motion.then_some(&score.joint_trajectory[..]),
+        clearance: score.clearance,
+        approach_trajectory: motion_part(&score.approach),
+        retreat_trajectory: motion_part(&score.retreat),
+        self_motion: score.self_motion.map(|s| SelfMotionRecord {
+            mu_l2_first_branch: s.first_branch_l2,
+            mu_l2_min: s.l2_range.0,
+            mu_l2_max: s.l2_range.1,
+        }),
+    }
+}
+
 /// `candidates.json`: one record per candidate and arm, in candidate order, arm by arm.
 pub fn candidates_json(selection: &Selection) -> Value {
+    candidates_json_with(selection, Trajectories::All)
+}
+
+/// `candidates.json` with the joint trajectories of `trajectories` only.
+pub fn candidates_json_with(selection: &Selection, trajectories: Trajectories) -> Value {
     let mut records = Vec::new();
     for arm in &selection.arms {
         for (score, ranking) in arm.scores.iter().zip(&arm.rankings) {
-            let c = &score.candidate;
-            let record = CandidateRecord {
-                id: c.id,
-                arm: &arm.arm,
-                label: &c.label,
-                object_from_wrist: pose_to_rows(&c.object_from_wrist),
-                contact: c.contact.map(|p| [p.x, p.y, p.z]),
-                likelihood: c.log_likelihood.exp(),
-                log_likelihood: c.log_likelihood,
-                feasible: score.feasible(),
-                failure: score.failure.as_ref().map(|f| FailureRecord {
-                    reason: f.reason.as_str(),
-                    phase: f.phase.as_str(),
-                    sample: f.sample,
-                    detail: &f.detail,
-                    bodies: f.bodies.as_ref(),
-                }),
-                rejected: ranking.rejected.as_deref(),
-                rank: ranking.rank,
-                score: ranking.score.and_then(finite),
-                pareto: ranking.pareto,
-                mu_l2: score.norms.map(|n| n.l2),
-                mu_linf: score.norms.and_then(|n| finite(n.linf)),
-                mu_linf_infinite: score.norms.is_some_and(|n| n.linf.is_infinite()),
-                mu_l1: score.norms.map(|n| n.l1),
-                skipped_samples: score.norms.map(|n| n.skipped),
-                m_t: &score.m_t,
-                ranked_index: score.ranked_values.as_deref(),
-                yoshikawa_at_grasp: score.yoshikawa_at_grasp,
-                yoshikawa_penalized_at_grasp: score.yoshikawa_penalized_at_grasp,
-                inverse_condition_at_grasp: score.inverse_condition_at_grasp,
-                inverse_condition_squared_at_grasp: score.inverse_condition_squared_at_grasp,
-                feasible_branches: score.feasible_branches,
-                limit_distance_min: finite(
-                    score
-                        .limit_distance
-                        .iter()
-                        .copied()
-                        .fold(f64::INFINITY, f64::min),
-                ),
-                limit_distance: score.limit_distance.iter().map(|d| finite(*d)).collect(),
-                hugs_limit: score.feasible().then(|| score.hugs_limit()),
-                joint_trajectory: &score.joint_trajectory,
-                clearance: score.clearance,
-                approach_trajectory: &score.approach,
-                retreat_trajectory: &score.retreat,
-                self_motion: score.self_motion.map(|s| SelfMotionRecord {
-                    mu_l2_first_branch: s.first_branch_l2,
-                    mu_l2_min: s.l2_range.0,
-                    mu_l2_max: s.l2_range.1,
-                }),
-            };
+            let record = candidate_record(&arm.arm, score, ranking, trajectories, false);
             records.push(serde_json::to_value(record).expect("records serialise"));
         }
     }
     Value::Array(records)
+}
+
+/// Writes one streamed candidate as a line of `candidates.jsonl`: the fields of its
+/// `candidates.json` record except `rank` and `pareto` (they need every candidate; see
+/// [`write_ranking_jsonl`]), compact, then a newline.
+pub fn write_candidate_line(
+    out: &mut impl Write,
+    streamed: &Streamed<'_>,
+    trajectories: Trajectories,
+) -> std::io::Result<()> {
+    let record = candidate_record(
+        streamed.arm,
+        streamed.score,
+        streamed.ranking,
+        trajectories,
+        true,
+    );
+    serde_json::to_writer(&mut *out, &record)?;
+    out.write_all(b"\n")
+}
+
+#[derive(Serialize)]
+struct RankingRecord<'a> {
+    arm: &'a str,
+    id: usize,
+    rank: usize,
+    score: Option<f64>,
+    pareto: bool,
+}
+
+/// Writes `ranking.jsonl`: one line per eligible candidate and arm, `{"arm", "id", "rank",
+/// "score", "pareto"}`, best first, arm by arm (the `rank`, `score` and `pareto` of its
+/// `candidates.json` record). Candidates that are not eligible (infeasible or rejected) have no
+/// line: their `rank` is `null` and `pareto` false.
+pub fn write_ranking_jsonl(out: &mut impl Write, selection: &Selection) -> std::io::Result<()> {
+    for arm in &selection.arms {
+        let mut ranked: Vec<(usize, usize)> = arm
+            .rankings
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| r.rank.map(|rank| (rank, i)))
+            .collect();
+        ranked.sort_unstable();
+        for (rank, i) in ranked {
+            let record = RankingRecord {
+                arm: &arm.arm,
+                id: arm.scores[i].candidate.id,
+                rank,
+                score: arm.rankings[i].score.and_then(finite),
+                pareto: arm.rankings[i].pareto,
+            };
+            serde_json::to_writer(&mut *out, &record)?;
+            out.write_all(b"\n")?;
+        }
+    }
+    Ok(())
 }
 
 /// `pairs.json`: the best pairs, keyed by the two arms' names (`left`, `right` on Baxter).

@@ -376,12 +376,6 @@ fn sync_folder(dir: &Path) -> std::io::Result<()> {
     }
 }
 
-fn write_new_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let mut file = OpenOptions::new().write(true).create_new(true).open(path)?;
-    file.write_all(bytes)?;
-    file.sync_all()
-}
-
 /// Writes `bytes` to the file `path` (see the module's rules): a symbolic link, device or
 /// folder is refused, an existing regular file is replaced only with [`Existing::Replace`],
 /// missing parent folders are created. The file appears complete or not at all, and no
@@ -437,20 +431,6 @@ fn place_file(temporary: &Path, path: &Path, existing: Existing) -> Result<(), O
         .map_err(|e| OutputError::io(path, "rename the temporary file onto it", e))
 }
 
-/// A temporary folder that is deleted with its contents when dropped, unless kept.
-struct Staging {
-    path: PathBuf,
-    keep: bool,
-}
-
-impl Drop for Staging {
-    fn drop(&mut self) {
-        if !self.keep {
-            let _ = std::fs::remove_dir_all(&self.path);
-        }
-    }
-}
-
 /// Checks a relative name of the set and returns its components.
 fn relative_name(dir: &Path, name: &str) -> Result<PathBuf, OutputError> {
     let relative = Path::new(name);
@@ -476,58 +456,148 @@ pub fn write_files(
     files: &[(String, Vec<u8>)],
     existing: Existing,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    let mut names = Vec::with_capacity(files.len());
     let mut seen = std::collections::BTreeSet::new();
     for (name, _) in files {
         let relative = relative_name(dir, name)?;
-        if !seen.insert(relative.clone()) {
+        if !seen.insert(relative) {
             return Err(OutputError::new(
                 dir,
                 OutputErrorKind::DuplicateName(name.clone()),
             ));
         }
-        names.push(relative);
     }
-    let found = folder_state(dir, existing)?;
-    let parent = parent_of(dir);
-    let created = create_missing(&parent, dir)?;
-    let result = (|| {
-        let (path, ()) = fresh(dir, "tmp", |p| std::fs::create_dir(p))
-            .map_err(|e| OutputError::io(dir, "create a temporary folder beside it", e))?;
-        let mut staging = Staging { path, keep: false };
+    let mut folder = FolderWriter::begin(dir, existing)?;
+    for (name, bytes) in files {
+        folder.write(name, bytes)?;
+    }
+    folder.finish()
+}
+
+/// An output folder written file by file, for output too large to render in memory (streamed
+/// results): the files are created in a fresh temporary folder beside `dir`, and
+/// [`finish`](Self::finish) moves that folder into place with the rules of [`write_files`] (all
+/// files appear together or none does). Dropped without `finish` (an error, a panic), it
+/// deletes the temporary folder and the parent folders it created.
+#[derive(Debug)]
+pub struct FolderWriter {
+    dir: PathBuf,
+    found: Found,
+    parent: PathBuf,
+    created: Vec<PathBuf>,
+    staging: PathBuf,
+    folders: std::collections::BTreeSet<PathBuf>,
+    names: Vec<PathBuf>,
+    done: bool,
+}
+
+impl FolderWriter {
+    /// Checks `dir` (see [`check_folder_target`]), creates its missing parent folders and the
+    /// temporary folder beside it.
+    pub fn begin(dir: &Path, existing: Existing) -> Result<Self, OutputError> {
+        let found = folder_state(dir, existing)?;
+        let parent = parent_of(dir);
+        let created = create_missing(&parent, dir)?;
+        let staging = match fresh(dir, "tmp", |p| std::fs::create_dir(p)) {
+            Ok((path, ())) => path,
+            Err(e) => {
+                remove_created(&created);
+                return Err(OutputError::io(
+                    dir,
+                    "create a temporary folder beside it",
+                    e,
+                ));
+            }
+        };
         let mut folders = std::collections::BTreeSet::new();
-        folders.insert(staging.path.clone());
-        for (relative, (_, bytes)) in names.iter().zip(files) {
-            let file = staging.path.join(relative);
-            let action = || format!("write '{}' in the temporary folder", relative.display());
-            let mut sub = relative.parent();
-            if sub.is_some_and(|s| !s.as_os_str().is_empty()) {
-                std::fs::create_dir_all(file.parent().unwrap_or(&staging.path))
-                    .map_err(|e| OutputError::io(dir, action(), e))?;
-            }
-            while let Some(s) = sub.filter(|s| !s.as_os_str().is_empty()) {
-                folders.insert(staging.path.join(s));
-                sub = s.parent();
-            }
-            write_new_file(&file, bytes).map_err(|e| OutputError::io(dir, action(), e))?;
-        }
-        for folder in &folders {
-            sync_folder(folder)
-                .map_err(|e| OutputError::io(dir, "flush the temporary folder", e))?;
-        }
-        match found {
-            Found::Folder(_) => replace_folder(&staging.path, dir)?,
-            _ => std::fs::rename(&staging.path, dir)
-                .map_err(|e| OutputError::io(dir, "rename the temporary folder onto it", e))?,
-        }
-        staging.keep = true;
-        sync_folder(&parent).map_err(|e| OutputError::io(dir, "flush its parent folder", e))?;
-        Ok(names.iter().map(|n| dir.join(n)).collect())
-    })();
-    if result.is_err() {
-        remove_created(&created);
+        folders.insert(staging.clone());
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            found,
+            parent,
+            created,
+            staging,
+            folders,
+            names: Vec::new(),
+            done: false,
+        })
     }
-    result
+
+    /// Creates the new file `name` (relative; may contain `/` for subfolders) in the temporary
+    /// folder and returns it for writing. A name given twice is refused.
+    pub fn create(&mut self, name: &str) -> Result<File, OutputError> {
+        let dir = &self.dir;
+        let relative = relative_name(dir, name)?;
+        if self.names.contains(&relative) {
+            return Err(OutputError::new(
+                dir,
+                OutputErrorKind::DuplicateName(name.to_string()),
+            ));
+        }
+        let file = self.staging.join(&relative);
+        let action = || format!("write '{}' in the temporary folder", relative.display());
+        let mut sub = relative.parent();
+        if sub.is_some_and(|s| !s.as_os_str().is_empty()) {
+            std::fs::create_dir_all(file.parent().unwrap_or(&self.staging))
+                .map_err(|e| OutputError::io(dir, action(), e))?;
+        }
+        while let Some(s) = sub.filter(|s| !s.as_os_str().is_empty()) {
+            self.folders.insert(self.staging.join(s));
+            sub = s.parent();
+        }
+        let opened = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&file)
+            .map_err(|e| OutputError::io(dir, action(), e))?;
+        self.names.push(relative);
+        Ok(opened)
+    }
+
+    /// Writes the whole new file `name` (see [`create`](Self::create)).
+    pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<(), OutputError> {
+        let mut file = self.create(name)?;
+        file.write_all(bytes).map_err(|e| {
+            OutputError::io(
+                &self.dir,
+                format!("write '{name}' in the temporary folder"),
+                e,
+            )
+        })
+    }
+
+    /// Flushes every file to disk and moves the folder into place (replacing an old non-empty
+    /// folder only when [`begin`](Self::begin) was given [`Existing::Replace`]). Returns the
+    /// paths written, in the order they were created.
+    pub fn finish(mut self) -> Result<Vec<PathBuf>, OutputError> {
+        let dir = self.dir.clone();
+        for name in &self.names {
+            File::open(self.staging.join(name))
+                .and_then(|f| f.sync_all())
+                .map_err(|e| OutputError::io(&dir, "flush the temporary folder", e))?;
+        }
+        for folder in &self.folders {
+            sync_folder(folder)
+                .map_err(|e| OutputError::io(&dir, "flush the temporary folder", e))?;
+        }
+        match self.found {
+            Found::Folder(_) => replace_folder(&self.staging, &dir)?,
+            _ => std::fs::rename(&self.staging, &dir)
+                .map_err(|e| OutputError::io(&dir, "rename the temporary folder onto it", e))?,
+        }
+        self.done = true;
+        sync_folder(&self.parent)
+            .map_err(|e| OutputError::io(&dir, "flush its parent folder", e))?;
+        Ok(self.names.iter().map(|n| dir.join(n)).collect())
+    }
+}
+
+impl Drop for FolderWriter {
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = std::fs::remove_dir_all(&self.staging);
+            remove_created(&self.created);
+        }
+    }
 }
 
 /// Moves the old folder aside, the new one in, then deletes the old one; puts the old one back

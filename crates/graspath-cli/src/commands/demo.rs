@@ -278,8 +278,15 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             args.output.clone()
         };
         let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
-        let run = run_task(&task, parameter.as_ref(), &per_run, &title, true)
-            .with_context(|| format!("experiment {}", experiment.name))?;
+        let run = run_task(
+            &task,
+            parameter.as_ref(),
+            &per_run,
+            &title,
+            true,
+            graspath_report::Trajectories::All,
+        )
+        .with_context(|| format!("experiment {}", experiment.name))?;
         if !per_run.quiet {
             print_summary_table(&task, &run.selection, &title, run.elapsed);
         }

@@ -1,17 +1,23 @@
-//! `graspath select --task FILE [--out DIR] [--report]`: score every candidate along the task,
-//! rank them, and write `candidates.json`, `pairs.json` (two arms) and `summary.json`; with
-//! `--report` also the figures (SVG and PNG) and `report.html`. The folder is written as a
+//! `graspath select --task FILE [--out DIR] [--report] [--format json|jsonl]`: score every
+//! candidate along the task, rank them, and write `candidates.json`, `pairs.json` (two arms) and
+//! `summary.json`; with `--report` also the figures (SVG and PNG) and `report.html`. With
+//! `--format jsonl` the candidates are streamed to `candidates.jsonl` as they are scored and the
+//! ranks written to `ranking.jsonl` at the end (docs/streaming.md). The folder is written as a
 //! whole (see `graspath::fsutil`).
 
 use crate::output::{print_summary_table, progress_bar, OutputArgs};
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::fsutil::{check_folder_target, write_files, Existing};
+use graspath::fsutil::{check_folder_target, write_files, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
-use graspath::select::{select, Selection};
+use graspath::select::{select, select_streaming, Selection};
 use graspath::task::{Task, TaskFile};
-use graspath_report::{candidates_json, nothing_selected, pairs_json, render_report, summary_json};
+use graspath_report::{
+    candidates_json_with, nothing_selected, pairs_json, render_report, summary_json,
+    write_candidate_line, write_ranking_jsonl, Trajectories,
+};
+use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -37,8 +43,48 @@ pub struct SelectArgs {
     /// Also write the figures (SVG, PNG) and a self-contained `report.html` with a 3D view.
     #[arg(long)]
     report: bool,
+    /// `json`: `candidates.json`, every candidate held in memory (small runs). `jsonl`:
+    /// `candidates.jsonl`, one record per line written as the candidates are scored, and
+    /// `ranking.jsonl` at the end; memory does not grow with the trajectories (large runs; see
+    /// docs/streaming.md).
+    #[arg(long, value_enum, default_value_t = Format::Json)]
+    format: Format,
+    /// Whose joint trajectories the records carry: `none`, `feasible` or `all` (default:
+    /// `all` with `--format json`, `feasible` with `jsonl`).
+    #[arg(long, value_enum, value_name = "WHICH")]
+    trajectories: Option<TrajectoriesArg>,
     #[command(flatten)]
     output: OutputArgs,
+}
+
+/// The candidate records' format (`--format`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// `candidates.json`, one JSON document.
+    Json,
+    /// `candidates.jsonl` (JSON Lines, streamed) and `ranking.jsonl`.
+    Jsonl,
+}
+
+/// `--trajectories`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TrajectoriesArg {
+    /// No joint trajectories.
+    None,
+    /// Feasible candidates' only.
+    Feasible,
+    /// Every candidate's.
+    All,
+}
+
+impl TrajectoriesArg {
+    fn or_default_for(choice: Option<Self>, format: Format) -> Trajectories {
+        match (choice, format) {
+            (Some(Self::None), _) => Trajectories::None,
+            (Some(Self::Feasible), _) | (None, Format::Jsonl) => Trajectories::Feasible,
+            (Some(Self::All), _) | (None, Format::Json) => Trajectories::All,
+        }
+    }
 }
 
 /// A task's selection and the files that report it (relative names, rendered in memory).
@@ -61,6 +107,7 @@ pub fn run_task(
     output: &OutputArgs,
     title: &str,
     report: bool,
+    trajectories: Trajectories,
 ) -> Result<TaskRun> {
     let total = task.candidates.len() * task.arms.len();
     let bar = progress_bar(output, total as u64, title);
@@ -76,7 +123,7 @@ pub fn run_task(
     let mut files = vec![
         (
             "candidates.json".to_string(),
-            pretty(candidates_json(&selection))?,
+            pretty(candidates_json_with(&selection, trajectories))?,
         ),
         (
             "summary.json".to_string(),
@@ -96,6 +143,55 @@ pub fn run_task(
     })
 }
 
+/// Runs a loaded task with `--format jsonl`: `candidates.jsonl` is written (into the output's
+/// temporary folder) as the candidates are scored; `ranking.jsonl`, `summary.json` and, with two
+/// arms, `pairs.json` at the end; then the folder is moved into place. The returned run holds
+/// the selection reduced to the ranking's scalars and no files.
+fn stream_task(
+    task: &Task,
+    args: &SelectArgs,
+    existing: Existing,
+    title: &str,
+    trajectories: Trajectories,
+) -> Result<TaskRun> {
+    let mut folder = FolderWriter::begin(&args.out, existing)?;
+    let cannot = |name: &str| format!("cannot write {}", args.out.join(name).display());
+    let mut lines = BufWriter::with_capacity(1 << 20, folder.create("candidates.jsonl")?);
+    let total = task.candidates.len() * task.arms.len();
+    let bar = progress_bar(&args.output, total as u64, title);
+    let started = std::time::Instant::now();
+    let selection = select_streaming(task, &|| bar.inc(1), |streamed| {
+        write_candidate_line(&mut lines, &streamed, trajectories)
+    })
+    .with_context(|| cannot("candidates.jsonl"))?;
+    bar.finish_and_clear();
+    let elapsed = started.elapsed();
+    lines
+        .into_inner()
+        .map_err(std::io::IntoInnerError::into_error)
+        .with_context(|| cannot("candidates.jsonl"))?;
+    let mut ranking = BufWriter::new(folder.create("ranking.jsonl")?);
+    write_ranking_jsonl(&mut ranking, &selection)
+        .and_then(|()| ranking.flush())
+        .with_context(|| cannot("ranking.jsonl"))?;
+    drop(ranking);
+    let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
+        let mut bytes = serde_json::to_vec_pretty(&v)?;
+        bytes.push(b'\n');
+        Ok(bytes)
+    };
+    folder.write("summary.json", &pretty(summary_json(task, &selection))?)?;
+    if task.arms.len() == 2 {
+        folder.write("pairs.json", &pretty(pairs_json(&selection))?)?;
+    }
+    folder.finish()?;
+    Ok(TaskRun {
+        selection,
+        files: Vec::new(),
+        elapsed,
+    })
+}
+
 /// Runs the subcommand: [`Finished::NothingSelected`] (exit code 3) when nothing is selected
 /// and `--allow-empty` is not given; the results are written in either case.
 pub fn run(args: &SelectArgs) -> Result<Finished> {
@@ -107,8 +203,29 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     let base_dir = args.task.parent().map(PathBuf::from).unwrap_or_default();
     let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
     let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
-    let run = run_task(&task, parameter.as_ref(), &args.output, &title, args.report)?;
-    write_files(&args.out, &run.files, existing)?;
+    let trajectories = TrajectoriesArg::or_default_for(args.trajectories, args.format);
+    let run = match args.format {
+        Format::Json => {
+            let run = run_task(
+                &task,
+                parameter.as_ref(),
+                &args.output,
+                &title,
+                args.report,
+                trajectories,
+            )?;
+            write_files(&args.out, &run.files, existing)?;
+            run
+        }
+        Format::Jsonl => {
+            if args.report {
+                return Err(crate::bad_input!(
+                    "--report needs every candidate's series in memory: use it with --format json"
+                ));
+            }
+            stream_task(&task, args, existing, &title, trajectories)?
+        }
+    };
     let empty = nothing_selected(&run.selection);
     if args.output.json {
         crate::say!(

@@ -4,12 +4,15 @@
 mod rank;
 mod run;
 mod score;
+mod stream;
 
 pub use rank::{
-    rank_candidates, rank_pairs, scores_tied, tied_with, values_tied, ArmPair, Ranking,
+    rank_candidates, rank_pairs, ranking_alone, scores_tied, tied_with, values_tied, ArmPair,
+    Ranking,
 };
 pub use run::{select, ArmResult, Selection};
 pub use score::{
     for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,
     SelfMotionScores, STREAM_CHUNK,
 };
+pub use stream::{scalars_of, select_streaming, Streamed};

@@ -52,6 +52,39 @@ fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> O
     }
 }
 
+/// The part of a candidate's [`Ranking`] that needs no other candidate: its combined score
+/// and why it is rejected (`rank: None`, `pareto: false`). `max_log_likelihood` is the largest
+/// `log_likelihood` of the arm's candidates (the likelihood enters the score relative to it).
+/// [`rank_candidates`] gives every candidate this score and rejection, then ranks them.
+pub fn ranking_alone(
+    s: &CandidateScore,
+    options: &SelectionOptions,
+    max_log_likelihood: f64,
+) -> Ranking {
+    let rejected = if s.feasible() {
+        constraint_violation(s, options)
+    } else {
+        None
+    };
+    let score = (s.feasible() && rejected.is_none())
+        .then(|| norm_value(s, options.norm))
+        .flatten()
+        .map(|norm| {
+            let relative_log = s.candidate.log_likelihood - max_log_likelihood;
+            match options.likelihood {
+                LikelihoodRule::Product => norm * relative_log.exp(),
+                LikelihoodRule::Ignore => norm,
+                LikelihoodRule::Weighted { weight } => norm.ln() + weight * relative_log,
+            }
+        });
+    Ranking {
+        rank: None,
+        score,
+        rejected,
+        pareto: false,
+    }
+}
+
 /// Ranks one arm's candidates. Ties are broken by candidate order, so the ranking is
 /// deterministic.
 pub fn rank_candidates(scores: &[CandidateScore], options: &SelectionOptions) -> Vec<Ranking> {
@@ -61,30 +94,7 @@ pub fn rank_candidates(scores: &[CandidateScore], options: &SelectionOptions) ->
         .fold(f64::NEG_INFINITY, f64::max);
     let mut rankings: Vec<Ranking> = scores
         .iter()
-        .map(|s| {
-            let rejected = if s.feasible() {
-                constraint_violation(s, options)
-            } else {
-                None
-            };
-            let score = (s.feasible() && rejected.is_none())
-                .then(|| norm_value(s, options.norm))
-                .flatten()
-                .map(|norm| {
-                    let relative_log = s.candidate.log_likelihood - max_log;
-                    match options.likelihood {
-                        LikelihoodRule::Product => norm * relative_log.exp(),
-                        LikelihoodRule::Ignore => norm,
-                        LikelihoodRule::Weighted { weight } => norm.ln() + weight * relative_log,
-                    }
-                });
-            Ranking {
-                rank: None,
-                score,
-                rejected,
-                pareto: false,
-            }
-        })
+        .map(|s| ranking_alone(s, options, max_log))
         .collect();
     let mut order: Vec<usize> = (0..rankings.len())
         .filter(|&i| rankings[i].score.is_some())

@@ -3,7 +3,7 @@
 use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::collision::{check_arms, ArmMotion};
-use crate::task::Task;
+use crate::task::{ArmSetup, Task};
 
 /// One arm's results.
 #[derive(Debug, Clone)]
@@ -64,21 +64,7 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
         .arms
         .iter()
         .map(|arm| {
-            let setup = ScoringSetup {
-                arm,
-                path: &task.path,
-                rows: task.rows,
-                ranked: task.ranked,
-                ik: &task.ik,
-                redundancy: task.redundancy,
-                world: WorldSetup {
-                    approach: task.approach.as_ref(),
-                    retreat: task.retreat.as_ref(),
-                    gripper: task.gripper.as_ref(),
-                    collisions: task.collisions.as_ref(),
-                    object: task.object_body.as_deref(),
-                },
-            };
+            let setup = scoring_setup(task, arm);
             let scores = score_candidates(&setup, &task.candidates, progress);
             let rankings = rank_candidates(&scores, &task.selection);
             ArmResult {
@@ -106,9 +92,39 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
     }
 }
 
+/// What scoring one of the task's arms needs.
+pub(super) fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSetup<'a> {
+    ScoringSetup {
+        arm,
+        path: &task.path,
+        rows: task.rows,
+        ranked: task.ranked,
+        ik: &task.ik,
+        redundancy: task.redundancy,
+        world: WorldSetup {
+            approach: task.approach.as_ref(),
+            retreat: task.retreat.as_ref(),
+            gripper: task.gripper.as_ref(),
+            collisions: task.collisions.as_ref(),
+            object: task.object_body.as_deref(),
+        },
+    }
+}
+
+/// Whether [`arms_apart`] looks at the arms' motions (a scene, `collision.between_arms` and
+/// both arms' bodies); otherwise every pair is apart.
+pub(super) fn pairs_need_motions(task: &Task) -> bool {
+    task.collisions
+        .as_ref()
+        .is_some_and(|c| c.options.between_arms)
+        && task.arms.len() >= 2
+        && task.arms[0].bodies.is_some()
+        && task.arms[1].bodies.is_some()
+}
+
 /// Whether the first two arms, each following its candidate's whole motion at the same time,
 /// stay apart (always, without a scene or with `collision.between_arms: false`).
-fn arms_apart(task: &Task, a: &CandidateScore, b: &CandidateScore) -> bool {
+pub(super) fn arms_apart(task: &Task, a: &CandidateScore, b: &CandidateScore) -> bool {
     let Some(collisions) = &task.collisions else {
         return true;
     };

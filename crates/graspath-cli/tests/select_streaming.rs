@@ -1,0 +1,238 @@
+//! `graspath select --format jsonl`: the streamed records equal the in-memory `candidates.json`
+//! field by field (with `rank` and `pareto` taken from `ranking.jsonl`), `summary.json` and
+//! `pairs.json` are the same bytes, the output does not depend on the thread count, and
+//! `--trajectories` keeps the motions it names.
+
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn graspath(args: &[&str], threads: &str) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_graspath"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", threads)
+        .output()
+        .expect("graspath runs")
+}
+
+fn select(task: &Path, out: &Path, extra: &[&str], threads: &str) {
+    let mut args = vec![
+        "select",
+        "--task",
+        task.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend(extra);
+    let output = graspath(&args, threads);
+    assert!(
+        output.status.success(),
+        "graspath {args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+fn read_lines(path: &Path) -> Vec<Value> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+/// A faces workload of 300 candidates (two chunks) and 12 samples, written beside `dir`.
+fn faces_task(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(example("workload_1000_faces.yaml"))
+        .unwrap()
+        .replace("count: 1000", "count: 300")
+        .replace("samples: 50", "samples: 12");
+    assert!(text.contains("count: 300"), "the workload file changed");
+    let path = dir.join("faces.yaml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Streams and runs in memory, and checks every candidate's fields and ranks.
+fn check_streamed_equals_in_memory(task: &Path, dir: &Path) {
+    let (memory, streamed) = (dir.join("memory"), dir.join("streamed"));
+    select(task, &memory, &[], "2");
+    select(
+        task,
+        &streamed,
+        &["--format", "jsonl", "--trajectories", "all"],
+        "2",
+    );
+    let want = read_json(&memory.join("candidates.json"));
+    let want = want.as_array().unwrap();
+    let lines = read_lines(&streamed.join("candidates.jsonl"));
+    let ranking = read_lines(&streamed.join("ranking.jsonl"));
+    assert_eq!(lines.len(), want.len());
+    assert!(!streamed.join("candidates.json").exists());
+    // Ranks are 1.. within each arm, best first, and name eligible candidates only.
+    let mut previous: Option<(String, u64)> = None;
+    for r in &ranking {
+        let (arm, rank) = (r["arm"].as_str().unwrap(), r["rank"].as_u64().unwrap());
+        let expected = match &previous {
+            Some((a, n)) if a == arm => n + 1,
+            _ => 1,
+        };
+        assert_eq!(rank, expected, "{r}");
+        previous = Some((arm.to_string(), rank));
+    }
+    let mut ranked = 0;
+    for (line, record) in lines.iter().zip(want) {
+        assert!(line.get("rank").is_none() && line.get("pareto").is_none());
+        let key = (&line["arm"], &line["id"]);
+        let entry = ranking
+            .iter()
+            .find(|r| (&r["arm"], &r["id"]) == key)
+            .cloned();
+        let mut merged = line.clone();
+        match entry {
+            Some(e) => {
+                ranked += 1;
+                assert_eq!(e["score"], line["score"], "{key:?}");
+                merged["rank"] = e["rank"].clone();
+                merged["pareto"] = e["pareto"].clone();
+            }
+            None => {
+                merged["rank"] = Value::Null;
+                merged["pareto"] = json!(false);
+            }
+        }
+        assert_eq!(&merged, record, "candidate {key:?}");
+    }
+    assert_eq!(
+        ranked,
+        ranking.len(),
+        "ranking.jsonl names unknown candidates"
+    );
+    assert!(ranked > 0, "the task should select something");
+    for name in ["summary.json", "pairs.json"] {
+        let a = std::fs::read(memory.join(name));
+        let b = std::fs::read(streamed.join(name));
+        match (a, b) {
+            (Ok(a), Ok(b)) => assert!(a == b, "{name} differs"),
+            (Err(_), Err(_)) => {}
+            (a, b) => panic!(
+                "{name}: written by one run only ({}, {})",
+                a.is_ok(),
+                b.is_ok()
+            ),
+        }
+    }
+}
+
+#[test]
+fn one_arm_streamed_records_equal_the_in_memory_records() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = faces_task(dir.path());
+    check_streamed_equals_in_memory(&task, dir.path());
+}
+
+#[test]
+fn two_arms_streamed_records_and_pairs_equal_the_in_memory_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    check_streamed_equals_in_memory(&example("pick_and_place_both.yaml"), dir.path());
+}
+
+#[test]
+fn streamed_output_is_the_same_at_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = faces_task(dir.path());
+    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
+    select(&task, &one, &["--format", "jsonl"], "1");
+    select(&task, &two, &["--format", "jsonl"], "2");
+    for name in ["candidates.jsonl", "ranking.jsonl", "summary.json"] {
+        let a = std::fs::read(one.join(name)).unwrap();
+        let b = std::fs::read(two.join(name)).unwrap();
+        assert!(a == b, "{name} differs between 1 and 2 threads");
+    }
+    // Nothing but the output folders beside them (no temporary folder left behind).
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["faces.yaml", "one", "two"]);
+}
+
+#[test]
+fn trajectories_option_keeps_the_motions_it_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = faces_task(dir.path());
+    let runs = [
+        ("default", vec!["--format", "jsonl"]),
+        ("none", vec!["--format", "jsonl", "--trajectories", "none"]),
+        ("all", vec!["--format", "jsonl", "--trajectories", "all"]),
+    ];
+    for (name, extra) in &runs {
+        select(&task, &dir.path().join(name), extra, "2");
+    }
+    let samples = 12;
+    let (mut feasible, mut infeasible) = (0, 0);
+    for line in read_lines(&dir.path().join("default/candidates.jsonl")) {
+        let is_feasible = line["feasible"].as_bool().unwrap();
+        let q = line.get("joint_trajectory");
+        if is_feasible {
+            feasible += 1;
+            assert_eq!(q.unwrap().as_array().unwrap().len(), samples);
+        } else {
+            infeasible += 1;
+            assert!(q.is_none(), "an infeasible candidate's trajectory: {line}");
+        }
+    }
+    assert!(feasible > 0 && infeasible > 0, "{feasible} / {infeasible}");
+    for line in read_lines(&dir.path().join("none/candidates.jsonl")) {
+        assert!(line.get("joint_trajectory").is_none());
+        if line["feasible"].as_bool().unwrap() {
+            assert_eq!(line["m_t"].as_array().unwrap().len(), samples);
+        }
+    }
+    for line in read_lines(&dir.path().join("all/candidates.jsonl")) {
+        assert!(line.get("joint_trajectory").is_some());
+    }
+    // --format json --trajectories none drops them from candidates.json too.
+    let json_none = dir.path().join("json-none");
+    select(&task, &json_none, &["--trajectories", "none"], "2");
+    for record in read_json(&json_none.join("candidates.json"))
+        .as_array()
+        .unwrap()
+    {
+        assert!(record.get("joint_trajectory").is_none());
+    }
+}
+
+#[test]
+fn report_with_jsonl_is_refused_as_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let task = example("pick_and_place_left.yaml");
+    let output = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--format",
+            "jsonl",
+            "--report",
+        ],
+        "2",
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--format json"));
+    assert!(!out.exists());
+}

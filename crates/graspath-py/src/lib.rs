@@ -1,10 +1,12 @@
 //! Python bindings of graspath: the native module `graspath._graspath`, re-exported by the
 //! Python package `graspath` (see `python/graspath/__init__.py` and the type stubs beside it).
 //!
-//! * `robot::PyRobot` (`graspath.Robot`): URDF chains and the built-in Baxter arms; forward
+//! * `robot::PyRobot` (`graspath.Robot`): URDF and MJCF chains and the built-in arms; forward
 //!   kinematics, Jacobians, indices and IK for one configuration or a batch (numpy in and out,
 //!   batches in parallel with rayon, the GIL released).
 //! * `task::PyTask` (`graspath.Task`): tasks from files, text, dicts or arrays.
+//! * `grasps::read_grasps` (`graspath.read_grasps`): grasp-generator files (GraspGen, ACRONYM,
+//!   Contact-GraspNet / M2T2, `N×4×4` poses, GraspNet / AnyGrasp) as numpy candidates.
 //! * `selection::select` / `selection::PySelection` (`graspath.select`,
 //!   `graspath.Selection`): scoring and ranking, with the records the CLI writes.
 //!
@@ -24,6 +26,7 @@
 #![warn(missing_docs)]
 
 mod convert;
+mod grasps;
 mod memory;
 mod robot;
 mod selection;
@@ -49,6 +52,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<task::PyTask>()?;
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
+    module.add_function(wrap_pyfunction!(grasps::read_grasps, module)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

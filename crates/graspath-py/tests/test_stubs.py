@@ -16,5 +16,5 @@ def test_stubs_match_the_module():
         runtime = {n for n in dir(getattr(graspath, name)) if not n.startswith("_")}
         assert stub == runtime, name
     functions = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
-    assert functions == {"select"}
+    assert functions == {"select", "read_grasps"}
     assert (STUB.parent / "py.typed").is_file()

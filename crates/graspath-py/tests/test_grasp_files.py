@@ -142,7 +142,8 @@ def test_graspnet_rows_are_camera_grasps_turned_into_the_tool_frame(tmp_path):
 @pytest.mark.parametrize(
     "make, kwargs, message",
     [
-        (lambda p: np.save(p, np.zeros((3, 3, 3))), {}, "3×3×3"),
+        (lambda p: np.save(p, np.zeros((3, 3, 3))), {}, "(3, 3, 3)"),
+        (lambda p: np.save(p, np.zeros((3, 3, 3))), {"format": "poses"}, "(3, 3, 3)"),
         (lambda p: np.save(p, np.tile(np.diag([2.0, 1.0, 1.0, 1.0]), (2, 1, 1))), {}, "[0]"),
         (lambda p: np.save(p, random_poses(2, 5)), {"format": "yaml"}, "format 'yaml'"),
         (lambda p: np.save(p, random_poses(2, 5)), {"frame": "camera"}, "world_from_camera"),

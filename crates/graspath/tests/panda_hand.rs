@@ -196,3 +196,41 @@ fn the_stock_panda_hand_trains_and_generates_pinches_of_the_box() {
     let depth = deepest(&model.hand, best, &cloud);
     assert!(depth < 0.004, "penetration {depth}");
 }
+
+/// A copy of `panda.urdf` outside example-robot-data's folders cannot find its `package://`
+/// meshes by itself (the error lists where it looked); the demonstration's `search_paths`
+/// (relative to the demonstration file) point it at the package's `share` folder.
+#[test]
+fn a_copied_panda_urdf_finds_its_meshes_through_the_demonstrations_search_paths() {
+    let Some(data) = common::robot_data() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("panda.urdf");
+    std::fs::copy(panda_urdf(&data), &copy).unwrap();
+    let share = data.parent().and_then(Path::parent).unwrap().to_path_buf();
+    let source = |search_paths: Vec<PathBuf>| graspath::grasp::model::HandSource::Urdf {
+        urdf: "panda.urdf".into(),
+        root: "panda_hand".into(),
+        wrist: Some("panda_hand_tcp".into()),
+        search_paths,
+    };
+    let ros_paths_set = ["ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|p| !p.is_empty()));
+    if !ros_paths_set {
+        let missing = source(Vec::new())
+            .load(dir.path(), "demo.json")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            missing.contains("package://example-robot-data") && missing.contains("hand.stl"),
+            "{missing}"
+        );
+    }
+    let hand = source(vec![share])
+        .load(dir.path(), "demo.json")
+        .expect("meshes found through search_paths");
+    assert_eq!(hand.dof(), 1);
+    assert!(!hand.links[0].shapes.is_empty());
+}

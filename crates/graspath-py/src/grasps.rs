@@ -153,4 +153,3 @@ pub fn read_grasps<'py>(
     out.set_item("format", format.name())?;
     Ok(out)
 }
-

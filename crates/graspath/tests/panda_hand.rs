@@ -30,7 +30,9 @@ fn panda_urdf(data: &Path) -> PathBuf {
 }
 
 fn panda_model(data: &Path) -> RobotModel {
-    RobotSource::urdf(panda_urdf(data)).load().expect("panda.urdf")
+    RobotSource::urdf(panda_urdf(data))
+        .load()
+        .expect("panda.urdf")
 }
 
 /// The demonstration: a top-down pinch across the box's y, the tool point 2 cm below the top
@@ -73,13 +75,22 @@ fn the_stock_panda_hand_has_its_links_in_the_tool_frame() {
         // Closed forms from the URDF's joint origins and axes (±y for the two fingers).
         let expect = [
             ("panda_hand", Vector3::new(0.0, 0.0, -TCP_DEPTH)),
-            ("panda_leftfinger", Vector3::new(0.0, q, FINGER_DEPTH - TCP_DEPTH)),
-            ("panda_rightfinger", Vector3::new(0.0, -q, FINGER_DEPTH - TCP_DEPTH)),
+            (
+                "panda_leftfinger",
+                Vector3::new(0.0, q, FINGER_DEPTH - TCP_DEPTH),
+            ),
+            (
+                "panda_rightfinger",
+                Vector3::new(0.0, -q, FINGER_DEPTH - TCP_DEPTH),
+            ),
             ("panda_hand_tcp", Vector3::zeros()),
         ];
         for (name, t) in expect {
             let pose = at(name);
-            assert!((pose.translation.vector - t).norm() < 1e-12, "{name}: {pose}");
+            assert!(
+                (pose.translation.vector - t).norm() < 1e-12,
+                "{name}: {pose}"
+            );
             assert!(pose.rotation.angle() < 1e-12, "{name}: {pose}");
         }
     }
@@ -97,10 +108,16 @@ fn the_stock_panda_hand_has_its_links_in_the_tool_frame() {
     let hand_from_tcp = common::fk(&to_hand, &q).inverse() * common::fk(&to_tcp, &q);
     let tcp_from_hand = hand.link_poses(&[0.0])[0];
     let d = hand_from_tcp * tcp_from_hand;
-    assert!(d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12, "{d}");
+    assert!(
+        d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12,
+        "{d}"
+    );
     // Without a wrist link the frame is the root's.
     let at_root = hand_from_robot(&model, "panda_hand").unwrap();
-    assert_eq!(at_root.links[0].joint.parent_from_joint, Isometry3::identity());
+    assert_eq!(
+        at_root.links[0].joint.parent_from_joint,
+        Isometry3::identity()
+    );
 }
 
 #[test]
@@ -155,7 +172,9 @@ fn the_stock_panda_hand_trains_and_generates_pinches_of_the_box() {
     assert_eq!(again.hand, model.hand);
 
     let cloud = graspath::cloud::CloudSource::Primitive {
-        shape: graspath::geometry::shape::Shape::cuboid(BOX).unwrap().into(),
+        shape: graspath::geometry::shape::Shape::cuboid(BOX)
+            .unwrap()
+            .into(),
         sampling: graspath::cloud::SampleOptions {
             points: 4000,
             seed: 11,
@@ -187,12 +206,20 @@ fn the_stock_panda_hand_trains_and_generates_pinches_of_the_box() {
         let closest = cloud
             .points
             .iter()
-            .filter_map(|p| model.hand.link_proximity(i, &poses[i], &(wrist_from_object * p)))
+            .filter_map(|p| {
+                model
+                    .hand
+                    .link_proximity(i, &poses[i], &(wrist_from_object * p))
+            })
             .map(|prox| prox.signed_distance)
             .fold(f64::INFINITY, f64::min);
         assert!(closest < 0.01, "{finger} is {:.1} mm away", closest * 1e3);
     }
-    assert!((0.0..=0.04).contains(&best.hand_joints[0]), "{:?}", best.hand_joints);
+    assert!(
+        (0.0..=0.04).contains(&best.hand_joints[0]),
+        "{:?}",
+        best.hand_joints
+    );
     let depth = deepest(&model.hand, best, &cloud);
     assert!(depth < 0.004, "penetration {depth}");
 }

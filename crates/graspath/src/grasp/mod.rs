@@ -12,6 +12,5 @@ pub use candidates::{read_candidates, Candidate, CandidateError};
 pub use families::{edge_family, face_family, yaw_family, FamilyError, GRIPPER_MAX_OPENING};
 pub use formats::{
     guess_format, read_grasp_file, FramePlacementError, GraspFileOptions, GraspFormat, GraspFrame,
-    GripperConvention,
-    FRANKA_TCP_DEPTH, MAX_ARRAY_BYTES,
+    GripperConvention, FRANKA_TCP_DEPTH, MAX_ARRAY_BYTES,
 };

@@ -141,10 +141,8 @@ impl GraspFrame {
         world_from_camera: Option<&Isometry3<f64>>,
         camera_from_object: Option<&Isometry3<f64>>,
     ) -> Result<Isometry3<f64>, FramePlacementError> {
-        let fail = |field: &'static str, message: &'static str| FramePlacementError {
-            field,
-            message,
-        };
+        let fail =
+            |field: &'static str, message: &'static str| FramePlacementError { field, message };
         let object_from_camera = match (world_from_camera, camera_from_object) {
             (Some(_), Some(_)) => {
                 return Err(fail(

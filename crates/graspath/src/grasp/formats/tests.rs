@@ -86,7 +86,8 @@ fn grasp_frames_are_placed_by_the_given_camera_or_world_pose() {
     use super::GraspFrame;
     use nalgebra::{Isometry3, Point3, Vector3};
     let world_from_object = Isometry3::new(Vector3::new(0.4, -0.2, 0.1), Vector3::z() * 0.7);
-    let world_from_camera = Isometry3::new(Vector3::new(1.0, 0.5, 1.2), Vector3::new(2.0, 0.3, -0.4));
+    let world_from_camera =
+        Isometry3::new(Vector3::new(1.0, 0.5, 1.2), Vector3::new(2.0, 0.3, -0.4));
     let p_camera = Point3::new(0.01, 0.02, 0.6);
     // In the world: world_from_camera · p; in the object frame: world_from_object⁻¹ of that.
     let expected = world_from_object.inverse_transform_point(&(world_from_camera * p_camera));
@@ -109,7 +110,11 @@ fn grasp_frames_are_placed_by_the_given_camera_or_world_pose() {
         .unwrap();
     assert_eq!(object, Isometry3::identity());
     let both = GraspFrame::Camera
-        .object_from_frame(&world_from_object, Some(&world_from_camera), Some(&camera_from_object))
+        .object_from_frame(
+            &world_from_object,
+            Some(&world_from_camera),
+            Some(&camera_from_object),
+        )
         .unwrap_err();
     assert_eq!(both.field, "camera_from_object");
     let missing = GraspFrame::Camera

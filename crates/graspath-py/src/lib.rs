@@ -1,29 +1,24 @@
 //! Python bindings of graspath: the native module `graspath._graspath`, re-exported by the
 //! Python package `graspath` (see `python/graspath/__init__.py` and the type stubs beside it).
 //!
-//! * `robot::PyRobot` (`graspath.Robot`): URDF chains and the built-in Baxter arms; forward
+//! * `robot::PyRobot` (`graspath.Robot`): URDF and MJCF chains and the built-in arms; forward
 //!   kinematics, Jacobians, indices and IK for one configuration or a batch (numpy in and out,
 //!   batches in parallel with rayon, the GIL released).
 //! * `task::PyTask` (`graspath.Task`): tasks from files, text, dicts or arrays.
+//! * `grasps::read_grasps` (`graspath.read_grasps`): grasp-generator files (GraspGen, ACRONYM,
+//!   Contact-GraspNet / M2T2, `N×4×4` poses, GraspNet / AnyGrasp) as numpy candidates.
 //! * `selection::select` / `selection::PySelection` (`graspath.select`,
 //!   `graspath.Selection`): scoring and ranking, with the records the CLI writes.
+//! * `model::train` / `model::generate` (`graspath.train`, `graspath.generate`): the learned
+//!   grasp model, writing the files the CLI writes.
+//! * `placement::placement_map` (`graspath.placement_map`): the selection over a grid of
+//!   object placements, the document `graspath map` writes.
 //!
 //! Every library error becomes a `graspath.GraspathError` (a subclass of `ValueError`) with
 //! the library's message.
-//!
-//! ## Extension point: grasp generation from point clouds
-//!
-//! The learned one-shot grasp model (`graspath::grasp` model: training from one demonstration,
-//! generating candidates over a cloud) is not part of the library this crate builds against,
-//! so the bindings do not offer it. When the library gains it, bind it in a new module
-//! `src/grasp_model.rs` (a `GraspModel` class: `train(cloud (n, 3|6), demo_grasp (4, 4))`,
-//! `generate(cloud, count, seed) -> (k, 4, 4) poses + likelihoods`), register it in
-//! `_graspath` below, add it to `python/graspath/__init__.py` and the stubs, and feed its
-//! output to `Task.from_arrays(candidates=..., likelihoods=...)`, which already takes
-//! candidates with likelihoods.
-#![warn(missing_docs)]
 
 mod convert;
+mod grasps;
 mod memory;
 mod model;
 mod placement;
@@ -55,6 +50,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(model::train, module)?)?;
     module.add_function(wrap_pyfunction!(model::generate, module)?)?;
     module.add("DEFAULTS", task::defaults_dict(py)?)?;
+    module.add_function(wrap_pyfunction!(grasps::read_grasps, module)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

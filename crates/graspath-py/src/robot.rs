@@ -1,4 +1,4 @@
-//! `graspath.Robot`: one serial chain (a URDF chain or a built-in Baxter arm) with forward
+//! `graspath.Robot`: one serial chain (a URDF or MJCF chain, or a built-in arm) with forward
 //! kinematics, the geometric Jacobian, manipulability indices and inverse kinematics, for one
 //! configuration or for many at once.
 //!
@@ -219,6 +219,24 @@ impl PyRobot {
         let model = RobotSource::urdf(path).load().map_err(error)?;
         Ok(Self::new(
             model.chain(base_link, tip_link, tool).map_err(error)?,
+        ))
+    }
+
+    /// The chain ``base_body`` → ``tip_body`` of an MJCF (MuJoCo XML) file: its bodies' hinge and
+    /// slide joints with their ranges, optionally followed by a tool offset ``tool`` =
+    /// ``tip_from_tool`` (4×4, metres). Poses and Jacobians are in ``base_body``'s frame.
+    #[staticmethod]
+    #[pyo3(signature = (path, base_body, tip_body, tool = None))]
+    fn from_mjcf(
+        path: PathBuf,
+        base_body: &str,
+        tip_body: &str,
+        tool: Option<FloatArray<'_>>,
+    ) -> PyResult<Self> {
+        let tool = tool_pose(tool)?;
+        let model = RobotSource::mjcf(path).load().map_err(error)?;
+        Ok(Self::new(
+            model.chain(base_body, tip_body, tool).map_err(error)?,
         ))
     }
 

@@ -16,7 +16,7 @@ def test_stubs_match_the_module():
         runtime = {n for n in dir(getattr(graspath, name)) if not n.startswith("_")}
         assert stub == runtime, name
     functions = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
-    assert functions == {"generate", "placement_map", "select", "train"}
+    assert functions == {"generate", "placement_map", "read_grasps", "select", "train"}
     assert (STUB.parent / "py.typed").is_file()
 
 

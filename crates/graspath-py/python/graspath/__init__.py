@@ -6,19 +6,21 @@ library: metres and radians, a transform named ``a_from_b`` maps coordinates in 
 frame ``a``, poses are 4×4 homogeneous matrices, every robot pose and Jacobian is in the chain
 base frame with Jacobian rows ``[v; ω]``.
 
-* :class:`Robot` — a serial chain (URDF, or the built-in Baxter arms): ``fk``, ``jacobian``,
+* :class:`Robot` — a serial chain (URDF, MJCF, or a built-in arm): ``fk``, ``jacobian``,
   ``fk_jacobian``, ``indices``, ``task_relevant``, ``ik``, ``ik_trajectory``, for one
   configuration ``(dof,)`` or a batch ``(n, dof)``.
 * :class:`Task` — a selection task from a task file (``Task.load``), text, a dict, or arrays
   (``Task.from_arrays``).
 * :func:`select` — scores and ranks every candidate; the :class:`Selection` holds the same
   records the CLI writes (``candidates``, ``pairs``, ``summary``) and numpy views (``arrays``).
+* :func:`read_grasps` — a grasp generator's file (GraspGen, ACRONYM, Contact-GraspNet / M2T2,
+  ``N×4×4`` poses, GraspNet / AnyGrasp) as numpy candidates in the object frame.
 * :class:`GraspathError` — raised on bad input, a subclass of :class:`ValueError`.
 
 Grasp generation from point clouds (the learned grasp model) is not offered by this version:
 see the extension point described in ``crates/graspath-py/README.md``.
 """
 
-from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, generate, placement_map, select, train
+from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, generate, placement_map, read_grasps, select, train
 
-__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "generate", "placement_map", "select", "train", "__version__"]
+__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "generate", "placement_map", "read_grasps", "select", "train", "__version__"]

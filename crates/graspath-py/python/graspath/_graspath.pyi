@@ -46,6 +46,11 @@ class Robot:
     ) -> Robot:
         """The chain ``base_link`` → ``tip_link`` of a URDF file."""
     @staticmethod
+    def from_mjcf(
+        path: StrPath, base_body: str, tip_body: str, tool: Optional[ArrayLike] = None
+    ) -> Robot:
+        """The chain ``base_body`` → ``tip_body`` of an MJCF (MuJoCo XML) file (hinge and slide joints)."""
+    @staticmethod
     def from_urdf_string(
         xml: str,
         base_link: str,
@@ -311,3 +316,27 @@ def generate(
 
 def select(task: Task) -> Selection:
     """Scores and ranks every candidate of ``task`` (single arm, or pairs with two arms)."""
+
+GraspFormatName = Literal[
+    "graspath", "graspgen", "acronym", "contact_graspnet", "m2t2", "poses", "graspnet", "anygrasp"
+]
+
+def read_grasps(
+    path: StrPath,
+    format: Optional[GraspFormatName] = None,
+    frame: Optional[Literal["object", "world", "camera"]] = None,
+    world_from_camera: Optional[ArrayLike] = None,
+    camera_from_object: Optional[ArrayLike] = None,
+    gripper_from_tool: Optional[ArrayLike] = None,
+    segment: Optional[int] = None,
+    world_from_object: Optional[ArrayLike] = None,
+) -> Dict[str, Any]:
+    """A grasp file (graspath JSON/CSV, GraspGen, ACRONYM, Contact-GraspNet / M2T2, ``N×4×4``
+    poses, GraspNet / AnyGrasp) read as a task file's ``candidates: {file, ...}`` reads it.
+
+    ``frame`` defaults to the format's (``camera`` for Contact-GraspNet and GraspNet, else
+    ``object``); ``world_from_object`` (default identity) places the object for ``world`` frames
+    and ``world_from_camera``. Returns ``object_from_wrist`` ``(k, 4, 4)`` (tool frame in the object
+    frame, m), ``likelihood`` ``(k,)`` (the file's score, 1 where absent), ``log_likelihood``
+    ``(k,)``, ``width`` ``(k,)`` (m, NaN where absent), ``contact`` ``(k, 3)`` (NaN where
+    absent), ``id`` ``(k,)`` (row in the file), ``label`` (list of str), ``format`` (str)."""

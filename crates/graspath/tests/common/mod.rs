@@ -1,4 +1,5 @@
-//! Helpers shared by the integration tests: locating `../shared` (skipped when absent).
+//! Helpers shared by the integration tests: locating `../shared` and example-robot-data
+//! (skipped when absent, except example-robot-data in CI).
 
 #![allow(dead_code)]
 
@@ -26,6 +27,31 @@ pub fn shared_file(relative: &str) -> Option<PathBuf> {
             None
         }
     }
+}
+
+/// The `robots` folder of example-robot-data (`GRASPATH_ROBOT_DATA`, set by `.ci/run`), or
+/// `None` after printing why the test skips. Panics in CI (`CI=true`), where the package must
+/// be installed.
+pub fn robot_data() -> Option<PathBuf> {
+    use std::io::Write;
+    let dir = std::env::var_os("GRASPATH_ROBOT_DATA").map(PathBuf::from);
+    let found = dir.clone().filter(|d| d.join("panda_description").is_dir());
+    if found.is_none() {
+        let why = match dir {
+            None => "GRASPATH_ROBOT_DATA is not set".to_string(),
+            Some(d) => format!("{} holds no panda_description", d.display()),
+        };
+        if std::env::var("CI").is_ok_and(|v| v == "true") {
+            panic!("example-robot-data is required in CI: {why} (.ci/run installs it)");
+        }
+        // Straight to the process's stderr: the harness captures `eprintln!`, and a skip must
+        // not hide behind `ok`.
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED: example-robot-data not found ({why}); see README, \"Tests on third-party robots\""
+        );
+    }
+    found
 }
 
 use graspath::robot::{Chain, ChainSpec, JointKind, JointSpec};

@@ -74,6 +74,18 @@ impl GraspFormat {
         })
     }
 
+    /// The format's name, as [`Self::from_name`] reads it back.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Graspath => "graspath",
+            Self::GraspGen => "graspgen",
+            Self::Acronym => "acronym",
+            Self::ContactGraspnet => "contact_graspnet",
+            Self::Poses => "poses",
+            Self::GraspNet => "graspnet",
+        }
+    }
+
     /// The names [`Self::from_name`] accepts, for messages.
     pub const NAMES: &'static str =
         "graspath, graspgen, acronym, contact_graspnet (m2t2), poses, graspnet (anygrasp)";
@@ -106,6 +118,66 @@ pub enum GraspFrame {
     World,
     /// A camera frame, placed by `world_from_camera` or `camera_from_object`.
     Camera,
+}
+
+impl GraspFrame {
+    /// The frame of a task file's `frame:` (`object`, `world` or `camera`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "object" => Self::Object,
+            "world" => Self::World,
+            "camera" => Self::Camera,
+            _ => return None,
+        })
+    }
+
+    /// `object_from_frame`: where this frame is in the object frame, given the object in the
+    /// world (`world_from_object`) and, for [`GraspFrame::Camera`] only, the camera's placement
+    /// (`world_from_camera` or `camera_from_object`, not both). Errors name the field at fault
+    /// (`frame`, `world_from_camera`, `camera_from_object`).
+    pub fn object_from_frame(
+        self,
+        world_from_object: &Isometry3<f64>,
+        world_from_camera: Option<&Isometry3<f64>>,
+        camera_from_object: Option<&Isometry3<f64>>,
+    ) -> Result<Isometry3<f64>, FramePlacementError> {
+        let fail =
+            |field: &'static str, message: &'static str| FramePlacementError { field, message };
+        let object_from_camera = match (world_from_camera, camera_from_object) {
+            (Some(_), Some(_)) => {
+                return Err(fail(
+                    "camera_from_object",
+                    "give world_from_camera or camera_from_object, not both",
+                ))
+            }
+            (Some(w), None) => Some(world_from_object.inverse() * w),
+            (None, Some(c)) => Some(c.inverse()),
+            (None, None) => None,
+        };
+        match (self, object_from_camera) {
+            (Self::Camera, Some(pose)) => Ok(pose),
+            (Self::Camera, None) => Err(fail(
+                "frame",
+                "poses in the camera frame need world_from_camera or camera_from_object",
+            )),
+            (_, Some(_)) => Err(fail(
+                "frame",
+                "a camera pose is given but the frame is not camera",
+            )),
+            (Self::Object, None) => Ok(Isometry3::identity()),
+            (Self::World, None) => Ok(world_from_object.inverse()),
+        }
+    }
+}
+
+/// A grasp file's frame that cannot be placed in the object frame: the option at fault and why.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct FramePlacementError {
+    /// The option at fault: `frame`, `world_from_camera` or `camera_from_object`.
+    pub field: &'static str,
+    /// What is wrong.
+    pub message: &'static str,
 }
 
 /// A generator's gripper frame and how it maps to graspath's tool frame (`z` approach, the

@@ -78,3 +78,53 @@ fn npy_preamble(header: &str) -> Vec<u8> {
     bytes.extend_from_slice(h.as_bytes());
     bytes
 }
+
+/// The frames of a grasp file placed in the object frame: a point given in the camera (or
+/// world) frame lands where the hand-composed transforms put it.
+#[test]
+fn grasp_frames_are_placed_by_the_given_camera_or_world_pose() {
+    use super::GraspFrame;
+    use nalgebra::{Isometry3, Point3, Vector3};
+    let world_from_object = Isometry3::new(Vector3::new(0.4, -0.2, 0.1), Vector3::z() * 0.7);
+    let world_from_camera =
+        Isometry3::new(Vector3::new(1.0, 0.5, 1.2), Vector3::new(2.0, 0.3, -0.4));
+    let p_camera = Point3::new(0.01, 0.02, 0.6);
+    // In the world: world_from_camera · p; in the object frame: world_from_object⁻¹ of that.
+    let expected = world_from_object.inverse_transform_point(&(world_from_camera * p_camera));
+    let by_world = GraspFrame::Camera
+        .object_from_frame(&world_from_object, Some(&world_from_camera), None)
+        .unwrap();
+    assert!((by_world * p_camera - expected).norm() < 1e-12);
+    let camera_from_object = world_from_camera.inverse() * world_from_object;
+    let by_camera = GraspFrame::Camera
+        .object_from_frame(&Isometry3::identity(), None, Some(&camera_from_object))
+        .unwrap();
+    assert!((by_camera * p_camera - expected).norm() < 1e-12);
+    let p_world = Point3::new(0.3, 0.1, 0.9);
+    let world = GraspFrame::World
+        .object_from_frame(&world_from_object, None, None)
+        .unwrap();
+    assert!((world_from_object * (world * p_world) - p_world).norm() < 1e-12);
+    let object = GraspFrame::Object
+        .object_from_frame(&world_from_object, None, None)
+        .unwrap();
+    assert_eq!(object, Isometry3::identity());
+    let both = GraspFrame::Camera
+        .object_from_frame(
+            &world_from_object,
+            Some(&world_from_camera),
+            Some(&camera_from_object),
+        )
+        .unwrap_err();
+    assert_eq!(both.field, "camera_from_object");
+    let missing = GraspFrame::Camera
+        .object_from_frame(&world_from_object, None, None)
+        .unwrap_err();
+    assert_eq!(missing.field, "frame");
+    let stray = GraspFrame::Object
+        .object_from_frame(&world_from_object, Some(&world_from_camera), None)
+        .unwrap_err();
+    assert_eq!(stray.field, "frame");
+    assert_eq!(GraspFrame::from_name("camera"), Some(GraspFrame::Camera));
+    assert_eq!(GraspFrame::from_name("tool"), None);
+}

@@ -9,7 +9,7 @@ mod baxter;
 mod urdf;
 
 pub use baxter::{baxter_electric_gripper, BAXTER_GRIPPER_NAME};
-pub use urdf::{hand_from_robot, hand_from_urdf, HandError};
+pub use urdf::{hand_from_robot, hand_from_robot_with_wrist, hand_from_urdf, HandError};
 
 use crate::geometry::shape::{Proximity, Shape};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -71,15 +71,17 @@ pub struct LinkShape {
 pub struct HandLink {
     /// Link name.
     pub name: String,
-    /// The parent link's index (`None` for the root, whose frame is the wrist frame).
+    /// The parent link's index (`None` for the root, placed in the wrist frame by its joint).
     pub parent: Option<usize>,
-    /// How the link hangs on its parent (the root's is fixed at the identity).
+    /// How the link hangs on its parent (the root's is fixed: the identity, or `wrist_from_root`
+    /// when the wrist frame is a link fixed below the root, [`hand_from_robot_with_wrist`]).
     pub joint: LinkJoint,
     /// Collision shapes (may be empty: such a link never gets a contact model).
     pub shapes: Vec<LinkShape>,
 }
 
-/// A hand: links in parent-before-child order (link 0 is the root at the wrist frame) and the
+/// A hand: links in parent-before-child order (link 0 is the root, at the wrist frame or fixed
+/// in it) and the
 /// independent joints that move them.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Hand {

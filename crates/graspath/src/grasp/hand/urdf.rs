@@ -40,6 +40,16 @@ pub enum HandError {
         /// What is wrong.
         message: String,
     },
+    /// The wrist link is not below the root through fixed joints only.
+    #[error("{source_name}: wrist link '{link}': {message}")]
+    BadWrist {
+        /// The file.
+        source_name: String,
+        /// The requested wrist link.
+        link: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A joint below the root cannot be used.
     #[error("{source_name}: joint '{joint}', field '{field}': {message}")]
     BadJoint {
@@ -73,6 +83,50 @@ pub fn hand_from_robot(model: &RobotModel, root_link: &str) -> Result<Hand, Hand
             links: "none: a built-in robot model has no hand links; give a URDF hand".into(),
         }),
     }
+}
+
+/// Builds a hand from a loaded robot model like [`hand_from_robot`], with the links below
+/// `root_link` but every pose in the frame of `wrist_link`: a link fixed below the root (the
+/// Panda's `panda_hand_tcp` below `panda_hand`), so that a model trained with this hand
+/// generates `object_from_wrist` in the frame a robot chain ends at (its tool frame). The root's
+/// joint becomes the fixed `wrist_from_root`; the wrist link must hang on the root through
+/// fixed joints only.
+pub fn hand_from_robot_with_wrist(
+    model: &RobotModel,
+    root_link: &str,
+    wrist_link: &str,
+) -> Result<Hand, HandError> {
+    let mut hand = hand_from_robot(model, root_link)?;
+    let fail = |message: String| HandError::BadWrist {
+        source_name: model.source_name().to_string(),
+        link: wrist_link.to_string(),
+        message,
+    };
+    let Some(wrist) = hand.link_index(wrist_link) else {
+        return Err(fail(format!(
+            "not a link below the root '{root_link}' (links: {})",
+            hand.links
+                .iter()
+                .map(|l| l.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    };
+    let mut k = wrist;
+    while let Some(parent) = hand.links[k].parent {
+        if hand.links[k].joint.kind != HandJointKind::Fixed {
+            return Err(fail(format!(
+                "link '{}' between it and the root '{root_link}' moves with a hand joint: the \
+                 wrist frame must be fixed to the root",
+                hand.links[k].name
+            )));
+        }
+        k = parent;
+    }
+    // With the root at the identity, link poses are root_from_link; fixed joints ignore q.
+    let root_from_wrist = hand.link_poses(&vec![0.0; hand.dof()])[wrist];
+    hand.links[0].joint = LinkJoint::fixed(root_from_wrist.inverse());
+    Ok(hand)
 }
 
 /// Builds a hand from a parsed URDF: `root_link`'s frame becomes the wrist frame and every link

@@ -6,7 +6,8 @@
 //! {
 //!   "format": "graspath-demonstration", "version": 1,
 //!   "label": "pinch",                                       optional
-//!   "hand": "baxter_electric_gripper"  |  {"urdf": "hand.urdf", "root": "palm"},
+//!   "hand": "baxter_electric_gripper"
+//!         | {"urdf": "hand.urdf", "root": "palm", "wrist": "tcp", "search_paths": ["ros"]},
 //!   "cloud": {"file": "object.pcd"}
 //!          | {"primitive": {"shape": {"box": {"size": [0.05, 0.08, 0.12]}}, "points": 5000, "seed": 1}}
 //!          | {"mesh": {"path": "object.stl", "points": 5000}},
@@ -19,6 +20,7 @@
 //! }
 //! ```
 //! Paths are relative to the demonstration file; poses are in the cloud's object frame (m).
+//! `docs/demonstrations.md` documents every field.
 
 use super::configuration::ConfigurationSpec;
 use super::contact::train_contacts;
@@ -28,7 +30,9 @@ use super::file::{
 use super::{ModelError, ModelParams};
 use crate::cloud::{compute_features, CloudSource, FeatureParams, PointCloud};
 use crate::geometry::pose_to_rows;
-use crate::grasp::hand::{baxter_electric_gripper, hand_from_robot, Hand, BAXTER_GRIPPER_NAME};
+use crate::grasp::hand::{
+    baxter_electric_gripper, hand_from_robot, hand_from_robot_with_wrist, Hand, BAXTER_GRIPPER_NAME,
+};
 use crate::robot::RobotSource;
 use nalgebra::Isometry3;
 use std::path::{Path, PathBuf};
@@ -42,12 +46,23 @@ pub const DEMONSTRATION_FORMAT: &str = "graspath-demonstration";
 pub enum HandSource {
     /// A built-in hand by name (`baxter_electric_gripper`).
     Builtin(String),
-    /// A URDF hand: the file and the link whose frame is the wrist frame.
+    /// A URDF hand: the file, the link whose subtree is the hand and, optionally, the link
+    /// whose frame is the wrist frame (default: the root's).
     Urdf {
         /// The URDF file (relative to the demonstration file).
         urdf: PathBuf,
-        /// The root link (wrist frame).
+        /// The root link: it and every link below it are the hand.
         root: String,
+        /// The wrist frame: a link fixed below the root (the Panda's `panda_hand_tcp`); the
+        /// demonstration's and the generated `object_from_wrist` are in its frame. Default:
+        /// the root link's frame.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        wrist: Option<String>,
+        /// Folders tried first for `package://` and `model://` mesh URIs (relative to the
+        /// demonstration file), before `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH` and the URDF's
+        /// own ancestors.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        search_paths: Vec<PathBuf>,
     },
 }
 
@@ -61,11 +76,22 @@ impl HandSource {
                 "hand",
                 format!("unknown built-in hand '{other}' (built in: {BAXTER_GRIPPER_NAME}; or give {{\"urdf\": FILE, \"root\": LINK}})"),
             )),
-            HandSource::Urdf { urdf, root } => {
-                let model = RobotSource::urdf(base_dir.join(urdf))
-                    .load()
-                    .map_err(crate::grasp::hand::HandError::from)?;
-                Ok(hand_from_robot(&model, root)?)
+            HandSource::Urdf {
+                urdf,
+                root,
+                wrist,
+                search_paths,
+            } => {
+                let model = RobotSource::Urdf {
+                    path: base_dir.join(urdf),
+                    search_paths: search_paths.iter().map(|p| base_dir.join(p)).collect(),
+                }
+                .load()
+                .map_err(crate::grasp::hand::HandError::from)?;
+                Ok(match wrist {
+                    Some(wrist) => hand_from_robot_with_wrist(&model, root, wrist)?,
+                    None => hand_from_robot(&model, root)?,
+                })
             }
         }
     }

@@ -12,16 +12,13 @@
 //!   and the geoms' sizes against MJCF's half-size conventions.
 //! * Bad input gets one clear error naming the file and the attribute.
 
+mod common;
+
 use graspath::cloud::load_collision_mesh;
 use graspath::geometry::shape::Shape;
 use graspath::robot::{Chain, CollisionGeometry, MjcfRobot, RobotError, RobotSource, UrdfRobot};
-use nalgebra::{
-    Isometry3, IsometryMatrix3, Matrix6xX, Translation3, UnitQuaternion, Vector3, Vector6,
-};
-use rand::rngs::StdRng;
-use rand::{RngExt, SeedableRng};
+use nalgebra::{Isometry3, IsometryMatrix3, Translation3, UnitQuaternion, Vector3, Vector6};
 use std::f64::consts::PI;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const TOL: f64 = 1e-9;
@@ -48,54 +45,16 @@ fn builtin(name: &str) -> Chain {
         .unwrap()
 }
 
-fn configurations(chain: &Chain, count: usize, seed: u64) -> Vec<Vec<f64>> {
-    let mut rng = StdRng::seed_from_u64(seed);
-    (0..count)
-        .map(|_| {
-            (0..chain.dof())
-                .map(|j| {
-                    let (lo, hi) = (chain.lower()[j], chain.upper()[j]);
-                    if lo.is_finite() && hi > lo {
-                        rng.random_range(lo..hi)
-                    } else {
-                        rng.random_range(-PI..PI)
-                    }
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// `reference_from_base · chain(q)` equals `reference(q)`: pose and Jacobian (rotated into
-/// the reference base frame) to 1e-9.
+/// `reference_from_base · chain(q)` equals `reference(q)` at 200 seeded configurations inside
+/// the reference's limits.
 fn check_same_kinematics(
     what: &str,
     chain: &Chain,
     reference: &Chain,
     reference_from_base: IsometryMatrix3<f64>,
 ) {
-    assert_eq!(chain.dof(), reference.dof(), "{what}: joints");
-    let r = reference_from_base.rotation.matrix();
-    for q in configurations(reference, 200, 17) {
-        let (pose, jacobian) = chain.pose_and_jacobian(&q).unwrap();
-        let (expected, expected_j) = reference.pose_and_jacobian(&q).unwrap();
-        let error = ((reference_from_base * pose).to_homogeneous() - expected.to_homogeneous())
-            .abs()
-            .max();
-        assert!(error <= TOL, "{what} at {q:?}: pose differs by {error:e}");
-        let mut rotated = Matrix6xX::zeros(jacobian.ncols());
-        rotated
-            .fixed_rows_mut::<3>(0)
-            .copy_from(&(r * jacobian.fixed_rows::<3>(0)));
-        rotated
-            .fixed_rows_mut::<3>(3)
-            .copy_from(&(r * jacobian.fixed_rows::<3>(3)));
-        let error = (rotated - expected_j).abs().max();
-        assert!(
-            error <= TOL,
-            "{what} at {q:?}: Jacobian differs by {error:e}"
-        );
-    }
+    let configurations = common::configurations(reference, 200, 17);
+    common::assert_same_kinematics(what, chain, reference, reference_from_base, &configurations);
 }
 
 fn assert_limits_close(what: &str, a: &Chain, b: &Chain) {
@@ -152,7 +111,7 @@ fn panda_from_the_world_includes_the_euler_placement() {
     let world_from_link0: IsometryMatrix3<f64> = nalgebra::convert(world_from_link0);
     // The built-in chain, placed: world_from_link0 · panda(q) = mjcf(q) in the world frame.
     let reference = builtin("panda");
-    for q in configurations(&reference, 50, 5) {
+    for q in common::configurations(&reference, 50, 5) {
         let (expected, expected_j) = reference.pose_and_jacobian(&q).unwrap();
         let (pose, jacobian) = mjcf.pose_and_jacobian(&q).unwrap();
         let error = ((world_from_link0 * expected).to_homogeneous() - pose.to_homogeneous())
@@ -194,27 +153,6 @@ fn panda_fingers_slide_along_their_axes() {
     }
 }
 
-/// The `robots` folder of example-robot-data, or `None` after printing why the check skips.
-/// Panics in CI, where the package must be installed (as tests/robot_data.rs).
-fn robot_data() -> Option<PathBuf> {
-    let dir = std::env::var_os("GRASPATH_ROBOT_DATA").map(PathBuf::from);
-    let found = dir.clone().filter(|d| d.join("panda_description").is_dir());
-    if found.is_none() {
-        let why = match dir {
-            None => "GRASPATH_ROBOT_DATA is not set".to_string(),
-            Some(d) => format!("{} holds no panda_description", d.display()),
-        };
-        if std::env::var("CI").is_ok_and(|v| v == "true") {
-            panic!("example-robot-data is required in CI: {why} (.ci/run installs it)");
-        }
-        let _ = writeln!(
-            std::io::stderr(),
-            "SKIPPED: the MJCF-against-URDF checks: example-robot-data not found ({why})"
-        );
-    }
-    found
-}
-
 fn urdf(data: &Path, relative: &str) -> graspath::robot::RobotModel {
     RobotSource::urdf(data.join(relative))
         .load()
@@ -223,7 +161,9 @@ fn urdf(data: &Path, relative: &str) -> graspath::robot::RobotModel {
 
 #[test]
 fn ur5_and_panda_equal_the_example_robot_data_urdfs() {
-    let Some(data) = robot_data() else { return };
+    let Some(data) = common::robot_data() else {
+        return;
+    };
     let model = urdf(&data, "ur_description/urdf/ur5_robot.urdf");
     let reference = model.chain("base_link", "tool0", None).unwrap();
     let base_link_from_base = model
@@ -331,7 +271,7 @@ fn several_joints_in_one_body_compose_in_order() {
             * a_from_b
     };
     let h = 1e-6;
-    for q in configurations(&chain, 30, 3) {
+    for q in common::configurations(&chain, 30, 3) {
         let (pose, jacobian) = chain.pose_and_jacobian(&q).unwrap();
         let expected = oracle(&q);
         let error = (pose.to_homogeneous() - expected.to_homogeneous())

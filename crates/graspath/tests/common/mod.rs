@@ -55,7 +55,63 @@ pub fn robot_data() -> Option<PathBuf> {
 }
 
 use graspath::robot::{Chain, ChainSpec, JointKind, JointSpec};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, IsometryMatrix3, Matrix6xX, Translation3, UnitQuaternion, Vector3};
+use rand::rngs::StdRng;
+use rand::{RngExt, SeedableRng};
+
+/// `count` seeded configurations of `chain`, uniform inside its limits (over one revolution for
+/// a joint without limits).
+pub fn configurations(chain: &Chain, count: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| {
+            (0..chain.dof())
+                .map(|j| {
+                    let (lo, hi) = (chain.lower()[j], chain.upper()[j]);
+                    if lo.is_finite() && hi > lo {
+                        rng.random_range(lo..hi)
+                    } else {
+                        rng.random_range(-std::f64::consts::PI..std::f64::consts::PI)
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `reference_from_base · chain(q)` equals `reference(q)` at every `q` of `configurations`:
+/// the pose and the Jacobian (rotated into the reference base frame) to 1e-9.
+pub fn assert_same_kinematics(
+    what: &str,
+    chain: &Chain,
+    reference: &Chain,
+    reference_from_base: IsometryMatrix3<f64>,
+    configurations: &[Vec<f64>],
+) {
+    const TOL: f64 = 1e-9;
+    assert_eq!(chain.dof(), reference.dof(), "{what}: joints");
+    let r = reference_from_base.rotation.matrix();
+    for q in configurations {
+        let (pose, jacobian) = chain.pose_and_jacobian(q).unwrap();
+        let (expected, expected_j) = reference.pose_and_jacobian(q).unwrap();
+        let error = ((reference_from_base * pose).to_homogeneous() - expected.to_homogeneous())
+            .abs()
+            .max();
+        assert!(error <= TOL, "{what} at {q:?}: pose differs by {error:e}");
+        let mut rotated = Matrix6xX::zeros(jacobian.ncols());
+        rotated
+            .fixed_rows_mut::<3>(0)
+            .copy_from(&(r * jacobian.fixed_rows::<3>(0)));
+        rotated
+            .fixed_rows_mut::<3>(3)
+            .copy_from(&(r * jacobian.fixed_rows::<3>(3)));
+        let error = (rotated - expected_j).abs().max();
+        assert!(
+            error <= TOL,
+            "{what} at {q:?}: Jacobian differs by {error:e}"
+        );
+    }
+}
 
 /// The UR5 arm (`base_link` → `tool0`) from Universal Robots' published joint origins (the
 /// values of `ur_description`), with every joint limited to `±limit` (rad). Built in the test

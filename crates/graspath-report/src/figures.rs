@@ -153,13 +153,7 @@ fn norms_figure(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure 
     let axis = CandidateAxis::new(arm, parameter);
     let l2: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.l2)).collect();
     let linf: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.linf)).collect();
-    let mut marks = Vec::new();
-    if let Some(best) = arm.best() {
-        marks.push((
-            axis.x_of[best],
-            format!("selected: {}", candidate_name(arm, best)),
-        ));
-    }
+    let marks = best_mark(arm, &axis, "selected");
     let plot = LinePlot {
         title: format!("Task-relevant norms, {} arm", arm.arm),
         x_label: axis.label.clone(),
@@ -239,6 +233,20 @@ fn m_t_figure(task: &Task, arm: &ArmResult, parameter: Option<&FamilyParameter>)
     }
 }
 
+/// The best-ranked candidate's mark on a line chart (none when nothing is ranked), named
+/// `what: candidate`.
+fn best_mark(arm: &ArmResult, axis: &CandidateAxis, what: &str) -> Vec<(f64, String)> {
+    arm.best()
+        .map(|best| {
+            (
+                axis.x_of[best],
+                format!("{what}: {}", candidate_name(arm, best)),
+            )
+        })
+        .into_iter()
+        .collect()
+}
+
 fn argmax(values: &[Option<f64>]) -> Option<usize> {
     values
         .iter()
@@ -268,13 +276,7 @@ fn classical_figure(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Fig
         Some(i) => format!("{base}, best: {}", id_of(i)),
         None => base.to_string(),
     };
-    let mut marks = Vec::new();
-    if let Some(best) = arm.best() {
-        marks.push((
-            axis.x_of[best],
-            format!("task-relevant choice: {}", candidate_name(arm, best)),
-        ));
-    }
+    let marks = best_mark(arm, &axis, "task-relevant choice");
     let plot = LinePlot {
         title: format!("Indices at the grasp, {} arm", arm.arm),
         x_label: axis.label.clone(),

@@ -473,47 +473,30 @@ fn grasp_file_candidates(
     };
     let frame = match c.frame.as_deref() {
         None => guessed.default_frame(),
-        Some("object") => GraspFrame::Object,
-        Some("world") => GraspFrame::World,
-        Some("camera") => GraspFrame::Camera,
-        Some(other) => {
-            return Err(err(
-                "candidates.frame",
-                format!("'{other}' is not one of object, world, camera"),
-            ))
-        }
-    };
-    let camera = match (&c.world_from_camera, &c.camera_from_object) {
-        (Some(_), Some(_)) => {
-            return Err(err(
-                "candidates.camera_from_object",
-                "give world_from_camera or camera_from_object, not both".into(),
-            ))
-        }
-        (Some(spec), None) => {
-            Some(world_from_object.inverse() * pose(spec, source, "candidates.world_from_camera")?)
-        }
-        (None, Some(spec)) => Some(pose(spec, source, "candidates.camera_from_object")?.inverse()),
-        (None, None) => None,
-    };
-    let object_from_frame = match frame {
-        GraspFrame::Object => Isometry3::identity(),
-        GraspFrame::World => world_from_object.inverse(),
-        GraspFrame::Camera => camera.ok_or_else(|| {
+        Some(name) => GraspFrame::from_name(name).ok_or_else(|| {
             err(
                 "candidates.frame",
-                "poses in the camera frame need candidates.world_from_camera or \
-                 candidates.camera_from_object"
-                    .into(),
+                format!("'{name}' is not one of object, world, camera"),
             )
         })?,
     };
-    if camera.is_some() && frame != GraspFrame::Camera {
-        return Err(err(
-            "candidates.frame",
-            "a camera pose is given but the frame is not camera".into(),
-        ));
-    }
+    let world_from_camera = c
+        .world_from_camera
+        .as_ref()
+        .map(|spec| pose(spec, source, "candidates.world_from_camera"))
+        .transpose()?;
+    let camera_from_object = c
+        .camera_from_object
+        .as_ref()
+        .map(|spec| pose(spec, source, "candidates.camera_from_object"))
+        .transpose()?;
+    let object_from_frame = frame
+        .object_from_frame(
+            &world_from_object,
+            world_from_camera.as_ref(),
+            camera_from_object.as_ref(),
+        )
+        .map_err(|e| err(&format!("candidates.{}", e.field), e.message.into()))?;
     let gripper_from_tool = c
         .gripper_from_tool
         .as_ref()

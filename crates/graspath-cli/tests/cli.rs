@@ -392,12 +392,45 @@ fn every_example_task_loads_and_the_demo_runs() {
 
 /// The README's lists of placements where each cuboid finding holds and reverses are the
 /// demo's `where_it_holds`.
+/// The `code` spans of `line` after `marker`.
+fn code_spans_after(line: &str, marker: &str) -> Vec<String> {
+    line[line.find(marker).unwrap()..]
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
+}
+
+/// A placement `[x, y]` of `findings.json` as the README prints it.
+fn placement_text(p: &serde_json::Value) -> String {
+    format!(
+        "({:.2}, {:.2})",
+        p[0].as_f64().unwrap(),
+        p[1].as_f64().unwrap()
+    )
+}
+
+/// The README's "where the findings hold" lists and the measured mechanism against
+/// `findings.json`: per figure the placements where the finding holds and reverses, the verdict
+/// at the task's own placement and the placement where it holds with the largest μ_l2 spread;
+/// every cuboid arm's mechanism sentence quoted verbatim.
 fn readme_placements_match(findings: &serde_json::Value) {
     let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let line_of = |figure: &str, marker: &str| {
+        readme
+            .lines()
+            .find(|l| l.contains(&format!("{figure} ")) && l.contains(marker))
+            .unwrap_or_else(|| panic!("no README line for {figure} {marker}"))
+            .to_string()
+    };
     for (figure, experiment) in [
         ("Fig. 5, 6", "pick_and_place_left"),
         ("Fig. 7", "pick_and_place_both"),
         ("Fig. 9", "pick_rotate_place_both"),
+        ("Fig. 10 c, d", "t_shape_rotate"),
+        ("Fig. 10 e, f", "t_shape_move"),
+        ("Fig. 10 g, h", "t_shape_move_rotate"),
     ] {
         let map = &findings
             .as_array()
@@ -406,30 +439,39 @@ fn readme_placements_match(findings: &serde_json::Value) {
             .find(|f| f["experiment"] == experiment)
             .unwrap()["where_it_holds"];
         for (marker, key) in [("Holds at:", "holds_at"), ("reverses at:", "reverses_at")] {
-            let line = readme
-                .lines()
-                .find(|l| l.contains(figure) && l.contains(marker))
-                .unwrap_or_else(|| panic!("no README line for {figure} {marker}"));
-            let after = &line[line.find(marker).unwrap()..];
-            let quoted: Vec<String> = after
-                .split('`')
-                .skip(1)
-                .step_by(2)
-                .map(str::to_string)
-                .collect();
+            let quoted = code_spans_after(&line_of(figure, marker), marker);
             let expected: Vec<String> = map[key]
                 .as_array()
                 .unwrap()
                 .iter()
-                .map(|p| {
-                    format!(
-                        "({:.2}, {:.2})",
-                        p[0].as_f64().unwrap(),
-                        p[1].as_f64().unwrap()
-                    )
-                })
+                .map(placement_text)
                 .collect();
             assert_eq!(quoted, expected, "README: {figure} {marker}");
+        }
+        let marker = "at the task's placement";
+        let own = &map["at_the_task_placement"];
+        let mut expected = vec![
+            placement_text(&own["at"]),
+            own["finding"].as_str().unwrap().to_string(),
+        ];
+        if let Some(strongest) = map["reproduced_at"].as_object() {
+            expected.push(placement_text(&strongest["at"]));
+            expected.extend(
+                strongest["mu_l2_spread_percent"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|s| format!("{:.1} %", s.as_f64().unwrap())),
+            );
+        }
+        let quoted = code_spans_after(&line_of(figure, marker), marker);
+        assert_eq!(quoted, expected, "README: {figure} {marker}");
+        for arm in map["mechanism"]["arms"].as_array().into_iter().flatten() {
+            let words = arm["in_words"].as_str().unwrap();
+            assert!(
+                readme.contains(&format!("`{words}`")),
+                "README does not quote the measured mechanism of {experiment}: {words}"
+            );
         }
     }
 }

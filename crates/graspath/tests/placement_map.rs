@@ -3,7 +3,8 @@
 //! and bad grids or tasks give one clear error.
 
 use graspath::placement::{
-    placement_map, FamilyParameter, GridAxis, PlacementError, PlacementGrid, PlacementRecord,
+    placement_map, placement_map_with, FamilyParameter, GridAxis, PlacementError, PlacementGrid,
+    PlacementRecord,
 };
 use graspath::select::select;
 use graspath::task::{builder_from_file, Task, TaskFile};
@@ -122,6 +123,39 @@ fn the_map_is_the_same_at_any_thread_count() {
     let one = run(1);
     assert_eq!(one, run(2));
     assert_eq!(one, run(5));
+}
+
+#[test]
+fn placement_map_with_hands_each_placement_in_grid_order() {
+    let file = parse(&task_yaml("{ xyz: [0.75, 0.0, -0.10] }"));
+    let builder = builder_from_file(&file, "task.yaml", Path::new(".")).unwrap();
+    let grid = grid();
+    let plain = placement_map(&builder, &grid, None, &|| {}).unwrap();
+    let (map, seen) = placement_map_with(&builder, &grid, None, &|| {}, &|task, selection, at| {
+        let feasible: Vec<usize> = selection
+            .arms
+            .iter()
+            .map(graspath::select::ArmResult::feasible_count)
+            .collect();
+        (at.index, task.path.samples[0].world_from_object, feasible)
+    })
+    .unwrap();
+    // The records are those of the plain map; the inspected values follow the grid's order and
+    // see each placement's own task (its start pose) and selection (its feasible counts).
+    assert_eq!(
+        serde_json::to_vec(&map.records).unwrap(),
+        serde_json::to_vec(&plain.records).unwrap()
+    );
+    let placements = grid.placements(&builder.object_start().unwrap()).unwrap();
+    assert_eq!(seen.len(), placements.len());
+    for ((index, start, feasible), (placement, record)) in
+        seen.iter().zip(placements.iter().zip(&map.records))
+    {
+        assert_eq!(*index, placement.index);
+        assert_eq!(*start, placement.world_from_object);
+        let from_record: Vec<usize> = record.arms.iter().map(|a| a.feasible).collect();
+        assert_eq!(*feasible, from_record);
+    }
 }
 
 #[test]

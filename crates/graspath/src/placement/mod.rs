@@ -16,11 +16,13 @@ mod grid;
 mod record;
 
 pub use grid::{AxisError, GridAxis, Placement, PlacementGrid, MAX_PLACEMENTS};
-pub use record::{ArmAtPlacement, BestAtPlacement, PairAtPlacement, PlacementRecord, Trend};
+pub use record::{
+    pearson, ArmAtPlacement, BestAtPlacement, PairAtPlacement, PlacementRecord, Trend,
+};
 
 use crate::grasp::Candidate;
-use crate::select::select;
-use crate::task::{FamilyFile, TaskBuilder, TaskError, TaskFile};
+use crate::select::{select, Selection};
+use crate::task::{FamilyFile, Task, TaskBuilder, TaskError, TaskFile};
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -123,6 +125,22 @@ pub fn placement_map(
     parameter: Option<FamilyParameter>,
     progress: &(dyn Fn() + Sync),
 ) -> Result<PlacementMap, PlacementError> {
+    placement_map_with(builder, grid, parameter, progress, &|_, _, _| ()).map(|(map, _)| map)
+}
+
+/// [`placement_map`], also handing every placement's task and selection to `inspect` (in
+/// parallel) and returning what it gives, one value per placement in grid order: what a
+/// study measures beyond the records (per-candidate series, distances) without running the
+/// selections twice.
+///
+/// Errors: as [`placement_map`].
+pub fn placement_map_with<T: Send>(
+    builder: &TaskBuilder,
+    grid: &PlacementGrid,
+    parameter: Option<FamilyParameter>,
+    progress: &(dyn Fn() + Sync),
+    inspect: &(dyn Fn(&Task, &Selection, &Placement) -> T + Sync),
+) -> Result<(PlacementMap, Vec<T>), PlacementError> {
     // Fails, naming `trajectory`, when the path is not given as steps from a start pose.
     builder.clone().with_object_start(Isometry3::identity())?;
     let start = builder.object_start().unwrap_or_else(Isometry3::identity);
@@ -147,7 +165,7 @@ pub fn placement_map(
     let arms = first.arms.iter().map(|a| a.name.clone()).collect();
     let tie_tolerance = first.selection.tie_tolerance;
     drop(first);
-    let results: Vec<Result<PlacementRecord, TaskError>> = placements
+    let results: Vec<Result<(PlacementRecord, T), TaskError>> = placements
         .par_iter()
         .map(|placement| {
             let task = builder
@@ -156,20 +174,22 @@ pub fn placement_map(
                 .build()?;
             let selection = select(&task, &|| {});
             progress();
-            Ok(PlacementRecord::from_selection(
-                &task,
-                &selection,
-                placement,
-                parameter.as_ref(),
-            ))
+            let record =
+                PlacementRecord::from_selection(&task, &selection, placement, parameter.as_ref());
+            Ok((record, inspect(&task, &selection, placement)))
         })
         .collect();
-    let records = results.into_iter().collect::<Result<Vec<_>, _>>()?;
-    Ok(PlacementMap {
+    let (records, inspected) = results
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
+    let map = PlacementMap {
         grid: *grid,
         parameter,
         arms,
         tie_tolerance,
         records,
-    })
+    };
+    Ok((map, inspected))
 }

@@ -186,7 +186,7 @@ fn arm_record(task: &Task, arm: &ArmResult, parameter: Option<&FamilyParameter>)
 
 /// Pearson's correlation of the points' two coordinates (two-pass, centred sums); `None` for
 /// fewer than two points or a constant coordinate.
-pub(crate) fn pearson(points: &[(f64, f64)]) -> Option<f64> {
+pub fn pearson(points: &[(f64, f64)]) -> Option<f64> {
     if points.len() < 2 {
         return None;
     }

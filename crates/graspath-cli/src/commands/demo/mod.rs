@@ -9,12 +9,14 @@
 //! sampled densely for IK and continuity) — whose findings go beside the dense ones in
 //! `findings.json` (`sampling` says which reading is which).
 
+mod evidence;
+
 use super::select::run_task;
 use crate::output::{print_summary_table, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, write_files, Existing};
-use graspath::placement::{placement_map, FamilyParameter, GridAxis, PlacementGrid};
+use graspath::placement::FamilyParameter;
 use graspath::select::{select, Selection};
 use graspath::task::Task;
 use graspath::task::TaskFile;
@@ -46,37 +48,37 @@ const EXPERIMENTS: [Experiment; 6] = [
     Experiment {
         name: "pick_and_place_left",
         figure: "Fig. 5, 6, 8",
-        task_yaml: include_str!("../../../../examples/pick_and_place_left.yaml"),
+        task_yaml: include_str!("../../../../../examples/pick_and_place_left.yaml"),
         paper_finding: "left arm, object moved left: the best contact is the left-most; the classical indices at the grasp pick a different contact",
     },
     Experiment {
         name: "pick_and_place_both",
         figure: "Fig. 7",
-        task_yaml: include_str!("../../../../examples/pick_and_place_both.yaml"),
+        task_yaml: include_str!("../../../../../examples/pick_and_place_both.yaml"),
         paper_finding: "both arms: left hand on the left-most part, right hand at a mid-right contact; extreme right contacts unreachable",
     },
     Experiment {
         name: "pick_rotate_place_both",
         figure: "Fig. 9",
-        task_yaml: include_str!("../../../../examples/pick_rotate_place_both.yaml"),
+        task_yaml: include_str!("../../../../../examples/pick_rotate_place_both.yaml"),
         paper_finding: "both arms, rotation: still left hand on the left side and right hand on the right side",
     },
     Experiment {
         name: "t_shape_rotate",
         figure: "Fig. 10 c, d",
-        task_yaml: include_str!("../../../../examples/t_shape_rotate.yaml"),
+        task_yaml: include_str!("../../../../../examples/t_shape_rotate.yaml"),
         paper_finding: "T-shape Pick-Rotate-Place: the best of 16 yaw candidates differs from the other tasks' best",
     },
     Experiment {
         name: "t_shape_move",
         figure: "Fig. 10 e, f",
-        task_yaml: include_str!("../../../../examples/t_shape_move.yaml"),
+        task_yaml: include_str!("../../../../../examples/t_shape_move.yaml"),
         paper_finding: "T-shape Pick-Move-Place: a different best yaw than for rotation",
     },
     Experiment {
         name: "t_shape_move_rotate",
         figure: "Fig. 10 g, h",
-        task_yaml: include_str!("../../../../examples/t_shape_move_rotate.yaml"),
+        task_yaml: include_str!("../../../../../examples/t_shape_move_rotate.yaml"),
         paper_finding: "T-shape Pick-Move/Rotate-Place: the Pick-Rotate-Place grasp may not be able to do this task",
     },
 ];
@@ -162,100 +164,6 @@ fn at_waypoints(file: &TaskFile, source: &str) -> Result<Value> {
     Ok(ours)
 }
 
-/// A quarter of the cuboid's edge (m): a contact this far from the middle is on the left
-/// (`y ≥ +QUARTER`) or the right (`y ≤ −QUARTER`) part.
-const QUARTER: f64 = 0.09;
-
-/// Whether a paper finding holds at a placement, from the contacts `y` (object frame, m) of
-/// the best candidate (one arm) or the best pair (left, right): `Some(true)` holds,
-/// `Some(false)` reverses, `None` neither (or nothing selected).
-type Judge = fn(&[f64]) -> Option<bool>;
-
-/// The judges of the cuboid experiments' findings, by experiment.
-fn judge_of(experiment: &str) -> Option<Judge> {
-    match experiment {
-        // Fig. 5, 6: the left arm's best contact on the left part.
-        "pick_and_place_left" => Some(|y| match y {
-            [y] if *y >= QUARTER => Some(true),
-            [y] if *y <= -QUARTER => Some(false),
-            _ => None,
-        }),
-        // Fig. 7: the left hand on the left part, the right hand on the right half.
-        "pick_and_place_both" => Some(|y| match y {
-            [l, r] if *l >= QUARTER && *r < 0.0 => Some(true),
-            [l, _] if *l <= -QUARTER => Some(false),
-            _ => None,
-        }),
-        // Fig. 9: the left hand on the left half, the right hand on the right half.
-        "pick_rotate_place_both" => Some(|y| match y {
-            [l, r] if *l > 0.0 && *r < 0.0 => Some(true),
-            [l, r] if *l < 0.0 && *r > 0.0 => Some(false),
-            _ => None,
-        }),
-        _ => None,
-    }
-}
-
-/// Where an experiment's finding holds: the object's start swept over a 5 × 5 grid in front of
-/// the robot (world x, y, m; the task's own placement, x = 0.75, y = 0, is on the grid), the
-/// best contacts at each placement (the best candidate with one arm, the best pair with two),
-/// and the placements where `judge` says the finding holds or reverses.
-fn where_it_holds(file: &TaskFile, source: &str, judge: Judge) -> Result<Value> {
-    let builder = graspath::task::builder_from_file(file, source, Path::new("."))?;
-    let task = builder.clone().build()?;
-    let parameter = FamilyParameter::from_task_file(file, &task.candidates);
-    let contact_of: Vec<(usize, f64)> = task
-        .candidates
-        .iter()
-        .zip(parameter.iter().flat_map(|p| p.values.iter()))
-        .map(|(c, v)| (c.id, *v))
-        .collect();
-    let contact = |id: usize| contact_of.iter().find(|(c, _)| *c == id).map(|(_, v)| *v);
-    let grid = PlacementGrid {
-        x: GridAxis::new(0.55, 0.95, 5, "x")?,
-        y: GridAxis::new(-0.40, 0.40, 5, "y")?,
-        z: None,
-        yaw: None,
-    };
-    let map = placement_map(&builder, &grid, parameter, &|| {})?;
-    // Millimetres: the grid's values without the rounding of their arithmetic.
-    let mm = |v: f64| (v * 1000.0).round() / 1000.0;
-    let mut holds = Vec::new();
-    let mut reverses = Vec::new();
-    let mut placements = Vec::new();
-    for record in &map.records {
-        let at = json!([mm(record.x), mm(record.y)]);
-        let contacts: Option<Vec<f64>> = if record.arms.len() == 2 {
-            record
-                .best_pair
-                .as_ref()
-                .and_then(|p| Some(vec![contact(p.first)?, contact(p.second)?]))
-        } else {
-            record.arms[0]
-                .best
-                .as_ref()
-                .and_then(|b| b.parameter)
-                .map(|y| vec![y])
-        };
-        match contacts.as_deref().and_then(judge) {
-            Some(true) => holds.push(at.clone()),
-            Some(false) => reverses.push(at.clone()),
-            None => {}
-        }
-        let contacts: Option<Vec<f64>> = contacts.map(|c| c.into_iter().map(mm).collect());
-        placements.push(json!({ "at": at, "best_contacts_y": contacts }));
-    }
-    Ok(json!({
-        "grid": {
-            "x": grid.x.values().into_iter().map(mm).collect::<Vec<_>>(),
-            "y": grid.y.values().into_iter().map(mm).collect::<Vec<_>>(),
-        },
-        "holds_at": holds,
-        "reverses_at": reverses,
-        "placements": placements,
-    }))
-}
-
 /// Runs the subcommand.
 pub fn run(args: &DemoArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
@@ -312,11 +220,29 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             "ours": ours,
             "ours_at_waypoints": waypoints,
         });
-        if let Some(judge) = judge_of(experiment.name) {
-            finding["where_it_holds"] = where_it_holds(&file, &source, judge)
+        if let Some(judge) = evidence::cuboid_judge(experiment.name) {
+            finding["where_it_holds"] = evidence::cuboid_where_it_holds(&file, &source, judge)
                 .with_context(|| format!("experiment {}: placement map", experiment.name))?;
         }
         findings.push(finding);
+    }
+    let yaml_of = |name: &'static str| {
+        let experiment = EXPERIMENTS.iter().find(|e| e.name == name);
+        (name, experiment.map_or("", |e| e.task_yaml))
+    };
+    let t_shape = evidence::TShapeTasks {
+        rotate: yaml_of("t_shape_rotate"),
+        moving: yaml_of("t_shape_move"),
+        move_rotate: yaml_of("t_shape_move_rotate"),
+    };
+    let maps = evidence::t_shape_where_it_holds(&t_shape).context("T-shape placement maps")?;
+    for (name, map) in maps {
+        if let Some(finding) = findings
+            .iter_mut()
+            .find(|f| f["experiment"] == name.as_str())
+        {
+            finding["where_it_holds"] = map;
+        }
     }
     let findings = Value::Array(findings);
     let mut bytes = serde_json::to_vec_pretty(&findings)?;

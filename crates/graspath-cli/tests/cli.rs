@@ -479,7 +479,7 @@ fn readme_placements_match(findings: &serde_json::Value) {
 /// What one row of the README's table of findings quotes, read from `findings.json`.
 #[derive(Clone, Copy)]
 enum Quote {
-    /// The best candidate of the (first) arm.
+    /// The best candidate of the (first) arm and the candidates tied with it.
     Best,
     /// The candidates Yoshikawa's index and the inverse condition number pick at the grasp.
     Classical,
@@ -501,7 +501,15 @@ fn quoted(reading: &serde_json::Value, quotes: &[Quote]) -> std::collections::BT
     for quote in quotes {
         match quote {
             Quote::Best => {
+                // The best and every candidate tied with it.
                 out.insert(text(&arms[0]["best_task_relevant"]));
+                out.extend(
+                    arms[0]["best_tied_with"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(text),
+                );
             }
             Quote::Classical => {
                 out.insert(text(&arms[0]["best_yoshikawa_at_grasp"]));

@@ -88,13 +88,24 @@ fn label_of(selection: &Selection, arm: usize, index: usize) -> String {
 }
 
 /// What our run found, in the terms the paper uses.
-fn our_finding(selection: &Selection) -> Value {
+/// The best candidate's ties and the best pair's (`selection.tie_tolerance`, relative) are
+/// named, so that a single "best" that beats the next by less than the tolerance is not read
+/// as a finding.
+fn our_finding(task: &Task, selection: &Selection) -> Value {
     let arms: Vec<Value> = selection
         .arms
         .iter()
         .enumerate()
         .map(|(k, arm)| {
             let best = arm.best().map(|i| label_of(selection, k, i));
+            let tied: Vec<String> = arm
+                .best()
+                .map(|i| arm.tied_with(i, &task.selection))
+                .unwrap_or_default()
+                .into_iter()
+                .filter_map(|id| arm.scores.iter().find(|s| s.candidate.id == id))
+                .map(|s| s.candidate.label.clone())
+                .collect();
             let by_yoshikawa = arm
                 .best_by(|s| s.yoshikawa_at_grasp)
                 .map(|i| label_of(selection, k, i));
@@ -118,6 +129,7 @@ fn our_finding(selection: &Selection) -> Value {
                 "mu_l2_spread": spread,
                 "candidates": arm.scores.len(),
                 "best_task_relevant": best,
+                "best_tied_with": tied,
                 "best_yoshikawa_at_grasp": by_yoshikawa,
                 "best_inverse_condition_at_grasp": by_inverse_condition,
             })
@@ -128,9 +140,10 @@ fn our_finding(selection: &Selection) -> Value {
             selection.arms[0].arm.clone(): p.first.label,
             selection.arms[1].arm.clone(): p.second.label,
             "score": p.score,
+            "tied_with": graspath_report::tied_pairs(selection, task.selection.tie_tolerance).len(),
         })
     });
-    json!({ "arms": arms, "best_pair": pair })
+    json!({ "arms": arms, "best_pair": pair, "tie_tolerance": task.selection.tie_tolerance })
 }
 
 /// How a task file samples its path, in words.
@@ -155,7 +168,7 @@ fn at_waypoints(file: &TaskFile, source: &str) -> Result<Value> {
     file.index.over = Some("waypoints".into());
     let task = Task::from_file(&file, source, Path::new("."))?;
     let selection = select(&task, &|| {});
-    let mut ours = our_finding(&selection);
+    let mut ours = our_finding(&task, &selection);
     ours["sampling"] = json!(format!(
         "waypoints: {} of {} samples (the initial pose and each step's end; eq. 15 over them)",
         file.trajectory.steps.len() + 1,
@@ -204,7 +217,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
                 .into_iter()
                 .map(|(name, bytes)| (format!("{}/{name}", experiment.name), bytes)),
         );
-        let mut ours = our_finding(&selection);
+        let mut ours = our_finding(&task, &selection);
         ours["sampling"] = json!(sampling_of(&file, &task));
         let waypoints = at_waypoints(&file, &source)
             .with_context(|| format!("experiment {} at its waypoints", experiment.name))?;
@@ -260,8 +273,13 @@ pub fn run(args: &DemoArgs) -> Result<()> {
 fn summarise(ours: &Value) -> String {
     let mut parts = Vec::new();
     for arm in ours["arms"].as_array().into_iter().flatten() {
+        let tied = arm["best_tied_with"].as_array().map_or(0, Vec::len);
+        let tied = match tied {
+            0 => String::new(),
+            n => format!(", tied with {n} other{}", if n == 1 { "" } else { "s" }),
+        };
         parts.push(format!(
-            "{} arm: {}/{} feasible, best {} (Yoshikawa at grasp: {}, inverse condition: {})",
+            "{} arm: {}/{} feasible, best {}{tied} (Yoshikawa at grasp: {}, inverse condition: {})",
             arm["arm"].as_str().unwrap_or("?"),
             arm["feasible"],
             arm["candidates"],
@@ -275,7 +293,7 @@ fn summarise(ours: &Value) -> String {
     if let Some(pair) = ours["best_pair"].as_object() {
         let text: Vec<String> = pair
             .iter()
-            .filter(|(k, _)| *k != "score")
+            .filter(|(k, _)| *k != "score" && *k != "tied_with")
             .map(|(k, v)| format!("{k} {}", v.as_str().unwrap_or("?")))
             .collect();
         parts.push(format!("best pair: {}", text.join(" + ")));

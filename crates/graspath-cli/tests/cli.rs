@@ -388,10 +388,45 @@ fn every_example_task_loads_and_the_demo_runs() {
     assert!(stdout.contains("paper:") && stdout.contains("ours:"));
     readme_table_matches(&findings);
     readme_placements_match(&findings);
+    readme_figures_match(&out);
 }
 
-/// The README's lists of placements where each cuboid finding holds and reverses are the
-/// demo's `where_it_holds`.
+/// The figures the README and docs/report.md show (`docs/images/`) are the demo's, byte for
+/// byte: a change that alters a figure must regenerate the shown copy.
+fn readme_figures_match(demo: &Path) {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let report_doc = std::fs::read_to_string(repo_root().join("docs/report.md")).unwrap();
+    for (image, shown_in, from_demo) in [
+        (
+            "mt-heatmap-left.png",
+            &readme,
+            "pick_and_place_left/mt-heatmap-left.png",
+        ),
+        (
+            "classical-indices-left.png",
+            &report_doc,
+            "pick_and_place_left/classical-indices-left.png",
+        ),
+        (
+            "pairs-heatmap-rotate.png",
+            &report_doc,
+            "pick_rotate_place_both/pairs-heatmap.png",
+        ),
+    ] {
+        let path = format!("docs/images/{image}");
+        assert!(
+            shown_in.contains(&format!("images/{image}")),
+            "{path} is not shown"
+        );
+        let shown = std::fs::read(repo_root().join(&path)).unwrap();
+        let made = std::fs::read(demo.join(from_demo)).unwrap();
+        assert!(
+            shown == made,
+            "{path} differs from the demo's {from_demo}: copy it from `graspath demo`'s output"
+        );
+    }
+}
+
 /// The `code` spans of `line` after `marker`.
 fn code_spans_after(line: &str, marker: &str) -> Vec<String> {
     line[line.find(marker).unwrap()..]

@@ -15,7 +15,9 @@ use graspath::task::Task;
 use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-use std::time::Duration;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 /// Output switches shared by the long-running subcommands.
 #[derive(Debug, Clone, Args)]
@@ -26,21 +28,149 @@ pub struct OutputArgs {
     /// Print the summary as JSON on stdout (for scripts) instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Also log progress as plain lines on stderr every SECONDS (done / total, rate, ETA), for
+    /// logs where no progress bar is drawn: batch jobs, CI, Ray workers. Off by default.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub progress_every: Option<f64>,
 }
 
-/// A progress bar on a terminal (stderr), hidden otherwise or with `--quiet`/`--json`.
-pub fn progress_bar(output: &OutputArgs, total: u64, title: &str) -> ProgressBar {
-    if output.quiet || output.json || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
+impl OutputArgs {
+    /// Nothing printed but errors (for runs nested in another command's output).
+    pub fn silent() -> Self {
+        Self {
+            quiet: true,
+            json: false,
+            progress_every: None,
+        }
     }
-    let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} candidates ({eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(title.to_string());
-    bar
+}
+
+/// `--progress-every`: a finite number of seconds, at least a millisecond.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.001 => Ok(v),
+        _ => Err(format!(
+            "`{text}` is not a number of seconds of at least 0.001"
+        )),
+    }
+}
+
+/// Progress of a long run over `total` units: a bar on a terminal (stderr; hidden otherwise or
+/// with `--quiet`/`--json`) showing the rate and the ETA, and with `--progress-every` plain
+/// lines on stderr at that interval and one at the end. `inc` may be called from any thread.
+pub struct Progress {
+    bar: ProgressBar,
+    log: Option<ProgressLog>,
+}
+
+/// The plain-line side of [`Progress`].
+struct ProgressLog {
+    title: String,
+    unit: &'static str,
+    total: u64,
+    every: Duration,
+    started: Instant,
+    done: AtomicU64,
+    /// When the next line is due, from `started`.
+    next: Mutex<Duration>,
+}
+
+impl Progress {
+    /// Progress over `total` `unit`s (plural noun, e.g. `candidates`) titled `title`.
+    pub fn new(output: &OutputArgs, total: u64, title: &str, unit: &'static str) -> Self {
+        let bar = if output.quiet || output.json || !std::io::stderr().is_terminal() {
+            ProgressBar::hidden()
+        } else {
+            let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+            bar.set_style(
+                ProgressStyle::with_template(&format!(
+                    "{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit} ({{per_sec}}, ETA {{eta}})"
+                ))
+                .expect("valid template")
+                .progress_chars("=> "),
+            );
+            bar.set_message(title.to_string());
+            bar
+        };
+        let log = output.progress_every.map(|seconds| ProgressLog {
+            title: title.to_string(),
+            unit,
+            total,
+            every: Duration::from_secs_f64(seconds),
+            started: Instant::now(),
+            done: AtomicU64::new(0),
+            next: Mutex::new(Duration::from_secs_f64(seconds)),
+        });
+        Self { bar, log }
+    }
+
+    /// One more unit done.
+    pub fn inc(&self) {
+        self.bar.inc(1);
+        if let Some(log) = &self.log {
+            let done = log.done.fetch_add(1, Ordering::Relaxed) + 1;
+            let elapsed = log.started.elapsed();
+            // One thread prints a due line; the others go on without waiting.
+            if let Ok(mut next) = log.next.try_lock() {
+                if elapsed >= *next {
+                    log.line(done, elapsed);
+                    *next = elapsed + log.every;
+                }
+            }
+        }
+    }
+
+    /// Clears the bar and logs the final line.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+        if let Some(log) = &self.log {
+            log.line(log.done.load(Ordering::Relaxed), log.started.elapsed());
+        }
+    }
+}
+
+impl ProgressLog {
+    fn line(&self, done: u64, elapsed: Duration) {
+        let seconds = elapsed.as_secs_f64();
+        let rate = if seconds > 0.0 {
+            done as f64 / seconds
+        } else {
+            0.0
+        };
+        let percent = if self.total > 0 {
+            100.0 * done as f64 / self.total as f64
+        } else {
+            100.0
+        };
+        let eta = if done >= self.total {
+            "done".to_string()
+        } else if rate > 0.0 {
+            format!("ETA {}", clock((self.total - done) as f64 / rate))
+        } else {
+            "ETA unknown".to_string()
+        };
+        eprintln!(
+            "{}: {done}/{} {} ({percent:.1} %), {rate:.0} {}/s, elapsed {}, {eta}",
+            self.title,
+            self.total,
+            self.unit,
+            self.unit,
+            clock(seconds)
+        );
+    }
+}
+
+/// A duration in seconds as `1h02m03s`, `2m03s` or `3.4s`.
+fn clock(seconds: f64) -> String {
+    let whole = seconds.round() as u64;
+    let (h, m, s) = (whole / 3600, whole / 60 % 60, whole % 60);
+    if h > 0 {
+        format!("{h}h{m:02}m{s:02}s")
+    } else if m > 0 {
+        format!("{m}m{s:02}s")
+    } else {
+        format!("{seconds:.1}s")
+    }
 }
 
 fn number(v: Option<f64>) -> String {

@@ -236,3 +236,69 @@ fn report_with_jsonl_is_refused_as_bad_input() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("--format json"));
     assert!(!out.exists());
 }
+
+/// Parses a progress line `TITLE: DONE/TOTAL candidates (P %), R candidates/s, elapsed T, ETA`
+/// into (done, total).
+fn progress_counts(line: &str) -> Option<(u64, u64)> {
+    let (_, rest) = line.rsplit_once(": ")?;
+    let (counts, rest) = rest.split_once(" candidates (")?;
+    rest.contains(" candidates/s, elapsed ").then_some(())?;
+    let (done, total) = counts.split_once('/')?;
+    Some((done.parse().ok()?, total.parse().ok()?))
+}
+
+#[test]
+fn progress_every_logs_rising_counts_and_a_final_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = faces_task(dir.path());
+    let out = dir.path().join("out");
+    let output = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--format",
+            "jsonl",
+            "--progress-every",
+            "0.001",
+        ],
+        "2",
+    );
+    assert!(output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let counts: Vec<(u64, u64)> = stderr.lines().filter_map(progress_counts).collect();
+    assert_eq!(
+        counts.len(),
+        stderr.lines().count(),
+        "only progress lines: {stderr}"
+    );
+    // At least the final line; the counts never fall and end at every candidate, done.
+    assert!(!counts.is_empty());
+    assert!(counts.windows(2).all(|w| w[0].0 <= w[1].0));
+    assert!(counts.iter().all(|&(_, total)| total == 300));
+    assert_eq!(counts.last().unwrap().0, 300);
+    assert!(stderr.lines().last().unwrap().ends_with(", done"));
+
+    // Without the option, --quiet prints nothing; a zero or non-number interval is refused.
+    let quiet = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            dir.path().join("q").to_str().unwrap(),
+            "--quiet",
+        ],
+        "2",
+    );
+    assert!(quiet.status.success() && quiet.stderr.is_empty());
+    for bad in ["0", "-1", "nan", "soon"] {
+        let flag = format!("--progress-every={bad}");
+        let refused = graspath(&["select", "--task", task.to_str().unwrap(), &flag], "2");
+        assert_eq!(refused.status.code(), Some(2), "{flag}");
+        assert!(String::from_utf8_lossy(&refused.stderr).contains("--progress-every"));
+    }
+}

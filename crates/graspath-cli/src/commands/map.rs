@@ -2,7 +2,7 @@
 //! [--out DIR]`: the task's selection with the object started at every placement of a grid;
 //! writes `map.json` and the heatmaps (SVG, PNG). The folder is written as a whole.
 
-use crate::output::{progress_bar, OutputArgs};
+use crate::output::{OutputArgs, Progress};
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -85,11 +85,11 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
         .context("cannot use the task file")?;
     let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
     drop(task);
-    let bar = progress_bar(&args.output, grid.len() as u64, &name);
+    let progress = Progress::new(&args.output, grid.len() as u64, &name, "placements");
     let started = std::time::Instant::now();
-    let map = placement_map(&builder, &grid, parameter, &|| bar.inc(1))
+    let map = placement_map(&builder, &grid, parameter, &|| progress.inc())
         .map_err(|e| crate::bad_input!("{e}"))?;
-    bar.finish_and_clear();
+    progress.finish();
     let elapsed = started.elapsed();
     let json = placement_map_json(&name, &map);
     let mut bytes = serde_json::to_vec_pretty(&json)?;

@@ -5,7 +5,7 @@
 //! ranks written to `ranking.jsonl` at the end (docs/streaming.md). The folder is written as a
 //! whole (see `graspath::fsutil`).
 
-use crate::output::{print_summary_table, progress_bar, OutputArgs};
+use crate::output::{print_summary_table, OutputArgs, Progress};
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -110,10 +110,10 @@ pub fn run_task(
     trajectories: Trajectories,
 ) -> Result<TaskRun> {
     let total = task.candidates.len() * task.arms.len();
-    let bar = progress_bar(output, total as u64, title);
+    let progress = Progress::new(output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
-    let selection = select(task, &|| bar.inc(1));
-    bar.finish_and_clear();
+    let selection = select(task, &|| progress.inc());
+    progress.finish();
     let elapsed = started.elapsed();
     let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
         let mut bytes = serde_json::to_vec_pretty(&v)?;
@@ -158,13 +158,13 @@ fn stream_task(
     let cannot = |name: &str| format!("cannot write {}", args.out.join(name).display());
     let mut lines = BufWriter::with_capacity(1 << 20, folder.create("candidates.jsonl")?);
     let total = task.candidates.len() * task.arms.len();
-    let bar = progress_bar(&args.output, total as u64, title);
+    let progress = Progress::new(&args.output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
-    let selection = select_streaming(task, &|| bar.inc(1), |streamed| {
+    let selection = select_streaming(task, &|| progress.inc(), |streamed| {
         write_candidate_line(&mut lines, &streamed, trajectories)
     })
     .with_context(|| cannot("candidates.jsonl"))?;
-    bar.finish_and_clear();
+    progress.finish();
     let elapsed = started.elapsed();
     lines
         .into_inner()

@@ -191,10 +191,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         // With --json the demo prints one document (the findings) at the end, not one summary
         // per experiment.
         let per_run = if args.output.json {
-            OutputArgs {
-                quiet: true,
-                json: false,
-            }
+            OutputArgs::silent()
         } else {
             args.output.clone()
         };

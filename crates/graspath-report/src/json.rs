@@ -101,7 +101,8 @@ pub enum Trajectories {
 }
 
 impl Trajectories {
-    fn keep(self, feasible: bool) -> bool {
+    /// Whether a candidate's motions are kept, `feasible` or not.
+    pub fn keeps(self, feasible: bool) -> bool {
         match self {
             Self::None => false,
             Self::Feasible => feasible,
@@ -120,7 +121,7 @@ fn candidate_record<'a>(
     streamed: bool,
 ) -> CandidateRecord<'a> {
     let c = &score.candidate;
-    let motion = trajectories.keep(score.feasible());
+    let motion = trajectories.keeps(score.feasible());
     let motion_part = |q: &'a [Vec<f64>]| if motion { q } else { &[] };
     CandidateRecord {
         id: c.id,

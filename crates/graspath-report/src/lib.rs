@@ -8,6 +8,7 @@ mod html;
 mod json;
 mod lines;
 mod map;
+mod parquet;
 mod plots;
 mod scene;
 mod stage;
@@ -24,6 +25,7 @@ pub use json::{
 };
 pub use lines::{Axes, LegendEntry, Line, LinePlot, LineStyle, SecondaryLabels, MARK_STYLE};
 pub use map::{placement_figures, placement_map_json};
+pub use parquet::{write_ranking_parquet, CandidatesParquet, ParquetOutputError};
 pub use plots::{
     render_png, render_svg, viridis, Cell, Heatmap, Plot, PlotError, HEATMAP_SIZE, LINE_SIZE,
     MARKED_COLOUR, MISSING_COLOUR,

@@ -1,8 +1,9 @@
-//! `graspath select --task FILE [--out DIR] [--report] [--format json|jsonl]`: score every
+//! `graspath select --task FILE [--out DIR] [--report] [--format json|jsonl|parquet]`: score every
 //! candidate along the task, rank them, and write `candidates.json`, `pairs.json` (two arms) and
 //! `summary.json`; with `--report` also the figures (SVG and PNG) and `report.html`. With
 //! `--format jsonl` the candidates are streamed to `candidates.jsonl` as they are scored and the
-//! ranks written to `ranking.jsonl` at the end (docs/streaming.md). The folder is written as a
+//! ranks written to `ranking.jsonl` at the end (docs/streaming.md); `--format parquet` streams
+//! the same way to `candidates.parquet` and `ranking.parquet`. The folder is written as a
 //! whole (see `graspath::fsutil`).
 
 use crate::output::{print_summary_table, OutputArgs, Progress};
@@ -15,9 +16,11 @@ use graspath::select::{select, select_streaming, Selection};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_with, nothing_selected, pairs_json, render_report, summary_json,
-    write_candidate_line, write_ranking_jsonl, Trajectories,
+    write_candidate_line, write_ranking_jsonl, write_ranking_parquet, CandidatesParquet,
+    Trajectories,
 };
-use std::io::{BufWriter, Write};
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -46,11 +49,12 @@ pub struct SelectArgs {
     /// `json`: `candidates.json`, every candidate held in memory (small runs). `jsonl`:
     /// `candidates.jsonl`, one record per line written as the candidates are scored, and
     /// `ranking.jsonl` at the end; memory does not grow with the trajectories (large runs; see
-    /// docs/streaming.md).
+    /// docs/streaming.md). `parquet`: the same, streamed to `candidates.parquet` and
+    /// `ranking.parquet` (columnar, for pandas, polars, DuckDB, Arrow).
     #[arg(long, value_enum, default_value_t = Format::Json)]
     format: Format,
     /// Whose joint trajectories the records carry: `none`, `feasible` or `all` (default:
-    /// `all` with `--format json`, `feasible` with `jsonl`).
+    /// `all` with `--format json`, `feasible` with `jsonl` and `parquet`).
     #[arg(long, value_enum, value_name = "WHICH")]
     trajectories: Option<TrajectoriesArg>,
     #[command(flatten)]
@@ -64,6 +68,8 @@ pub enum Format {
     Json,
     /// `candidates.jsonl` (JSON Lines, streamed) and `ranking.jsonl`.
     Jsonl,
+    /// `candidates.parquet` (streamed, a row group at a time) and `ranking.parquet`.
+    Parquet,
 }
 
 /// `--trajectories`.
@@ -81,7 +87,9 @@ impl TrajectoriesArg {
     fn or_default_for(choice: Option<Self>, format: Format) -> Trajectories {
         match (choice, format) {
             (Some(Self::None), _) => Trajectories::None,
-            (Some(Self::Feasible), _) | (None, Format::Jsonl) => Trajectories::Feasible,
+            (Some(Self::Feasible), _) | (None, Format::Jsonl | Format::Parquet) => {
+                Trajectories::Feasible
+            }
             (Some(Self::All), _) | (None, Format::Json) => Trajectories::All,
         }
     }
@@ -143,10 +151,18 @@ pub fn run_task(
     })
 }
 
-/// Runs a loaded task with `--format jsonl`: `candidates.jsonl` is written (into the output's
-/// temporary folder) as the candidates are scored; `ranking.jsonl`, `summary.json` and, with two
-/// arms, `pairs.json` at the end; then the folder is moved into place. The returned run holds
-/// the selection reduced to the ranking's scalars and no files.
+/// Where a streamed run's candidate records go.
+enum Records {
+    /// `candidates.jsonl`.
+    Lines(BufWriter<File>),
+    /// `candidates.parquet`.
+    Parquet(Box<CandidatesParquet<BufWriter<File>>>),
+}
+
+/// Runs a loaded task with `--format jsonl` or `parquet`: the candidates file is written (into
+/// the output's temporary folder) as the candidates are scored; the ranking file,
+/// `summary.json` and, with two arms, `pairs.json` at the end; then the folder is moved into
+/// place. The returned run holds the selection reduced to the ranking's scalars and no files.
 fn stream_task(
     task: &Task,
     args: &SelectArgs,
@@ -156,25 +172,51 @@ fn stream_task(
 ) -> Result<TaskRun> {
     let mut folder = FolderWriter::begin(&args.out, existing)?;
     let cannot = |name: &str| format!("cannot write {}", args.out.join(name).display());
-    let mut lines = BufWriter::with_capacity(1 << 20, folder.create("candidates.jsonl")?);
+    let (candidates_name, ranking_name) = match args.format {
+        Format::Parquet => ("candidates.parquet", "ranking.parquet"),
+        Format::Json | Format::Jsonl => ("candidates.jsonl", "ranking.jsonl"),
+    };
+    let file = BufWriter::with_capacity(1 << 20, folder.create(candidates_name)?);
+    let mut records = match args.format {
+        Format::Parquet => Records::Parquet(Box::new(
+            CandidatesParquet::new(file, trajectories).with_context(|| cannot(candidates_name))?,
+        )),
+        Format::Json | Format::Jsonl => Records::Lines(file),
+    };
     let total = task.candidates.len() * task.arms.len();
     let progress = Progress::new(&args.output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
-    let selection = select_streaming(task, &|| progress.inc(), |streamed| {
-        write_candidate_line(&mut lines, &streamed, trajectories)
+    let selection = select_streaming(task, &|| progress.inc(), |streamed| match &mut records {
+        Records::Lines(lines) => {
+            write_candidate_line(lines, &streamed, trajectories).map_err(anyhow::Error::from)
+        }
+        Records::Parquet(writer) => writer.push(&streamed).map_err(anyhow::Error::from),
     })
-    .with_context(|| cannot("candidates.jsonl"))?;
+    .with_context(|| cannot(candidates_name))?;
     progress.finish();
     let elapsed = started.elapsed();
-    lines
+    let file = match records {
+        Records::Lines(lines) => lines,
+        Records::Parquet(writer) => writer.finish().with_context(|| cannot(candidates_name))?,
+    };
+    file.into_inner()
+        .map_err(std::io::IntoInnerError::into_error)
+        .with_context(|| cannot(candidates_name))?;
+    let ranking = BufWriter::new(folder.create(ranking_name)?);
+    let ranking = match args.format {
+        Format::Parquet => {
+            write_ranking_parquet(ranking, &selection).with_context(|| cannot(ranking_name))?
+        }
+        Format::Json | Format::Jsonl => {
+            let mut ranking = ranking;
+            write_ranking_jsonl(&mut ranking, &selection).with_context(|| cannot(ranking_name))?;
+            ranking
+        }
+    };
+    ranking
         .into_inner()
         .map_err(std::io::IntoInnerError::into_error)
-        .with_context(|| cannot("candidates.jsonl"))?;
-    let mut ranking = BufWriter::new(folder.create("ranking.jsonl")?);
-    write_ranking_jsonl(&mut ranking, &selection)
-        .and_then(|()| ranking.flush())
-        .with_context(|| cannot("ranking.jsonl"))?;
-    drop(ranking);
+        .with_context(|| cannot(ranking_name))?;
     let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
         let mut bytes = serde_json::to_vec_pretty(&v)?;
         bytes.push(b'\n');
@@ -217,7 +259,7 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
             write_files(&args.out, &run.files, existing)?;
             run
         }
-        Format::Jsonl => {
+        Format::Jsonl | Format::Parquet => {
             if args.report {
                 return Err(crate::bad_input!(
                     "--report needs every candidate's series in memory: use it with --format json"

@@ -348,6 +348,13 @@ def select_dataset(
     else:
         results = _run_on_ray(task_files, shards, top_k, threads, address, num_cpus, cpus_per_shard, progress)
 
+    log.info(
+        "scored %d candidates in %d shards in %.2f s (%.0f candidates/s)",
+        total,
+        len(shards),
+        time.perf_counter() - progress.started,
+        total / max(time.perf_counter() - progress.started, 1e-9),
+    )
     # No candidates at all: the columns of an empty batch give the (empty) table its types.
     columns = [results[i]["columns"] for i in range(len(shards))] or [select_batch([], top_k=top_k)]
     merged = merge_top_k(columns, top_k)
@@ -384,8 +391,12 @@ def _run_on_ray(
         kwargs: Dict[str, Any] = {"address": address}
         if address is None and num_cpus is not None:
             kwargs["num_cpus"] = num_cpus
+        began = time.perf_counter()
         ray.init(**kwargs)
         started_here = True
+        log.info("Ray started in %.2f s", time.perf_counter() - began)
+    log.info("Ray cluster: %s CPUs", ray.cluster_resources().get("CPU", 0))
+    progress.started = time.perf_counter()  # rates and ETA from here, without Ray's start-up
     try:
         shard_threads = threads if threads is not None else max(1, int(cpus_per_shard))
         remote: Callable[..., Any] = ray.remote(num_cpus=cpus_per_shard)(run_shard)

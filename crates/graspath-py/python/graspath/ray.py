@@ -15,9 +15,15 @@ may hold the end of one object and the start of the next); each shard is one ``r
 that loads its task files and calls the Rust core (:func:`graspath.select_batch`) on its
 candidate slices, keeping each slice's ``top_k`` best. The driver merges them into each object's
 and arm's ``top_k`` (best score first, ties by candidate position: the ranking of
-:func:`graspath.select`) and writes one Parquet file with the fixed schema :data:`SCHEMA`, rows
+:func:`graspath.select`) and writes one Parquet file with the fixed schema :data:`COLUMNS`, rows
 ordered by (object, arm, rank). With ``local=True`` (``--local``) the same shards run one
 after the other in this process, without Ray; the file is the same, byte for byte.
+
+Every shard loads the whole task file of each object it touches (the candidates of a task that
+generates them with the learned model are generated again in each of its shards — seeded, so
+identically; to spare the work, write them to a file once with ``graspath generate`` and name
+that file in the task). A two-arm task gives each arm's top ``k``; its arm pairs are not
+formed from shards (:func:`graspath.select` on that task gives them).
 
 Progress: each finished shard is logged (logger ``graspath.ray``, level INFO) with the
 candidates done, candidates per second and the estimated time left.

@@ -182,17 +182,20 @@ pub fn select_batch<'py>(
             })
             .collect();
         let run = || -> Vec<Row> {
-            let per_unit: Vec<Vec<Row>> = units.par_iter().map(run_unit).collect();
-            per_unit
-                .into_iter()
-                .flat_map(|mut rows| {
+            // Each unit keeps only its top k as soon as it is done, so memory holds the scores
+            // of the units in flight, not of every candidate.
+            let per_unit: Vec<Vec<Row>> = units
+                .par_iter()
+                .map(|unit| {
+                    let mut rows = run_unit(unit);
                     if let Some(k) = top_k {
                         rows.retain(|r| r.ranking.rank.is_some_and(|rank| rank <= k));
                         rows.sort_by_key(|r| r.ranking.rank);
                     }
                     rows
                 })
-                .collect()
+                .collect();
+            per_unit.into_iter().flatten().collect()
         };
         match &pool {
             Some(pool) => pool.install(run),

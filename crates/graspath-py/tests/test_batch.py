@@ -158,3 +158,21 @@ def test_bad_input_is_one_clear_error(tasks):
         graspath.select_batch(tasks[:1], slices=[(5, 4)])
     with pytest.raises(TypeError):
         graspath.select_batch([LEFT])
+
+
+def test_load_with_another_candidate_file(tmp_path):
+    """``Task.load(path, candidates=file)`` reads that file with the task file's candidate
+    options: the task equals one whose ``candidates.file`` names it; a missing file is an error
+    naming it."""
+    template = EXAMPLES / "grasp_files" / "pick_and_place_graspgen.yaml"
+    grasps = tmp_path / "other.yaml"
+    grasps.write_text((EXAMPLES / "grasp_files" / "graspgen_box.yaml").read_text().replace("confidence: 0.5\n", "confidence: 0.9\n", 1))
+    own = tmp_path / "task.yaml"
+    own.write_text(template.read_text().replace("file: graspgen_box.yaml", "file: other.yaml"))
+    a, b = graspath.Task.load(template, candidates=grasps), graspath.Task.load(own)
+    assert len(a) == len(b) > 0
+    np.testing.assert_array_equal(a.candidate_poses, b.candidate_poses)
+    assert [c["likelihood"] for c in a.candidates] == [c["likelihood"] for c in b.candidates]
+    assert a.candidates[0]["likelihood"] == 0.9
+    with pytest.raises(graspath.GraspathError, match="nothere.yaml"):
+        graspath.Task.load(template, candidates=tmp_path / "nothere.yaml")

@@ -164,3 +164,41 @@ def test_bad_input_is_one_clear_error(dataset, local_file, tmp_path):
     )
     assert done.returncode == 2
     assert done.stderr.strip().splitlines() == ["graspath.ray: error: top_k must be a positive integer (got 0)"]
+
+
+def test_a_manifest_of_objects_and_candidate_files(tmp_path):
+    """One task file, several candidate files (the manifest's ``candidates`` column): each
+    object's top k equals that of a task file written to name its candidate file itself."""
+    template = EXAMPLES / "grasp_files" / "pick_and_place_graspgen.yaml"
+    grasps = (EXAMPLES / "grasp_files" / "graspgen_box.yaml").read_text()
+    (tmp_path / "grasps").mkdir()
+    variants = {
+        "as_given": grasps,
+        "first_favoured": grasps.replace("confidence: 0.5\n", "confidence: 0.999\n", 1),
+    }
+    assert variants["first_favoured"] != grasps
+    rows = ["object,task,candidates"]
+    for name, text in variants.items():
+        (tmp_path / "grasps" / f"{name}.yaml").write_text(text)
+        rows.append(f"{name},{template},grasps/{name}.yaml")
+    manifest = tmp_path / "objects.csv"
+    manifest.write_text("\n".join(rows) + "\n")
+    out = tmp_path / "top.parquet"
+    gray.select_dataset(manifest, out, top_k=3, shard_size=5, local=True)
+    table = pq.read_table(out).to_pydict()
+    got = list(zip(table["object"], table["rank"], table["candidate"], table["score"]))
+    expected = []
+    for name in variants:
+        # The oracle: a task file of its own whose candidates.file names the variant.
+        own = tmp_path / f"{name}_task.yaml"
+        own.write_text(template.read_text().replace("file: graspgen_box.yaml", f"file: grasps/{name}.yaml"))
+        selection = graspath.select(graspath.Task.load(own))
+        a = selection.arrays("left")
+        ranked = sorted((i for i in range(len(a["score"])) if not np.isnan(a["score"][i])), key=lambda i: (-a["score"][i], i))
+        expected += [(name, r + 1, i, a["score"][i]) for r, i in enumerate(ranked[:3])]
+    assert got == expected
+    # The variant's larger largest likelihood lowers every other candidate's relative one.
+    assert got[3][3] < got[0][3], "the two candidate files give different scores"
+    manifest.write_text(f"object,task,candidates\nbox,{template},grasps/missing.yaml\n")
+    with pytest.raises(graspath.GraspathError, match=r"missing.yaml: candidate file of object 'box' not found"):
+        gray.select_dataset(manifest, tmp_path / "x.parquet", local=True)

@@ -170,8 +170,9 @@ class Task:
     """A selection task: arms, object path, grasp candidates and settings."""
 
     @staticmethod
-    def load(path: StrPath) -> Task:
-        """Reads a task file (YAML or JSON)."""
+    def load(path: StrPath, *, candidates: Optional[StrPath] = None) -> Task:
+        """Reads a task file (YAML or JSON); ``candidates`` reads that candidate file instead of
+        the file's ``candidates`` source (keeping its ``format``, ``frame``, … options)."""
     @staticmethod
     def parse(
         text: str,

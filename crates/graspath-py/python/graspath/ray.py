@@ -6,8 +6,12 @@ object pose, path, candidates (a family, a grasp file, a learned model) and scen
 
 * a directory: every ``*.yaml`` / ``*.yml`` file directly in it, in name order, each object
   named by its file name;
-* a manifest (``*.csv``) with a ``task`` column (paths relative to the manifest) and an
-  optional ``object`` column (the object's name; default the task path), one row per object;
+* a manifest (``*.csv``), one row per object, with a ``task`` column (paths relative to the
+  manifest), an optional ``candidates`` column (a candidate file — graspath JSON/CSV or a grasp
+  generator's file — read instead of the task file's candidates, with the task file's
+  ``candidates`` options such as ``format`` and ``frame``: objects × candidate files on one
+  task file) and an optional ``object`` column (the object's name; default the candidate file,
+  else the task file);
 * from Python, a sequence of task file paths.
 
 The candidates of every object are cut into shards of about ``shard_size`` candidates (a shard
@@ -47,7 +51,7 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -95,17 +99,26 @@ def schema():
     return pa.schema([pa.field(name, types[kind], nullable) for name, kind, nullable, _ in COLUMNS])
 
 
-def dataset_tasks(dataset: Union[str, "os.PathLike[str]", Sequence[Union[str, "os.PathLike[str]"]]]) -> List[Tuple[str, Path]]:
-    """The objects of a dataset as ``(name, task file)`` pairs, in the dataset's order (see
-    the module's documentation). Raises :class:`DatasetError` on a missing directory, manifest
-    or task file, an empty dataset or a duplicated object name."""
+class DatasetObject(NamedTuple):
+    """One object of a dataset: its name, its task file and, from a manifest's ``candidates``
+    column, a candidate file read instead of the task file's candidates (else ``None``)."""
+
+    name: str
+    task: Path
+    candidates: Optional[Path] = None
+
+
+def dataset_tasks(dataset: Union[str, "os.PathLike[str]", Sequence[Union[str, "os.PathLike[str]"]]]) -> List[DatasetObject]:
+    """The objects of a dataset, in the dataset's order (see the module's documentation).
+    Raises :class:`DatasetError` on a missing directory, manifest, task or candidate file, an
+    empty dataset or a duplicated object name."""
     if isinstance(dataset, (str, os.PathLike)):
         root = Path(dataset)
         if root.is_dir():
             files = sorted(p for p in root.iterdir() if p.suffix in TASK_SUFFIXES and p.is_file())
             if not files:
                 raise DatasetError(f"{root}: no task files (*.yaml, *.yml) in the directory")
-            objects = [(p.name, p) for p in files]
+            objects = [DatasetObject(p.name, p) for p in files]
         elif root.suffix == ".csv":
             objects = _manifest(root)
         elif root.exists():
@@ -113,20 +126,25 @@ def dataset_tasks(dataset: Union[str, "os.PathLike[str]", Sequence[Union[str, "o
         else:
             raise DatasetError(f"{root}: no such dataset directory or manifest")
     else:
-        objects = [(str(p), Path(p)) for p in dataset]
+        objects = [DatasetObject(str(p), Path(p)) for p in dataset]
         if not objects:
             raise DatasetError("the dataset is empty: give at least one task file")
     seen = set()
-    for name, path in objects:
-        if name in seen:
-            raise DatasetError(f"object '{name}' appears twice in the dataset")
-        seen.add(name)
-        if not path.is_file():
-            raise DatasetError(f"{path}: task file of object '{name}' not found")
+    for obj in objects:
+        if obj.name in seen:
+            raise DatasetError(f"object '{obj.name}' appears twice in the dataset")
+        seen.add(obj.name)
+        if not obj.task.is_file():
+            raise DatasetError(f"{obj.task}: task file of object '{obj.name}' not found")
+        if obj.candidates is not None and not obj.candidates.is_file():
+            raise DatasetError(f"{obj.candidates}: candidate file of object '{obj.name}' not found")
     return objects
 
 
-def _manifest(path: Path) -> List[Tuple[str, Path]]:
+MANIFEST_COLUMNS = ("object", "task", "candidates")
+
+
+def _manifest(path: Path) -> List[DatasetObject]:
     if not path.is_file():
         raise DatasetError(f"{path}: no such manifest")
     with path.open(newline="", encoding="utf-8") as f:
@@ -134,19 +152,26 @@ def _manifest(path: Path) -> List[Tuple[str, Path]]:
         fields = reader.fieldnames or []
         if "task" not in fields:
             raise DatasetError(f"{path}: the manifest needs a 'task' column (has {fields})")
-        unknown = [c for c in fields if c not in ("task", "object")]
+        unknown = [c for c in fields if c not in MANIFEST_COLUMNS]
         if unknown:
-            raise DatasetError(f"{path}: unknown column(s) {unknown} (columns: task, object)")
+            raise DatasetError(f"{path}: unknown column(s) {unknown} (columns: {', '.join(MANIFEST_COLUMNS)})")
         objects = []
         for line, row in enumerate(reader, start=2):
             task = (row.get("task") or "").strip()
             if not task:
                 raise DatasetError(f"{path}: line {line}: field 'task' is empty")
-            name = (row.get("object") or "").strip() or task
-            objects.append((name, path.parent / task))
+            candidates = (row.get("candidates") or "").strip()
+            name = (row.get("object") or "").strip() or candidates or task
+            objects.append(DatasetObject(name, path.parent / task, path.parent / candidates if candidates else None))
     if not objects:
         raise DatasetError(f"{path}: the manifest lists no objects")
     return objects
+
+
+def load_task(source: Tuple[str, Optional[str]]) -> Task:
+    """The task of one object, ``(task file, candidate file or None)``."""
+    task, candidates = source
+    return Task.load(task) if candidates is None else Task.load(task, candidates=candidates)
 
 
 def plan_shards(candidate_counts: Sequence[int], shard_size: int) -> List[List[Piece]]:
@@ -171,15 +196,16 @@ def plan_shards(candidate_counts: Sequence[int], shard_size: int) -> List[List[P
 
 
 def run_shard(
-    task_files: Sequence[str], pieces: Sequence[Piece], top_k: int, threads: Optional[int]
+    sources: Sequence[Tuple[str, Optional[str]]], pieces: Sequence[Piece], top_k: int, threads: Optional[int]
 ) -> Dict[str, Any]:
-    """One shard: loads the task files its pieces name (``task_files[object]``) and scores the
+    """One shard: loads the tasks its pieces name (``sources[object]``: task file, candidate
+    file or ``None``, see :func:`load_task`) and scores the
     pieces' candidate slices with :func:`graspath.select_batch`, keeping each slice's ``top_k``.
     Returns ``columns`` (numpy, ``object`` mapped back to the dataset's object index),
     ``candidates`` (scored) and ``seconds`` (wall time). What a Ray task runs, and what
     ``local=True`` runs in-process."""
     started = time.perf_counter()
-    tasks = [Task.load(task_files[obj]) for obj, _, _ in pieces]
+    tasks = [load_task(sources[obj]) for obj, _, _ in pieces]
     columns = select_batch(
         tasks, slices=[(start, stop) for _, start, stop in pieces], top_k=top_k, threads=threads
     )
@@ -339,8 +365,8 @@ def select_dataset(
         raise GraspathError("pyarrow is not installed: pip install graspath[ray]") from e
 
     objects = dataset_tasks(dataset)
-    task_files = [str(path.resolve()) for _, path in objects]
-    counts = [len(Task.load(path)) for path in task_files]
+    sources = [(str(o.task.resolve()), None if o.candidates is None else str(o.candidates.resolve())) for o in objects]
+    counts = [len(load_task(source)) for source in sources]
     shards = plan_shards(counts, shard_size)
     total = sum(counts)
     log.info("%d objects, %d candidates, %d shards of up to %d candidates", len(objects), total, len(shards), shard_size)
@@ -349,10 +375,10 @@ def select_dataset(
     results: Dict[int, Dict[str, Any]] = {}
     if local:
         for index, pieces in enumerate(shards):
-            results[index] = run_shard(task_files, pieces, top_k, threads)
+            results[index] = run_shard(sources, pieces, top_k, threads)
             progress.shard_done(index, results[index])
     else:
-        results = _run_on_ray(task_files, shards, top_k, threads, address, num_cpus, cpus_per_shard, progress)
+        results = _run_on_ray(sources, shards, top_k, threads, address, num_cpus, cpus_per_shard, progress)
 
     log.info(
         "scored %d candidates in %d shards in %.2f s (%.0f candidates/s)",
@@ -364,7 +390,7 @@ def select_dataset(
     # No candidates at all: the columns of an empty batch give the (empty) table its types.
     columns = [results[i]["columns"] for i in range(len(shards))] or [select_batch([], top_k=top_k)]
     merged = merge_top_k(columns, top_k)
-    table = _table(merged, [name for name, _ in objects], top_k)
+    table = _table(merged, [o.name for o in objects], top_k)
     write_parquet(table, out)
     seconds = time.perf_counter() - started
     log.info("wrote %s: %d rows (%d objects, %d candidates) in %.2f s", out, table.num_rows, len(objects), total, seconds)
@@ -379,7 +405,7 @@ def select_dataset(
 
 
 def _run_on_ray(
-    task_files: List[str],
+    sources: List[Tuple[str, Optional[str]]],
     shards: List[List[Piece]],
     top_k: int,
     threads: Optional[int],
@@ -406,7 +432,7 @@ def _run_on_ray(
     try:
         shard_threads = threads if threads is not None else max(1, int(cpus_per_shard))
         remote: Callable[..., Any] = ray.remote(num_cpus=cpus_per_shard)(run_shard)
-        files = ray.put(task_files)
+        files = ray.put(sources)
         pending = {remote.remote(files, pieces, top_k, shard_threads): i for i, pieces in enumerate(shards)}
         results: Dict[int, Dict[str, Any]] = {}
         while pending:
@@ -429,7 +455,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         "task files or a .csv manifest) on a Ray cluster, and write each object's and arm's "
         "top-k to a Parquet file (the same bytes with --local, without Ray).",
     )
-    parser.add_argument("dataset", help="a directory of task files (*.yaml, *.yml) or a .csv manifest (columns task, object)")
+    parser.add_argument("dataset", help="a directory of task files (*.yaml, *.yml) or a .csv manifest (columns task, and optionally candidates, object)")
     parser.add_argument("-o", "--out", required=True, help="the Parquet file to write")
     parser.add_argument("-k", "--top-k", type=int, default=10, help="best candidates kept per object and arm (default 10)")
     parser.add_argument("--shard-size", type=int, default=DEFAULT_SHARD_SIZE, help=f"candidates per Ray task (default {DEFAULT_SHARD_SIZE})")

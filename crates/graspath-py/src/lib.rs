@@ -9,6 +9,8 @@
 //!   Contact-GraspNet / M2T2, `N×4×4` poses, GraspNet / AnyGrasp) as numpy candidates.
 //! * `selection::select` / `selection::PySelection` (`graspath.select`,
 //!   `graspath.Selection`): scoring and ranking, with the records the CLI writes.
+//! * `batch::select_batch` (`graspath.select_batch`): many tasks (objects) scored in one call,
+//!   as numpy columns; candidate slices for sharding (`python/graspath/ray.py`).
 //! * `model::train` / `model::generate` (`graspath.train`, `graspath.generate`): the learned
 //!   grasp model, writing the files the CLI writes.
 //! * `placement::placement_map` (`graspath.placement_map`): the selection over a grid of
@@ -17,6 +19,7 @@
 //! Every library error becomes a `graspath.GraspathError` (a subclass of `ValueError`) with
 //! the library's message.
 
+mod batch;
 mod convert;
 mod grasps;
 mod memory;
@@ -46,6 +49,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<task::PyTask>()?;
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
+    module.add_function(wrap_pyfunction!(batch::select_batch, module)?)?;
     module.add_function(wrap_pyfunction!(placement::placement_map, module)?)?;
     module.add_function(wrap_pyfunction!(model::train, module)?)?;
     module.add_function(wrap_pyfunction!(model::generate, module)?)?;

@@ -110,10 +110,29 @@ fn arm_setup(name: &str, value: &Bound<'_, PyAny>) -> PyResult<(Chain, Isometry3
 impl PyTask {
     /// Reads and checks a task file (YAML or JSON; the schema of ``docs/task-file.md``).
     /// Relative paths inside it are relative to the file.
+    ///
+    /// ``candidates``: a candidate file (graspath JSON/CSV or a grasp generator's file;
+    /// relative to the current directory) read instead of the file's ``candidates`` source —
+    /// the task file's ``candidates`` options (``format``, ``frame``, ``world_from_camera``,
+    /// ``camera_from_object``, ``gripper_from_tool``, ``segment``) apply to it, a ``family`` or
+    /// ``generate`` is dropped. One task file then serves many candidate files.
     #[staticmethod]
-    fn load(path: PathBuf) -> PyResult<Self> {
+    #[pyo3(signature = (path, *, candidates = None))]
+    fn load(path: PathBuf, candidates: Option<PathBuf>) -> PyResult<Self> {
+        let Some(candidates) = candidates else {
+            return Ok(Self {
+                task: Task::load(&path).map_err(error)?,
+            });
+        };
+        let candidates = std::path::absolute(&candidates)
+            .map_err(|e| error(format!("{}: {e}", candidates.display())))?;
+        let mut file = TaskFile::load(&path).map_err(error)?;
+        file.candidates.file = Some(candidates);
+        file.candidates.family = None;
+        file.candidates.generate = None;
+        let base_dir = path.parent().map(PathBuf::from).unwrap_or_default();
         Ok(Self {
-            task: Task::load(&path).map_err(error)?,
+            task: Task::from_file(&file, &path.display().to_string(), &base_dir).map_err(error)?,
         })
     }
 

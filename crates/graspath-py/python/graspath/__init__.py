@@ -13,6 +13,10 @@ base frame with Jacobian rows ``[v; ω]``.
   (``Task.from_arrays``).
 * :func:`select` — scores and ranks every candidate; the :class:`Selection` holds the same
   records the CLI writes (``candidates``, ``pairs``, ``summary``) and numpy views (``arrays``).
+* :func:`select_batch` — many tasks (objects) scored in one call, without the GIL: numpy columns
+  with one row per object, arm and candidate (or each object's and arm's top ``k``).
+* :mod:`graspath.ray` — a dataset of task files sharded over a Ray cluster, each object's top
+  ``k`` written to Parquet (``pip install graspath[ray]``; ``python -m graspath.ray``).
 * :func:`read_grasps` — a grasp generator's file (GraspGen, ACRONYM, Contact-GraspNet / M2T2,
   ``N×4×4`` poses, GraspNet / AnyGrasp) as numpy candidates in the object frame.
 * :class:`GraspathError` — raised on bad input, a subclass of :class:`ValueError`.
@@ -21,6 +25,6 @@ Grasp generation from point clouds (the learned grasp model) is not offered by t
 see the extension point described in ``crates/graspath-py/README.md``.
 """
 
-from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, generate, placement_map, read_grasps, select, train
+from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, generate, placement_map, read_grasps, select, select_batch, train
 
-__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "generate", "placement_map", "read_grasps", "select", "train", "__version__"]
+__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "generate", "placement_map", "read_grasps", "select", "select_batch", "train", "__version__"]

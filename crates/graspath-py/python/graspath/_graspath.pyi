@@ -170,8 +170,9 @@ class Task:
     """A selection task: arms, object path, grasp candidates and settings."""
 
     @staticmethod
-    def load(path: StrPath) -> Task:
-        """Reads a task file (YAML or JSON)."""
+    def load(path: StrPath, *, candidates: Optional[StrPath] = None) -> Task:
+        """Reads a task file (YAML or JSON); ``candidates`` reads that candidate file instead of
+        the file's ``candidates`` source (keeping its ``format``, ``frame``, … options)."""
     @staticmethod
     def parse(
         text: str,
@@ -316,6 +317,31 @@ def generate(
 
 def select(task: Task) -> Selection:
     """Scores and ranks every candidate of ``task`` (single arm, or pairs with two arms)."""
+
+def select_batch(
+    tasks: Sequence[Task],
+    *,
+    slices: Optional[Sequence[Tuple[int, int]]] = None,
+    top_k: Optional[int] = None,
+    threads: Optional[int] = None,
+) -> Dict[str, npt.NDArray[Any]]:
+    """Scores the candidates of many tasks (objects, each with its own pose, path, candidates and
+    scene) for each of their arms in one call, in parallel without the GIL; the values do not
+    depend on ``threads`` (default: every core).
+
+    Numpy columns, one row per object, arm and candidate in the order (object, arm, candidate),
+    or with ``top_k`` (>= 1) only each object's and arm's ``top_k`` ranked rows in the order
+    (object, arm, rank): ``object`` (int64, position in ``tasks``), ``arm`` (str), ``arm_index``
+    (int64), ``candidate`` (int64, position in the task's candidates), ``id`` (int64), ``label``
+    (str), ``feasible`` (bool), ``failure`` (object: reason or ``None``), ``failure_sample``
+    (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
+    or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
+    ``mu_l1``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``score`` and ``rank`` (float64, 1 for
+    the best; NaN wherever absent: infeasible, not ranked, no scene).
+
+    ``slices`` (one ``(start, stop)`` per task) scores only those candidate positions: the
+    scores are the whole task's (the likelihood is taken relative to the whole task's most
+    likely candidate), the ranks are within the slice."""
 
 GraspFormatName = Literal[
     "graspath", "graspgen", "acronym", "contact_graspnet", "m2t2", "poses", "graspnet", "anygrasp"

@@ -1,0 +1,282 @@
+//! `graspath.select_batch`: many tasks (objects, each with its own pose, path, candidates and
+//! scene) scored in one call without the GIL, the results as numpy columns with one row per
+//! object, arm and candidate.
+//!
+//! A task can be cut into candidate slices (`slices`): a slice's scores are those of the whole
+//! task, because every candidate is scored on its own and its ranking score takes the likelihood
+//! relative to the largest of the *whole* task's candidates. Ranks are then ranks within the
+//! slice; sorting the union of the slices' rows by score (best first, ties by candidate
+//! position) gives the whole task's ranking, which is how `graspath.ray` merges its shards.
+
+use crate::convert::error;
+use crate::task::PyTask;
+use graspath::select::{ranking_alone, select as run_selection, CandidateScore, Ranking};
+use graspath::task::Task;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+
+/// One output row: a candidate of one object scored for one arm.
+struct Row {
+    object: usize,
+    arm: String,
+    arm_index: usize,
+    candidate: usize,
+    score: CandidateScore,
+    ranking: Ranking,
+}
+
+/// One unit of work: one arm of one task over one candidate slice.
+struct Unit<'a> {
+    object: usize,
+    task: &'a Task,
+    arm_index: usize,
+    start: usize,
+    stop: usize,
+}
+
+/// Scores one unit and ranks its candidates (rank within the slice, score relative to the whole
+/// task's largest likelihood), rows in candidate order.
+fn run_unit(unit: &Unit<'_>) -> Vec<Row> {
+    let task = unit.task;
+    let arm = &task.arms[unit.arm_index];
+    // The task narrowed to this arm and slice: one arm, so no pairs are formed, and the arm's
+    // scoring (its path, IK, scene) is exactly that of the whole task.
+    let mut narrowed = task.clone();
+    narrowed.arms = vec![arm.clone()];
+    narrowed.candidates = task.candidates[unit.start..unit.stop].to_vec();
+    let selection = run_selection(&narrowed, &|| {});
+    let max_log_likelihood = task
+        .candidates
+        .iter()
+        .map(|c| c.log_likelihood)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let Some(result) = selection.arms.into_iter().next() else {
+        return Vec::new();
+    };
+    let mut rankings: Vec<Ranking> = result
+        .scores
+        .iter()
+        .map(|s| ranking_alone(s, &task.selection, max_log_likelihood))
+        .collect();
+    // The order of `rank_candidates`: best score first, ties by candidate position.
+    let mut order: Vec<(usize, f64)> = rankings
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| r.score.map(|s| (i, s)))
+        .collect();
+    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    for (r, &(i, _)) in order.iter().enumerate() {
+        rankings[i].rank = Some(r + 1);
+    }
+    result
+        .scores
+        .into_iter()
+        .zip(rankings)
+        .enumerate()
+        .map(|(i, (score, ranking))| Row {
+            object: unit.object,
+            arm: arm.name.clone(),
+            arm_index: unit.arm_index,
+            candidate: unit.start + i,
+            score,
+            ranking,
+        })
+        .collect()
+}
+
+/// `(start, stop)` of every task: the whole task, or the slice given (checked).
+fn task_slices(
+    tasks: &[Task],
+    slices: Option<Vec<(usize, usize)>>,
+) -> PyResult<Vec<(usize, usize)>> {
+    let Some(slices) = slices else {
+        return Ok(tasks.iter().map(|t| (0, t.candidates.len())).collect());
+    };
+    if slices.len() != tasks.len() {
+        return Err(error(format!(
+            "slices: {} given for {} tasks (give one (start, stop) per task)",
+            slices.len(),
+            tasks.len()
+        )));
+    }
+    for (i, (&(start, stop), task)) in slices.iter().zip(tasks).enumerate() {
+        let n = task.candidates.len();
+        if start > stop || stop > n {
+            return Err(error(format!(
+                "slices[{i}] = ({start}, {stop}) is not a candidate range of task {i} ('{}', \
+                 {n} candidates): give 0 <= start <= stop <= {n}",
+                task.source_name
+            )));
+        }
+    }
+    Ok(slices)
+}
+
+/// Scores the candidates of many tasks — each an object with its own pose, path, candidates and
+/// scene — for each of their arms, in one call: in parallel (rayon) without the GIL, and with
+/// the same values at any thread count.
+///
+/// Returns numpy columns with one row per object, arm and candidate, in the order (object, arm
+/// in the task's order, candidate), or with ``top_k`` only the ``top_k`` best-ranked rows of
+/// each object and arm in the order (object, arm, rank):
+///
+/// * ``object`` (int64): the position of the task in ``tasks``; ``arm`` (str), ``arm_index``
+///   (int64, its position in the task's arms); ``candidate`` (int64, the position in the task's
+///   candidates), ``id`` (int64, the candidate's id), ``label`` (str);
+/// * ``feasible`` (bool); ``failure`` (object: the reason, ``unreachable``, ``joint_limit``,
+///   ``discontinuity``, ``collision``, …, or ``None``); ``failure_sample`` (float64, NaN when
+///   feasible); ``rejected`` (object: why a feasible candidate is not ranked, or ``None``);
+/// * ``log_likelihood`` (float64, the candidate's); ``mu_l2``, ``mu_linf`` (``inf`` on a
+///   singular path), ``mu_l1`` (float64, the norms of the ranked per-sample index — ``M_T`` in
+///   the units of the task's index mode — NaN when infeasible); ``yoshikawa_at_grasp``,
+///   ``clearance`` (m, the smallest distance to the scene) (float64, NaN where absent);
+/// * ``score`` (float64, the ranking score: the norm combined with the likelihood relative to
+///   the task's most likely candidate; NaN when not ranked) and ``rank`` (float64, 1 for the
+///   best, NaN when not ranked).
+///
+/// ``slices`` (one ``(start, stop)`` per task) scores only those candidate positions; scores
+/// are the whole task's and ranks are within the slice. ``threads`` runs the work on its own
+/// pool of that many threads (default: rayon's global pool, all cores).
+#[pyfunction]
+#[pyo3(signature = (tasks, *, slices = None, top_k = None, threads = None))]
+pub fn select_batch<'py>(
+    py: Python<'py>,
+    tasks: Vec<Bound<'py, PyTask>>,
+    slices: Option<Vec<(usize, usize)>>,
+    top_k: Option<usize>,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if top_k == Some(0) {
+        return Err(error(
+            "top_k must be at least 1 (or None for every candidate)",
+        ));
+    }
+    if threads == Some(0) {
+        return Err(error("threads must be at least 1 (or None for every core)"));
+    }
+    let tasks: Vec<Task> = tasks.iter().map(|t| t.get().task.clone()).collect();
+    let slices = task_slices(&tasks, slices)?;
+    let pool = threads
+        .map(|n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| error(format!("threads: cannot start {n} threads: {e}")))
+        })
+        .transpose()?;
+    let rows: Vec<Row> = py.detach(|| {
+        let units: Vec<Unit<'_>> = tasks
+            .iter()
+            .zip(&slices)
+            .enumerate()
+            .flat_map(|(object, (task, &(start, stop)))| {
+                (0..task.arms.len()).map(move |arm_index| Unit {
+                    object,
+                    task,
+                    arm_index,
+                    start,
+                    stop,
+                })
+            })
+            .collect();
+        let run = || -> Vec<Row> {
+            // Each unit keeps only its top k as soon as it is done, so memory holds the scores
+            // of the units in flight, not of every candidate.
+            let per_unit: Vec<Vec<Row>> = units
+                .par_iter()
+                .map(|unit| {
+                    let mut rows = run_unit(unit);
+                    if let Some(k) = top_k {
+                        rows.retain(|r| r.ranking.rank.is_some_and(|rank| rank <= k));
+                        rows.sort_by_key(|r| r.ranking.rank);
+                    }
+                    rows
+                })
+                .collect();
+            per_unit.into_iter().flatten().collect()
+        };
+        match &pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        }
+    });
+    columns(py, &rows)
+}
+
+/// The rows as a dict of numpy columns.
+fn columns<'py>(py: Python<'py>, rows: &[Row]) -> PyResult<Bound<'py, PyDict>> {
+    let numpy = py.import("numpy")?;
+    let builtins = py.import("builtins")?;
+    let text_array = |values: Vec<String>| -> PyResult<Bound<'py, PyAny>> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("dtype", builtins.getattr("str")?)?;
+        numpy.call_method("array", (PyList::new(py, values)?,), Some(&kwargs))
+    };
+    let optional_text_array = |values: Vec<Option<String>>| -> PyResult<Bound<'py, PyAny>> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("dtype", builtins.getattr("object")?)?;
+        numpy.call_method("array", (PyList::new(py, values)?,), Some(&kwargs))
+    };
+    let int = |f: fn(&Row) -> usize| -> Bound<'py, PyArray1<i64>> {
+        PyArray1::from_vec(py, rows.iter().map(|r| f(r) as i64).collect())
+    };
+    let float = |f: fn(&Row) -> Option<f64>| -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_vec(py, rows.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect())
+    };
+    let dict = PyDict::new(py);
+    dict.set_item("object", int(|r| r.object))?;
+    dict.set_item(
+        "arm",
+        text_array(rows.iter().map(|r| r.arm.clone()).collect())?,
+    )?;
+    dict.set_item("arm_index", int(|r| r.arm_index))?;
+    dict.set_item("candidate", int(|r| r.candidate))?;
+    dict.set_item("id", int(|r| r.score.candidate.id))?;
+    dict.set_item(
+        "label",
+        text_array(
+            rows.iter()
+                .map(|r| r.score.candidate.label.clone())
+                .collect(),
+        )?,
+    )?;
+    dict.set_item(
+        "feasible",
+        PyArray1::from_vec(py, rows.iter().map(|r| r.score.feasible()).collect()),
+    )?;
+    dict.set_item(
+        "failure",
+        optional_text_array(
+            rows.iter()
+                .map(|r| {
+                    r.score
+                        .failure
+                        .as_ref()
+                        .map(|f| f.reason.as_str().to_string())
+                })
+                .collect(),
+        )?,
+    )?;
+    dict.set_item(
+        "failure_sample",
+        float(|r| r.score.failure.as_ref().map(|f| f.sample as f64)),
+    )?;
+    dict.set_item(
+        "rejected",
+        optional_text_array(rows.iter().map(|r| r.ranking.rejected.clone()).collect())?,
+    )?;
+    dict.set_item(
+        "log_likelihood",
+        float(|r| Some(r.score.candidate.log_likelihood)),
+    )?;
+    dict.set_item("mu_l2", float(|r| r.score.norms.map(|n| n.l2)))?;
+    dict.set_item("mu_linf", float(|r| r.score.norms.map(|n| n.linf)))?;
+    dict.set_item("mu_l1", float(|r| r.score.norms.map(|n| n.l1)))?;
+    dict.set_item("yoshikawa_at_grasp", float(|r| r.score.yoshikawa_at_grasp))?;
+    dict.set_item("clearance", float(|r| r.score.clearance))?;
+    dict.set_item("score", float(|r| r.ranking.score))?;
+    dict.set_item("rank", float(|r| r.ranking.rank.map(|v| v as f64)))?;
+    Ok(dict)
+}

@@ -7,7 +7,7 @@
 //! with `GRASPATH_WRITE_FIXTURES=1 cargo test -p graspath-report --test report_without_scene`
 //! from a checkout of the report code known to be right, and say so in the commit.
 
-use graspath::select::select;
+use graspath::select::{select, CandidateScore};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json, candidates_json_bytes, candidates_json_with, pairs_json, scene_json,
@@ -88,7 +88,7 @@ fn candidates_json_bytes_are_the_pretty_document() {
     assert!(selection
         .arms
         .iter()
-        .any(|a| a.scores.iter().any(|s| s.feasible())));
+        .any(|a| a.scores.iter().any(CandidateScore::feasible)));
     for trajectories in [
         Trajectories::All,
         Trajectories::Feasible,

@@ -18,9 +18,8 @@ use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let (task_path, out) = match args.as_slice() {
-        [task, out] | [task, out, _] => (task, out),
-        _ => return Err("usage: export_wrist_paths TASK OUT.npy [ARM]".into()),
+    let ([task_path, out] | [task_path, out, _]) = args.as_slice() else {
+        return Err("usage: export_wrist_paths TASK OUT.npy [ARM]".into());
     };
     let task = Task::load(Path::new(task_path))?;
     let arm = match args.get(2) {

@@ -595,31 +595,34 @@ impl FolderWriter {
         let staged: Vec<(PathBuf, bool)> = files.chain(folders).collect();
         // At most this many flushes run at once (a report has a few dozen files).
         const AT_ONCE: usize = 8;
+        let flush_share = |first: usize| {
+            staged
+                .iter()
+                .skip(first)
+                .step_by(AT_ONCE)
+                .try_for_each(|(path, is_folder)| {
+                    if *is_folder {
+                        sync_folder(path)
+                    } else {
+                        File::open(path).and_then(|f| f.sync_all())
+                    }
+                })
+        };
         std::thread::scope(|scope| {
+            // A share whose thread cannot be started is flushed here instead.
             let workers: Vec<_> = (0..AT_ONCE.min(staged.len()))
                 .map(|first| {
-                    let staged = &staged;
-                    scope.spawn(move || {
-                        staged.iter().skip(first).step_by(AT_ONCE).try_for_each(
-                            |(path, is_folder)| {
-                                if *is_folder {
-                                    sync_folder(path)
-                                } else {
-                                    File::open(path).and_then(|f| f.sync_all())
-                                }
-                            },
-                        )
-                    })
+                    std::thread::Builder::new()
+                        .spawn_scoped(scope, move || flush_share(first))
+                        .map_err(|_| first)
                 })
                 .collect();
-            workers
-                .into_iter()
-                .map(|worker| {
-                    worker
-                        .join()
-                        .unwrap_or_else(|p| std::panic::resume_unwind(p))
-                })
-                .collect()
+            workers.into_iter().try_for_each(|worker| match worker {
+                Ok(thread) => thread
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                Err(first) => flush_share(first),
+            })
         })
     }
 }

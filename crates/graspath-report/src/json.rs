@@ -193,6 +193,60 @@ pub fn candidates_json_with(selection: &Selection, trajectories: Trajectories) -
     Value::Array(records)
 }
 
+/// The bytes of `candidates.json` as the CLI writes it: `candidates_json_with(selection,
+/// trajectories)` in serde_json's pretty form, then a newline. The records are rendered on all
+/// cores (each is its own document, indented one level), so the file costs a fraction of
+/// building the whole document and printing it on one thread; the bytes are the same.
+pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) -> Vec<u8> {
+    use rayon::prelude::*;
+    let pairs: Vec<(&str, &CandidateScore, &Ranking)> = selection
+        .arms
+        .iter()
+        .flat_map(|arm| {
+            arm.scores
+                .iter()
+                .zip(&arm.rankings)
+                .map(move |(score, ranking)| (arm.arm.as_str(), score, ranking))
+        })
+        .collect();
+    let records: Vec<Vec<u8>> = pairs
+        .par_iter()
+        .map(|&(arm, score, ranking)| {
+            let record = candidate_record(arm, score, ranking, trajectories, false);
+            let value = serde_json::to_value(record).expect("records serialise");
+            indented_pretty(&value)
+        })
+        .collect();
+    if records.is_empty() {
+        return b"[]\n".to_vec();
+    }
+    let total = records.iter().map(|r| r.len() + 4).sum::<usize>() + 4;
+    let mut bytes = Vec::with_capacity(total);
+    bytes.push(b'[');
+    for (i, record) in records.iter().enumerate() {
+        bytes.extend_from_slice(if i == 0 { b"\n  " } else { b",\n  " });
+        bytes.extend_from_slice(record);
+    }
+    bytes.extend_from_slice(b"\n]\n");
+    bytes
+}
+
+/// `value` in serde_json's pretty form as an element of a top-level array: every line after
+/// the first indented by two more spaces. A newline byte in serde_json's output is always a
+/// line break between tokens (strings escape theirs).
+fn indented_pretty(value: &Value) -> Vec<u8> {
+    let flat = serde_json::to_vec_pretty(value).expect("records serialise");
+    let lines = flat.iter().filter(|&&b| b == b'\n').count();
+    let mut out = Vec::with_capacity(flat.len() + 2 * lines);
+    for (i, line) in flat.split(|&b| b == b'\n').enumerate() {
+        if i > 0 {
+            out.extend_from_slice(b"\n  ");
+        }
+        out.extend_from_slice(line);
+    }
+    out
+}
+
 /// Writes one streamed candidate as a line of `candidates.jsonl`: the fields of its
 /// `candidates.json` record except `rank` and `pareto` (they need every candidate; see
 /// [`write_ranking_jsonl`]), compact, then a newline.

@@ -7,9 +7,12 @@
 //! with `GRASPATH_WRITE_FIXTURES=1 cargo test -p graspath-report --test report_without_scene`
 //! from a checkout of the report code known to be right, and say so in the commit.
 
-use graspath::select::select;
+use graspath::select::{select, CandidateScore};
 use graspath::task::{Task, TaskFile};
-use graspath_report::{candidates_json, pairs_json, scene_json, summary_json};
+use graspath_report::{
+    candidates_json, candidates_json_bytes, candidates_json_with, pairs_json, scene_json,
+    summary_json, Trajectories,
+};
 use std::path::{Path, PathBuf};
 
 /// The paper's two-arm pick-and-place, small: 5 candidates, 3 samples per step.
@@ -69,4 +72,35 @@ fn a_task_without_a_scene_reports_the_same_bytes_as_before() {
     compare_or_write("pairs.json", &pretty(&pairs_json(&selection)));
     compare_or_write("summary.json", &pretty(&summary_json(&task, &selection)));
     compare_or_write("view.json", &pretty(&scene_json(&task, &selection)));
+}
+
+/// The CLI's `candidates.json` (records rendered in parallel) is the whole document in
+/// serde_json's pretty form, for every choice of trajectories and for no candidates at all.
+#[test]
+fn candidates_json_bytes_are_the_pretty_document() {
+    let file = TaskFile::parse(TASK, "small.yaml", "yaml").unwrap();
+    let task = Task::from_file(&file, "small.yaml", Path::new(".")).unwrap();
+    let mut selection = select(&task, &|| {});
+    assert!(selection
+        .arms
+        .iter()
+        .any(|a| a.scores.iter().any(|s| !s.feasible())));
+    assert!(selection
+        .arms
+        .iter()
+        .any(|a| a.scores.iter().any(CandidateScore::feasible)));
+    for trajectories in [
+        Trajectories::All,
+        Trajectories::Feasible,
+        Trajectories::None,
+    ] {
+        let bytes = candidates_json_bytes(&selection, trajectories);
+        let expected = pretty(&candidates_json_with(&selection, trajectories));
+        assert!(bytes == expected.as_bytes(), "{trajectories:?}");
+    }
+    selection.arms.clear();
+    assert_eq!(
+        candidates_json_bytes(&selection, Trajectories::All),
+        pretty(&candidates_json(&selection)).as_bytes()
+    );
 }

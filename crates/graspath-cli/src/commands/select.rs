@@ -15,7 +15,7 @@ use graspath::placement::FamilyParameter;
 use graspath::select::{select, select_streaming, Selection};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
-    candidates_json_with, nothing_selected, pairs_json, render_report, summary_json,
+    candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
     write_candidate_line, write_ranking_jsonl, write_ranking_parquet, CandidatesParquet,
     Trajectories,
 };
@@ -131,7 +131,7 @@ pub fn run_task(
     let mut files = vec![
         (
             "candidates.json".to_string(),
-            pretty(candidates_json_with(&selection, trajectories))?,
+            candidates_json_bytes(&selection, trajectories),
         ),
         (
             "summary.json".to_string(),

@@ -28,7 +28,7 @@ const BATCH_ROWS: usize = 4096;
 
 /// Rows per row group: bounds what the writer holds before it writes (the writer's default is
 /// about a million rows).
-const ROW_GROUP_ROWS: usize = 65_536;
+const ROW_GROUP_ROWS: usize = 16_384;
 
 /// Why a Parquet file could not be written.
 #[derive(Debug, thiserror::Error)]

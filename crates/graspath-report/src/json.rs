@@ -5,7 +5,9 @@
 
 use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
-use graspath::select::{values_tied, ArmPair, CandidateScore, Ranking, Selection, Streamed};
+use graspath::select::{
+    values_tied, ArmPair, ArmResult, CandidateScore, Ranking, Selection, Streamed,
+};
 use graspath::task::JacobianRows;
 use graspath::task::{Norm, NormSamples, Task};
 use serde::Serialize;
@@ -281,14 +283,7 @@ struct RankingRecord<'a> {
 /// line: their `rank` is `null` and `pareto` false.
 pub fn write_ranking_jsonl(out: &mut impl Write, selection: &Selection) -> std::io::Result<()> {
     for arm in &selection.arms {
-        let mut ranked: Vec<(usize, usize)> = arm
-            .rankings
-            .iter()
-            .enumerate()
-            .filter_map(|(i, r)| r.rank.map(|rank| (rank, i)))
-            .collect();
-        ranked.sort_unstable();
-        for (rank, i) in ranked {
+        for (rank, i) in ranked_order(arm) {
             let record = RankingRecord {
                 arm: &arm.arm,
                 id: arm.scores[i].candidate.id,
@@ -301,6 +296,19 @@ pub fn write_ranking_jsonl(out: &mut impl Write, selection: &Selection) -> std::
         }
     }
     Ok(())
+}
+
+/// The eligible candidates of `arm` as (rank, index into its scores), best first: the rows of
+/// `ranking.jsonl` and `ranking.parquet`.
+pub(crate) fn ranked_order(arm: &ArmResult) -> Vec<(usize, usize)> {
+    let mut ranked: Vec<(usize, usize)> = arm
+        .rankings
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| r.rank.map(|rank| (rank, i)))
+        .collect();
+    ranked.sort_unstable();
+    ranked
 }
 
 /// `pairs.json`: the best pairs, keyed by the two arms' names (`left`, `right` on Baxter).

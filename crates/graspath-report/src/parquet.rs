@@ -9,7 +9,7 @@
 //! joint values in rad (m for prismatic joints). A JSON `null` is a Parquet null. The bytes
 //! depend only on the records (no timestamps), so a run is reproducible byte for byte.
 
-use crate::json::Trajectories;
+use crate::json::{ranked_order, Trajectories};
 use arrow_array::builder::{
     BooleanBuilder, FixedSizeListBuilder, Float64Builder, ListBuilder, StringBuilder, UInt64Builder,
 };
@@ -401,14 +401,7 @@ pub fn write_ranking_parquet<W: Write + Send>(
     ]));
     let mut writer = ArrowWriter::try_new(out, schema.clone(), Some(properties()))?;
     for arm in &selection.arms {
-        let mut ranked: Vec<(usize, usize)> = arm
-            .rankings
-            .iter()
-            .enumerate()
-            .filter_map(|(i, r)| r.rank.map(|rank| (rank, i)))
-            .collect();
-        ranked.sort_unstable();
-        for rows in ranked.chunks(BATCH_ROWS) {
+        for rows in ranked_order(arm).chunks(BATCH_ROWS) {
             let (mut names, mut ids, mut ranks, mut scores, mut pareto) = (
                 StringBuilder::new(),
                 UInt64Builder::new(),

@@ -8,7 +8,7 @@
 
 use anyhow::Result;
 use graspath::placement::{
-    pearson, placement_map_with, FamilyParameter, GridAxis, Placement, PlacementGrid, PlacementMap,
+    pearson, placement_map_with, FamilyParameter, GridAxis, PlacementGrid, PlacementMap,
 };
 use graspath::select::Selection;
 use graspath::task::{builder_from_file, Task, TaskFile};
@@ -430,6 +430,8 @@ pub(super) struct TShapeTasks<'a> {
 /// One T-shape task's results at every placement: the best candidate's id, the ids tied with
 /// it, and the feasible ids.
 struct TShapeAt {
+    /// The object's start (world x, y, m, to the millimetre).
+    at: [f64; 2],
     best: Option<usize>,
     tied: BTreeSet<usize>,
     feasible: BTreeSet<usize>,
@@ -455,6 +457,7 @@ fn t_shape_map(name: &str, yaml: &str, grid: &PlacementGrid) -> Result<Vec<TShap
         .map(|(record, feasible)| {
             let best = record.arms[0].best.as_ref();
             TShapeAt {
+                at: [mm(record.x), mm(record.y)],
                 best: best.map(|b| b.id),
                 tied: best
                     .map(|b| b.tied_with.iter().copied().collect())
@@ -484,7 +487,6 @@ pub(super) fn t_shape_where_it_holds(tasks: &TShapeTasks) -> Result<Vec<(String,
     let rotate = t_shape_map(tasks.rotate.0, tasks.rotate.1, &grid)?;
     let moving = t_shape_map(tasks.moving.0, tasks.moving.1, &grid)?;
     let move_rotate = t_shape_map(tasks.move_rotate.0, tasks.move_rotate.1, &grid)?;
-    let places: Vec<Placement> = grid.placements(&nalgebra::Isometry3::identity())?;
     type TJudge = fn(&TShapeAt, &TShapeAt, &TShapeAt) -> Option<bool>;
     let judges: [(&str, TJudge); 3] = [
         (tasks.rotate.0, |r, m, mr| {
@@ -503,9 +505,8 @@ pub(super) fn t_shape_where_it_holds(tasks: &TShapeTasks) -> Result<Vec<(String,
         let mut reverses = Vec::new();
         let mut placements = Vec::new();
         let mut at_default = "neither";
-        for (k, place) in places.iter().enumerate() {
-            let t = place.world_from_object.translation.vector;
-            let at = [mm(t.x), mm(t.y)];
+        for k in 0..rotate.len() {
+            let at = rotate[k].at;
             let verdict = judge(&rotate[k], &moving[k], &move_rotate[k]);
             match verdict {
                 Some(true) => holds.push(at),

@@ -10,7 +10,7 @@ macro_rules! say {
 }
 
 use clap::Args;
-use graspath::select::Selection;
+use graspath::select::{Scored, Selection};
 use graspath::task::Task;
 use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -182,20 +182,23 @@ fn number(v: Option<f64>) -> String {
 }
 
 /// The one-screen summary: per arm the best five candidates and the failures by reason.
-pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elapsed: Duration) {
+pub fn print_summary_table<S: Scored>(
+    task: &Task,
+    selection: &Selection<S>,
+    title: &str,
+    elapsed: Duration,
+) {
     say!(
         "{title}: {} candidates x {} arm(s), {} samples, {:.3} s",
-        task.candidates.len(),
+        task.candidate_count(),
         task.arms.len(),
         task.path.samples.len(),
         elapsed.as_secs_f64()
     );
     for arm in &selection.arms {
         let mut reasons: std::collections::BTreeMap<&str, usize> = Default::default();
-        for s in &arm.scores {
-            if let Some(f) = &s.failure {
-                *reasons.entry(f.reason.as_str()).or_default() += 1;
-            }
+        for reason in arm.scores.iter().filter_map(Scored::failure_reason) {
+            *reasons.entry(reason.as_str()).or_default() += 1;
         }
         let rejected = arm.rankings.iter().filter(|r| r.rejected.is_some()).count();
         let reasons: Vec<String> = reasons.iter().map(|(r, n)| format!("{n} {r}")).collect();
@@ -233,9 +236,9 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             .unwrap_or_default();
         for &i in ranked.iter().take(5) {
             let s = &arm.scores[i];
-            let c = &s.candidate;
+            let label = s.candidate().map_or("", |c| c.label.as_str());
             let rank = arm.rankings[i].rank.unwrap_or(0);
-            let rank = if tied_with_best.contains(&c.id) {
+            let rank = if tied_with_best.contains(&s.id()) {
                 format!("={rank}")
             } else {
                 rank.to_string()
@@ -243,15 +246,15 @@ pub fn print_summary_table(task: &Task, selection: &Selection, title: &str, elap
             say!(
                 "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
                 rank,
-                c.id,
-                c.label.chars().take(28).collect::<String>(),
+                s.id(),
+                label.chars().take(28).collect::<String>(),
                 number(arm.rankings[i].score),
-                number(s.norms.map(|n| n.l2)),
-                number(s.norms.map(|n| n.linf)),
+                number(s.norms().map(|n| n.l2)),
+                number(s.norms().map(|n| n.linf)),
                 number(if in_scene {
-                    s.clearance
+                    s.clearance()
                 } else {
-                    s.yoshikawa_at_grasp
+                    s.yoshikawa_at_grasp()
                 }),
             );
         }

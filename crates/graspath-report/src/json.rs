@@ -6,7 +6,7 @@
 use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
 use graspath::select::{
-    values_tied, ArmPair, ArmResult, CandidateScore, Ranking, Selection, Streamed,
+    values_tied, ArmPair, ArmResult, CandidateScore, Ranking, Scored, Selection, Streamed,
 };
 use graspath::task::JacobianRows;
 use graspath::task::{Norm, NormSamples, Task};
@@ -281,12 +281,15 @@ struct RankingRecord<'a> {
 /// "score", "pareto"}`, best first, arm by arm (the `rank`, `score` and `pareto` of its
 /// `candidates.json` record). Candidates that are not eligible (infeasible or rejected) have no
 /// line: their `rank` is `null` and `pareto` false.
-pub fn write_ranking_jsonl(out: &mut impl Write, selection: &Selection) -> std::io::Result<()> {
+pub fn write_ranking_jsonl<S: Scored>(
+    out: &mut impl Write,
+    selection: &Selection<S>,
+) -> std::io::Result<()> {
     for arm in &selection.arms {
         for (rank, i) in ranked_order(arm) {
             let record = RankingRecord {
                 arm: &arm.arm,
-                id: arm.scores[i].candidate.id,
+                id: arm.scores[i].id(),
                 rank,
                 score: arm.rankings[i].score.and_then(finite),
                 pareto: arm.rankings[i].pareto,
@@ -300,7 +303,7 @@ pub fn write_ranking_jsonl(out: &mut impl Write, selection: &Selection) -> std::
 
 /// The eligible candidates of `arm` as (rank, index into its scores), best first: the rows of
 /// `ranking.jsonl` and `ranking.parquet`.
-pub(crate) fn ranked_order(arm: &ArmResult) -> Vec<(usize, usize)> {
+pub(crate) fn ranked_order<S>(arm: &ArmResult<S>) -> Vec<(usize, usize)> {
     let mut ranked: Vec<(usize, usize)> = arm
         .rankings
         .iter()
@@ -312,7 +315,7 @@ pub(crate) fn ranked_order(arm: &ArmResult) -> Vec<(usize, usize)> {
 }
 
 /// `pairs.json`: the best pairs, keyed by the two arms' names (`left`, `right` on Baxter).
-pub fn pairs_json(selection: &Selection) -> Value {
+pub fn pairs_json<S>(selection: &Selection<S>) -> Value {
     if selection.arms.len() != 2 {
         return Value::Array(Vec::new());
     }
@@ -361,7 +364,7 @@ fn index_json(task: &Task) -> Value {
 /// or every feasible one is rejected by `mu0`); with two arms, no valid pair exists. The CLI's
 /// `select` then exits with code 3 (unless `--allow-empty`), and `summary.json` says so in
 /// `nothing_selected`.
-pub fn nothing_selected(selection: &Selection) -> bool {
+pub fn nothing_selected<S: Scored>(selection: &Selection<S>) -> bool {
     if selection.arms.len() == 2 {
         selection.pairs.is_empty()
     } else {
@@ -372,7 +375,7 @@ pub fn nothing_selected(selection: &Selection) -> bool {
 /// The kept pairs after the best whose summed norm is tied with the best pair's (relative
 /// difference at most `tolerance`, see [`graspath::select::values_tied`]), best first. Only the
 /// kept pairs (`selection.pairs`, task setting `pairs`) are looked at.
-pub fn tied_pairs(selection: &Selection, tolerance: f64) -> Vec<&ArmPair> {
+pub fn tied_pairs<S>(selection: &Selection<S>, tolerance: f64) -> Vec<&ArmPair> {
     let Some(best) = selection.pairs.first() else {
         return Vec::new();
     };
@@ -391,7 +394,7 @@ pub fn tied_pairs(selection: &Selection, tolerance: f64) -> Vec<&ArmPair> {
 /// reasons that did not occur are left out) and, with two arms, `colliding_pairs`: how many
 /// pairs better than the last kept were refused because the arms collide. A task that says
 /// nothing about its world gets the summary it had before scenes existed.
-pub fn summary_json(task: &Task, selection: &Selection) -> Value {
+pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
     let world = has_world(task);
     let arms: Vec<Value> = selection
         .arms
@@ -399,21 +402,21 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
         .map(|arm| {
             let selected = arm.best().map(|i| {
                 let s = &arm.scores[i];
-                let c = &s.candidate;
+                let norms = s.norms();
                 json!({
-                    "id": c.id,
-                    "label": c.label,
+                    "id": s.id(),
+                    "label": s.candidate().map(|c| c.label.as_str()),
                     "score": arm.rankings[i].score,
-                    "mu_l2": s.norms.map(|n| n.l2),
-                    "mu_linf": s.norms.and_then(|n| finite(n.linf)),
-                    "mu_l1": s.norms.map(|n| n.l1),
-                    "yoshikawa_at_grasp": s.yoshikawa_at_grasp,
+                    "mu_l2": norms.map(|n| n.l2),
+                    "mu_linf": norms.and_then(|n| finite(n.linf)),
+                    "mu_l1": norms.map(|n| n.l1),
+                    "yoshikawa_at_grasp": s.yoshikawa_at_grasp(),
                     "tied_with": arm.tied_with(i, &task.selection),
                 })
             });
             let by_yoshikawa = arm
-                .best_by(|s| s.yoshikawa_at_grasp)
-                .map(|i| arm.scores[i].candidate.id);
+                .best_by(Scored::yoshikawa_at_grasp)
+                .map(|i| arm.scores[i].id());
             let mut summary = json!({
                 "arm": arm.arm,
                 "candidates": arm.scores.len(),
@@ -424,8 +427,8 @@ pub fn summary_json(task: &Task, selection: &Selection) -> Value {
             });
             if world {
                 let mut failures: BTreeMap<&str, usize> = BTreeMap::new();
-                for f in arm.scores.iter().filter_map(|s| s.failure.as_ref()) {
-                    *failures.entry(f.reason.as_str()).or_default() += 1;
+                for reason in arm.scores.iter().filter_map(Scored::failure_reason) {
+                    *failures.entry(reason.as_str()).or_default() += 1;
                 }
                 summary["failures"] = json!(failures);
             }

@@ -15,7 +15,7 @@ use arrow_array::builder::{
 };
 use arrow_array::{ArrayRef, RecordBatch};
 use arrow_schema::{ArrowError, DataType, Field, Schema};
-use graspath::select::{Selection, Streamed};
+use graspath::select::{Scored, Selection, Streamed};
 use parquet::arrow::ArrowWriter;
 use parquet::basic::Compression;
 use parquet::errors::ParquetError;
@@ -388,9 +388,9 @@ impl<W: Write + Send> CandidatesParquet<W> {
 /// `id`, `rank`, `score`, `pareto`, best first, arm by arm (the rows of `ranking.jsonl`).
 ///
 /// Errors: writing failed.
-pub fn write_ranking_parquet<W: Write + Send>(
+pub fn write_ranking_parquet<W: Write + Send, S: Scored>(
     out: W,
-    selection: &Selection,
+    selection: &Selection<S>,
 ) -> Result<W, ParquetOutputError> {
     let schema = Arc::new(Schema::new(vec![
         Field::new("arm", DataType::Utf8, false),
@@ -411,7 +411,7 @@ pub fn write_ranking_parquet<W: Write + Send>(
             );
             for &(rank, i) in rows {
                 names.append_value(&arm.arm);
-                ids.append_value(arm.scores[i].candidate.id as u64);
+                ids.append_value(arm.scores[i].id() as u64);
                 ranks.append_value(rank as u64);
                 scores.append_option(arm.rankings[i].score.and_then(finite));
                 pareto.append_value(arm.rankings[i].pareto);

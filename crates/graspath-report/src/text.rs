@@ -2,7 +2,7 @@
 //! report, so both say the same thing in the same words.
 
 use crate::json::tied_pairs;
-use graspath::select::{ArmResult, Selection};
+use graspath::select::{ArmResult, Scored, Selection};
 use graspath::task::Task;
 
 /// A relative tolerance as a percentage without trailing noise (`1e-4` → `0.01 %`).
@@ -22,9 +22,10 @@ fn others(n: usize) -> String {
 /// One arm's best candidate and its ties: `left arm best: edge y=+0.180 (id 0), tied with 2
 /// others within 0.01 % (ids 1, 2)`, or `… no other within 0.01 %`; `None` when the arm has
 /// no eligible candidate.
-pub fn best_sentence(task: &Task, arm: &ArmResult) -> Option<String> {
+pub fn best_sentence<S: Scored>(task: &Task, arm: &ArmResult<S>) -> Option<String> {
     let best = arm.best()?;
-    let c = &arm.scores[best].candidate;
+    let s = &arm.scores[best];
+    let label = s.candidate().map_or("", |c| c.label.as_str());
     let tied = arm.tied_with(best, &task.selection);
     let within = percent(task.selection.tie_tolerance);
     let ties = if tied.is_empty() {
@@ -39,12 +40,14 @@ pub fn best_sentence(task: &Task, arm: &ArmResult) -> Option<String> {
     };
     Some(format!(
         "{} arm best: {} (id {}), {ties}",
-        arm.arm, c.label, c.id
+        arm.arm,
+        label,
+        s.id()
     ))
 }
 
 /// The best pair and its ties among the kept pairs; `None` without a pair.
-pub fn best_pair_sentence(task: &Task, selection: &Selection) -> Option<String> {
+pub fn best_pair_sentence<S>(task: &Task, selection: &Selection<S>) -> Option<String> {
     let best = selection.pairs.first()?;
     let (a, b) = (&selection.arms[0].arm, &selection.arms[1].arm);
     let tied = tied_pairs(selection, task.selection.tie_tolerance);
@@ -69,7 +72,7 @@ pub fn best_pair_sentence(task: &Task, selection: &Selection) -> Option<String> 
 }
 
 /// Every sentence of the selection: each arm's best with its ties, then the best pair's.
-pub fn findings_sentences(task: &Task, selection: &Selection) -> Vec<String> {
+pub fn findings_sentences<S: Scored>(task: &Task, selection: &Selection<S>) -> Vec<String> {
     selection
         .arms
         .iter()

@@ -12,7 +12,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, write_files, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
-use graspath::select::{select, select_streaming, Selection};
+use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
@@ -162,14 +162,15 @@ enum Records {
 /// Runs a loaded task with `--format jsonl` or `parquet`: the candidates file is written (into
 /// the output's temporary folder) as the candidates are scored; the ranking file,
 /// `summary.json` and, with two arms, `pairs.json` at the end; then the folder is moved into
-/// place. The returned run holds the selection reduced to the ranking's scalars and no files.
+/// place. Returns the selection reduced to the candidates' scalars, and the time spent
+/// selecting.
 fn stream_task(
     task: &Task,
     args: &SelectArgs,
     existing: Existing,
     title: &str,
     trajectories: Trajectories,
-) -> Result<TaskRun> {
+) -> Result<(Selection<CandidateScalars>, Duration)> {
     let mut folder = FolderWriter::begin(&args.out, existing)?;
     let cannot = |name: &str| format!("cannot write {}", args.out.join(name).display());
     let (candidates_name, ranking_name) = match args.format {
@@ -183,7 +184,7 @@ fn stream_task(
         )),
         Format::Json | Format::Jsonl => Records::Lines(file),
     };
-    let total = task.candidates.len() * task.arms.len();
+    let total = task.candidate_count() * task.arms.len();
     let progress = Progress::new(&args.output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
     let selection = select_streaming(task, &|| progress.inc(), |streamed| match &mut records {
@@ -227,11 +228,7 @@ fn stream_task(
         folder.write("pairs.json", &pretty(pairs_json(&selection))?)?;
     }
     folder.finish()?;
-    Ok(TaskRun {
-        selection,
-        files: Vec::new(),
-        elapsed,
-    })
+    Ok((selection, elapsed))
 }
 
 /// Runs the subcommand: [`Finished::NothingSelected`] (exit code 3) when nothing is selected
@@ -243,39 +240,50 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
     let title = args.task.display().to_string();
     let base_dir = args.task.parent().map(PathBuf::from).unwrap_or_default();
-    let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
-    let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
     let trajectories = TrajectoriesArg::or_default_for(args.trajectories, args.format);
-    let run = match args.format {
-        Format::Json => {
-            let run = run_task(
-                &task,
-                parameter.as_ref(),
-                &args.output,
-                &title,
-                args.report,
-                trajectories,
-            )?;
-            write_files(&args.out, &run.files, existing)?;
-            run
-        }
-        Format::Jsonl | Format::Parquet => {
-            if args.report {
-                return Err(crate::bad_input!(
-                    "--report needs every candidate's series in memory: use it with --format json"
-                ));
-            }
-            stream_task(&task, args, existing, &title, trajectories)?
-        }
-    };
-    let empty = nothing_selected(&run.selection);
+    if args.format == Format::Json {
+        let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
+        let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+        let run = run_task(
+            &task,
+            parameter.as_ref(),
+            &args.output,
+            &title,
+            args.report,
+            trajectories,
+        )?;
+        write_files(&args.out, &run.files, existing)?;
+        return finish(args, &task, &run.selection, &title, run.elapsed);
+    }
+    if args.report {
+        return Err(crate::bad_input!(
+            "--report needs every candidate's series in memory: use it with --format json"
+        ));
+    }
+    // A candidate family is computed chunk by chunk as it is scored, never held whole.
+    let task =
+        Task::from_file_chunked(&file, &title, &base_dir).context("cannot use the task file")?;
+    let (selection, elapsed) = stream_task(&task, args, existing, &title, trajectories)?;
+    finish(args, &task, &selection, &title, elapsed)
+}
+
+/// Prints the outcome of a run whose results are written, and tells whether anything was
+/// selected.
+fn finish<S: Scored>(
+    args: &SelectArgs,
+    task: &Task,
+    selection: &Selection<S>,
+    title: &str,
+    elapsed: Duration,
+) -> Result<Finished> {
+    let empty = nothing_selected(selection);
     if args.output.json {
         crate::say!(
             "{}",
-            serde_json::to_string_pretty(&summary_json(&task, &run.selection))?
+            serde_json::to_string_pretty(&summary_json(task, selection))?
         );
     } else if !args.output.quiet {
-        print_summary_table(&task, &run.selection, &title, run.elapsed);
+        print_summary_table(task, selection, title, elapsed);
         crate::say!("  wrote {}", args.out.display());
     }
     if empty && !args.allow_empty {

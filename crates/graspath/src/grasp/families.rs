@@ -84,36 +84,7 @@ pub fn edge_family(
     depth: f64,
     margin: f64,
 ) -> Result<Vec<Candidate>, FamilyError> {
-    let Shape::Box(cuboid) = shape else {
-        return Err(FamilyError::NeedsBox { family: "edge" });
-    };
-    let size = cuboid.size();
-    if count == 0 {
-        return Err(FamilyError::ZeroCount);
-    }
-    let half = size[1] / 2.0 - margin;
-    if half < 0.0 {
-        return Err(FamilyError::NoEdge {
-            margin,
-            side: size[1],
-        });
-    }
-    let rotation = wrist_rotation(-Vector3::z(), Vector3::x());
-    Ok((0..count)
-        .map(|k| {
-            let y = if count == 1 {
-                0.0
-            } else {
-                half - 2.0 * half * k as f64 / (count - 1) as f64
-            };
-            candidate(
-                k,
-                format!("edge y={y:+.3}"),
-                Point3::new(0.0, y, size[2] / 2.0 - depth),
-                rotation,
-            )
-        })
-        .collect())
+    Ok(FamilyLayout::edge(shape, count, depth, margin)?.all())
 }
 
 /// A top grasp on the shape's highest part (box top, cylinder top, T-shape handle) turned about
@@ -125,31 +96,7 @@ pub fn yaw_family(
     step: f64,
     depth: f64,
 ) -> Result<Vec<Candidate>, FamilyError> {
-    if count == 0 {
-        return Err(FamilyError::ZeroCount);
-    }
-    for (field, angle) in [("start_deg", start), ("step_deg", step)] {
-        if !(angle.is_finite() && angle.abs() <= 2.0 * std::f64::consts::PI) {
-            return Err(FamilyError::AngleOutOfRange {
-                field,
-                degrees: angle.to_degrees(),
-            });
-        }
-    }
-    let top = top_of(shape);
-    let base = wrist_rotation(-Vector3::z(), Vector3::x());
-    Ok((0..count)
-        .map(|k| {
-            let yaw = start + step * k as f64;
-            let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw) * base;
-            candidate(
-                k,
-                format!("yaw {:+.0} deg", yaw.to_degrees()),
-                Point3::new(0.0, 0.0, top - depth),
-                rotation,
-            )
-        })
-        .collect())
+    Ok(FamilyLayout::yaw(shape, count, start, step, depth)?.all())
 }
 
 /// The faces of a box, by name: outward normal and the two in-plane axes.
@@ -172,87 +119,281 @@ pub fn face_family(
     exclude: &[String],
     depth: f64,
 ) -> Result<Vec<Candidate>, FamilyError> {
-    let Shape::Box(cuboid) = shape else {
-        return Err(FamilyError::NeedsBox { family: "faces" });
-    };
-    let size = cuboid.size();
-    if let Some(unknown) = exclude
-        .iter()
-        .find(|e| !FACES.iter().any(|f| f.0 == e.as_str()))
-    {
-        return Err(FamilyError::UnknownFace(unknown.clone()));
+    Ok(FamilyLayout::faces(shape, count, exclude, depth)?.all())
+}
+
+/// One line of grasps on a box face: its face, the wrist rotation, the tool point's fixed
+/// coordinate along the face normal, and the points' spacing along the line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaceLine {
+    /// The face's name.
+    face: &'static str,
+    /// `+` or `-` and the closing axis's name, for the label (`+x`).
+    closing: String,
+    rotation: UnitQuaternion<f64>,
+    /// The axis along the face normal and the tool point's coordinate on it (m).
+    normal: (usize, f64),
+    /// The axis the line runs along and half its length (m).
+    along: (usize, f64),
+    /// The index of the line's first candidate in the family.
+    first: usize,
+    /// How many candidates the line holds.
+    count: usize,
+}
+
+/// A parametric family laid out once, each candidate computed from its index on demand
+/// ([`candidate`](Self::candidate)), so a family of millions of candidates can be read a chunk
+/// at a time without holding it. [`edge_family`], [`yaw_family`] and [`face_family`] are
+/// `all()` of their layouts.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FamilyLayout {
+    /// [`edge_family`]: `count` tool points from `y = +half` to `−half` at height `z` (m).
+    Edge {
+        /// Number of candidates.
+        count: usize,
+        /// Half the edge's usable length (m).
+        half: f64,
+        /// The tool points' height (m).
+        z: f64,
+        /// The shared wrist rotation.
+        rotation: UnitQuaternion<f64>,
+    },
+    /// [`yaw_family`]: candidate `k` at yaw `start + k · step` (rad), tool point at height `z`.
+    Yaw {
+        /// Number of candidates.
+        count: usize,
+        /// The first yaw (rad).
+        start: f64,
+        /// The step between candidates (rad).
+        step: f64,
+        /// The tool point's height (m).
+        z: f64,
+    },
+    /// [`face_family`]: the lines of grasps, in candidate order.
+    Faces {
+        /// Every line with at least one candidate slot (possibly zero candidates).
+        lines: Vec<FaceLine>,
+    },
+}
+
+impl FamilyLayout {
+    /// The layout of [`edge_family`].
+    pub fn edge(shape: &Shape, count: usize, depth: f64, margin: f64) -> Result<Self, FamilyError> {
+        let Shape::Box(cuboid) = shape else {
+            return Err(FamilyError::NeedsBox { family: "edge" });
+        };
+        let size = cuboid.size();
+        if count == 0 {
+            return Err(FamilyError::ZeroCount);
+        }
+        let half = size[1] / 2.0 - margin;
+        if half < 0.0 {
+            return Err(FamilyError::NoEdge {
+                margin,
+                side: size[1],
+            });
+        }
+        Ok(Self::Edge {
+            count,
+            half,
+            z: size[2] / 2.0 - depth,
+            rotation: wrist_rotation(-Vector3::z(), Vector3::x()),
+        })
     }
-    // Lines: (face name, normal axis, sign, closing axis, closing sign, line axis).
-    let mut lines = Vec::new();
-    for &(name, normal_axis, sign) in FACES.iter().filter(|f| !exclude.iter().any(|e| e == f.0)) {
-        for closing_axis in (0..3).filter(|&a| a != normal_axis) {
-            if size[closing_axis] > GRIPPER_MAX_OPENING {
-                continue;
-            }
-            let line_axis = 3 - normal_axis - closing_axis;
-            for closing_sign in [1.0, -1.0] {
-                lines.push((
-                    name,
-                    normal_axis,
-                    sign,
-                    closing_axis,
-                    closing_sign,
-                    line_axis,
-                ));
+
+    /// The layout of [`yaw_family`].
+    pub fn yaw(
+        shape: &Shape,
+        count: usize,
+        start: f64,
+        step: f64,
+        depth: f64,
+    ) -> Result<Self, FamilyError> {
+        if count == 0 {
+            return Err(FamilyError::ZeroCount);
+        }
+        for (field, angle) in [("start_deg", start), ("step_deg", step)] {
+            if !(angle.is_finite() && angle.abs() <= 2.0 * std::f64::consts::PI) {
+                return Err(FamilyError::AngleOutOfRange {
+                    field,
+                    degrees: angle.to_degrees(),
+                });
             }
         }
+        Ok(Self::Yaw {
+            count,
+            start,
+            step,
+            z: top_of(shape) - depth,
+        })
     }
-    if lines.is_empty() {
-        return Err(FamilyError::NoFaceFits { size });
+
+    /// The layout of [`face_family`].
+    pub fn faces(
+        shape: &Shape,
+        count: usize,
+        exclude: &[String],
+        depth: f64,
+    ) -> Result<Self, FamilyError> {
+        let Shape::Box(cuboid) = shape else {
+            return Err(FamilyError::NeedsBox { family: "faces" });
+        };
+        let size = cuboid.size();
+        if let Some(unknown) = exclude
+            .iter()
+            .find(|e| !FACES.iter().any(|f| f.0 == e.as_str()))
+        {
+            return Err(FamilyError::UnknownFace(unknown.clone()));
+        }
+        // Lines: (face name, normal axis, sign, closing axis, closing sign, line axis).
+        let mut lines = Vec::new();
+        for &(name, normal_axis, sign) in FACES.iter().filter(|f| !exclude.iter().any(|e| e == f.0))
+        {
+            for closing_axis in (0..3).filter(|&a| a != normal_axis) {
+                if size[closing_axis] > GRIPPER_MAX_OPENING {
+                    continue;
+                }
+                let line_axis = 3 - normal_axis - closing_axis;
+                for closing_sign in [1.0, -1.0] {
+                    lines.push((
+                        name,
+                        normal_axis,
+                        sign,
+                        closing_axis,
+                        closing_sign,
+                        line_axis,
+                    ));
+                }
+            }
+        }
+        if lines.is_empty() {
+            return Err(FamilyError::NoFaceFits { size });
+        }
+        let margin = 0.01;
+        // Share `count` equally among the faces, then equally among each face's lines; the
+        // remainders go to the earliest faces and lines.
+        let faces: Vec<&str> = FACES
+            .iter()
+            .map(|f| f.0)
+            .filter(|f| lines.iter().any(|l| l.0 == *f))
+            .collect();
+        let mut counts = vec![0usize; lines.len()];
+        for (k, face) in faces.iter().enumerate() {
+            let face_count = count / faces.len() + usize::from(k < count % faces.len());
+            let members: Vec<usize> = (0..lines.len()).filter(|&i| lines[i].0 == *face).collect();
+            for (m, &i) in members.iter().enumerate() {
+                counts[i] =
+                    face_count / members.len() + usize::from(m < face_count % members.len());
+            }
+        }
+        let mut first = 0;
+        let lines = lines
+            .iter()
+            .zip(&counts)
+            .map(|(line, &n)| {
+                let &(face, normal_axis, sign, closing_axis, closing_sign, line_axis) = line;
+                let mut normal = Vector3::zeros();
+                normal[normal_axis] = sign;
+                let mut closing = Vector3::zeros();
+                closing[closing_axis] = closing_sign;
+                let laid = FaceLine {
+                    face,
+                    closing: format!(
+                        "{}{}",
+                        if closing_sign > 0.0 { "+" } else { "-" },
+                        ["x", "y", "z"][closing_axis]
+                    ),
+                    rotation: wrist_rotation(-normal, closing),
+                    normal: (normal_axis, sign * (size[normal_axis] / 2.0 - depth)),
+                    along: (line_axis, (size[line_axis] / 2.0 - margin).max(0.0)),
+                    first,
+                    count: n,
+                };
+                first += n;
+                laid
+            })
+            .collect();
+        Ok(Self::Faces { lines })
     }
-    let margin = 0.01;
-    // Share `count` equally among the faces, then equally among each face's lines; the
-    // remainders go to the earliest faces and lines.
-    let faces: Vec<&str> = FACES
-        .iter()
-        .map(|f| f.0)
-        .filter(|f| lines.iter().any(|l| l.0 == *f))
-        .collect();
-    let mut counts = vec![0usize; lines.len()];
-    for (k, face) in faces.iter().enumerate() {
-        let face_count = count / faces.len() + usize::from(k < count % faces.len());
-        let members: Vec<usize> = (0..lines.len()).filter(|&i| lines[i].0 == *face).collect();
-        for (m, &i) in members.iter().enumerate() {
-            counts[i] = face_count / members.len() + usize::from(m < face_count % members.len());
+
+    /// How many candidates the family holds.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Edge { count, .. } | Self::Yaw { count, .. } => *count,
+            Self::Faces { lines } => lines.last().map_or(0, |l| l.first + l.count),
         }
     }
-    let mut out = Vec::with_capacity(count);
-    for (line, &n) in lines.iter().zip(&counts) {
-        let &(name, normal_axis, sign, closing_axis, closing_sign, line_axis) = line;
-        let mut normal = Vector3::zeros();
-        normal[normal_axis] = sign;
-        let mut closing = Vector3::zeros();
-        closing[closing_axis] = closing_sign;
-        let rotation = wrist_rotation(-normal, closing);
-        let half = (size[line_axis] / 2.0 - margin).max(0.0);
-        for k in 0..n {
-            let along = if n == 1 {
-                0.0
-            } else {
-                -half + 2.0 * half * k as f64 / (n - 1) as f64
-            };
-            let mut p = Vector3::zeros();
-            p[normal_axis] = sign * (size[normal_axis] / 2.0 - depth);
-            p[line_axis] = along;
-            let axis_name = ["x", "y", "z"][closing_axis];
-            let id = out.len();
-            out.push(candidate(
-                id,
-                format!(
-                    "{name} close {}{axis_name} at {along:+.3}",
-                    if closing_sign > 0.0 { "+" } else { "-" }
-                ),
-                Point3::from(p),
+
+    /// Whether the family holds no candidate.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Candidate `k` (its id is `k`), `None` past the end.
+    pub fn candidate(&self, k: usize) -> Option<Candidate> {
+        if k >= self.len() {
+            return None;
+        }
+        Some(match self {
+            Self::Edge {
+                count,
+                half,
+                z,
                 rotation,
-            ));
-        }
+            } => {
+                let y = if *count == 1 {
+                    0.0
+                } else {
+                    half - 2.0 * half * k as f64 / (count - 1) as f64
+                };
+                candidate(
+                    k,
+                    format!("edge y={y:+.3}"),
+                    Point3::new(0.0, y, *z),
+                    *rotation,
+                )
+            }
+            Self::Yaw { start, step, z, .. } => {
+                let yaw = start + step * k as f64;
+                let base = wrist_rotation(-Vector3::z(), Vector3::x());
+                let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw) * base;
+                candidate(
+                    k,
+                    format!("yaw {:+.0} deg", yaw.to_degrees()),
+                    Point3::new(0.0, 0.0, *z),
+                    rotation,
+                )
+            }
+            Self::Faces { lines } => {
+                // The last line starting at or before k that holds candidates.
+                let at = lines.partition_point(|l| l.first <= k) - 1;
+                let line = lines[..=at]
+                    .iter()
+                    .rev()
+                    .find(|l| l.count > 0 && k < l.first + l.count)?;
+                let (n, i, half) = (line.count, k - line.first, line.along.1);
+                let along = if n == 1 {
+                    0.0
+                } else {
+                    -half + 2.0 * half * i as f64 / (n - 1) as f64
+                };
+                let mut p = Vector3::zeros();
+                p[line.normal.0] = line.normal.1;
+                p[line.along.0] = along;
+                candidate(
+                    k,
+                    format!("{} close {} at {along:+.3}", line.face, line.closing),
+                    Point3::from(p),
+                    line.rotation,
+                )
+            }
+        })
     }
-    Ok(out)
+
+    /// Every candidate, in order.
+    pub fn all(&self) -> Vec<Candidate> {
+        (0..self.len()).filter_map(|k| self.candidate(k)).collect()
+    }
 }
 
 /// The height of the shape's top above its origin (m): the top of a T-shape's stem.

@@ -9,7 +9,9 @@ pub mod hand;
 pub mod model;
 
 pub use candidates::{read_candidates, Candidate, CandidateError};
-pub use families::{edge_family, face_family, yaw_family, FamilyError, GRIPPER_MAX_OPENING};
+pub use families::{
+    edge_family, face_family, yaw_family, FaceLine, FamilyError, FamilyLayout, GRIPPER_MAX_OPENING,
+};
 pub use formats::{
     guess_format, read_grasp_file, FramePlacementError, GraspFileOptions, GraspFormat, GraspFrame,
     GripperConvention, FRANKA_TCP_DEPTH, MAX_ARRAY_BYTES,

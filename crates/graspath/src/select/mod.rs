@@ -3,16 +3,18 @@
 
 mod rank;
 mod run;
+mod scalars;
 mod score;
 mod stream;
 
 pub use rank::{
-    rank_candidates, rank_pairs, ranking_alone, scores_tied, tied_with, values_tied, ArmPair,
-    Ranking,
+    assign_ranks, best_pairs, rank_candidates, rank_pairs, ranking_alone, scores_tied, tied_with,
+    values_tied, ArmPair, Ranking,
 };
 pub use run::{select, ArmResult, Selection};
+pub use scalars::{CandidateScalars, FailurePoint, Scored};
 pub use score::{
     for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,
     SelfMotionScores, STREAM_CHUNK,
 };
-pub use stream::{scalars_of, select_streaming, Streamed};
+pub use stream::{select_streaming, Streamed, NAMED_BEST};

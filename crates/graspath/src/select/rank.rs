@@ -1,6 +1,7 @@
 //! Ranking: the paper's rule (maximise the norm subject to `μ_l∞ ≤ μ0`) combined with the grasp
 //! likelihood, the Pareto front of (likelihood, norm), and dual-arm pairs.
 
+use super::scalars::Scored;
 use super::score::CandidateScore;
 use crate::grasp::Candidate;
 use crate::task::{LikelihoodRule, Norm, SelectionOptions};
@@ -21,23 +22,23 @@ pub struct Ranking {
     pub pareto: bool,
 }
 
-fn norm_value(score: &CandidateScore, norm: Norm) -> Option<f64> {
-    score.norms.map(|n| match norm {
+fn norm_value(score: &impl Scored, norm: Norm) -> Option<f64> {
+    score.norms().map(|n| match norm {
         Norm::L2 => n.l2,
         Norm::L1 => n.l1,
     })
 }
 
 /// Why a feasible candidate fails the constraint, if it does.
-fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> Option<String> {
-    let norms = score.norms?;
+fn constraint_violation(score: &impl Scored, options: &SelectionOptions) -> Option<String> {
+    let norms = score.norms()?;
     if !norms.linf.is_finite() {
         return Some("singular along the path (mu_linf is infinite)".into());
     }
     if norms.evaluated == 0 {
         return Some("the object never moves: no sample to evaluate".into());
     }
-    if let (Some(min), Some(clearance)) = (options.min_clearance, score.clearance) {
+    if let (Some(min), Some(clearance)) = (options.min_clearance, score.clearance()) {
         if clearance < min {
             return Some(format!(
                 "clearance {clearance:.4} m is below min_clearance = {min} m"
@@ -57,7 +58,7 @@ fn constraint_violation(score: &CandidateScore, options: &SelectionOptions) -> O
 /// `log_likelihood` of the arm's candidates (the likelihood enters the score relative to it).
 /// [`rank_candidates`] gives every candidate this score and rejection, then ranks them.
 pub fn ranking_alone(
-    s: &CandidateScore,
+    s: &impl Scored,
     options: &SelectionOptions,
     max_log_likelihood: f64,
 ) -> Ranking {
@@ -70,7 +71,7 @@ pub fn ranking_alone(
         .then(|| norm_value(s, options.norm))
         .flatten()
         .map(|norm| {
-            let relative_log = s.candidate.log_likelihood - max_log_likelihood;
+            let relative_log = s.log_likelihood() - max_log_likelihood;
             match options.likelihood {
                 LikelihoodRule::Product => norm * relative_log.exp(),
                 LikelihoodRule::Ignore => norm,
@@ -87,15 +88,24 @@ pub fn ranking_alone(
 
 /// Ranks one arm's candidates. Ties are broken by candidate order, so the ranking is
 /// deterministic.
-pub fn rank_candidates(scores: &[CandidateScore], options: &SelectionOptions) -> Vec<Ranking> {
+pub fn rank_candidates<S: Scored>(scores: &[S], options: &SelectionOptions) -> Vec<Ranking> {
     let max_log = scores
         .iter()
-        .map(|s| s.candidate.log_likelihood)
+        .map(Scored::log_likelihood)
         .fold(f64::NEG_INFINITY, f64::max);
     let mut rankings: Vec<Ranking> = scores
         .iter()
         .map(|s| ranking_alone(s, options, max_log))
         .collect();
+    assign_ranks(scores, &mut rankings, options);
+    rankings
+}
+
+/// Completes rankings made by [`ranking_alone`] (`rankings[i]` of `scores[i]`, every one with
+/// the same largest log-likelihood): the 1-based `rank` of each candidate that has a score,
+/// best first (ties by candidate order), and the `pareto` flag. [`rank_candidates`] is
+/// `ranking_alone` of every candidate, then this.
+pub fn assign_ranks<S: Scored>(scores: &[S], rankings: &mut [Ranking], options: &SelectionOptions) {
     let mut order: Vec<usize> = (0..rankings.len())
         .filter(|&i| rankings[i].score.is_some())
         .collect();
@@ -111,13 +121,12 @@ pub fn rank_candidates(scores: &[CandidateScore], options: &SelectionOptions) ->
     }
     for i in pareto_front(&order, |i| {
         (
-            scores[i].candidate.log_likelihood,
+            scores[i].log_likelihood(),
             norm_value(&scores[i], options.norm).unwrap_or(0.0),
         )
     }) {
         rankings[i].pareto = true;
     }
-    rankings
 }
 
 /// The items of `items` on the Pareto front of `(likelihood, norm)` (both maximised): no
@@ -175,8 +184,8 @@ pub fn values_tied(a: f64, b: f64, tolerance: f64) -> bool {
 /// [`scores_tied`]), in increasing id order; empty when `i` is not eligible. The relation
 /// depends only on the two scores, so the answer is symmetric (`j` is tied with `i` exactly
 /// when `i` is tied with `j`) and the same in any candidate order. O(n).
-pub fn tied_with(
-    scores: &[CandidateScore],
+pub fn tied_with<S: Scored>(
+    scores: &[S],
     rankings: &[Ranking],
     i: usize,
     options: &SelectionOptions,
@@ -189,7 +198,7 @@ pub fn tied_with(
         .zip(rankings)
         .enumerate()
         .filter(|&(j, (_, r))| j != i && r.score.is_some_and(|v| scores_tied(own, v, options)))
-        .map(|(_, (s, _))| s.candidate.id)
+        .map(|(_, (s, _))| s.id())
         .collect();
     ids.sort_unstable();
     ids
@@ -212,18 +221,42 @@ pub struct ArmPair {
 /// arms' norms, best first (ties: the earlier first-arm candidate, then the earlier second-arm
 /// one), among those whose grasps do not overlap (closer than `min_separation`) and that
 /// `compatible` accepts. Returns the pairs and how many better pairs `compatible` refused.
-///
-/// Best-first over each arm's candidates sorted by norm: a pair is visited only after the pairs
-/// that beat it in both arms, so the work grows with the pairs visited, not with the product
-/// of the two candidate counts.
+/// [`best_pairs`] on the full scores, with each pair's candidates.
 pub fn rank_pairs(
     first: (&[CandidateScore], &[Ranking]),
     second: (&[CandidateScore], &[Ranking]),
     options: &SelectionOptions,
     compatible: &(dyn Fn(&CandidateScore, &CandidateScore) -> bool + Sync),
 ) -> (Vec<ArmPair>, usize) {
+    let compatible = |i: usize, j: usize| compatible(&first.0[i], &second.0[j]);
+    let (best, refused) = best_pairs(first, second, options, &compatible);
+    let pairs = best
+        .into_iter()
+        .enumerate()
+        .map(|(k, (i, j, score))| ArmPair {
+            first: Arc::clone(&first.0[i].candidate),
+            second: Arc::clone(&second.0[j].candidate),
+            score,
+            rank: k + 1,
+        })
+        .collect();
+    (pairs, refused)
+}
+
+/// The pairs of [`rank_pairs`] as `(first-arm index, second-arm index, score)`, best first,
+/// and how many better pairs `compatible` (given the two indices) refused.
+///
+/// Best-first over each arm's candidates sorted by norm: a pair is visited only after the pairs
+/// that beat it in both arms, so the work grows with the pairs visited, not with the product
+/// of the two candidate counts.
+pub fn best_pairs<S: Scored>(
+    first: (&[S], &[Ranking]),
+    second: (&[S], &[Ranking]),
+    options: &SelectionOptions,
+    compatible: &dyn Fn(usize, usize) -> bool,
+) -> (Vec<(usize, usize, f64)>, usize) {
     // Each arm's eligible candidates, by norm (best first), then candidate order.
-    let eligible = |scores: &[CandidateScore], ranks: &[Ranking]| -> Vec<(usize, f64)> {
+    let eligible = |scores: &[S], ranks: &[Ranking]| -> Vec<(usize, f64)> {
         let mut list: Vec<(usize, f64)> = scores
             .iter()
             .zip(ranks)
@@ -262,23 +295,15 @@ pub fn rank_pairs(
         push(&mut frontier, &mut queued, x + 1, y);
         push(&mut frontier, &mut queued, x, y + 1);
         let (i, j) = (next.first, next.second);
-        let (pi, pj) = (
-            first.0[i].candidate.grasp_point(),
-            second.0[j].candidate.grasp_point(),
-        );
+        let (pi, pj) = (first.0[i].grasp_point(), second.0[j].grasp_point());
         if (pi - pj).norm() < options.min_separation {
             continue;
         }
-        if !compatible(&first.0[i], &second.0[j]) {
+        if !compatible(i, j) {
             refused += 1;
             continue;
         }
-        kept.push(ArmPair {
-            first: Arc::clone(&first.0[i].candidate),
-            second: Arc::clone(&second.0[j].candidate),
-            score: next.score,
-            rank: kept.len() + 1,
-        });
+        kept.push((i, j, next.score));
         if kept.len() == options.pairs {
             break;
         }

@@ -1,22 +1,24 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
 use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
+use super::scalars::Scored;
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::collision::{check_arms, ArmMotion};
 use crate::task::{ArmSetup, Task};
 
-/// One arm's results.
+/// One arm's results: the full scores ([`select`]) or their scalars
+/// ([`CandidateScalars`](super::CandidateScalars), [`select_streaming`](super::select_streaming)).
 #[derive(Debug, Clone)]
-pub struct ArmResult {
+pub struct ArmResult<S = CandidateScore> {
     /// The arm's name.
     pub arm: String,
-    /// One score per task candidate, in candidate order; each carries its candidate.
-    pub scores: Vec<CandidateScore>,
+    /// One score per task candidate, in candidate order.
+    pub scores: Vec<S>,
     /// `rankings[i]` ranks `scores[i]`.
     pub rankings: Vec<Ranking>,
 }
 
-impl ArmResult {
+impl<S: Scored> ArmResult<S> {
     /// The index of the best-ranked candidate, if any is eligible.
     pub fn best(&self) -> Option<usize> {
         self.rankings.iter().position(|r| r.rank == Some(1))
@@ -24,7 +26,7 @@ impl ArmResult {
 
     /// The feasible candidate (index) a classical index at the grasp would pick: the largest
     /// `index(score)`, the earlier candidate on ties.
-    pub fn best_by(&self, index: impl Fn(&CandidateScore) -> Option<f64>) -> Option<usize> {
+    pub fn best_by(&self, index: impl Fn(&S) -> Option<f64>) -> Option<usize> {
         self.scores
             .iter()
             .enumerate()
@@ -46,11 +48,12 @@ impl ArmResult {
     }
 }
 
-/// The result of a task.
+/// The result of a task: every candidate's full scores ([`select`]) or their scalars
+/// ([`select_streaming`](super::select_streaming)).
 #[derive(Debug, Clone)]
-pub struct Selection {
+pub struct Selection<S = CandidateScore> {
     /// Per arm, in the task's order.
-    pub arms: Vec<ArmResult>,
+    pub arms: Vec<ArmResult<S>>,
     /// With two arms: the best pairs (first arm × second arm).
     pub pairs: Vec<ArmPair>,
     /// With two arms in a scene: how many pairs better than the last kept were refused
@@ -60,12 +63,13 @@ pub struct Selection {
 
 /// Scores, ranks and pairs. `progress` is called once per scored candidate and arm.
 pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
+    let candidates = task.all_candidates();
     let arms: Vec<ArmResult> = task
         .arms
         .iter()
         .map(|arm| {
             let setup = scoring_setup(task, arm);
-            let scores = score_candidates(&setup, &task.candidates, progress);
+            let scores = score_candidates(&setup, &candidates, progress);
             let rankings = rank_candidates(&scores, &task.selection);
             ArmResult {
                 arm: arm.name.clone(),
@@ -75,7 +79,9 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
         })
         .collect();
     let (pairs, colliding_pairs) = if arms.len() == 2 {
-        let apart = |a: &CandidateScore, b: &CandidateScore| arms_apart(task, a, b);
+        let apart = |a: &CandidateScore, b: &CandidateScore| {
+            arms_apart(task, &whole_motion(a), &whole_motion(b))
+        };
         rank_pairs(
             (&arms[0].scores, &arms[0].rankings),
             (&arms[1].scores, &arms[1].rankings),
@@ -122,9 +128,20 @@ pub(super) fn pairs_need_motions(task: &Task) -> bool {
         && task.arms[1].bodies.is_some()
 }
 
-/// Whether the first two arms, each following its candidate's whole motion at the same time,
-/// stay apart (always, without a scene or with `collision.between_arms: false`).
-pub(super) fn arms_apart(task: &Task, a: &CandidateScore, b: &CandidateScore) -> bool {
+/// A candidate's whole motion: approach, path and retreat (rad or m per joint and sample).
+pub(super) fn whole_motion(s: &CandidateScore) -> Vec<Vec<f64>> {
+    s.approach
+        .iter()
+        .chain(&s.joint_trajectory)
+        .chain(&s.retreat)
+        .cloned()
+        .collect()
+}
+
+/// Whether the first two arms, following the whole motions `qa` and `qb` (see
+/// [`whole_motion`]) at the same time, stay apart (always, without a scene or with
+/// `collision.between_arms: false`).
+pub(super) fn arms_apart(task: &Task, qa: &[Vec<f64>], qb: &[Vec<f64>]) -> bool {
     let Some(collisions) = &task.collisions else {
         return true;
     };
@@ -135,28 +152,19 @@ pub(super) fn arms_apart(task: &Task, a: &CandidateScore, b: &CandidateScore) ->
     if !collisions.options.between_arms {
         return true;
     }
-    let whole = |s: &CandidateScore| -> Vec<Vec<f64>> {
-        s.approach
-            .iter()
-            .chain(&s.joint_trajectory)
-            .chain(&s.retreat)
-            .cloned()
-            .collect()
-    };
-    let (qa, qb) = (whole(a), whole(b));
     let label_a = format!("{} arm: ", first.name);
     let label_b = format!("{} arm: ", second.name);
     check_arms(
         &ArmMotion {
             arm: bodies_a,
             world_from_base: &first.world_from_base,
-            q: &qa,
+            q: qa,
             label: &label_a,
         },
         &ArmMotion {
             arm: bodies_b,
             world_from_base: &second.world_from_base,
-            q: &qb,
+            q: qb,
             label: &label_b,
         },
         collisions.options.resolution,

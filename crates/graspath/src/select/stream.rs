@@ -1,12 +1,22 @@
 //! Streaming selection: every candidate's full scores are handed on as soon as its chunk of
-//! [`STREAM_CHUNK`](super::STREAM_CHUNK) candidates is scored, and only the per-candidate
-//! scalars the ranking needs are kept, so the memory held does not grow with the per-sample
-//! series (`M_T`, the ranked index, limit distances) or the joint trajectories.
+//! [`STREAM_CHUNK`](super::STREAM_CHUNK) candidates is scored, and only a compact record of
+//! scalars ([`CandidateScalars`], about 250 bytes) and its ranking are kept per candidate and
+//! arm, so the memory held does not grow with the per-sample series (`M_T`, the ranked index,
+//! limit distances), the joint trajectories or the candidates themselves (a family's are
+//! computed chunk by chunk, see [`Task::for_each_candidate_chunk`]).
 
-use super::rank::{rank_candidates, rank_pairs, ranking_alone, Ranking};
-use super::run::{arms_apart, pairs_need_motions, scoring_setup, ArmResult, Selection};
+use super::rank::{assign_ranks, best_pairs, ranking_alone, ArmPair, Ranking};
+use super::run::{
+    arms_apart, pairs_need_motions, scoring_setup, whole_motion, ArmResult, Selection,
+};
+use super::scalars::CandidateScalars;
 use super::score::{score_candidates, CandidateScore, STREAM_CHUNK};
 use crate::task::Task;
+use std::sync::Arc;
+
+/// How many of each arm's best-ranked candidates a streamed selection holds the candidate of
+/// ([`CandidateScalars::candidate`]), for the summaries that name them by label.
+pub const NAMED_BEST: usize = 5;
 
 /// One candidate's result as it is streamed: the arm, the full scores and the part of the
 /// ranking that needs no other candidate (see [`ranking_alone`](super::ranking_alone):
@@ -21,60 +31,34 @@ pub struct Streamed<'a> {
     pub ranking: &'a Ranking,
 }
 
-/// What a streamed selection keeps of a candidate's scores: every scalar (norms, classical
-/// indices at the grasp, clearance, branch count, self-motion scores) and the failure's reason,
-/// phase and sample, but no per-sample series (`m_t`, `ranked_values`, `limit_distance` are
-/// empty) and no failure detail or bodies. The motions (`approach`, `joint_trajectory`,
-/// `retreat`) are kept only when `keep_motion` is set.
-pub fn scalars_of(score: &CandidateScore, keep_motion: bool) -> CandidateScore {
-    let mut kept = CandidateScore::unscored(score.candidate.clone());
-    kept.failure = score.failure.as_ref().map(|f| crate::failure::Failure {
-        reason: f.reason,
-        phase: f.phase,
-        sample: f.sample,
-        detail: String::new(),
-        bodies: None,
-    });
-    kept.norms = score.norms;
-    kept.yoshikawa_at_grasp = score.yoshikawa_at_grasp;
-    kept.yoshikawa_penalized_at_grasp = score.yoshikawa_penalized_at_grasp;
-    kept.inverse_condition_at_grasp = score.inverse_condition_at_grasp;
-    kept.inverse_condition_squared_at_grasp = score.inverse_condition_squared_at_grasp;
-    kept.clearance = score.clearance;
-    kept.feasible_branches = score.feasible_branches;
-    kept.self_motion = score.self_motion;
-    if keep_motion {
-        kept.approach = score.approach.clone();
-        kept.joint_trajectory = score.joint_trajectory.clone();
-        kept.retreat = score.retreat.clone();
-    }
-    kept
-}
-
 /// [`select`](super::select) with the results streamed: scores every arm's candidates chunk by
 /// chunk (in parallel within a chunk) and calls `consume` for each candidate in candidate
 /// order, arm by arm, as soon as its chunk is done; stops at the first error `consume`
-/// returns. Returns the selection with each candidate reduced to [`scalars_of`] (rankings and
-/// pairs equal to [`select`](super::select)'s). The memory held grows with the number of
-/// candidates only by their scalars, except with two arms whose pairs are checked for
-/// collisions between the arms (`collision.between_arms`): the eligible candidates then keep
-/// their motions for that check. `progress` is called once per scored candidate and arm.
+/// returns. Returns the selection with each candidate reduced to its [`CandidateScalars`]
+/// (rankings and pairs equal to [`select`](super::select)'s); the candidates themselves are
+/// held only for the [`NAMED_BEST`] best ranked of each arm and the kept pairs' members.
+///
+/// The memory held grows with the number of candidates only by the scalars and rankings,
+/// except with two arms whose pairs are checked for collisions between the arms
+/// (`collision.between_arms`): the eligible candidates then keep their whole motions for that
+/// check. `progress` is called once per scored candidate and arm.
 pub fn select_streaming<E>(
     task: &Task,
     progress: &(dyn Fn() + Sync),
     mut consume: impl FnMut(Streamed<'_>) -> Result<(), E>,
-) -> Result<Selection, E> {
-    let max_log = task
-        .candidates
-        .iter()
-        .map(|c| c.log_likelihood)
-        .fold(f64::NEG_INFINITY, f64::max);
+) -> Result<Selection<CandidateScalars>, E> {
+    let max_log = task.max_log_likelihood();
     let keep_motions = task.arms.len() == 2 && pairs_need_motions(task);
+    let count = task.candidate_count();
     let mut arms = Vec::with_capacity(task.arms.len());
+    // Per arm, with `keep_motions`: each candidate's whole motion when it is eligible.
+    let mut motions: Vec<Vec<Option<Vec<Vec<f64>>>>> = Vec::new();
     for arm in &task.arms {
         let setup = scoring_setup(task, arm);
-        let mut kept = Vec::with_capacity(task.candidates.len());
-        for chunk in task.candidates.chunks(STREAM_CHUNK) {
+        let mut scores = Vec::with_capacity(count);
+        let mut rankings = Vec::with_capacity(count);
+        let mut kept_motions = Vec::new();
+        task.for_each_candidate_chunk(STREAM_CHUNK, |chunk| {
             for score in score_candidates(&setup, chunk, progress) {
                 let ranking = ranking_alone(&score, &task.selection, max_log);
                 consume(Streamed {
@@ -82,24 +66,56 @@ pub fn select_streaming<E>(
                     score: &score,
                     ranking: &ranking,
                 })?;
-                kept.push(scalars_of(&score, keep_motions && ranking.score.is_some()));
+                if keep_motions {
+                    kept_motions.push(ranking.score.is_some().then(|| whole_motion(&score)));
+                }
+                scores.push(CandidateScalars::of(&score));
+                rankings.push(ranking);
+            }
+            Ok(())
+        })?;
+        assign_ranks(&scores, &mut rankings, &task.selection);
+        for (i, (score, ranking)) in scores.iter_mut().zip(&rankings).enumerate() {
+            if ranking.rank.is_some_and(|r| r <= NAMED_BEST) {
+                score.candidate = task.candidate_at(i);
             }
         }
-        let rankings = rank_candidates(&kept, &task.selection);
+        motions.push(kept_motions);
         arms.push(ArmResult {
             arm: arm.name.clone(),
-            scores: kept,
+            scores,
             rankings,
         });
     }
     let (pairs, colliding_pairs) = if arms.len() == 2 {
-        let apart = |a: &CandidateScore, b: &CandidateScore| arms_apart(task, a, b);
-        rank_pairs(
+        let apart = |i: usize, j: usize| match (&motions[0][..], &motions[1][..]) {
+            ([], _) | (_, []) => true,
+            (a, b) => match (&a[i], &b[j]) {
+                (Some(qa), Some(qb)) => arms_apart(task, qa, qb),
+                _ => true,
+            },
+        };
+        let (best, refused) = best_pairs(
             (&arms[0].scores, &arms[0].rankings),
             (&arms[1].scores, &arms[1].rankings),
             &task.selection,
             &apart,
-        )
+        );
+        let mut pairs = Vec::with_capacity(best.len());
+        for (k, (i, j, score)) in best.into_iter().enumerate() {
+            let (Some(first), Some(second)) = (task.candidate_at(i), task.candidate_at(j)) else {
+                continue;
+            };
+            arms[0].scores[i].candidate = Some(Arc::clone(&first));
+            arms[1].scores[j].candidate = Some(Arc::clone(&second));
+            pairs.push(ArmPair {
+                first,
+                second,
+                score,
+                rank: k + 1,
+            });
+        }
+        (pairs, refused)
     } else {
         (Vec::new(), 0)
     };

@@ -11,7 +11,7 @@ use super::settings::{
 };
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
-use crate::grasp::Candidate;
+use crate::grasp::{Candidate, FamilyLayout};
 use crate::robot::{Chain, IkOptions, TrajectoryIkOptions};
 use nalgebra::Isometry3;
 use std::sync::Arc;
@@ -66,8 +66,14 @@ pub struct Task {
     /// The object's shape (object frame, m), when given: for candidate families and views.
     pub shape: Option<Shape>,
     /// The grasp candidates (wrist poses in the object frame), shared with the results that
-    /// refer to them.
+    /// refer to them. Empty when the candidates are a family laid out on demand
+    /// (`candidate_family`): read them through [`Task::for_each_candidate_chunk`], count them
+    /// with [`Task::candidate_count`].
     pub candidates: Vec<Arc<Candidate>>,
+    /// The candidates as a parametric family computed from their index when needed (a task
+    /// loaded by [`Task::from_file_chunked`]), so a streamed selection never holds them all;
+    /// `None` when they are held in `candidates`.
+    pub candidate_family: Option<FamilyLayout>,
     /// The sampled object trajectory in the world frame; its first pose is the grasp pose.
     pub path: ObjectPath,
     /// Which rows of `J` and of the tangent enter `M_T`.
@@ -113,11 +119,74 @@ impl Task {
         moved
     }
 
+    /// How many candidates the task has (held or laid out on demand).
+    pub fn candidate_count(&self) -> usize {
+        self.candidate_family
+            .as_ref()
+            .map_or(self.candidates.len(), FamilyLayout::len)
+    }
+
+    /// The largest natural log-likelihood of the task's candidates (`−∞` without any; 0 for a
+    /// family, whose candidates are equally likely): the likelihood enters a ranking score
+    /// relative to it.
+    pub fn max_log_likelihood(&self) -> f64 {
+        match &self.candidate_family {
+            Some(family) if !family.is_empty() => 0.0,
+            Some(_) => f64::NEG_INFINITY,
+            None => self
+                .candidates
+                .iter()
+                .map(|c| c.log_likelihood)
+                .fold(f64::NEG_INFINITY, f64::max),
+        }
+    }
+
+    /// Calls `consume` with the candidates in order, at most `size` (≥ 1) at a time; stops at
+    /// the first error. A family's candidates are computed chunk by chunk and dropped after
+    /// their call.
+    pub fn for_each_candidate_chunk<E>(
+        &self,
+        size: usize,
+        mut consume: impl FnMut(&[Arc<Candidate>]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let size = size.max(1);
+        match &self.candidate_family {
+            None => self.candidates.chunks(size).try_for_each(consume),
+            Some(family) => {
+                let n = family.len();
+                (0..n).step_by(size).try_for_each(|start| {
+                    let chunk: Vec<Arc<Candidate>> = (start..n.min(start + size))
+                        .filter_map(|k| family.candidate(k).map(Arc::new))
+                        .collect();
+                    consume(&chunk)
+                })
+            }
+        }
+    }
+
+    /// The candidate at position `index` in candidate order (`None` past the end).
+    pub fn candidate_at(&self, index: usize) -> Option<Arc<Candidate>> {
+        match &self.candidate_family {
+            None => self.candidates.get(index).cloned(),
+            Some(family) => family.candidate(index).map(Arc::new),
+        }
+    }
+
+    /// Every candidate, in order: `candidates`, or the family computed whole.
+    pub fn all_candidates(&self) -> std::borrow::Cow<'_, [Arc<Candidate>]> {
+        match &self.candidate_family {
+            None => std::borrow::Cow::Borrowed(&self.candidates),
+            Some(family) => {
+                std::borrow::Cow::Owned(family.all().into_iter().map(Arc::new).collect())
+            }
+        }
+    }
+
     /// The work estimate of this task in kinematics evaluations (see [`Limits::max_work`]).
     pub fn work(&self) -> u64 {
         Limits::work(
             self.arms.len(),
-            self.candidates.len(),
+            self.candidate_count(),
             self.path.samples.len()
                 + self.approach.map_or(0, |s| s.samples)
                 + self.retreat.map_or(0, |s| s.samples),
@@ -149,6 +218,7 @@ pub struct TaskBuilder {
     arms: Vec<ArmSetup>,
     shape: Option<Shape>,
     candidates: Vec<Candidate>,
+    candidate_family: Option<FamilyLayout>,
     path: Option<PathInput>,
     rows: JacobianRows,
     ranked: RankedIndex,
@@ -181,6 +251,7 @@ impl TaskBuilder {
             arms: Vec::new(),
             shape: None,
             candidates: Vec::new(),
+            candidate_family: None,
             path: None,
             rows: JacobianRows::default(),
             ranked: RankedIndex::default(),
@@ -237,6 +308,15 @@ impl TaskBuilder {
     /// The grasp candidates, `object_from_wrist` with log-likelihoods.
     pub fn candidates(mut self, candidates: Vec<Candidate>) -> Self {
         self.candidates = candidates;
+        self.candidate_family = None;
+        self
+    }
+
+    /// The grasp candidates as a family laid out on demand (see [`Task::candidate_family`]);
+    /// replaces [`candidates`](Self::candidates).
+    pub fn candidate_family(mut self, family: FamilyLayout) -> Self {
+        self.candidates = Vec::new();
+        self.candidate_family = Some(family);
         self
     }
 
@@ -447,14 +527,13 @@ impl TaskBuilder {
                 ));
             }
         }
-        check_count(
-            "candidates",
-            self.candidates.len(),
-            limits.max_candidates,
-            "max_candidates",
-        )
-        .map_err(|m| err("candidates", m))?;
-        if self.candidates.is_empty() {
+        let count = self
+            .candidate_family
+            .as_ref()
+            .map_or(self.candidates.len(), FamilyLayout::len);
+        check_count("candidates", count, limits.max_candidates, "max_candidates")
+            .map_err(|m| err("candidates", m))?;
+        if count == 0 {
             return Err(err("candidates", "give at least one candidate".into()));
         }
         if let JacobianRows::Twist { length_scale } = self.rows {
@@ -603,6 +682,7 @@ impl TaskBuilder {
             arms,
             shape: self.shape,
             candidates: self.candidates.into_iter().map(Arc::new).collect(),
+            candidate_family: self.candidate_family,
             path,
             rows: self.rows,
             ranked: self.ranked,
@@ -636,7 +716,7 @@ impl TaskBuilder {
                      limits.max_work",
                     work as f64,
                     task.arms.len(),
-                    task.candidates.len(),
+                    task.candidate_count(),
                     task.ik.branches,
                     task.ik.ik.max_iterations,
                     task.path.samples.len(),

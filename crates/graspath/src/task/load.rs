@@ -19,8 +19,8 @@ use crate::geometry::shape::Shape;
 use crate::grasp::hand::Hand;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{
-    edge_family, face_family, guess_format, read_grasp_file, yaw_family, Candidate,
-    GraspFileOptions, GraspFormat, GraspFrame,
+    guess_format, read_grasp_file, Candidate, FamilyLayout, GraspFileOptions, GraspFormat,
+    GraspFrame,
 };
 use crate::robot::{Chain, RobotModel, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
@@ -43,6 +43,17 @@ impl Task {
     ) -> Result<Self, TaskError> {
         builder_from_file(file, source_name, base_dir)?.build()
     }
+
+    /// [`from_file`](Self::from_file), except that a candidate family is laid out rather than
+    /// generated ([`Task::candidate_family`]): its candidates are computed chunk by chunk when
+    /// a streamed selection reads them. The same candidates, in the same order.
+    pub fn from_file_chunked(
+        file: &TaskFile,
+        source_name: &str,
+        base_dir: &Path,
+    ) -> Result<Self, TaskError> {
+        builder_with(file, source_name, base_dir, true)?.build()
+    }
 }
 
 /// The builder a task file describes (robot chains loaded, candidates read or generated).
@@ -50,6 +61,16 @@ pub fn builder_from_file(
     file: &TaskFile,
     source_name: &str,
     base_dir: &Path,
+) -> Result<TaskBuilder, TaskError> {
+    builder_with(file, source_name, base_dir, false)
+}
+
+/// [`builder_from_file`], a candidate family laid out rather than generated when `lay_out`.
+fn builder_with(
+    file: &TaskFile,
+    source_name: &str,
+    base_dir: &Path,
+    lay_out: bool,
 ) -> Result<TaskBuilder, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source_name, field, message);
     let limits = file.limits.unwrap_or_default();
@@ -73,7 +94,11 @@ pub fn builder_from_file(
         world_from_object,
         scene.as_ref(),
     )?;
-    builder = builder.candidates(candidates);
+    builder = match candidates {
+        SetUp::Family(family) if lay_out => builder.candidate_family(family),
+        SetUp::Family(family) => builder.candidates(family.all()),
+        SetUp::List(list) => builder.candidates(list),
+    };
     let (steps, sampling) = setup_steps(file, source_name)?;
     builder = builder.object_motion(world_from_object, steps, sampling);
     let rows = match file.index.mode.as_deref().unwrap_or("twist") {
@@ -306,6 +331,12 @@ fn setup_arms(
     Ok((model.name().to_string(), arms, model))
 }
 
+/// A task file's candidates: read or generated, or a family's layout.
+enum SetUp {
+    List(Vec<Candidate>),
+    Family(FamilyLayout),
+}
+
 fn setup_candidates(
     file: &TaskFile,
     source: &str,
@@ -314,7 +345,7 @@ fn setup_candidates(
     limits: &Limits,
     world_from_object: Isometry3<f64>,
     scene: Option<&Scene>,
-) -> Result<Vec<Candidate>, TaskError> {
+) -> Result<SetUp, TaskError> {
     let scene = scene.map(|s| (s, world_from_object));
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     // A family's count is checked before the family is generated.
@@ -354,11 +385,12 @@ fn setup_candidates(
                 "give one of file, family, generate".into(),
             ));
         }
-        return generated_candidates(generate, source, base_dir, limits, scene);
+        return generated_candidates(generate, source, base_dir, limits, scene).map(SetUp::List);
     }
     match (&file.candidates.file, &file.candidates.family) {
         (Some(path), None) => {
             grasp_file_candidates(file, source, &base_dir.join(path), world_from_object)
+                .map(SetUp::List)
         }
         (None, Some(family)) => {
             let shape = shape.ok_or_else(|| {
@@ -375,7 +407,7 @@ fn setup_candidates(
                     margin,
                 } => {
                     bounded("candidates.family.edge.count", *count)?;
-                    edge_family(
+                    FamilyLayout::edge(
                         shape,
                         *count,
                         positive(
@@ -403,7 +435,7 @@ fn setup_candidates(
                             "must be finite".into(),
                         ));
                     }
-                    yaw_family(
+                    FamilyLayout::yaw(
                         shape,
                         *count,
                         start_deg.unwrap_or(0.0).to_radians(),
@@ -421,7 +453,7 @@ fn setup_candidates(
                     depth,
                 } => {
                     bounded("candidates.family.faces.count", *count)?;
-                    face_family(
+                    FamilyLayout::faces(
                         shape,
                         *count,
                         exclude,
@@ -433,6 +465,7 @@ fn setup_candidates(
                     )
                 }
             }
+            .map(SetUp::Family)
             .map_err(|e| TaskError::caused_by(source, field, e))
         }
         (Some(_), Some(_)) => Err(err(

@@ -10,36 +10,17 @@ use arrow_array::{Array, RecordBatch};
 use arrow_schema::DataType;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use serde_json::{json, Map, Value};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn example(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+mod common;
 
+use common::{example, faces_task, read_lines};
+
+/// `graspath select` as [`common::select`], with `--allow-empty`.
 fn select(task: &Path, out: &Path, extra: &[&str], threads: &str) {
-    let mut args = vec![
-        "select",
-        "--task",
-        task.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-        "--allow-empty",
-    ];
+    let mut args = vec!["--allow-empty"];
     args.extend(extra);
-    let output = Command::new(env!("CARGO_BIN_EXE_graspath"))
-        .args(&args)
-        .env("RAYON_NUM_THREADS", threads)
-        .output()
-        .expect("graspath runs");
-    assert!(
-        output.status.success(),
-        "graspath {args:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    common::select(task, out, &args, threads);
 }
 
 /// One cell of a column as JSON (null for a null cell).
@@ -84,14 +65,6 @@ fn read_parquet(path: &Path) -> Vec<Map<String, Value>> {
         }
     }
     rows
-}
-
-fn read_lines(path: &Path) -> Vec<Value> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
 }
 
 /// What the Parquet row of a `candidates.jsonl` record must hold: its scalars under the
@@ -209,21 +182,6 @@ fn check_parquet_equals_jsonl(task: &Path, dir: &Path, trajectories: &str) {
             "{name}"
         );
     }
-}
-
-/// The faces workload with `count` candidates and `samples` samples, written into `dir`.
-fn faces_task(dir: &Path, count: usize, samples: usize) -> PathBuf {
-    let text = std::fs::read_to_string(example("workload_1000_faces.yaml"))
-        .unwrap()
-        .replace("count: 1000", &format!("count: {count}"))
-        .replace("samples: 50", &format!("samples: {samples}"));
-    assert!(
-        text.contains(&format!("count: {count}")),
-        "the workload file changed"
-    );
-    let path = dir.join("faces.yaml");
-    std::fs::write(&path, text).unwrap();
-    path
 }
 
 #[test]

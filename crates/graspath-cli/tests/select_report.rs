@@ -1,20 +1,14 @@
 //! `graspath select --report`: the figures and `report.html` are written beside the JSON, the
 //! same input gives the same bytes, `--quiet` prints nothing and `--json` prints the summary.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn example(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+mod common;
+
+use common::example;
 
 fn graspath(args: &[&str]) -> std::process::Output {
-    let output = Command::new(env!("CARGO_BIN_EXE_graspath"))
-        .args(args)
-        .output()
-        .expect("graspath runs");
+    let output = common::graspath(args, "2");
     assert!(
         output.status.success(),
         "graspath {args:?} failed: {}",

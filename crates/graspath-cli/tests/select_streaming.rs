@@ -5,62 +5,14 @@
 
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn example(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
+mod common;
 
-fn graspath(args: &[&str], threads: &str) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_graspath"))
-        .args(args)
-        .env("RAYON_NUM_THREADS", threads)
-        .output()
-        .expect("graspath runs")
-}
+use common::{example, graspath, read_json, read_lines, select};
 
-fn select(task: &Path, out: &Path, extra: &[&str], threads: &str) {
-    let mut args = vec![
-        "select",
-        "--task",
-        task.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-    ];
-    args.extend(extra);
-    let output = graspath(&args, threads);
-    assert!(
-        output.status.success(),
-        "graspath {args:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-}
-
-fn read_json(path: &Path) -> Value {
-    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
-}
-
-fn read_lines(path: &Path) -> Vec<Value> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
-}
-
-/// A faces workload of 300 candidates (two chunks) and 12 samples, written beside `dir`.
+/// A faces workload of 300 candidates (two chunks) and 12 samples, written into `dir`.
 fn faces_task(dir: &Path) -> PathBuf {
-    let text = std::fs::read_to_string(example("workload_1000_faces.yaml"))
-        .unwrap()
-        .replace("count: 1000", "count: 300")
-        .replace("samples: 50", "samples: 12");
-    assert!(text.contains("count: 300"), "the workload file changed");
-    let path = dir.join("faces.yaml");
-    std::fs::write(&path, text).unwrap();
-    path
+    common::faces_task(dir, 300, 12)
 }
 
 /// Streams and runs in memory, and checks every candidate's fields and ranks.

@@ -10,7 +10,7 @@ macro_rules! say {
 }
 
 use clap::Args;
-use graspath::select::{Scored, Selection};
+use graspath::select::{Scored, Selection, NAMED_BEST};
 use graspath::task::Task;
 use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -181,7 +181,8 @@ fn number(v: Option<f64>) -> String {
     }
 }
 
-/// The one-screen summary: per arm the best five candidates and the failures by reason.
+/// The one-screen summary: per arm the best [`NAMED_BEST`] candidates and the failures by
+/// reason.
 pub fn print_summary_table<S: Scored>(
     task: &Task,
     selection: &Selection<S>,
@@ -234,7 +235,8 @@ pub fn print_summary_table<S: Scored>(
             .best()
             .map(|b| arm.tied_with(b, &task.selection))
             .unwrap_or_default();
-        for &i in ranked.iter().take(5) {
+        // The best `NAMED_BEST`: the candidates a streamed selection keeps the labels of.
+        for &i in ranked.iter().take(NAMED_BEST) {
             let s = &arm.scores[i];
             let label = s.candidate().map_or("", |c| c.label.as_str());
             let rank = arm.rankings[i].rank.unwrap_or(0);

@@ -2,9 +2,9 @@
 //! without mimic joints run four configurations at once, one per vector lane, each lane doing
 //! the scalar pass's operations (bit-identical to one call per configuration).
 
-use super::Chain;
 #[cfg(target_arch = "x86_64")]
 use super::{avx2, pose_from_columns};
+use super::{Chain, MAX_JOINTS};
 use crate::robot::error::RobotError;
 use nalgebra::IsometryMatrix3;
 
@@ -82,6 +82,41 @@ impl Chain {
             emit(k, &self.pose_unchecked(row));
         }
         Ok(())
+    }
+
+    /// Tip poses and Jacobians of four configurations at once, in lane layout: `q[j][lane]` is
+    /// joint `j` (rad / m) of configuration `lane`, and `jacobian[6·j + row][lane]` receives row
+    /// `row` (`[v; ω]`, base frame) of column `j` of its geometric Jacobian. Returns the four
+    /// tip poses `base_from_tip`. Each lane's results are bit-identical to
+    /// [`Chain::pose_and_jacobian_into`] on that configuration.
+    ///
+    /// On processors with AVX2, chains without mimic joints run the four configurations in one
+    /// vector pass; otherwise one configuration after the other. No checks: `q` and `jacobian`
+    /// must hold `dof` and `6 · dof` entries, and the values must be finite.
+    pub(crate) fn four_poses_and_jacobians(
+        &self,
+        q: &[[f64; 4]],
+        jacobian: &mut [[f64; 4]],
+    ) -> [IsometryMatrix3<f64>; 4] {
+        #[cfg(target_arch = "x86_64")]
+        if self.drives.is_none() && avx2::available() {
+            // SAFETY: AVX2 is present (checked just above); without mimic joints there is one
+            // segment per joint, so `q` and `jacobian` have the sizes `forward4` needs.
+            let poses = unsafe { avx2::forward4(&self.segments, q, Some(jacobian), self.tail()) };
+            return lane_poses(&poses);
+        }
+        let dof = self.dof();
+        let mut column_major = [0.0; 6 * MAX_JOINTS];
+        std::array::from_fn(|lane| {
+            let configuration: [f64; MAX_JOINTS] =
+                std::array::from_fn(|j| if j < dof { q[j][lane] } else { 0.0 });
+            let pose = self
+                .pose_and_jacobian_unchecked(&configuration[..dof], &mut column_major[..6 * dof]);
+            for (lanes, value) in jacobian.iter_mut().zip(&column_major[..6 * dof]) {
+                lanes[lane] = *value;
+            }
+            pose
+        })
     }
 
     /// Checks a batch of configurations: whole rows, finite values.

@@ -11,6 +11,7 @@
 // Dense 6 × 6 linear algebra reads best with explicit indices.
 #![allow(clippy::needless_range_loop)]
 
+use super::simd::Real;
 use crate::geometry::so3_log;
 use crate::robot::chain::{Chain, MAX_JOINTS};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Vector3, Vector6};
@@ -185,6 +186,15 @@ impl Budget {
         true
     }
 
+    /// Charges `evaluations` already spent elsewhere (by an attempt run in a vector lane, see
+    /// [`super::lanes`]) as that many calls of [`Budget::spend`] would. Only for budgets
+    /// without a deadline, and never more than is left.
+    pub(crate) fn charge(&mut self, evaluations: usize) {
+        debug_assert!(self.deadline.is_none() && evaluations <= self.evaluations_left);
+        self.evaluations_left -= evaluations;
+        self.evaluations += evaluations;
+    }
+
     pub(crate) fn exhausted(&self) -> bool {
         self.evaluations_left == 0 || self.timed_out
     }
@@ -194,7 +204,7 @@ impl Budget {
 /// `½ (|e_p|² + ρ²|e_r|²)`.
 const ROTATION_LENGTH: f64 = 0.35;
 /// Sugihara's constant damping term λ̄ (m²).
-const DAMPING_FLOOR: f64 = 1e-6;
+pub(crate) const DAMPING_FLOOR: f64 = 1e-6;
 
 /// The problem: a chain, box limits (possibly infinite), tolerances.
 #[derive(Debug, Clone, Copy)]
@@ -260,19 +270,22 @@ impl<'a> Kernel<'a> {
     /// Recomputes the error of an evaluated state against a new target (no kinematics).
     #[inline(always)]
     pub(crate) fn retarget(&self, target: &Target, state: &mut State) {
-        let dp = target.position - state.position;
-        let dr = rotation_log(&(target.rotation * state.rotation.transpose()));
-        state.error = Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z);
-        state.position_error = dp.norm();
-        state.rotation_error = dr.norm();
-        state.cost =
-            0.5 * (dp.norm_squared() + ROTATION_LENGTH * ROTATION_LENGTH * dr.norm_squared());
+        let residual = Residual::of(target, &state.position, &state.rotation);
+        state.error = residual.error;
+        state.position_error = residual.position_error;
+        state.rotation_error = residual.rotation_error;
+        state.cost = residual.cost;
     }
 
     #[inline]
     pub(crate) fn converged(&self, state: &State) -> bool {
-        state.position_error <= self.position_tolerance
-            && state.rotation_error <= self.rotation_tolerance
+        self.within_tolerance(state.position_error, state.rotation_error)
+    }
+
+    /// Whether a position error (m) and a rotation error (rad) are within tolerance.
+    #[inline(always)]
+    pub(crate) fn within_tolerance(&self, position_error: f64, rotation_error: f64) -> bool {
+        position_error <= self.position_tolerance && rotation_error <= self.rotation_tolerance
     }
 
     /// One damped least-squares step `dq` (written to `dq[..n]`) from `state` with damping
@@ -287,70 +300,18 @@ impl<'a> Kernel<'a> {
         dq: &mut [f64; MAX_JOINTS],
     ) -> bool {
         let n = self.dof();
-        let rho = ROTATION_LENGTH;
         let e = state.error;
-        let e = [e[0], e[1], e[2], rho * e[3], rho * e[4], rho * e[5]];
-        // A = Σ_j w_j c_j c_jᵀ + λI (lower triangle), c_j the weighted column.
-        let mut a = [[0.0f64; 6]; 6];
-        for (r, row) in a.iter_mut().enumerate() {
-            row[r] = lambda;
-        }
-        let mut weights = [0.0f64; MAX_JOINTS];
-        for j in 0..n {
-            let col = &state.jacobian[6 * j..6 * j + 6];
-            let c = [
-                col[0],
-                col[1],
-                col[2],
-                rho * col[3],
-                rho * col[4],
-                rho * col[5],
-            ];
-            let gradient = dot6(&c, &e);
-            let qj = state.q[j];
-            let (lo, hi) = (self.lower[j], self.upper[j]);
-            let w = match strategy {
-                Strategy::Clamped => {
-                    if (qj <= lo && gradient < 0.0) || (qj >= hi && gradient > 0.0) {
-                        0.0
-                    } else {
-                        1.0
-                    }
-                }
-                Strategy::LimitWeighted => limit_weight(qj, lo, hi, gradient),
-            };
-            weights[j] = w;
-            if w == 0.0 {
-                continue;
-            }
-            for r in 0..6 {
-                let wc = w * c[r];
-                for (k, ck) in c.iter().enumerate().take(r + 1) {
-                    a[r][k] += wc * ck;
-                }
-            }
-        }
-        let Some(y) = cholesky_solve6(&mut a, &e) else {
-            return false;
-        };
-        for j in 0..n {
-            let w = weights[j];
-            dq[j] = if w == 0.0 {
-                0.0
-            } else {
-                let col = &state.jacobian[6 * j..6 * j + 6];
-                let c = [
-                    col[0],
-                    col[1],
-                    col[2],
-                    rho * col[3],
-                    rho * col[4],
-                    rho * col[5],
-                ];
-                w * dot6(&c, &y)
-            };
-        }
-        true
+        let mut weights = [0.0; MAX_JOINTS];
+        damped_step(
+            &state.jacobian[..6 * n],
+            &[e[0], e[1], e[2], e[3], e[4], e[5]],
+            lambda,
+            |j, gradient| {
+                joint_weight(strategy, state.q[j], self.lower[j], self.upper[j], gradient)
+            },
+            &mut weights[..n],
+            &mut dq[..n],
+        )
     }
 
     /// Levenberg–Marquardt from the workspace's current (evaluated) state towards `target`,
@@ -501,30 +462,111 @@ fn limit_weight(q: f64, lo: f64, hi: f64, gradient: f64) -> f64 {
     1.0 / (1.0 + dh)
 }
 
+/// A joint's weight in the step for `strategy`, given the descent direction `gradient` of the
+/// cost along the joint: 0 removes it, 1 keeps it whole.
 #[inline(always)]
-fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+pub(crate) fn joint_weight(strategy: Strategy, q: f64, lo: f64, hi: f64, gradient: f64) -> f64 {
+    match strategy {
+        Strategy::Clamped => {
+            if (q <= lo && gradient < 0.0) || (q >= hi && gradient > 0.0) {
+                0.0
+            } else {
+                1.0
+            }
+        }
+        Strategy::LimitWeighted => limit_weight(q, lo, hi, gradient),
+    }
+}
+
+/// The damped least-squares step of one run (`T = f64`) or of four runs, one per lane
+/// (`T = F4`): `dq = W Jᵀ (J W Jᵀ + λI)⁻¹ e` with the rotation rows weighted by ρ.
+///
+/// `jacobian` is the column-major 6 × n Jacobian (rows `[v; ω]`, base frame), `error` the
+/// pose error `[e_p; e_r]` (m, rad), `lambda` the damping (m²); `weight(j, gradient)` gives
+/// joint `j`'s weight from its descent direction. Writes `dq[..n]` (rad / m) and returns, per
+/// lane, whether the system was solved. `weights` (as long as `dq`) is scratch space: it
+/// receives the joints' weights.
+#[inline(always)]
+pub(crate) fn damped_step<T: Real>(
+    jacobian: &[T],
+    error: &[T; 6],
+    lambda: T,
+    mut weight: impl FnMut(usize, T) -> T,
+    weights: &mut [T],
+    dq: &mut [T],
+) -> T::Mask {
+    let rho = T::splat(ROTATION_LENGTH);
+    let e = [
+        error[0],
+        error[1],
+        error[2],
+        rho * error[3],
+        rho * error[4],
+        rho * error[5],
+    ];
+    let weighted = |j: usize| {
+        let col = &jacobian[6 * j..6 * j + 6];
+        [
+            col[0],
+            col[1],
+            col[2],
+            rho * col[3],
+            rho * col[4],
+            rho * col[5],
+        ]
+    };
+    // A = Σ_j w_j c_j c_jᵀ + λI (lower triangle), c_j the weighted column; a joint of weight 0
+    // adds nothing.
+    let zero = T::splat(0.0);
+    let mut a = [[zero; 6]; 6];
+    for (r, row) in a.iter_mut().enumerate() {
+        row[r] = lambda;
+    }
+    for (j, w_j) in weights.iter_mut().enumerate() {
+        let c = weighted(j);
+        let w = weight(j, dot6(&c, &e));
+        *w_j = w;
+        let kept = w.is_zero();
+        for r in 0..6 {
+            let wc = w * c[r];
+            for (k, &ck) in c.iter().enumerate().take(r + 1) {
+                a[r][k] = T::select(kept, a[r][k], a[r][k] + wc * ck);
+            }
+        }
+    }
+    let (y, solved) = cholesky_solve6(&mut a, &e);
+    for (j, step) in dq.iter_mut().enumerate() {
+        let w = weights[j];
+        *step = T::select(w.is_zero(), zero, w * dot6(&weighted(j), &y));
+    }
+    solved
+}
+
+/// `a · b` over six rows, summed in row order.
+#[inline(always)]
+fn dot6<T: Real>(a: &[T; 6], b: &[T; 6]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
 }
 
 /// Solves `A y = b` for a symmetric positive definite 6 × 6 `A` given by its lower triangle
-/// (overwritten by its Cholesky factor). `None` when `A` is not positive definite.
+/// (overwritten by its Cholesky factor), for one system or four (one per lane). The mask tells
+/// per lane whether `A` was positive definite; where it was not, `y` is meaningless.
 #[inline(always)]
-pub(crate) fn cholesky_solve6(a: &mut [[f64; 6]; 6], b: &[f64; 6]) -> Option<[f64; 6]> {
+pub(crate) fn cholesky_solve6<T: Real>(a: &mut [[T; 6]; 6], b: &[T; 6]) -> ([T; 6], T::Mask) {
+    let mut solved = T::splat(1.0).positive_finite();
     for j in 0..6 {
         let mut d = a[j][j];
         for k in 0..j {
-            d -= a[j][k] * a[j][k];
+            d = d - a[j][k] * a[j][k];
         }
-        if d <= 0.0 || !d.is_finite() {
-            return None;
-        }
+        solved = T::both(solved, d.positive_finite());
         let d = d.sqrt();
         a[j][j] = d;
-        let inv = 1.0 / d;
+        let inv = T::splat(1.0) / d;
         for i in j + 1..6 {
             let mut s = a[i][j];
             for k in 0..j {
-                s -= a[i][k] * a[j][k];
+                s = s - a[i][k] * a[j][k];
             }
             a[i][j] = s * inv;
         }
@@ -533,18 +575,44 @@ pub(crate) fn cholesky_solve6(a: &mut [[f64; 6]; 6], b: &[f64; 6]) -> Option<[f6
     for i in 0..6 {
         let mut s = y[i];
         for k in 0..i {
-            s -= a[i][k] * y[k];
+            s = s - a[i][k] * y[k];
         }
         y[i] = s / a[i][i];
     }
     for i in (0..6).rev() {
         let mut s = y[i];
         for k in i + 1..6 {
-            s -= a[k][i] * y[k];
+            s = s - a[k][i] * y[k];
         }
         y[i] = s / a[i][i];
     }
-    Some(y)
+    (y, solved)
+}
+
+/// The error of a tip pose against a target.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Residual {
+    /// `[p_target − p; log(R_target·Rᵀ)]`, base frame (m, rad).
+    pub error: Vector6<f64>,
+    pub position_error: f64,
+    pub rotation_error: f64,
+    /// `½ (|e_p|² + ρ² |e_r|²)`, the weighted cost the solver decreases (m²).
+    pub cost: f64,
+}
+
+impl Residual {
+    /// The error of the tip at `position` (m) with orientation `rotation`, base frame.
+    #[inline(always)]
+    pub(crate) fn of(target: &Target, position: &Vector3<f64>, rotation: &Matrix3<f64>) -> Self {
+        let dp = target.position - position;
+        let dr = rotation_log(&(target.rotation * rotation.transpose()));
+        Self {
+            error: Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z),
+            position_error: dp.norm(),
+            rotation_error: dr.norm(),
+            cost: 0.5 * (dp.norm_squared() + ROTATION_LENGTH * ROTATION_LENGTH * dr.norm_squared()),
+        }
+    }
 }
 
 /// The rotation vector of a rotation matrix (rad), fast away from a half turn.
@@ -585,7 +653,8 @@ mod tests {
                 a[i][j] = spd[(i, j)];
             }
         }
-        let y = cholesky_solve6(&mut a, &b).expect("positive definite");
+        let (y, solved) = cholesky_solve6(&mut a, &b);
+        assert!(solved, "positive definite");
         let expected = spd
             .cholesky()
             .expect("spd")
@@ -599,7 +668,7 @@ mod tests {
             );
         }
         let mut singular = [[0.0; 6]; 6];
-        assert!(cholesky_solve6(&mut singular, &b).is_none());
+        assert!(!cholesky_solve6(&mut singular, &b).1);
     }
 
     #[test]

@@ -22,7 +22,9 @@
 //! is what stops the search.
 
 pub(crate) mod kernel;
+mod lanes;
 mod self_motion;
+mod simd;
 mod trajectory;
 
 pub use self_motion::{

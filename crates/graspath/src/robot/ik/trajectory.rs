@@ -31,6 +31,7 @@
 //! share the tracker's state.
 
 use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
+use super::lanes::{run_in_order, Attempt, Handed, Lanes};
 use super::{
     check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
     IkOptions, RESTART_ATTEMPT_CAP,
@@ -44,6 +45,7 @@ use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
+use std::ops::ControlFlow;
 
 /// Options of a trajectory solve.
 #[derive(Debug, Clone, PartialEq)]
@@ -234,6 +236,53 @@ const CLASSIFY_RESTARTS: usize = 3;
 /// Intermediate poses used when a warm-started solve fails.
 const SUBSTEPS: usize = 4;
 
+/// The state of the search for initial solutions at sample 0.
+struct FirstPoseSearch {
+    /// Distinct solutions found (rad / m), in the order found.
+    found: Vec<Vec<f64>>,
+    budget: Budget,
+    /// The lowest cost seen (m²) and its position and rotation errors (m, rad).
+    best_cost: f64,
+    best: (f64, f64),
+    /// Largest joint difference under which two solutions are the same (rad / m).
+    separation: f64,
+}
+
+impl FirstPoseSearch {
+    /// Keeps a converged configuration unless one found already lies within the separation.
+    fn keep_if_distinct(&mut self, q: Vec<f64>) {
+        if self
+            .found
+            .iter()
+            .all(|other| max_difference(other, &q) > self.separation)
+        {
+            self.found.push(q);
+        }
+    }
+}
+
+/// The best state an attempt ended in: configuration (rad / m), cost (m²), errors (m, rad).
+#[derive(Clone, Copy)]
+struct EndState<'a> {
+    q: &'a [f64],
+    cost: f64,
+    position_error: f64,
+    rotation_error: f64,
+}
+
+impl<'a> EndState<'a> {
+    /// The current state of `ws`, for a chain of `n` joints.
+    fn of(ws: &'a Workspace, n: usize) -> Self {
+        let state = ws.cur();
+        Self {
+            q: &state.q[..n],
+            cost: state.cost,
+            position_error: state.position_error,
+            rotation_error: state.rotation_error,
+        }
+    }
+}
+
 struct Tracker<'a> {
     kernel: Kernel<'a>,
     poses: &'a [Isometry3<f64>],
@@ -253,31 +302,49 @@ impl Tracker<'_> {
     }
 
     /// Distinct solutions at sample 0, the one from `q_start` first.
+    ///
+    /// Attempt 0 runs from `q_start` with the first limit strategy; attempt 1, from `q_start`
+    /// with the other, only when attempt 0 fails; then random restarts. The attempts after the
+    /// first run four at a time in vector lanes ([`run_in_order`]), with the results of running
+    /// them one after the other.
     fn initial_solutions(&self, q_start: &[f64]) -> Result<Vec<Vec<f64>>, Failure> {
         let n = self.n();
         let kernel = &self.kernel;
         let target = Target::new(&self.poses[0]);
-        let mut budget = Budget::new(self.options.ik.max_iterations, None);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.options.ik.random_seed);
         let mut ws = Workspace::new();
         let wanted = self.options.branches;
-        let mut found: Vec<Vec<f64>> = Vec::with_capacity(wanted.min(16));
         let far = out_of_reach(kernel, &target);
         let max_attempts = wanted.saturating_mul(6).saturating_add(2);
-        let mut best_cost = f64::INFINITY;
-        let mut best = (f64::INFINITY, f64::INFINITY);
-        let mut k = 0usize;
-        while !budget.exhausted() && found.len() < wanted && !far {
-            if !found.is_empty() && k >= max_attempts {
-                break;
+        let mut search = FirstPoseSearch {
+            found: Vec::with_capacity(wanted.min(16)),
+            budget: Budget::new(self.options.ik.max_iterations, None),
+            best_cost: f64::INFINITY,
+            best: (f64::INFINITY, f64::INFINITY),
+            separation: self.options.max_joint_step,
+        };
+        // Whether attempt `k` is made.
+        let goes_on = |search: &FirstPoseSearch, k: usize| {
+            !search.budget.exhausted()
+                && search.found.len() < wanted
+                && !far
+                && (search.found.is_empty() || k < max_attempts)
+        };
+        // Notes an attempt's end: its cost, and its configuration when it converged.
+        let record = |search: &mut FirstPoseSearch, end: RunEnd, ended: EndState<'_>| {
+            if ended.cost < search.best_cost {
+                search.best_cost = ended.cost;
+                search.best = (ended.position_error, ended.rotation_error);
             }
-            if k == 1 && !found.is_empty() {
-                // The start configuration already converged with the first strategy.
-                k = 2;
+            if end == RunEnd::Converged {
+                let mut q = ended.q.to_vec();
+                wrap_continuous(kernel.chain, q_start, &mut q);
+                search.keep_if_distinct(q);
             }
+        };
+        if goes_on(&search, 0) {
             let (strategy, cap) =
-                prepare_attempt(kernel, k, q_start, &mut rng, &mut ws.cur_mut().q);
-            k += 1;
+                prepare_attempt(kernel, 0, q_start, &mut rng, &mut ws.cur_mut().q);
             let end = run_attempt(
                 kernel,
                 &target,
@@ -285,33 +352,66 @@ impl Tracker<'_> {
                 strategy,
                 cap,
                 Patience::SEARCH,
-                &mut budget,
+                &mut search.budget,
             );
-            let state = ws.cur();
-            if state.cost < best_cost {
-                best_cost = state.cost;
-                best = (state.position_error, state.rotation_error);
-            }
-            if end != RunEnd::Converged {
-                continue;
-            }
-            let mut q = state.q[..n].to_vec();
-            wrap_continuous(kernel.chain, q_start, &mut q);
-            if found
-                .iter()
-                .all(|other| max_difference(other, &q) > self.options.max_joint_step)
-            {
-                found.push(q);
+            record(&mut search, end, EndState::of(&ws, n));
+            // When the start converged with the first strategy, the second is not tried.
+            let first = if search.found.is_empty() { 1 } else { 2 };
+            if goes_on(&search, first) {
+                let mut lanes = Lanes::new(*kernel, target, Patience::SEARCH);
+                let left = search.budget.evaluations_left;
+                run_in_order(
+                    &mut lanes,
+                    left,
+                    |i| {
+                        let mut q = [0.0; MAX_JOINTS];
+                        let (strategy, cap) =
+                            prepare_attempt(kernel, first + i, q_start, &mut rng, &mut q);
+                        Some(Attempt { q, strategy, cap })
+                    },
+                    |i, attempt, handed| {
+                        match handed {
+                            Handed::Ended(end) => {
+                                search.budget.charge(end.spent);
+                                let ended = EndState {
+                                    q: &end.q,
+                                    cost: end.cost,
+                                    position_error: end.position_error,
+                                    rotation_error: end.rotation_error,
+                                };
+                                record(&mut search, end.end, ended);
+                            }
+                            Handed::Cut => {
+                                ws.cur_mut().q = attempt.q;
+                                let end = run_attempt(
+                                    kernel,
+                                    &target,
+                                    &mut ws,
+                                    attempt.strategy,
+                                    attempt.cap,
+                                    Patience::SEARCH,
+                                    &mut search.budget,
+                                );
+                                record(&mut search, end, EndState::of(&ws, n));
+                            }
+                        }
+                        if goes_on(&search, first + i + 1) {
+                            ControlFlow::Continue(())
+                        } else {
+                            ControlFlow::Break(())
+                        }
+                    },
+                );
             }
         }
-        if !found.is_empty() {
-            return Ok(found);
+        if !search.found.is_empty() {
+            return Ok(search.found);
         }
         // No solution in the limits: classify from the start configuration.
         let mut start = [0.0; MAX_JOINTS];
         start[..n].copy_from_slice(q_start);
         kernel.clamp(&mut start[..n]);
-        self.classify_first(&target, &start[..n], far, best)
+        self.classify_first(&target, &start[..n], far, search.best)
             .map(|q| vec![q])
     }
 

@@ -6,16 +6,17 @@ use crate::convert::{
     Buffer, FloatArray,
 };
 use crate::robot::PyRobot;
+use graspath::geometry::PoseSpec;
 use graspath::grasp::Candidate;
 use graspath::robot::Chain;
 use graspath::select::wrist_trajectory;
 use graspath::task::defaults;
 use graspath::task::{
-    ArmSetup, IndexMeasure, LikelihoodRule, Norm, ObjectPath, PathSample, RankedIndex, Redundancy,
-    Task, TaskFile,
+    builder_from_file, ArmSetup, IndexMeasure, LikelihoodRule, Norm, ObjectPath, PathSample,
+    RankedIndex, Redundancy, Task, TaskError, TaskFile,
 };
 use nalgebra::{Isometry3, Point3};
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use std::path::PathBuf;
@@ -106,6 +107,111 @@ fn arm_setup(name: &str, value: &Bound<'_, PyAny>) -> PyResult<(Chain, Isometry3
     Ok((robot.get().chain.clone(), world_from_base))
 }
 
+/// A pose in the task file's syntax, from a Python mapping (see ``docs/task-file.md``,
+/// "Poses"): each key one of `xyz`, `rpy`, `rpy_deg`, `quaternion` (that many numbers) or
+/// `matrix` (4 rows of 4), checked as a rigid transform by [`PoseSpec::to_isometry`]. An error
+/// is the sub-field at fault (empty for the whole value) and what is wrong with it.
+fn pose_from_mapping(value: &Bound<'_, PyAny>) -> Result<Isometry3<f64>, (String, String)> {
+    let fault = |field: &str, message: String| (field.to_string(), message);
+    let dict = value.cast::<PyDict>().map_err(|_| {
+        fault(
+            "",
+            "give a dict in the task file's pose syntax (xyz, rpy, rpy_deg, quaternion, matrix)"
+                .into(),
+        )
+    })?;
+    let numbers = |key: &str, item: &Bound<'_, PyAny>, count: usize| {
+        let values: Vec<f64> = item
+            .extract()
+            .map_err(|_| fault(key, format!("give {count} numbers")))?;
+        if values.len() != count {
+            return Err(fault(
+                key,
+                format!("{} numbers given, expected {count}", values.len()),
+            ));
+        }
+        Ok(values)
+    };
+    let three = |v: Vec<f64>| [v[0], v[1], v[2]];
+    let mut spec = PoseSpec::default();
+    for (key, item) in dict.iter() {
+        let key: String = key
+            .extract()
+            .map_err(|_| fault("", "the pose's keys must be strings".into()))?;
+        match key.as_str() {
+            "xyz" => spec.xyz = Some(three(numbers(&key, &item, 3)?)),
+            "rpy" => spec.rpy = Some(three(numbers(&key, &item, 3)?)),
+            "rpy_deg" => spec.rpy_deg = Some(three(numbers(&key, &item, 3)?)),
+            "quaternion" => {
+                let q = numbers(&key, &item, 4)?;
+                spec.quaternion = Some([q[0], q[1], q[2], q[3]]);
+            }
+            "matrix" => {
+                let shape = || fault("matrix", "give 4 rows of 4 numbers".into());
+                let rows: Vec<Vec<f64>> = item.extract().map_err(|_| shape())?;
+                if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
+                    return Err(shape());
+                }
+                let row = |r: usize| [rows[r][0], rows[r][1], rows[r][2], rows[r][3]];
+                spec.matrix = Some([row(0), row(1), row(2), row(3)]);
+            }
+            other => {
+                return Err(fault(
+                    other,
+                    "not a pose field (xyz, rpy, rpy_deg, quaternion, matrix)".into(),
+                ))
+            }
+        }
+    }
+    spec.to_isometry()
+        .map_err(|e| fault(e.field, e.message))
+}
+
+/// `Task.load`'s ``object_pose``: a mapping in the task file's pose syntax or a 4×4 array;
+/// errors name the task `name` and the field (`object_pose.quaternion`, …).
+fn world_from_object(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Isometry3<f64>> {
+    if value.cast::<PyDict>().is_ok() {
+        return pose_from_mapping(value).map_err(|(field, message)| {
+            let field = if field.is_empty() {
+                "object_pose".to_string()
+            } else {
+                format!("object_pose.{field}")
+            };
+            error(TaskError::new(name, field, message))
+        });
+    }
+    let matrix: FloatArray<'_> = value.extract().map_err(|_| {
+        error(TaskError::new(
+            name,
+            "object_pose",
+            "give a dict in the task file's pose syntax or a 4×4 array".to_string(),
+        ))
+    })?;
+    single_pose(&matrix, "object_pose").map_err(|e| error(format!("{name}: {e}")))
+}
+
+/// The 4×4 rigid transform (row-major, m) a pose written in the task file's syntax describes:
+/// a mapping with ``xyz`` (m, default zero) and at most one of ``rpy`` (rad, URDF fixed-axis
+/// roll-pitch-yaw), ``rpy_deg`` (degrees) or ``quaternion`` (``[x, y, z, w]``, norm 1 within
+/// 0.001, then normalised), or a ``matrix`` (4×4 rows) alone. Raises :class:`GraspathError`
+/// naming the sub-field at fault (``field 'quaternion': must be a unit quaternion …``).
+#[pyfunction]
+pub fn pose_matrix<'py>(
+    py: Python<'py>,
+    spec: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let world_from_object = pose_from_mapping(spec).map_err(|(field, message)| {
+        error(if field.is_empty() {
+            message
+        } else {
+            format!("field '{field}': {message}")
+        })
+    })?;
+    let mut values = Vec::with_capacity(16);
+    push_isometry(&mut values, &world_from_object);
+    array(py, values, &[4, 4])
+}
+
 #[pymethods]
 impl PyTask {
     /// Reads and checks a task file (YAML or JSON; the schema of ``docs/task-file.md``).
@@ -116,23 +222,49 @@ impl PyTask {
     /// the task file's ``candidates`` options (``format``, ``frame``, ``world_from_camera``,
     /// ``camera_from_object``, ``gripper_from_tool``, ``segment``) apply to it, a ``family`` or
     /// ``generate`` is dropped. One task file then serves many candidate files.
+    ///
+    /// ``object_pose``: the object's start pose ``world_from_object`` (world frame, m) instead
+    /// of the file's ``object.pose``: a dict in the task file's pose syntax (``{"xyz": [x, y,
+    /// z]}`` with at most one of ``"rpy"`` (rad), ``"rpy_deg"`` or ``"quaternion"`` ``[x, y,
+    /// z, w]``, or a ``"matrix"`` alone; see :func:`pose_matrix`) or a 4×4 array. The
+    /// trajectory's relative steps start from it, absolute ``pose`` steps, the robot and the
+    /// scene stay, as in :func:`placement_map`: the task is the one a task file with this
+    /// ``object.pose`` describes (candidates generated by the learned model in a scene keep the
+    /// hand-clearance filtering done at the file's pose). One task file then serves many
+    /// placed objects. Errors name the field (``object_pose.quaternion``, …).
     #[staticmethod]
-    #[pyo3(signature = (path, *, candidates = None))]
-    fn load(path: PathBuf, candidates: Option<PathBuf>) -> PyResult<Self> {
-        let Some(candidates) = candidates else {
+    #[pyo3(signature = (path, *, candidates = None, object_pose = None))]
+    fn load(
+        path: PathBuf,
+        candidates: Option<PathBuf>,
+        object_pose: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let name = path.display().to_string();
+        let world_from_object = object_pose
+            .map(|value| world_from_object(value, &name))
+            .transpose()?;
+        if candidates.is_none() && world_from_object.is_none() {
             return Ok(Self {
                 task: Task::load(&path).map_err(error)?,
             });
-        };
-        let candidates = std::path::absolute(&candidates)
-            .map_err(|e| error(format!("{}: {e}", candidates.display())))?;
+        }
         let mut file = TaskFile::load(&path).map_err(error)?;
-        file.candidates.file = Some(candidates);
-        file.candidates.family = None;
-        file.candidates.generate = None;
+        if let Some(candidates) = candidates {
+            let candidates = std::path::absolute(&candidates)
+                .map_err(|e| error(format!("{}: {e}", candidates.display())))?;
+            file.candidates.file = Some(candidates);
+            file.candidates.family = None;
+            file.candidates.generate = None;
+        }
         let base_dir = path.parent().map(PathBuf::from).unwrap_or_default();
+        let task = match world_from_object {
+            None => Task::from_file(&file, &name, &base_dir),
+            Some(pose) => builder_from_file(&file, &name, &base_dir)
+                .and_then(|builder| builder.with_object_start(pose))
+                .and_then(|builder| builder.build()),
+        };
         Ok(Self {
-            task: Task::from_file(&file, &path.display().to_string(), &base_dir).map_err(error)?,
+            task: task.map_err(error)?,
         })
     }
 

@@ -11,7 +11,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 /// One column of `rows`, named `name`, as a vector (errors name the column).
-fn column<'py, T: FromPyObjectOwned<'py>>(rows: &Bound<'py, PyAny>, name: &str) -> PyResult<Vec<T>> {
+fn column<'py, T: FromPyObjectOwned<'py>>(
+    rows: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<Vec<T>> {
     let value = rows
         .get_item(name)
         .map_err(|_| error(format!("rows: no '{name}' column")))?;
@@ -48,7 +51,9 @@ pub fn select_pairs<'py>(
     top_k: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     if top_k == Some(0) {
-        return Err(error("top_k must be at least 1 (or None for the task's pairs)"));
+        return Err(error(
+            "top_k must be at least 1 (or None for the task's pairs)",
+        ));
     }
     let task = &task.get().task;
     let arm_index: Vec<i64> = column(rows, "arm_index")?;
@@ -82,8 +87,12 @@ pub fn select_pairs<'py>(
                     arm_index[k]
                 ))
             })?;
-        let position = usize::try_from(candidate[k])
-            .map_err(|_| error(format!("rows: row {k}: candidate {} is negative", candidate[k])))?;
+        let position = usize::try_from(candidate[k]).map_err(|_| {
+            error(format!(
+                "rows: row {k}: candidate {} is negative",
+                candidate[k]
+            ))
+        })?;
         if !norm[k].is_finite() {
             return Err(error(format!(
                 "rows: row {k}: a ranked candidate's norm must be finite (got {})",
@@ -103,9 +112,8 @@ pub fn select_pairs<'py>(
         kwargs.set_item("dtype", &str_type)?;
         numpy.call_method("array", (PyList::new(py, values)?,), Some(&kwargs))
     };
-    let int = |values: Vec<usize>| {
-        PyArray1::from_vec(py, values.into_iter().map(|v| v as i64).collect())
-    };
+    let int =
+        |values: Vec<usize>| PyArray1::from_vec(py, values.into_iter().map(|v| v as i64).collect());
     let all = task.all_candidates();
     let dict = PyDict::new(py);
     dict.set_item("rank", int((1..=pairs.len()).collect()))?;

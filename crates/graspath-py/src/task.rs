@@ -163,8 +163,7 @@ fn pose_from_mapping(value: &Bound<'_, PyAny>) -> Result<Isometry3<f64>, (String
             }
         }
     }
-    spec.to_isometry()
-        .map_err(|e| fault(e.field, e.message))
+    spec.to_isometry().map_err(|e| fault(e.field, e.message))
 }
 
 /// `Task.load`'s ``object_pose``: a mapping in the task file's pose syntax or a 4×4 array;

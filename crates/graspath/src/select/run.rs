@@ -112,7 +112,9 @@ pub enum PairInputError {
         arms: usize,
     },
     /// A position is not one of the task's candidates.
-    #[error("{task}: arm '{arm}': candidate {position} is not one of the task's {count} candidates")]
+    #[error(
+        "{task}: arm '{arm}': candidate {position} is not one of the task's {count} candidates"
+    )]
     OutOfRange {
         /// The task's name.
         task: String,

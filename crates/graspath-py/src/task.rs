@@ -13,7 +13,7 @@ use graspath::select::wrist_trajectory;
 use graspath::task::defaults;
 use graspath::task::{
     builder_from_file, ArmSetup, IndexMeasure, LikelihoodRule, Norm, ObjectPath, PathSample,
-    RankedIndex, Redundancy, Task, TaskError, TaskFile,
+    RankedIndex, Redundancy, Task, TaskBuilder, TaskError, TaskFile,
 };
 use nalgebra::{Isometry3, Point3};
 use numpy::{PyArray1, PyArrayDyn};
@@ -260,7 +260,7 @@ impl PyTask {
             None => Task::from_file(&file, &name, &base_dir),
             Some(pose) => builder_from_file(&file, &name, &base_dir)
                 .and_then(|builder| builder.with_object_start(pose))
-                .and_then(|builder| builder.build()),
+                .and_then(TaskBuilder::build),
         };
         Ok(Self {
             task: task.map_err(error)?,

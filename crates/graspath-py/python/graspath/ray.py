@@ -22,10 +22,11 @@ world frame, ``rpy`` URDF fixed-axis roll-pitch-yaw in radians, ``rpy_deg`` the 
 degrees, ``quaternion`` ``x y z w`` (norm 1 within 0.001). A cell holds its numbers separated
 by spaces (or commas, in a quoted cell). A row whose pose cells are all empty keeps the task
 file's ``object.pose``; a row that fills any replaces it whole (``xyz`` is then required, and
-no rotation given is the identity), exactly as if the task file said ``object.pose: {xyz: …,
-rpy_deg: …}``: the path's relative steps start from it, absolute steps, the robot and the scene
-stay (:meth:`graspath.Task.load` with ``object_pose``). One task file then serves many placed
-objects::
+no rotation given is the identity), as if the task file said ``object.pose: {xyz: …, rpy_deg:
+…}``: the path's relative steps start from it, absolute steps, the robot and the scene stay
+(:meth:`graspath.Task.load` with ``object_pose``, the way :func:`graspath.placement_map` moves
+the object; candidates the learned model generates in a scene keep the filtering done at the
+file's pose). One task file then serves many placed objects::
 
     object,task,xyz,rpy_deg
     box_a,pick.yaml,0.70 0.25 -0.05,0 0 0

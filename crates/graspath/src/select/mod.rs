@@ -9,7 +9,7 @@ mod stream;
 
 pub use rank::{
     assign_ranks, best_pairs, best_pairs_of, rank_candidates, rank_pairs, ranking_alone,
-    scores_tied, tied_with, values_tied, ArmPair, PairArm, Ranking,
+    scores_tied, tied_with, values_tied, ArmPair, PairArm, PositionPair, Ranking,
 };
 pub use run::{pairs_of_eligible, select, ArmResult, PairInputError, Selection};
 pub use scalars::{CandidateScalars, FailurePoint, Scored};

@@ -252,7 +252,7 @@ pub fn best_pairs<S: Scored>(
     second: (&[S], &[Ranking]),
     options: &SelectionOptions,
     compatible: &dyn Fn(usize, usize) -> bool,
-) -> (Vec<(usize, usize, f64)>, usize) {
+) -> (Vec<PositionPair>, usize) {
     // Each arm's eligible candidates with the norm pairs are scored by.
     let eligible = |scores: &[S], ranks: &[Ranking]| -> Vec<(usize, f64)> {
         scores
@@ -277,6 +277,10 @@ pub fn best_pairs<S: Scored>(
         compatible,
     )
 }
+
+/// A pair found by [`best_pairs`] or [`best_pairs_of`]: `(first-arm position, second-arm
+/// position, score)`, positions in the task's candidates, the score the sum of the two norms.
+pub type PositionPair = (usize, usize, f64);
 
 /// One arm's side of a pair search ([`best_pairs_of`]).
 pub struct PairArm<'a> {
@@ -305,7 +309,7 @@ pub fn best_pairs_of(
     min_separation: f64,
     count: usize,
     compatible: &dyn Fn(usize, usize) -> bool,
-) -> (Vec<(usize, usize, f64)>, usize) {
+) -> (Vec<PositionPair>, usize) {
     // Each arm's eligible candidates, by norm (best first), then candidate order.
     let by_norm = |mut list: Vec<(usize, f64)>| {
         list.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));

@@ -1,6 +1,8 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
-use super::rank::{best_pairs_of, rank_candidates, rank_pairs, ArmPair, PairArm, Ranking};
+use super::rank::{
+    best_pairs_of, rank_candidates, rank_pairs, ArmPair, PairArm, PositionPair, Ranking,
+};
 use super::scalars::Scored;
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::collision::{check_arms, ArmMotion};
@@ -158,7 +160,7 @@ pub fn pairs_of_eligible(
     first: &[(usize, f64)],
     second: &[(usize, f64)],
     count: usize,
-) -> Result<(Vec<(usize, usize, f64)>, usize), PairInputError> {
+) -> Result<(Vec<PositionPair>, usize), PairInputError> {
     if task.arms.len() != 2 {
         return Err(PairInputError::NotTwoArms {
             task: task.source_name.clone(),
@@ -189,7 +191,7 @@ pub fn pairs_of_eligible(
     // Every position is in range (checked above).
     let all = task.all_candidates();
     // Whole motions scored on demand, once per arm and candidate.
-    let motions: RefCell<HashMap<(usize, usize), Vec<Vec<f64>>>> = RefCell::default();
+    let motions = RefCell::new(HashMap::new());
     let need_motions = pairs_need_motions(task);
     let apart = |i: usize, j: usize| {
         if !need_motions {

@@ -107,7 +107,7 @@ fn arm_setup(name: &str, value: &Bound<'_, PyAny>) -> PyResult<(Chain, Isometry3
     Ok((robot.get().chain.clone(), world_from_base))
 }
 
-/// A pose in the task file's syntax, from a Python mapping (see ``docs/task-file.md``,
+/// A pose in the task file's syntax, from a Python mapping (see `docs/task-file.md`,
 /// "Poses"): each key one of `xyz`, `rpy`, `rpy_deg`, `quaternion` (that many numbers) or
 /// `matrix` (4 rows of 4), checked as a rigid transform by [`PoseSpec::to_isometry`]. An error
 /// is the sub-field at fault (empty for the whole value) and what is wrong with it.
@@ -166,7 +166,7 @@ fn pose_from_mapping(value: &Bound<'_, PyAny>) -> Result<Isometry3<f64>, (String
     spec.to_isometry().map_err(|e| fault(e.field, e.message))
 }
 
-/// `Task.load`'s ``object_pose``: a mapping in the task file's pose syntax or a 4×4 array;
+/// `Task.load`'s `object_pose`: a mapping in the task file's pose syntax or a 4×4 array;
 /// errors name the task `name` and the field (`object_pose.quaternion`, …).
 fn world_from_object(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Isometry3<f64>> {
     if value.cast::<PyDict>().is_ok() {

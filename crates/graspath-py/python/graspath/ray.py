@@ -556,14 +556,15 @@ def select_dataset(
     total = sum(counts)
     log.info("%d objects, %d candidates, %d shards of up to %d candidates", len(objects), total, len(shards), shard_size)
 
-    progress = _Progress(total, len(shards), [o.name for o in objects])
+    names = [o.name for o in objects]
+    progress = _Progress(total, len(shards), names)
+    results: Dict[int, Dict[str, Any]] = {}
+    pairs: Dict[int, Dict[str, Any]] = {}
     if local:
-        results: Dict[int, Dict[str, Any]] = {}
         for index, pieces in enumerate(shards):
             results[index] = run_shard(sources, pieces, top_k, threads)
             progress.shard_done(index, results[index])
         progress.scoring_done()
-        pairs: Dict[int, Dict[str, Any]] = {}
         for obj, rows in gather_pair_rows([results[i]["pair_rows"] for i in range(len(shards))]).items():
             pairs[obj] = run_pairs(sources[obj], rows, top_k)
             progress.pairs_done(obj, pairs[obj])
@@ -572,7 +573,6 @@ def select_dataset(
 
     # No candidates at all: the columns of an empty batch give the (empty) table its types.
     columns = [results[i]["columns"] for i in range(len(shards))] or [select_batch([], top_k=top_k)]
-    names = [o.name for o in objects]
     files = [(_table(COLUMNS, merge_top_k(columns, top_k), names, top_k), out)]
     if pairs_out is not None:
         files.append((_table(PAIR_COLUMNS, _pair_values(pairs), names, top_k), pairs_out))

@@ -5,8 +5,9 @@
 //!   kinematics, Jacobians, indices and IK for one configuration or a batch (numpy in and out,
 //!   batches in parallel with rayon, the GIL released).
 //! * `task::PyTask` (`graspath.Task`): tasks from files (optionally with the object moved),
-//!   text, dicts or arrays; `task::pose_matrix` (`graspath.pose_matrix`): a pose in the task
-//!   file's syntax as a 4×4 matrix.
+//!   text, dicts or arrays.
+//! * `pose::pose_matrix` (`graspath.pose_matrix`): a pose in the task file's syntax as a 4×4
+//!   matrix; the same syntax for `Task.load`'s `object_pose`.
 //! * `grasps::read_grasps` (`graspath.read_grasps`): grasp-generator files (GraspGen, ACRONYM,
 //!   Contact-GraspNet / M2T2, `N×4×4` poses, GraspNet / AnyGrasp) as numpy candidates.
 //! * `selection::select` / `selection::PySelection` (`graspath.select`,
@@ -30,6 +31,7 @@ mod memory;
 mod model;
 mod pairs;
 mod placement;
+mod pose;
 mod robot;
 mod selection;
 mod task;
@@ -56,7 +58,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
     module.add_function(wrap_pyfunction!(batch::select_batch, module)?)?;
     module.add_function(wrap_pyfunction!(pairs::select_pairs, module)?)?;
-    module.add_function(wrap_pyfunction!(task::pose_matrix, module)?)?;
+    module.add_function(wrap_pyfunction!(pose::pose_matrix, module)?)?;
     module.add_function(wrap_pyfunction!(placement::placement_map, module)?)?;
     module.add_function(wrap_pyfunction!(model::train, module)?)?;
     module.add_function(wrap_pyfunction!(model::generate, module)?)?;

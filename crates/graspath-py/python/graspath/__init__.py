@@ -21,7 +21,8 @@ base frame with Jacobian rows ``[v; ω]``.
   matrix; ``Task.load(path, object_pose=...)`` moves a task's object to such a pose.
 * :mod:`graspath.ray` — a dataset of task files sharded over a Ray cluster, each object's top
   ``k`` (and two-arm tasks' top ``k`` pairs) written to Parquet (``pip install
-  graspath[ray]``; ``python -m graspath.ray``).
+  graspath[ray]``; ``python -m graspath.ray``); :mod:`graspath.dataset` reads the datasets
+  (directories of task files, manifests with candidate files and object poses).
 * :func:`read_grasps` — a grasp generator's file (GraspGen, ACRONYM, Contact-GraspNet / M2T2,
   ``N×4×4`` poses, GraspNet / AnyGrasp) as numpy candidates in the object frame.
 * :class:`GraspathError` — raised on bad input, a subclass of :class:`ValueError`.

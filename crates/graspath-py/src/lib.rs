@@ -4,13 +4,18 @@
 //! * `robot::PyRobot` (`graspath.Robot`): URDF and MJCF chains and the built-in arms; forward
 //!   kinematics, Jacobians, indices and IK for one configuration or a batch (numpy in and out,
 //!   batches in parallel with rayon, the GIL released).
-//! * `task::PyTask` (`graspath.Task`): tasks from files, text, dicts or arrays.
+//! * `task::PyTask` (`graspath.Task`): tasks from files (optionally with the object moved),
+//!   text, dicts or arrays.
+//! * `pose::pose_matrix` (`graspath.pose_matrix`): a pose in the task file's syntax as a 4×4
+//!   matrix; the same syntax for `Task.load`'s `object_pose`.
 //! * `grasps::read_grasps` (`graspath.read_grasps`): grasp-generator files (GraspGen, ACRONYM,
 //!   Contact-GraspNet / M2T2, `N×4×4` poses, GraspNet / AnyGrasp) as numpy candidates.
 //! * `selection::select` / `selection::PySelection` (`graspath.select`,
 //!   `graspath.Selection`): scoring and ranking, with the records the CLI writes.
 //! * `batch::select_batch` (`graspath.select_batch`): many tasks (objects) scored in one call,
 //!   as numpy columns; candidate slices for sharding (`python/graspath/ray.py`).
+//! * `pairs::select_pairs` (`graspath.select_pairs`): a two-arm task's best arm pairs from
+//!   its candidates' scores found apart (`select_batch` rows, shards of `graspath.ray`).
 //! * `model::train` / `model::generate` (`graspath.train`, `graspath.generate`): the learned
 //!   grasp model, writing the files the CLI writes.
 //! * `placement::placement_map` (`graspath.placement_map`): the selection over a grid of
@@ -24,7 +29,9 @@ mod convert;
 mod grasps;
 mod memory;
 mod model;
+mod pairs;
 mod placement;
+mod pose;
 mod robot;
 mod selection;
 mod task;
@@ -50,6 +57,8 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
     module.add_function(wrap_pyfunction!(batch::select_batch, module)?)?;
+    module.add_function(wrap_pyfunction!(pairs::select_pairs, module)?)?;
+    module.add_function(wrap_pyfunction!(pose::pose_matrix, module)?)?;
     module.add_function(wrap_pyfunction!(placement::placement_map, module)?)?;
     module.add_function(wrap_pyfunction!(model::train, module)?)?;
     module.add_function(wrap_pyfunction!(model::generate, module)?)?;

@@ -176,3 +176,111 @@ def test_load_with_another_candidate_file(tmp_path):
     assert a.candidates[0]["likelihood"] == 0.9
     with pytest.raises(graspath.GraspathError, match="nothere.yaml"):
         graspath.Task.load(template, candidates=tmp_path / "nothere.yaml")
+
+
+def pairs_of(selection, task, count):
+    """``select``'s first ``count`` pairs as ``(first id, second id, first label, second label,
+    score, rank)``."""
+    first, second = task.arms
+    return [(p[first], p[second], p[f"{first}_label"], p[f"{second}_label"], p["score"], p["rank"]) for p in selection.pairs[:count]]
+
+
+def pair_rows(columns):
+    return list(zip(*(columns[c].tolist() for c in ("first_id", "second_id", "first_label", "second_label", "score", "rank"))))
+
+
+@pytest.mark.parametrize("path", [BOTH, EXAMPLES / "pick_rotate_place_both.yaml", EXAMPLES / "scene" / "pick_and_place_both_on_table.yaml"])
+def test_pairs_from_slices_equal_select(path):
+    """``select_pairs`` on the union of slices' rows gives ``select``'s pairs (the same pairs,
+    order and scores), for every cut of the candidates and any ``top_k``; on the table the check
+    between the arms refuses pairs, so the candidates it re-scores decide the result."""
+    task = graspath.Task.load(path)
+    selection = graspath.select(task)
+    if "on_table" in path.name:
+        assert selection.summary["colliding_pairs"] > 0, "the example no longer exercises the check between the arms"
+    n = len(task)
+    assert len(selection.pairs) == 10
+    for cuts in ([0, n], [0, 7, n], [0, 1, 5, 13, 20, n]):
+        parts = [graspath.select_batch([task], slices=[(a, b)]) for a, b in zip(cuts, cuts[1:])]
+        # Reversed: the rows' order does not matter.
+        rows = {c: np.concatenate([p[c] for p in parts][::-1]) for c in ("arm_index", "candidate", "score", "mu_l2", "mu_l1")}
+        for top_k in (None, 1, 4, 25):
+            got = graspath.select_pairs(task, rows, top_k=top_k)
+            assert pair_rows(got) == pairs_of(selection, task, 10 if top_k is None else top_k), (cuts, top_k)
+            assert got["first_arm"].tolist() == [task.arms[0]] * len(got["rank"])
+            assert got["second_arm"].tolist() == [task.arms[1]] * len(got["rank"])
+            ids = [c["id"] for c in task.candidates]
+            assert [ids[i] for i in got["first_candidate"]] == got["first_id"].tolist()
+            assert [ids[i] for i in got["second_candidate"]] == got["second_id"].tolist()
+
+
+def test_pairs_bad_input_is_one_clear_error(tasks):
+    both = tasks[2]
+    rows = graspath.select_batch([both])
+    ranked = ~np.isnan(rows["score"])
+    assert ranked.sum() > 2
+    with pytest.raises(graspath.GraspathError, match=r"pick_and_place_left.yaml: arm pairs need a task with two arms \(it has 1\)"):
+        graspath.select_pairs(tasks[0], graspath.select_batch(tasks[:1]))
+    twice = {c: np.concatenate([rows[c], rows[c][ranked][:1]]) for c in rows}
+    with pytest.raises(graspath.GraspathError, match=r"pick_and_place_both.yaml: arm '(left|right)': candidate \d+ is given twice"):
+        graspath.select_pairs(both, twice)
+    far = {c: v.copy() for c, v in rows.items()}
+    far["candidate"][np.flatnonzero(ranked)[0]] = 21
+    with pytest.raises(graspath.GraspathError, match=r"candidate 21 is not one of the task's 21 candidates"):
+        graspath.select_pairs(both, far)
+    with pytest.raises(graspath.GraspathError, match=r"rows: no 'mu_l2' column"):
+        graspath.select_pairs(both, {c: rows[c] for c in ("arm_index", "candidate", "score")})
+    with pytest.raises(graspath.GraspathError, match="top_k must be at least 1"):
+        graspath.select_pairs(both, rows, top_k=0)
+
+
+FACES = (EXAMPLES / "workload_1000_faces.yaml").read_text().replace("count: 1000", "count: 30")
+FACES_POSE = "pose: { xyz: [0.70, 0.25, -0.05] }"
+
+
+@pytest.mark.parametrize(
+    "pose, written",
+    [
+        ({"xyz": [0.65, 0.3, -0.02], "rpy_deg": [0, 0, 25]}, "{ xyz: [0.65, 0.3, -0.02], rpy_deg: [0, 0, 25] }"),
+        ({"xyz": [0.7, 0.2, 0.0], "quaternion": [0, 0, 0.2588190, 0.9659258]}, "{ xyz: [0.7, 0.2, 0.0], quaternion: [0, 0, 0.2588190, 0.9659258] }"),
+        ({"xyz": [0.72, 0.22, -0.04], "rpy": [0.1, 0, -0.2]}, "{ xyz: [0.72, 0.22, -0.04], rpy: [0.1, 0, -0.2] }"),
+        ({"xyz": [0.6, 0.25, 0.0]}, "{ xyz: [0.6, 0.25, 0.0] }"),
+    ],
+)
+def test_load_with_an_object_pose_equals_the_pose_written_in_the_file(tmp_path, pose, written):
+    """``Task.load(path, object_pose=...)`` is the task of a file whose ``object.pose`` is that
+    pose: the same path, candidates and selection, value for value."""
+    assert FACES_POSE in FACES
+    template = tmp_path / "faces.yaml"
+    template.write_text(FACES)
+    own = tmp_path / "own.yaml"
+    own.write_text(FACES.replace(FACES_POSE, f"pose: {written}"))
+    moved, oracle = graspath.Task.load(template, object_pose=pose), graspath.Task.load(own)
+    np.testing.assert_array_equal(moved.object_poses, oracle.object_poses)
+    np.testing.assert_array_equal(moved.object_poses[0], graspath.pose_matrix(pose))
+    assert not np.array_equal(moved.object_poses, graspath.Task.load(template).object_poses)
+    np.testing.assert_array_equal(moved.candidate_poses, oracle.candidate_poses)
+    a, b = graspath.select(moved).arrays("left"), graspath.select(graspath.Task.load(own)).arrays("left")
+    for column in ("score", "rank", "mu_l2", "mu_linf", "mu_l1"):
+        np.testing.assert_array_equal(a[column], b[column], err_msg=column)
+    # A 4×4 matrix places the object too.
+    by_matrix = graspath.Task.load(template, object_pose=graspath.pose_matrix(pose))
+    np.testing.assert_allclose(by_matrix.object_poses, oracle.object_poses, atol=1e-12)
+
+
+def test_bad_object_poses_name_the_field(tmp_path):
+    template = tmp_path / "faces.yaml"
+    template.write_text(FACES)
+    cases = [
+        ({"xyz": [0.7, float("nan"), 0]}, r"faces.yaml: field 'object_pose.xyz': not finite"),
+        ({"xyz": [0.7, 0.2]}, r"faces.yaml: field 'object_pose.xyz': 2 numbers given, expected 3"),
+        ({"xyz": [0.7, 0.2, 0], "quaternion": [0, 0, 0, 2]}, r"field 'object_pose.quaternion': must be a unit quaternion \[x, y, z, w\] \(its norm is 2.000000"),
+        ({"xyz": [0.7, 0.2, 0], "rpy_deg": [0, 0, 1], "quaternion": [0, 0, 0, 1]}, r"field 'object_pose.rpy': give at most one of rpy, rpy_deg, quaternion"),
+        ({"xyz": [0.7, 0.2, 0], "yaw": [1, 2, 3]}, r"field 'object_pose.yaw': not a pose field"),
+        ("0.7 0.2 0", r"field 'object_pose': give a dict in the task file's pose syntax or a 4×4 array"),
+    ]
+    for pose, message in cases:
+        with pytest.raises(graspath.GraspathError, match=message):
+            graspath.Task.load(template, object_pose=pose)
+    with pytest.raises(graspath.GraspathError, match=r"^field 'quaternion': must be a unit quaternion"):
+        graspath.pose_matrix({"quaternion": [1, 1, 0, 0]})

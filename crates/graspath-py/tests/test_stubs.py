@@ -16,7 +16,8 @@ def test_stubs_match_the_module():
         runtime = {n for n in dir(getattr(graspath, name)) if not n.startswith("_")}
         assert stub == runtime, name
     functions = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
-    assert functions == {"generate", "placement_map", "read_grasps", "select", "select_batch", "train"}
+    assert functions == {"generate", "placement_map", "pose_matrix", "read_grasps", "select", "select_batch", "select_pairs", "train"}
+    assert functions == {n for n in graspath.__all__ if callable(getattr(graspath, n)) and n[0].islower()}
     assert (STUB.parent / "py.typed").is_file()
 
 
@@ -25,7 +26,7 @@ def test_signatures_show_their_defaults():
     ``Task.from_arrays``'s signature are the library's (``graspath.DEFAULTS``)."""
     import inspect
 
-    callables = [graspath.select, graspath.select_batch]
+    callables = [graspath.select, graspath.select_batch, graspath.select_pairs, graspath.pose_matrix]
     for cls in (graspath.Robot, graspath.Task, graspath.Selection):
         callables += [getattr(cls, n) for n in dir(cls) if not n.startswith("_") and callable(getattr(cls, n))]
     for f in callables:

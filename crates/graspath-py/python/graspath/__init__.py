@@ -15,8 +15,14 @@ base frame with Jacobian rows ``[v; ω]``.
   records the CLI writes (``candidates``, ``pairs``, ``summary``) and numpy views (``arrays``).
 * :func:`select_batch` — many tasks (objects) scored in one call, without the GIL: numpy columns
   with one row per object, arm and candidate (or each object's and arm's top ``k``).
+* :func:`select_pairs` — a two-arm task's best arm pairs from its candidates' scores found
+  apart (``select_batch`` rows, for instance of candidate slices): :func:`select`'s pairs.
+* :func:`pose_matrix` — a pose in the task file's syntax (``xyz``, ``rpy_deg``, …) as a 4×4
+  matrix; ``Task.load(path, object_pose=...)`` moves a task's object to such a pose.
 * :mod:`graspath.ray` — a dataset of task files sharded over a Ray cluster, each object's top
-  ``k`` written to Parquet (``pip install graspath[ray]``; ``python -m graspath.ray``).
+  ``k`` (and two-arm tasks' top ``k`` pairs) written to Parquet (``pip install
+  graspath[ray]``; ``python -m graspath.ray``); :mod:`graspath.dataset` reads the datasets
+  (directories of task files, manifests with candidate files and object poses).
 * :func:`read_grasps` — a grasp generator's file (GraspGen, ACRONYM, Contact-GraspNet / M2T2,
   ``N×4×4`` poses, GraspNet / AnyGrasp) as numpy candidates in the object frame.
 * :class:`GraspathError` — raised on bad input, a subclass of :class:`ValueError`.
@@ -25,6 +31,36 @@ Grasp generation from point clouds (the learned grasp model) is not offered by t
 see the extension point described in ``crates/graspath-py/README.md``.
 """
 
-from ._graspath import DEFAULTS, GraspathError, Robot, Selection, Task, __version__, generate, placement_map, read_grasps, select, select_batch, train
+from ._graspath import (
+    DEFAULTS,
+    GraspathError,
+    Robot,
+    Selection,
+    Task,
+    __version__,
+    generate,
+    placement_map,
+    pose_matrix,
+    read_grasps,
+    select,
+    select_batch,
+    select_pairs,
+    train,
+)
 
-__all__ = ["DEFAULTS", "GraspathError", "Robot", "Selection", "Task", "generate", "placement_map", "read_grasps", "select", "select_batch", "train", "__version__"]
+__all__ = [
+    "DEFAULTS",
+    "GraspathError",
+    "Robot",
+    "Selection",
+    "Task",
+    "generate",
+    "placement_map",
+    "pose_matrix",
+    "read_grasps",
+    "select",
+    "select_batch",
+    "select_pairs",
+    "train",
+    "__version__",
+]

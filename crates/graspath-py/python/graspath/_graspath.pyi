@@ -170,9 +170,23 @@ class Task:
     """A selection task: arms, object path, grasp candidates and settings."""
 
     @staticmethod
-    def load(path: StrPath, *, candidates: Optional[StrPath] = None) -> Task:
+    def load(
+        path: StrPath,
+        *,
+        candidates: Optional[StrPath] = None,
+        object_pose: Union[Mapping[str, Sequence[Any]], ArrayLike, None] = None,
+    ) -> Task:
         """Reads a task file (YAML or JSON); ``candidates`` reads that candidate file instead of
-        the file's ``candidates`` source (keeping its ``format``, ``frame``, … options)."""
+        the file's ``candidates`` source (keeping its ``format``, ``frame``, … options).
+
+        ``object_pose`` replaces the file's ``object.pose`` (``world_from_object`` at the start,
+        world frame, m): a dict in the task file's pose syntax (``{"xyz": [...], "rpy_deg":
+        [...]}``, or ``rpy`` (rad), ``quaternion`` ``[x, y, z, w]``, ``matrix``; see
+        :func:`pose_matrix`) or a 4×4 array. The path's relative steps start from it; absolute
+        steps, the robot and the scene stay (as in :func:`placement_map`). The task equals the
+        one a file with that ``object.pose`` describes (learned-model candidates in a scene keep
+        the filtering done at the file's pose). Errors name the field
+        (``object_pose.quaternion``, …)."""
     @staticmethod
     def parse(
         text: str,
@@ -342,6 +356,28 @@ def select_batch(
     ``slices`` (one ``(start, stop)`` per task) scores only those candidate positions: the
     scores are the whole task's (the likelihood is taken relative to the whole task's most
     likely candidate), the ranks are within the slice."""
+
+def select_pairs(task: Task, rows: Mapping[str, ArrayLike], *, top_k: Optional[int] = None) -> Dict[str, npt.NDArray[Any]]:
+    """The best arm pairs of a two-arm ``task`` from its candidates' scores found apart.
+
+    ``rows``: the columns ``arm_index``, ``candidate``, ``score``, ``mu_l2`` and ``mu_l1`` of
+    :func:`select_batch` for this task, holding every ranked row (``score`` not NaN) of both
+    arms once — the whole task's rows or the union of its slices' rows (without ``top_k``);
+    other columns and unranked rows are ignored.
+
+    Numpy columns, one row per pair, best first: ``rank`` (int64), ``first_arm``,
+    ``second_arm`` (str), ``first_candidate``, ``second_candidate`` (int64, positions in the
+    task's candidates), ``first_id``, ``second_id`` (int64), ``first_label``, ``second_label``
+    (str), ``score`` (float64, the sum of the arms' norms: ``mu_l2``, or ``mu_l1`` with the
+    task's ``norm: l1``). They are the first ``top_k`` (default all) of :func:`select`'s pairs
+    on the task, in the same order with the same scores; the check between the arms (a scene
+    with ``collision.between_arms``) scores again only the candidates of the pairs it visits."""
+
+def pose_matrix(spec: Mapping[str, Sequence[Any]]) -> FloatArray:
+    """The 4×4 rigid transform (m) of a pose in the task file's syntax: ``xyz`` (m, default
+    zero) with at most one of ``rpy`` (rad, URDF fixed-axis roll-pitch-yaw), ``rpy_deg`` or
+    ``quaternion`` ``[x, y, z, w]`` (norm 1 within 0.001), or a ``matrix`` (4×4 rows) alone.
+    Raises :class:`GraspathError` naming the sub-field at fault (``field 'quaternion': …``)."""
 
 GraspFormatName = Literal[
     "graspath", "graspgen", "acronym", "contact_graspnet", "m2t2", "poses", "graspnet", "anygrasp"

@@ -1,18 +1,11 @@
 """Grasp selection over a dataset of objects, sharded over a Ray cluster.
 
 Install with ``pip install graspath[ray]`` (``ray>=2.9`` and ``pyarrow``). A dataset is a set of
-task files (graspath's task format, ``docs/task-file.md``), one per object — each with its own
-object pose, path, candidates (a family, a grasp file, a learned model) and scene:
-
-* a directory: every ``*.yaml`` / ``*.yml`` file directly in it, in name order, each object
-  named by its file name;
-* a manifest (``*.csv``), one row per object, with a ``task`` column (paths relative to the
-  manifest), an optional ``candidates`` column (a candidate file — graspath JSON/CSV or a grasp
-  generator's file — read instead of the task file's candidates, with the task file's
-  ``candidates`` options such as ``format`` and ``frame``: objects × candidate files on one
-  task file) and an optional ``object`` column (the object's name; default the candidate file,
-  else the task file);
-* from Python, a sequence of task file paths.
+objects, each a task file (graspath's task format, ``docs/task-file.md``) with its own object
+pose, path, candidates and scene: a directory of task files, a ``.csv`` manifest of task files
+with optional candidate files, object names and object poses (columns ``xyz`` and ``rpy``,
+``rpy_deg`` or ``quaternion``: one task file serves many placed objects), or a sequence of task
+file paths — the format, and its errors, in :mod:`graspath.dataset`.
 
 The candidates of every object are cut into shards of about ``shard_size`` candidates (a shard
 may hold the end of one object and the start of the next); each shard is one ``ray.remote`` task
@@ -23,14 +16,30 @@ and arm's ``top_k`` (best score first, ties by candidate position: the ranking o
 ordered by (object, arm, rank). With ``local=True`` (``--local``) the same shards run one
 after the other in this process, without Ray; the file is the same, byte for byte.
 
+Arm pairs: for a task with two arms, each shard also returns, for every ranked candidate of its
+slices and each arm, the candidate's position and norms (:data:`PAIR_INPUT`: about 50 bytes a
+candidate and arm, held by the driver until the pairs are formed — a pair's score is the sum of
+the arms' norms, so a pair may join candidates that are in neither arm's top ``k``). Once every
+shard is done, one more task per two-arm object (a Ray task, or in this process with
+``local=True``) loads the object's task and forms its best pairs with
+:func:`graspath.select_pairs`: the best-first search of :func:`graspath.select` over each arm's
+whole sorted list, with the grasp separation and, when the task's scene checks the arms
+against each other (``collision.between_arms``), that check, for which it scores again only
+the candidates of the pairs the search looks at. The object's pairs are the first
+``min(top_k, pairs)`` of :func:`graspath.select`'s on that task (``pairs``: the task's
+``selection.pairs``) — the same pairs, in the same order, with the same scores — at any shard
+size. They are written to a second Parquet file beside the output, ``NAME.pairs.parquet`` for
+``NAME.parquet`` (:func:`pairs_path`), with the fixed schema :data:`PAIR_COLUMNS`, rows ordered
+by (object, rank); it is written only when the dataset has a task with two arms.
+
 Every shard loads the whole task file of each object it touches (the candidates of a task that
 generates them with the learned model are generated again in each of its shards — seeded, so
 identically; to spare the work, write them to a file once with ``graspath generate`` and name
-that file in the task). A two-arm task gives each arm's top ``k``; its arm pairs are not
-formed from shards (:func:`graspath.select` on that task gives them).
+that file in the task).
 
 Progress: each finished shard is logged (logger ``graspath.ray``, level INFO) with the
-candidates done, candidates per second and the estimated time left.
+candidates done, candidates per second and the estimated time left; each object's pair step
+with its pairs and time.
 
 Command line::
 
@@ -44,18 +53,19 @@ system every node sees at the same path, and run the command with ``--address au
 from __future__ import annotations
 
 import argparse
-import csv
 import logging
 import math
 import os
 import sys
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from . import GraspathError, Task, __version__, select_batch
+from . import GraspathError, __version__, select_batch, select_pairs
+# DatasetError and DatasetObject are part of this module's interface too.
+from .dataset import DatasetError, DatasetObject, Source, dataset_tasks, load_task  # noqa: F401
 
 log = logging.getLogger("graspath.ray")
 
@@ -63,9 +73,6 @@ log = logging.getLogger("graspath.ray")
 DEFAULT_SHARD_SIZE = 500
 #: Rows per Parquet row group (fixed, so that the file does not depend on the writer's defaults).
 ROW_GROUP_SIZE = 65536
-#: Task file suffixes picked up from a dataset directory.
-TASK_SUFFIXES = (".yaml", ".yml")
-
 #: The Parquet columns, in order: ``(name, arrow type, nullable, meaning)``.
 COLUMNS: Tuple[Tuple[str, str, bool, str], ...] = (
     ("object", "string", False, "the object's name (task file, or the manifest's object)"),
@@ -83,95 +90,43 @@ COLUMNS: Tuple[Tuple[str, str, bool, str], ...] = (
     ("clearance", "float64", True, "smallest distance to the scene along the motion (m)"),
 )
 
+#: The pairs file's columns (:func:`pairs_path`), in order: ``(name, arrow type, nullable,
+#: meaning)``; rows ordered by (object, rank).
+PAIR_COLUMNS: Tuple[Tuple[str, str, bool, str], ...] = (
+    ("object", "string", False, "the object's name"),
+    ("rank", "int64", False, "1 for the object's best pair"),
+    ("first_arm", "string", False, "the task's first arm"),
+    ("first_candidate", "int64", False, "the first arm's candidate: position in the task's candidates"),
+    ("first_id", "int64", False, "the first arm's candidate's id"),
+    ("first_label", "string", False, "the first arm's candidate's label"),
+    ("second_arm", "string", False, "the task's second arm"),
+    ("second_candidate", "int64", False, "the second arm's candidate: position in the task's candidates"),
+    ("second_id", "int64", False, "the second arm's candidate's id"),
+    ("second_label", "string", False, "the second arm's candidate's label"),
+    ("score", "float64", False, "the sum of the two arms' norms (mu_l2, or mu_l1 with the task's norm: l1)"),
+)
+
+#: The columns of :func:`graspath.select_batch` a shard keeps, for every ranked candidate and
+#: arm of a two-arm task, to form the object's pairs (:func:`graspath.select_pairs`).
+PAIR_INPUT = ("object", "arm_index", "candidate", "score", "mu_l2", "mu_l1")
+
 Piece = Tuple[int, int, int]
 """``(object, start, stop)``: candidates ``start:stop`` of one object."""
 
-
-class DatasetError(GraspathError):
-    """A dataset that cannot be read: names the directory, manifest, file or field at fault."""
-
-
-def schema():
-    """The fixed pyarrow schema of the output (see :data:`COLUMNS`)."""
+def schema(columns: Sequence[Tuple[str, str, bool, str]] = COLUMNS):
+    """The fixed pyarrow schema of the output (:data:`COLUMNS`) or of the pairs file
+    (:data:`PAIR_COLUMNS`)."""
     import pyarrow as pa
 
     types = {"string": pa.string(), "int64": pa.int64(), "float64": pa.float64()}
-    return pa.schema([pa.field(name, types[kind], nullable) for name, kind, nullable, _ in COLUMNS])
+    return pa.schema([pa.field(name, types[kind], nullable) for name, kind, nullable, _ in columns])
 
 
-class DatasetObject(NamedTuple):
-    """One object of a dataset: its name, its task file and, from a manifest's ``candidates``
-    column, a candidate file read instead of the task file's candidates (else ``None``)."""
-
-    name: str
-    task: Path
-    candidates: Optional[Path] = None
-
-
-def dataset_tasks(dataset: Union[str, "os.PathLike[str]", Sequence[Union[str, "os.PathLike[str]"]]]) -> List[DatasetObject]:
-    """The objects of a dataset, in the dataset's order (see the module's documentation).
-    Raises :class:`DatasetError` on a missing directory, manifest, task or candidate file, an
-    empty dataset or a duplicated object name."""
-    if isinstance(dataset, (str, os.PathLike)):
-        root = Path(dataset)
-        if root.is_dir():
-            files = sorted(p for p in root.iterdir() if p.suffix in TASK_SUFFIXES and p.is_file())
-            if not files:
-                raise DatasetError(f"{root}: no task files (*.yaml, *.yml) in the directory")
-            objects = [DatasetObject(p.name, p) for p in files]
-        elif root.suffix == ".csv":
-            objects = _manifest(root)
-        elif root.exists():
-            raise DatasetError(f"{root}: a dataset is a directory of task files or a .csv manifest")
-        else:
-            raise DatasetError(f"{root}: no such dataset directory or manifest")
-    else:
-        objects = [DatasetObject(str(p), Path(p)) for p in dataset]
-        if not objects:
-            raise DatasetError("the dataset is empty: give at least one task file")
-    seen = set()
-    for obj in objects:
-        if obj.name in seen:
-            raise DatasetError(f"object '{obj.name}' appears twice in the dataset")
-        seen.add(obj.name)
-        if not obj.task.is_file():
-            raise DatasetError(f"{obj.task}: task file of object '{obj.name}' not found")
-        if obj.candidates is not None and not obj.candidates.is_file():
-            raise DatasetError(f"{obj.candidates}: candidate file of object '{obj.name}' not found")
-    return objects
-
-
-MANIFEST_COLUMNS = ("object", "task", "candidates")
-
-
-def _manifest(path: Path) -> List[DatasetObject]:
-    if not path.is_file():
-        raise DatasetError(f"{path}: no such manifest")
-    with path.open(newline="", encoding="utf-8") as f:
-        reader = csv.DictReader(f)
-        fields = reader.fieldnames or []
-        if "task" not in fields:
-            raise DatasetError(f"{path}: the manifest needs a 'task' column (has {fields})")
-        unknown = [c for c in fields if c not in MANIFEST_COLUMNS]
-        if unknown:
-            raise DatasetError(f"{path}: unknown column(s) {unknown} (columns: {', '.join(MANIFEST_COLUMNS)})")
-        objects = []
-        for line, row in enumerate(reader, start=2):
-            task = (row.get("task") or "").strip()
-            if not task:
-                raise DatasetError(f"{path}: line {line}: field 'task' is empty")
-            candidates = (row.get("candidates") or "").strip()
-            name = (row.get("object") or "").strip() or candidates or task
-            objects.append(DatasetObject(name, path.parent / task, path.parent / candidates if candidates else None))
-    if not objects:
-        raise DatasetError(f"{path}: the manifest lists no objects")
-    return objects
-
-
-def load_task(source: Tuple[str, Optional[str]]) -> Task:
-    """The task of one object, ``(task file, candidate file or None)``."""
-    task, candidates = source
-    return Task.load(task) if candidates is None else Task.load(task, candidates=candidates)
+def pairs_path(out: Union[str, "os.PathLike[str]"]) -> Path:
+    """The pairs file written beside the output ``out``: ``top.pairs.parquet`` for
+    ``top.parquet``."""
+    out = Path(out)
+    return out.with_name(f"{out.stem}.pairs{out.suffix}")
 
 
 def plan_shards(candidate_counts: Sequence[int], shard_size: int) -> List[List[Piece]]:
@@ -195,27 +150,54 @@ def plan_shards(candidate_counts: Sequence[int], shard_size: int) -> List[List[P
     return shards
 
 
-def run_shard(
-    sources: Sequence[Tuple[str, Optional[str]]], pieces: Sequence[Piece], top_k: int, threads: Optional[int]
-) -> Dict[str, Any]:
-    """One shard: loads the tasks its pieces name (``sources[object]``: task file, candidate
-    file or ``None``, see :func:`load_task`) and scores the
-    pieces' candidate slices with :func:`graspath.select_batch`, keeping each slice's ``top_k``.
-    Returns ``columns`` (numpy, ``object`` mapped back to the dataset's object index),
-    ``candidates`` (scored) and ``seconds`` (wall time). What a Ray task runs, and what
-    ``local=True`` runs in-process."""
+def run_shard(sources: Sequence[Source], pieces: Sequence[Piece], top_k: int, threads: Optional[int]) -> Dict[str, Any]:
+    """One shard: loads the tasks its pieces name (``sources[object]``, see :func:`load_task`)
+    and scores the pieces' candidate slices with :func:`graspath.select_batch`. Returns
+    ``columns`` (numpy, each slice's ``top_k`` per arm, ``object`` mapped back to the dataset's
+    object index), ``pair_rows`` (the :data:`PAIR_INPUT` columns of every ranked candidate and
+    arm of the slices of two-arm tasks), ``candidates`` (scored) and ``seconds`` (wall time).
+    What a Ray task runs, and what ``local=True`` runs in-process."""
     started = time.perf_counter()
     tasks = [load_task(sources[obj]) for obj, _, _ in pieces]
-    columns = select_batch(
-        tasks, slices=[(start, stop) for _, start, stop in pieces], top_k=top_k, threads=threads
-    )
+    columns = select_batch(tasks, slices=[(start, stop) for _, start, stop in pieces], threads=threads)
+    two_arms = np.array([len(task.arms) == 2 for task in tasks], dtype=bool)
+    pair_rows = two_arms[columns["object"]] & ~np.isnan(columns["score"])
     objects = np.array([obj for obj, _, _ in pieces], dtype=np.int64)
     columns["object"] = objects[columns["object"]]
+    top = columns["rank"] <= top_k  # NaN (not ranked) compares false
     return {
-        "columns": columns,
+        "columns": {name: values[top] for name, values in columns.items()},
+        "pair_rows": {name: columns[name][pair_rows] for name in PAIR_INPUT},
         "candidates": sum(stop - start for _, start, stop in pieces),
         "seconds": time.perf_counter() - started,
     }
+
+
+def gather_pair_rows(shards: Sequence[Dict[str, np.ndarray]]) -> Dict[int, Dict[str, np.ndarray]]:
+    """The shards' ``pair_rows`` (see :func:`run_shard`) by object: for each object with
+    rows, its :data:`PAIR_INPUT` columns (in shard order; :func:`graspath.select_pairs` does
+    not depend on the order)."""
+    if not shards:
+        return {}
+    merged = {name: np.concatenate([s[name] for s in shards]) for name in PAIR_INPUT}
+    order = np.argsort(merged["object"], kind="stable")
+    merged = {name: values[order] for name, values in merged.items()}
+    objects, starts = np.unique(merged["object"], return_index=True)
+    bounds = np.append(starts, len(order))
+    return {
+        int(obj): {name: values[bounds[k] : bounds[k + 1]] for name, values in merged.items()}
+        for k, obj in enumerate(objects)
+    }
+
+
+def run_pairs(source: Source, rows: Dict[str, np.ndarray], top_k: int) -> Dict[str, Any]:
+    """The pair step of one two-arm object: loads its task and forms its best ``top_k`` pairs
+    from the shards' rows with :func:`graspath.select_pairs`. Returns ``columns`` (its
+    columns) and ``seconds`` (wall time). What a Ray task runs, and what ``local=True`` runs
+    in-process."""
+    started = time.perf_counter()
+    columns = select_pairs(load_task(source), rows, top_k=top_k)
+    return {"columns": columns, "seconds": time.perf_counter() - started}
 
 
 def merge_top_k(shards: Sequence[Dict[str, np.ndarray]], top_k: int) -> Dict[str, np.ndarray]:
@@ -242,58 +224,94 @@ def merge_top_k(shards: Sequence[Dict[str, np.ndarray]], top_k: int) -> Dict[str
     return merged
 
 
-def _table(merged: Dict[str, np.ndarray], object_names: Sequence[str], top_k: int):
+def _table(
+    columns: Sequence[Tuple[str, str, bool, str]], values: Dict[str, np.ndarray], object_names: Sequence[str], top_k: int
+):
+    """The pyarrow table of ``values`` (numpy columns named as ``columns``, ``object`` the
+    dataset's object index) with the schema of ``columns``: ``object`` as the object's name,
+    NaN as null in nullable columns."""
     import pyarrow as pa
 
     names = np.array(object_names, dtype=object)
-    columns = {
-        "object": pa.array(names[merged["object"]].tolist() if len(merged["object"]) else [], pa.string()),
-        "arm": pa.array(merged["arm"].tolist(), pa.string()),
-        "label": pa.array(merged["label"].tolist(), pa.string()),
-    }
     arrays = []
-    for field in schema():
-        if field.name in columns:
-            arrays.append(columns[field.name])
+    for field in schema(columns):
+        if field.name == "object":
+            arrays.append(pa.array(names[values["object"]].tolist() if len(values["object"]) else [], pa.string()))
+        elif field.type == pa.string():
+            arrays.append(pa.array(values[field.name].tolist(), pa.string()))
         elif field.nullable:
-            values = merged[field.name]
-            arrays.append(pa.array(values, field.type, mask=np.isnan(values)))
+            arrays.append(pa.array(values[field.name], field.type, mask=np.isnan(values[field.name])))
         else:
-            arrays.append(pa.array(merged[field.name], field.type))
+            arrays.append(pa.array(values[field.name], field.type))
     metadata = {b"graspath.version": __version__.encode(), b"graspath.top_k": str(top_k).encode()}
-    return pa.Table.from_arrays(arrays, schema=schema().with_metadata(metadata))
+    return pa.Table.from_arrays(arrays, schema=schema(columns).with_metadata(metadata))
 
 
-def write_parquet(table, out: Path) -> None:
-    """Writes ``table`` with fixed settings (zstd, ``ROW_GROUP_SIZE`` rows per group, no
-    timestamps), to a temporary file beside ``out`` that is then renamed: the same table gives
-    the same bytes, and a failed write leaves no partial file."""
+def _pair_values(pairs: Dict[int, Dict[str, Any]]) -> Dict[str, np.ndarray]:
+    """The pair steps' columns (:func:`run_pairs` of each object), object by object in dataset
+    order, with ``object`` the object's index."""
+    objects = sorted(pairs)
+    parts = [pairs[obj]["columns"] for obj in objects]
+    values = {}
+    for name, kind, _, _ in PAIR_COLUMNS:
+        if name == "object":
+            arrays = [np.full(len(part["rank"]), obj, dtype=np.int64) for obj, part in zip(objects, parts)]
+            empty = np.int64
+        else:
+            arrays = [part[name] for part in parts]
+            empty = {"int64": np.int64, "float64": np.float64, "string": str}[kind]
+        values[name] = np.concatenate(arrays) if arrays else np.array([], dtype=empty)
+    return values
+
+
+def write_parquet(files: Sequence[Tuple[Any, Path]]) -> None:
+    """Writes each ``(table, path)`` with fixed settings (zstd, ``ROW_GROUP_SIZE`` rows per
+    group, no timestamps) to a temporary file beside its path; once all are written, renames
+    them into place. The same table gives the same bytes, and a failed write leaves no partial
+    file."""
     import pyarrow.parquet as pq
 
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    temporary = [(table, out.with_name(f".{out.name}.{os.getpid()}.tmp"), out) for table, out in files]
     try:
-        pq.write_table(
-            table,
-            tmp,
-            row_group_size=ROW_GROUP_SIZE,
-            compression="zstd",
-            use_dictionary=False,
-            write_statistics=True,
-            store_schema=True,
-        )
-        os.replace(tmp, out)
+        for table, tmp, _ in temporary:
+            pq.write_table(
+                table,
+                tmp,
+                row_group_size=ROW_GROUP_SIZE,
+                compression="zstd",
+                use_dictionary=False,
+                write_statistics=True,
+                store_schema=True,
+            )
+        for _, tmp, out in temporary:
+            os.replace(tmp, out)
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        for _, tmp, _ in temporary:
+            tmp.unlink(missing_ok=True)
         raise
 
 
 class _Progress:
-    """Logs each finished shard: candidates done, candidates/s, ETA."""
+    """Logs each finished shard (candidates done, candidates/s, ETA), the end of the scoring
+    and each object's pair step."""
 
-    def __init__(self, total: int, shards: int):
-        self.total, self.shards = total, shards
+    def __init__(self, total: int, shards: int, object_names: Sequence[str]):
+        self.total, self.shards, self.object_names = total, shards, object_names
         self.done = self.finished = 0
         self.started = time.perf_counter()
+
+    def scoring_done(self) -> None:
+        elapsed = time.perf_counter() - self.started
+        log.info(
+            "scored %d candidates in %d shards in %.2f s (%.0f candidates/s)",
+            self.total,
+            self.shards,
+            elapsed,
+            self.total / max(elapsed, 1e-9),
+        )
+
+    def pairs_done(self, obj: int, result: Dict[str, Any]) -> None:
+        log.info("pairs of %s: %d in %.2f s", self.object_names[obj], len(result["columns"]["rank"]), result["seconds"])
 
     def shard_done(self, index: int, result: Dict[str, Any]) -> None:
         self.done += result["candidates"]
@@ -330,7 +348,9 @@ def select_dataset(
 ) -> Dict[str, Any]:
     """Scores every candidate of every object of ``dataset`` and writes each object's and arm's
     ``top_k`` best candidates to the Parquet file ``out`` (schema :data:`COLUMNS`, rows by
-    object, arm, rank).
+    object, arm, rank) and, when the dataset has a two-arm task, each such object's best
+    ``min(top_k, pairs)`` arm pairs to :func:`pairs_path` of ``out`` (schema
+    :data:`PAIR_COLUMNS`, rows by object, rank).
 
     * ``shard_size``: candidates per shard (one Ray task each).
     * ``local``: run the shards in this process, one after the other, without Ray (``threads``
@@ -339,12 +359,13 @@ def select_dataset(
       instance with ``num_cpus`` CPUs, default all, unless Ray is already initialised); each
       shard reserves ``cpus_per_shard`` CPUs and runs ``threads`` threads (default
       ``max(1, int(cpus_per_shard))``).
-    * ``overwrite``: replace an existing ``out`` (else refused).
+    * ``overwrite``: replace an existing ``out`` (and pairs file; else refused).
 
-    Returns ``objects``, ``candidates`` (scored), ``rows`` (written), ``shards``, ``seconds``
-    (wall time) and ``out``. Raises :class:`graspath.GraspathError` on bad input (a missing
-    task file, a task the library refuses, ``top_k`` or ``shard_size`` below 1, an existing
-    ``out``) before any work is started."""
+    Returns ``objects``, ``candidates`` (scored), ``rows`` (written), ``shards``, ``pairs``
+    (pair rows written), ``seconds`` (wall time), ``out`` and ``pairs_out`` (the pairs file, or
+    ``None`` without a two-arm task). Raises :class:`graspath.GraspathError` on bad input (a
+    missing task file, a bad manifest row, a task the library refuses, ``top_k`` or
+    ``shard_size`` below 1, an existing output) before any work is started."""
     started = time.perf_counter()
     if isinstance(top_k, bool) or not isinstance(top_k, int) or top_k < 1:
         raise GraspathError(f"top_k must be a positive integer (got {top_k!r})")
@@ -365,47 +386,61 @@ def select_dataset(
         raise GraspathError("pyarrow is not installed: pip install graspath[ray]") from e
 
     objects = dataset_tasks(dataset)
-    sources = [(str(o.task.resolve()), None if o.candidates is None else str(o.candidates.resolve())) for o in objects]
-    counts = [len(load_task(source)) for source in sources]
+    sources: List[Source] = [
+        (str(o.task.resolve()), None if o.candidates is None else str(o.candidates.resolve()), o.pose) for o in objects
+    ]
+    counts, two_arms = [], []
+    for source in sources:
+        task = load_task(source)
+        counts.append(len(task))
+        two_arms.append(len(task.arms) == 2)
+    pairs_out = pairs_path(out) if any(two_arms) else None
+    if pairs_out is not None and pairs_out.exists() and not overwrite:
+        raise GraspathError(f"{pairs_out}: the pairs output exists (pass overwrite=True / --force to replace it)")
     shards = plan_shards(counts, shard_size)
     total = sum(counts)
     log.info("%d objects, %d candidates, %d shards of up to %d candidates", len(objects), total, len(shards), shard_size)
 
-    progress = _Progress(total, len(shards))
+    names = [o.name for o in objects]
+    progress = _Progress(total, len(shards), names)
     results: Dict[int, Dict[str, Any]] = {}
+    pairs: Dict[int, Dict[str, Any]] = {}
     if local:
         for index, pieces in enumerate(shards):
             results[index] = run_shard(sources, pieces, top_k, threads)
             progress.shard_done(index, results[index])
+        progress.scoring_done()
+        for obj, rows in gather_pair_rows([results[i]["pair_rows"] for i in range(len(shards))]).items():
+            pairs[obj] = run_pairs(sources[obj], rows, top_k)
+            progress.pairs_done(obj, pairs[obj])
     else:
-        results = _run_on_ray(sources, shards, top_k, threads, address, num_cpus, cpus_per_shard, progress)
+        results, pairs = _run_on_ray(sources, shards, top_k, threads, address, num_cpus, cpus_per_shard, progress)
 
-    log.info(
-        "scored %d candidates in %d shards in %.2f s (%.0f candidates/s)",
-        total,
-        len(shards),
-        time.perf_counter() - progress.started,
-        total / max(time.perf_counter() - progress.started, 1e-9),
-    )
     # No candidates at all: the columns of an empty batch give the (empty) table its types.
     columns = [results[i]["columns"] for i in range(len(shards))] or [select_batch([], top_k=top_k)]
-    merged = merge_top_k(columns, top_k)
-    table = _table(merged, [o.name for o in objects], top_k)
-    write_parquet(table, out)
+    files = [(_table(COLUMNS, merge_top_k(columns, top_k), names, top_k), out)]
+    if pairs_out is not None:
+        files.append((_table(PAIR_COLUMNS, _pair_values(pairs), names, top_k), pairs_out))
+    write_parquet(files)
+    rows, pair_rows = files[0][0].num_rows, (files[1][0].num_rows if pairs_out is not None else 0)
     seconds = time.perf_counter() - started
-    log.info("wrote %s: %d rows (%d objects, %d candidates) in %.2f s", out, table.num_rows, len(objects), total, seconds)
+    log.info("wrote %s: %d rows (%d objects, %d candidates) in %.2f s", out, rows, len(objects), total, seconds)
+    if pairs_out is not None:
+        log.info("wrote %s: %d pairs (%d two-arm objects)", pairs_out, pair_rows, sum(two_arms))
     return {
         "objects": len(objects),
         "candidates": total,
-        "rows": table.num_rows,
+        "rows": rows,
         "shards": len(shards),
+        "pairs": pair_rows,
         "seconds": seconds,
         "out": out,
+        "pairs_out": pairs_out,
     }
 
 
 def _run_on_ray(
-    sources: List[Tuple[str, Optional[str]]],
+    sources: List[Source],
     shards: List[List[Piece]],
     top_k: int,
     threads: Optional[int],
@@ -413,7 +448,9 @@ def _run_on_ray(
     num_cpus: Optional[int],
     cpus_per_shard: float,
     progress: _Progress,
-) -> Dict[int, Dict[str, Any]]:
+) -> Tuple[Dict[int, Dict[str, Any]], Dict[int, Dict[str, Any]]]:
+    """The shards, then the pair steps of the two-arm objects, as Ray tasks: the results of
+    :func:`run_shard` by shard and of :func:`run_pairs` by object."""
     try:
         import ray
     except ImportError as e:
@@ -429,19 +466,29 @@ def _run_on_ray(
         log.info("Ray started in %.2f s", time.perf_counter() - began)
     log.info("Ray cluster: %s CPUs", ray.cluster_resources().get("CPU", 0))
     progress.started = time.perf_counter()  # rates and ETA from here, without Ray's start-up
-    try:
-        shard_threads = threads if threads is not None else max(1, int(cpus_per_shard))
-        remote: Callable[..., Any] = ray.remote(num_cpus=cpus_per_shard)(run_shard)
-        files = ray.put(sources)
-        pending = {remote.remote(files, pieces, top_k, shard_threads): i for i, pieces in enumerate(shards)}
+
+    def run_all(pending: Dict[Any, int], done: Callable[[int, Dict[str, Any]], None]) -> Dict[int, Dict[str, Any]]:
         results: Dict[int, Dict[str, Any]] = {}
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:
-                index = pending.pop(ref)
-                results[index] = ray.get(ref)
-                progress.shard_done(index, results[index])
+                key = pending.pop(ref)
+                results[key] = ray.get(ref)
+                done(key, results[key])
         return results
+
+    try:
+        shard_threads = threads if threads is not None else max(1, int(cpus_per_shard))
+        remote: Callable[..., Any] = ray.remote(num_cpus=cpus_per_shard)(run_shard)
+        files = ray.put(sources)
+        results = run_all(
+            {remote.remote(files, pieces, top_k, shard_threads): i for i, pieces in enumerate(shards)}, progress.shard_done
+        )
+        progress.scoring_done()
+        pair_step: Callable[..., Any] = ray.remote(num_cpus=cpus_per_shard)(run_pairs)
+        inputs = gather_pair_rows([results[i]["pair_rows"] for i in range(len(shards))])
+        pairs = run_all({pair_step.remote(sources[obj], rows, top_k): obj for obj, rows in inputs.items()}, progress.pairs_done)
+        return results, pairs
     finally:
         if started_here:
             ray.shutdown()
@@ -453,9 +500,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         prog="python -m graspath.ray",
         description="Score every grasp candidate of every object of a dataset (a directory of "
         "task files or a .csv manifest) on a Ray cluster, and write each object's and arm's "
-        "top-k to a Parquet file (the same bytes with --local, without Ray).",
+        "top-k to a Parquet file, and the top-k arm pairs of two-arm tasks to NAME.pairs.parquet "
+        "beside it (the same bytes with --local, without Ray).",
     )
-    parser.add_argument("dataset", help="a directory of task files (*.yaml, *.yml) or a .csv manifest (columns task, and optionally candidates, object)")
+    parser.add_argument(
+        "dataset",
+        help="a directory of task files (*.yaml, *.yml) or a .csv manifest (columns task, and optionally candidates, "
+        "object, and the object's pose: xyz with rpy, rpy_deg or quaternion)",
+    )
     parser.add_argument("-o", "--out", required=True, help="the Parquet file to write")
     parser.add_argument("-k", "--top-k", type=int, default=10, help="best candidates kept per object and arm (default 10)")
     parser.add_argument("--shard-size", type=int, default=DEFAULT_SHARD_SIZE, help=f"candidates per Ray task (default {DEFAULT_SHARD_SIZE})")
@@ -486,9 +538,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"graspath.ray: error: {e}", file=sys.stderr)
         return 2
     if not args.quiet:
+        pairs = f" and {summary['pairs']} pairs to {summary['pairs_out']}" if summary["pairs_out"] is not None else ""
         print(
             f"{summary['objects']} objects, {summary['candidates']} candidates, "
-            f"{summary['rows']} rows in {summary['seconds']:.2f} s; wrote {summary['out']}"
+            f"{summary['rows']} rows in {summary['seconds']:.2f} s; wrote {summary['out']}{pairs}"
         )
     return 0
 

@@ -8,10 +8,10 @@ mod score;
 mod stream;
 
 pub use rank::{
-    assign_ranks, best_pairs, rank_candidates, rank_pairs, ranking_alone, scores_tied, tied_with,
-    values_tied, ArmPair, Ranking,
+    assign_ranks, best_pairs, best_pairs_of, rank_candidates, rank_pairs, ranking_alone,
+    scores_tied, tied_with, values_tied, ArmPair, PairArm, PositionPair, Ranking,
 };
-pub use run::{select, ArmResult, Selection};
+pub use run::{pairs_of_eligible, select, ArmResult, PairInputError, Selection};
 pub use scalars::{CandidateScalars, FailurePoint, Scored};
 pub use score::{
     for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,

@@ -244,34 +244,82 @@ pub fn rank_pairs(
 }
 
 /// The pairs of [`rank_pairs`] as `(first-arm index, second-arm index, score)`, best first,
-/// and how many better pairs `compatible` (given the two indices) refused.
-///
-/// Best-first over each arm's candidates sorted by norm: a pair is visited only after the pairs
-/// that beat it in both arms, so the work grows with the pairs visited, not with the product
-/// of the two candidate counts.
+/// and how many better pairs `compatible` (given the two indices) refused: [`best_pairs_of`]
+/// over the eligible candidates of `first` and `second`, with `options.pairs` and
+/// `options.min_separation`.
 pub fn best_pairs<S: Scored>(
     first: (&[S], &[Ranking]),
     second: (&[S], &[Ranking]),
     options: &SelectionOptions,
     compatible: &dyn Fn(usize, usize) -> bool,
-) -> (Vec<(usize, usize, f64)>, usize) {
-    // Each arm's eligible candidates, by norm (best first), then candidate order.
+) -> (Vec<PositionPair>, usize) {
+    // Each arm's eligible candidates with the norm pairs are scored by.
     let eligible = |scores: &[S], ranks: &[Ranking]| -> Vec<(usize, f64)> {
-        let mut list: Vec<(usize, f64)> = scores
+        scores
             .iter()
             .zip(ranks)
             .enumerate()
             .filter(|(_, (_, r))| r.score.is_some())
             .filter_map(|(i, (s, _))| norm_value(s, options.norm).map(|n| (i, n)))
-            .collect();
+            .collect()
+    };
+    best_pairs_of(
+        PairArm {
+            eligible: eligible(first.0, first.1),
+            grasp_point: &|i| first.0[i].grasp_point(),
+        },
+        PairArm {
+            eligible: eligible(second.0, second.1),
+            grasp_point: &|j| second.0[j].grasp_point(),
+        },
+        options.min_separation,
+        options.pairs,
+        compatible,
+    )
+}
+
+/// A pair found by [`best_pairs`] or [`best_pairs_of`]: `(first-arm position, second-arm
+/// position, score)`, positions in the task's candidates, the score the sum of the two norms.
+pub type PositionPair = (usize, usize, f64);
+
+/// One arm's side of a pair search ([`best_pairs_of`]).
+pub struct PairArm<'a> {
+    /// The arm's eligible candidates (ranked: feasible and within the constraints), each as
+    /// `(position in the task's candidates, norm)`, the norm being the one the task ranks by
+    /// (`μ_l2`, or `μ_l1` with `norm: l1`); in any order, each position once.
+    pub eligible: Vec<(usize, f64)>,
+    /// The grasp point (object frame, m; see [`Candidate::grasp_point`]) of the candidate at
+    /// a position.
+    pub grasp_point: &'a dyn Fn(usize) -> nalgebra::Point3<f64>,
+}
+
+/// The best `count` pairs of one eligible candidate of each arm, as `(first-arm position,
+/// second-arm position, score)` with the score the sum of the two norms, best first (ties:
+/// the earlier first-arm candidate, then the earlier second-arm one), among the pairs whose
+/// grasp points are at least `min_separation` (m) apart and that `compatible` (given the two
+/// positions) accepts; and how many better pairs `compatible` refused.
+///
+/// Best-first over each arm's candidates sorted by norm: a pair is visited only after the pairs
+/// that beat it in both arms, so the work grows with the pairs visited, not with the product
+/// of the two candidate counts, and `compatible` is asked only about the pairs visited, in
+/// order. The pairs depend only on the sets given, not on their order.
+pub fn best_pairs_of(
+    first: PairArm<'_>,
+    second: PairArm<'_>,
+    min_separation: f64,
+    count: usize,
+    compatible: &dyn Fn(usize, usize) -> bool,
+) -> (Vec<PositionPair>, usize) {
+    // Each arm's eligible candidates, by norm (best first), then candidate order.
+    let by_norm = |mut list: Vec<(usize, f64)>| {
         list.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));
         list
     };
-    let a = eligible(first.0, first.1);
-    let b = eligible(second.0, second.1);
+    let a = by_norm(first.eligible);
+    let b = by_norm(second.eligible);
     let mut kept = Vec::new();
     let mut refused = 0;
-    if a.is_empty() || b.is_empty() || options.pairs == 0 {
+    if a.is_empty() || b.is_empty() || count == 0 {
         return (kept, refused);
     }
     let mut frontier = BinaryHeap::new();
@@ -295,8 +343,8 @@ pub fn best_pairs<S: Scored>(
         push(&mut frontier, &mut queued, x + 1, y);
         push(&mut frontier, &mut queued, x, y + 1);
         let (i, j) = (next.first, next.second);
-        let (pi, pj) = (first.0[i].grasp_point(), second.0[j].grasp_point());
-        if (pi - pj).norm() < options.min_separation {
+        let (pi, pj) = ((first.grasp_point)(i), (second.grasp_point)(j));
+        if (pi - pj).norm() < min_separation {
             continue;
         }
         if !compatible(i, j) {
@@ -304,7 +352,7 @@ pub fn best_pairs<S: Scored>(
             continue;
         }
         kept.push((i, j, next.score));
-        if kept.len() == options.pairs {
+        if kept.len() == count {
             break;
         }
     }

@@ -1,10 +1,14 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
-use super::rank::{rank_candidates, rank_pairs, ArmPair, Ranking};
+use super::rank::{
+    best_pairs_of, rank_candidates, rank_pairs, ArmPair, PairArm, PositionPair, Ranking,
+};
 use super::scalars::Scored;
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::collision::{check_arms, ArmMotion};
 use crate::task::{ArmSetup, Task};
+use std::cell::RefCell;
+use std::collections::{HashMap, HashSet};
 
 /// One arm's results: the full scores ([`select`]) or their scalars
 /// ([`CandidateScalars`](super::CandidateScalars), [`select_streaming`](super::select_streaming)).
@@ -96,6 +100,128 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
         pairs,
         colliding_pairs,
     }
+}
+
+/// Why [`pairs_of_eligible`] cannot pair the candidates it is given.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PairInputError {
+    /// The task does not have exactly two arms.
+    #[error("{task}: arm pairs need a task with two arms (it has {arms})")]
+    NotTwoArms {
+        /// The task's name.
+        task: String,
+        /// Its number of arms.
+        arms: usize,
+    },
+    /// A position is not one of the task's candidates.
+    #[error(
+        "{task}: arm '{arm}': candidate {position} is not one of the task's {count} candidates"
+    )]
+    OutOfRange {
+        /// The task's name.
+        task: String,
+        /// The arm.
+        arm: String,
+        /// The position given.
+        position: usize,
+        /// The task's number of candidates.
+        count: usize,
+    },
+    /// A position is given twice for one arm.
+    #[error("{task}: arm '{arm}': candidate {position} is given twice")]
+    Repeated {
+        /// The task's name.
+        task: String,
+        /// The arm.
+        arm: String,
+        /// The position given twice.
+        position: usize,
+    },
+}
+
+/// The best `count` arm pairs of a two-arm `task`, from each arm's eligible candidates and
+/// their norms found by an earlier scoring — candidate slices scored apart, as
+/// `graspath.ray`'s shards do: `first` and `second` are `(position in the task's candidates,
+/// norm)` of every ranked candidate of the first and second arm (the norm the task ranks by,
+/// `μ_l2`, or `μ_l1` with `norm: l1`), in any order. With every ranked candidate given and
+/// `count ≤ selection.pairs`, the pairs, as `(first-arm position, second-arm position,
+/// score)` best first, are the first `count` of [`select`]'s, in the same order with the same
+/// scores (the sum of the two norms); also returned: how many better pairs the check between
+/// the arms refused.
+///
+/// The check between the arms (a scene with `collision.between_arms`) needs the two arms'
+/// motions: the candidates of the pairs the search looks at are scored again, each once, and
+/// only they (scoring is deterministic and per candidate, so their motions are those of the
+/// earlier scoring).
+///
+/// Errors: the task does not have two arms, or a position is out of range or repeated.
+pub fn pairs_of_eligible(
+    task: &Task,
+    first: &[(usize, f64)],
+    second: &[(usize, f64)],
+    count: usize,
+) -> Result<(Vec<PositionPair>, usize), PairInputError> {
+    if task.arms.len() != 2 {
+        return Err(PairInputError::NotTwoArms {
+            task: task.source_name.clone(),
+            arms: task.arms.len(),
+        });
+    }
+    let candidates = task.candidate_count();
+    for (arm, eligible) in task.arms.iter().zip([first, second]) {
+        let mut seen = HashSet::with_capacity(eligible.len());
+        for &(position, _) in eligible {
+            if position >= candidates {
+                return Err(PairInputError::OutOfRange {
+                    task: task.source_name.clone(),
+                    arm: arm.name.clone(),
+                    position,
+                    count: candidates,
+                });
+            }
+            if !seen.insert(position) {
+                return Err(PairInputError::Repeated {
+                    task: task.source_name.clone(),
+                    arm: arm.name.clone(),
+                    position,
+                });
+            }
+        }
+    }
+    // Every position is in range (checked above).
+    let all = task.all_candidates();
+    // Whole motions scored on demand, once per arm and candidate.
+    let motions = RefCell::new(HashMap::new());
+    let need_motions = pairs_need_motions(task);
+    let apart = |i: usize, j: usize| {
+        if !need_motions {
+            return true;
+        }
+        let mut motions = motions.borrow_mut();
+        for (arm, position) in [(0, i), (1, j)] {
+            motions.entry((arm, position)).or_insert_with(|| {
+                let setup = scoring_setup(task, &task.arms[arm]);
+                score_candidates(&setup, std::slice::from_ref(&all[position]), &|| {})
+                    .first()
+                    .map(whole_motion)
+                    .unwrap_or_default()
+            });
+        }
+        arms_apart(task, &motions[&(0, i)], &motions[&(1, j)])
+    };
+    Ok(best_pairs_of(
+        PairArm {
+            eligible: first.to_vec(),
+            grasp_point: &|i| all[i].grasp_point(),
+        },
+        PairArm {
+            eligible: second.to_vec(),
+            grasp_point: &|j| all[j].grasp_point(),
+        },
+        task.selection.min_separation,
+        count,
+        &apart,
+    ))
 }
 
 /// What scoring one of the task's arms needs.

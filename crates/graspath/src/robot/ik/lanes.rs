@@ -390,6 +390,33 @@ impl<'k> Lanes<'k> {
     }
 }
 
+/// Runs every attempt of `attempts` to its end in the lanes of `lanes`, each allowed its own
+/// number of evaluations (`attempts[i].1`, [`Budget`](super::kernel::Budget)'s count); returns
+/// the ends in the attempts' order.
+pub(crate) fn run_each(lanes: &mut Lanes<'_>, attempts: &[(Attempt, usize)]) -> Vec<AttemptEnd> {
+    let mut ends: Vec<Option<AttemptEnd>> = vec![None; attempts.len()];
+    let mut started = 0;
+    let mut ended = Vec::with_capacity(4);
+    loop {
+        while started < attempts.len() {
+            let Some(lane) = lanes.free_lane() else { break };
+            let (attempt, limit) = &attempts[started];
+            lanes.start(lane, started, attempt, *limit);
+            started += 1;
+        }
+        if !lanes.busy() {
+            break;
+        }
+        lanes.advance(&mut ended);
+        for (tag, end) in ended.drain(..) {
+            ends[tag] = Some(end);
+        }
+    }
+    ends.into_iter()
+        .map(|end| end.expect("every started attempt ends"))
+        .collect()
+}
+
 /// Where a started attempt stands, while it waits to be handed over.
 #[derive(Debug)]
 enum Standing {
@@ -588,33 +615,21 @@ mod tests {
                 })
                 .collect();
             let mut lanes = Lanes::new(kernel, target, Patience::SEARCH);
-            let mut got: Vec<Option<Bits>> = vec![None; attempts.len()];
-            let mut started = 0;
-            let mut ended = Vec::new();
-            loop {
-                while started < attempts.len() {
-                    let Some(lane) = lanes.free_lane() else { break };
-                    let (attempt, limit) = &attempts[started];
-                    lanes.start(lane, started, attempt, *limit);
-                    started += 1;
-                }
-                if !lanes.busy() {
-                    break;
-                }
-                lanes.advance(&mut ended);
-                for (tag, end) in ended.drain(..) {
-                    got[tag] = Some(bits(
+            let got: Vec<Bits> = run_each(&mut lanes, &attempts)
+                .iter()
+                .map(|end| {
+                    bits(
                         end.end,
                         end.spent,
                         &end.q,
                         (end.position_error, end.rotation_error),
                         end.cost,
-                    ));
-                }
-            }
+                    )
+                })
+                .collect();
             for (i, (attempt, limit)) in attempts.iter().enumerate() {
                 let expected = alone(&kernel, &target, attempt, *limit);
-                assert_eq!(got[i].as_ref(), Some(&expected), "case {case}, attempt {i}");
+                assert_eq!(got[i], expected, "case {case}, attempt {i}");
             }
         }
     }

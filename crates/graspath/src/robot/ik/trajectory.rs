@@ -31,7 +31,7 @@
 //! share the tracker's state.
 
 use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
-use super::lanes::{run_in_order, Attempt, Handed, Lanes};
+use super::lanes::{run_each, run_in_order, Attempt, Handed, Lanes};
 use super::{
     check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
     IkOptions, RESTART_ATTEMPT_CAP,
@@ -428,34 +428,37 @@ impl Tracker<'_> {
         if far {
             return fail(FailureReason::Unreachable, self.reach_detail(target));
         }
+        // The restarts, each with its own budget, run together in vector lanes; the first
+        // (in restart order) that converges decides.
         let free = self.kernel.unconstrained();
         let mut rng = self.rng(usize::MAX, 0);
-        let mut ws = Workspace::new();
         let cap = self.options.per_sample_iterations.max(30).saturating_mul(2);
-        for k in 0..CLASSIFY_RESTARTS {
-            let mut budget = Budget::new(cap, None);
-            if k == 0 {
-                ws.cur_mut().q[..start.len()].copy_from_slice(start);
-            } else {
-                self.kernel
-                    .random_configuration(&mut rng, &mut ws.cur_mut().q[..start.len()]);
-            }
-            let end = run_attempt(
-                &free,
-                target,
-                &mut ws,
-                Strategy::Clamped,
-                cap,
-                Patience::SEARCH,
-                &mut budget,
-            );
-            if end == RunEnd::Converged {
-                let q = &ws.cur().q[..start.len()];
-                if self.kernel.chain.within_limits(q) {
-                    return Ok(q.to_vec());
+        let restarts: Vec<(Attempt, usize)> = (0..CLASSIFY_RESTARTS)
+            .map(|k| {
+                let mut q = [0.0; MAX_JOINTS];
+                if k == 0 {
+                    q[..start.len()].copy_from_slice(start);
+                } else {
+                    self.kernel
+                        .random_configuration(&mut rng, &mut q[..start.len()]);
                 }
-                return fail(FailureReason::JointLimit, self.limit_detail(q));
+                let attempt = Attempt {
+                    q,
+                    strategy: Strategy::Clamped,
+                    cap,
+                };
+                (attempt, cap)
+            })
+            .collect();
+        let mut lanes = Lanes::new(free, *target, Patience::SEARCH);
+        if let Some(end) = run_each(&mut lanes, &restarts)
+            .into_iter()
+            .find(|end| end.end == RunEnd::Converged)
+        {
+            if self.kernel.chain.within_limits(&end.q) {
+                return Ok(end.q);
             }
+            return fail(FailureReason::JointLimit, self.limit_detail(&end.q));
         }
         fail(
             FailureReason::Unreachable,

@@ -15,7 +15,6 @@ use super::settings::{
 };
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
-use crate::geometry::shape::Shape;
 use crate::grasp::hand::Hand;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{
@@ -93,7 +92,6 @@ fn builder_with(
         file,
         source_name,
         base_dir,
-        file.object.shape.as_ref(),
         &limits,
         world_from_object,
         scene.as_ref(),
@@ -350,12 +348,12 @@ fn setup_candidates(
     file: &TaskFile,
     source: &str,
     base_dir: &Path,
-    shape: Option<&Shape>,
     limits: &Limits,
     world_from_object: Isometry3<f64>,
     scene: Option<&Scene>,
     index_file: bool,
 ) -> Result<SetUp, TaskError> {
+    let shape = file.object.shape.as_ref();
     let scene = scene.map(|s| (s, world_from_object));
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     // A family's count is checked before the family is generated.

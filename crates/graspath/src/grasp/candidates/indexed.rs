@@ -71,7 +71,7 @@ impl CandidateFile {
         let mut max_log_likelihood = f64::NEG_INFINITY;
         let mut marks = Vec::new();
         check_file(path, |row: Row| {
-            if row.index % INDEX_STRIDE == 0 {
+            if row.index.is_multiple_of(INDEX_STRIDE) {
                 marks.push(row.resume);
             }
             len += 1;

@@ -11,12 +11,11 @@ use std::fmt;
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
-use std::rc::Rc;
 
 /// The layout of a graspath candidate file, from its extension: `.csv` is CSV, anything else
 /// JSON.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Layout {
+enum Layout {
     /// A header line, then one candidate per record.
     Csv,
     /// `{"format": …, "candidates": [...]}` or a bare list of candidates.
@@ -24,7 +23,7 @@ pub(super) enum Layout {
 }
 
 impl Layout {
-    pub(super) fn of(path: &Path) -> Self {
+    fn of(path: &Path) -> Self {
         if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
@@ -108,7 +107,7 @@ fn fault_of<E>(file: &Path, (location, message): Fault) -> ScanError<E> {
 }
 
 /// The file opened for reading, refused above [`MAX_FILE_BYTES`] when its length is known.
-pub(super) fn open(path: &Path) -> Result<File, Fault> {
+fn open(path: &Path) -> Result<File, Fault> {
     let file = File::open(path).map_err(|e| ("file".to_string(), format!("cannot read: {e}")))?;
     if let Ok(metadata) = file.metadata() {
         if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
@@ -124,12 +123,12 @@ fn too_large(bytes: u64) -> String {
 
 /// A reader that counts the bytes it hands on (the JSON entries' offsets) and refuses more
 /// than [`MAX_FILE_BYTES`] (pipes and devices, whose length is not known beforehand).
-struct Counted<R> {
+struct Counted<'a, R> {
     inner: R,
-    count: Rc<Cell<u64>>,
+    count: &'a Cell<u64>,
 }
 
-impl<R: Read> Read for Counted<R> {
+impl<R: Read> Read for Counted<'_, R> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
         let count = self.count.get() + n as u64;
@@ -149,12 +148,12 @@ pub(super) fn scan_file<E>(
     sink: &mut dyn FnMut(Row) -> Result<Flow, E>,
 ) -> Result<(), ScanError<E>> {
     let file = open(path).map_err(|f| fault_of(path, f))?;
-    let count = Rc::new(Cell::new(0));
+    let count = Cell::new(0);
     let result = match Layout::of(path) {
         Layout::Csv => {
             let mut reader = csv_reader(Counted {
                 inner: file,
-                count: Rc::clone(&count),
+                count: &count,
             });
             csv_columns(&mut reader)
                 .map_err(|f| fault_of(path, f))
@@ -164,7 +163,7 @@ pub(super) fn scan_file<E>(
             // Byte by byte from the buffer, so the count is where the parser is.
             let reader = Counted {
                 inner: BufReader::new(file),
-                count: Rc::clone(&count),
+                count: &count,
             };
             let mut de = serde_json::Deserializer::from_reader(reader);
             let state = JsonState::new(path, &count, sink, 0);
@@ -227,10 +226,10 @@ pub(super) fn scan_from<E>(
                 offset += 1;
             }
             // The count starts one byte early for the `[` put in front.
-            let count = Rc::new(Cell::new(offset - 1));
+            let count = Cell::new(offset - 1);
             let reader = Counted {
                 inner: (&b"["[..]).chain(reader),
-                count: Rc::clone(&count),
+                count: &count,
             };
             let mut de = serde_json::Deserializer::from_reader(reader);
             let state = JsonState::new(path, &count, sink, index);
@@ -246,7 +245,7 @@ pub(super) fn changed<E>(path: &Path) -> ScanError<E> {
         path,
         (
             "file".into(),
-            "changed since it was checked (read it again)".into(),
+            "changed after it was checked; run again on the file as it is now".into(),
         ),
     )
 }

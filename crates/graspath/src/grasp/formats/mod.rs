@@ -496,15 +496,13 @@ struct TopKeys {
 
 impl TopKeys {
     fn format(&self) -> GraspFormat {
-        let format = self.format.as_ref().and_then(|f| f.as_str());
-        if format == Some("isaac_grasp") {
-            GraspFormat::GraspGen
-        } else if self
+        let isaac = self.format.as_ref().and_then(|f| f.as_str()) == Some("isaac_grasp");
+        let dataset = self
             .grasps
             .as_ref()
             .and_then(|g| g.get("transforms"))
-            .is_some()
-        {
+            .is_some();
+        if isaac || dataset {
             GraspFormat::GraspGen
         } else if self.transforms {
             GraspFormat::Acronym

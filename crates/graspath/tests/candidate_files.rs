@@ -314,7 +314,7 @@ fn a_file_changed_after_it_was_indexed_is_an_error() {
         for err in [chunks, one] {
             assert_eq!(err.location, "file", "{err}");
             assert!(
-                err.message.contains("changed since it was checked"),
+                err.message.contains("changed after it was checked"),
                 "{err}"
             );
         }

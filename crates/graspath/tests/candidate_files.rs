@@ -191,6 +191,8 @@ fn check_indexed_equals_whole(path: &Path) {
 fn an_indexed_csv_file_reads_the_whole_file_readers_candidates() {
     let dir = tempfile::tempdir().unwrap();
     check_indexed_equals_whole(&write(dir.path(), "c.csv", &csv_text(N, None)));
+    let crlf = csv_text(N, None).replace('\n', "\r\n");
+    check_indexed_equals_whole(&write(dir.path(), "crlf.csv", &crlf));
 }
 
 #[test]
@@ -198,6 +200,8 @@ fn an_indexed_json_file_reads_the_whole_file_readers_candidates() {
     let dir = tempfile::tempdir().unwrap();
     check_indexed_equals_whole(&write(dir.path(), "w.json", &json_text(N, true, None)));
     check_indexed_equals_whole(&write(dir.path(), "b.json", &json_text(N, false, None)));
+    let crlf = json_text(N, false, None).replace('\n', "\r\n");
+    check_indexed_equals_whole(&write(dir.path(), "crlf.json", &crlf));
 }
 
 /// Indexing and reading whole fail alike, with the error `location` and a message containing

@@ -15,6 +15,10 @@
 //! (then normalised), a matrix orthonormal (see [`crate::geometry::ROTATION_TOLERANCE`]); wrist
 //! and contact positions within [`MAX_OFFSET`] of the object origin; ids unique; the file at
 //! most [`MAX_FILE_BYTES`] long (the number of candidates is what the file holds).
+//!
+//! A file is read record by record, never held as text: [`read_candidates`] keeps every
+//! candidate, [`CandidateFile`] checks the file once and reads it again in chunks; both read
+//! through the same record reader, so they give the same candidates and the same errors.
 
 mod indexed;
 mod rows;

@@ -1,7 +1,8 @@
 //! `graspath select --format jsonl`: the streamed records equal the in-memory `candidates.json`
 //! field by field (with `rank` and `pareto` taken from `ranking.jsonl`), `summary.json` and
 //! `pairs.json` are the same bytes, the output does not depend on the thread count, and
-//! `--trajectories` keeps the motions it names.
+//! `--trajectories` keeps the motions it names. A task naming a candidate file (read in chunks
+//! when streamed) gives the same records, and a bad record in it the same error and no output.
 
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -97,6 +98,112 @@ fn one_arm_streamed_records_equal_the_in_memory_records() {
 fn two_arms_streamed_records_and_pairs_equal_the_in_memory_ones() {
     let dir = tempfile::tempdir().unwrap();
     check_streamed_equals_in_memory(&example("pick_and_place_both.yaml"), dir.path());
+}
+
+/// The faces workload of 300 candidates with its family written out as a graspath candidate
+/// file `name` (CSV or JSON by extension; likelihoods that differ) in a folder of `dir` of that
+/// name; `bad`: the record of candidate 150 replaced by this CSV line.
+fn candidate_file_task(dir: &Path, name: &str, bad: Option<&str>) -> PathBuf {
+    let folder = dir.join(name.replace('.', "_"));
+    std::fs::create_dir_all(&folder).unwrap();
+    let faces = faces_task(&folder);
+    let family = graspath::task::Task::load(&faces).unwrap().candidates;
+    let likelihood = |k: usize| 0.3 + (k % 7) as f64 / 7.0;
+    let mut text = String::new();
+    if name.ends_with(".csv") {
+        text.push_str("id,label,x,y,z,qx,qy,qz,qw,likelihood\n");
+        for (k, c) in family.iter().enumerate() {
+            let (t, q) = (
+                c.object_from_wrist.translation,
+                c.object_from_wrist.rotation,
+            );
+            match bad {
+                Some(line) if k == 150 => text.push_str(line),
+                _ => text.push_str(&format!(
+                    "{k},{},{},{},{},{},{},{},{},{}",
+                    c.label,
+                    t.x,
+                    t.y,
+                    t.z,
+                    q.i,
+                    q.j,
+                    q.k,
+                    q.w,
+                    likelihood(k)
+                )),
+            }
+            text.push('\n');
+        }
+    } else {
+        let entries: Vec<String> = family
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let (t, q) = (
+                    c.object_from_wrist.translation,
+                    c.object_from_wrist.rotation,
+                );
+                json!({
+                    "id": k,
+                    "label": c.label,
+                    "pose": {"xyz": [t.x, t.y, t.z], "quaternion": [q.i, q.j, q.k, q.w]},
+                    "likelihood": likelihood(k),
+                })
+                .to_string()
+            })
+            .collect();
+        text = format!("[\n{}\n]\n", entries.join(",\n"));
+    }
+    std::fs::write(folder.join(name), text).unwrap();
+    let task = std::fs::read_to_string(&faces).unwrap().replace(
+        "family: { faces: { count: 300, exclude: [bottom], depth: 0.02 } }",
+        &format!("file: {name}"),
+    );
+    assert!(task.contains("file: "), "the workload file changed");
+    std::fs::write(&faces, task).unwrap();
+    faces
+}
+
+#[test]
+fn a_candidate_file_streams_the_in_memory_records() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["grasps.csv", "grasps.json"] {
+        let task = candidate_file_task(dir.path(), name, None);
+        check_streamed_equals_in_memory(&task, task.parent().unwrap());
+    }
+}
+
+#[test]
+fn a_bad_record_in_a_candidate_file_gives_the_in_memory_error_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = candidate_file_task(dir.path(), "grasps.csv", Some("150,x,0,0,0,0,0,0,oops,1"));
+    let mut errors = Vec::new();
+    for format in ["json", "jsonl", "parquet"] {
+        let out = dir.path().join(format!("out_{format}"));
+        let output = graspath(
+            &[
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--format",
+                format,
+            ],
+            "2",
+        );
+        assert!(!output.status.success());
+        assert!(!out.exists(), "{format}: output written");
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        // The header is line 1 and every label is on one line.
+        assert!(
+            stderr.contains("grasps.csv: line 152: column 'qw': 'oops' is not a number"),
+            "{stderr}"
+        );
+        errors.push((output.status.code(), stderr));
+    }
+    assert_eq!(errors[0], errors[1]);
+    assert_eq!(errors[0], errors[2]);
 }
 
 #[test]

@@ -2,8 +2,10 @@
 //! streamed candidate's full scores equal `select`'s, its streamed ranking equals `select`'s
 //! without rank and Pareto flag, the final rankings and pairs are equal, and the kept scores are
 //! `select`'s reduced to scalars. Candidates come out in candidate order, arm by arm. A task
-//! whose family is laid out on demand (`Task::from_file_chunked`) streams the same results.
+//! whose family is laid out on demand, or whose candidate file is read in chunks
+//! (`Task::from_file_chunked`), streams the same results as the task held whole.
 
+use graspath::grasp::{CandidateError, CandidateSource};
 use graspath::select::{
     select, select_streaming, CandidateScalars, Ranking, Scored, Selection, NAMED_BEST,
 };
@@ -26,10 +28,16 @@ fn example_task(name: &str) -> Task {
 }
 
 fn check_streaming_equals_in_memory(task: &Task) {
+    check_streamed_task_equals_in_memory(task, task);
+}
+
+/// `streamed_task` streamed against `task` selected in memory (the same task, or the same
+/// task file loaded whole).
+fn check_streamed_task_equals_in_memory(streamed_task: &Task, task: &Task) {
     let reference = select(task, &|| {});
     let mut seen: Vec<(String, usize)> = Vec::new();
     let streamed: Selection<CandidateScalars> =
-        select_streaming(task, &|| {}, |s| -> Result<(), ()> {
+        select_streaming(streamed_task, &|| {}, |s| -> Result<(), CandidateError> {
             let arm = reference
                 .arms
                 .iter()
@@ -122,14 +130,21 @@ fn a_family_laid_out_on_demand_streams_the_in_memory_results() {
         let file = TaskFile::parse(&text, "t.yaml", "yaml").expect("task parses");
         let whole = Task::from_file(&file, "t.yaml", &examples()).expect("task builds");
         let chunked = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
-        assert!(chunked.candidates.is_empty() && chunked.candidate_family.is_some());
+        assert!(chunked.candidates.is_empty());
+        assert!(matches!(
+            chunked.candidate_source,
+            Some(CandidateSource::Family(_))
+        ));
         assert_eq!(chunked.candidate_count(), count, "{family}");
         // Oracle: the family generated whole, by the in-memory path.
-        assert_eq!(chunked.all_candidates().as_ref(), &whole.candidates[..]);
+        assert_eq!(
+            chunked.all_candidates().unwrap().as_ref(),
+            &whole.candidates[..]
+        );
         for size in [1, 7, 256, count + 3] {
             let mut read = Vec::new();
             chunked
-                .for_each_candidate_chunk(size, |chunk| -> Result<(), ()> {
+                .for_each_candidate_chunk(size, |chunk| -> Result<(), CandidateError> {
                     assert!(!chunk.is_empty() && chunk.len() <= size);
                     read.extend_from_slice(chunk);
                     Ok(())
@@ -143,8 +158,10 @@ fn a_family_laid_out_on_demand_streams_the_in_memory_results() {
         assert_eq!(chunked.max_log_likelihood(), whole.max_log_likelihood());
         if count == 600 || family != "faces" {
             let reference = select(&whole, &|| {});
-            let streamed =
-                select_streaming(&chunked, &|| {}, |_| -> Result<(), ()> { Ok(()) }).unwrap();
+            let streamed = select_streaming(&chunked, &|| {}, |_| -> Result<(), CandidateError> {
+                Ok(())
+            })
+            .unwrap();
             for (got, want) in streamed.arms.iter().zip(&reference.arms) {
                 assert_eq!(got.rankings, want.rankings, "{family}");
                 let ids: Vec<usize> = got.scores.iter().map(Scored::id).collect();
@@ -167,6 +184,170 @@ fn two_arms_in_a_scene_keep_the_motions_the_pair_check_needs() {
     check_streaming_equals_in_memory(&task);
 }
 
+/// A task file's text with its candidate family (`family`, the text of its `family:` line)
+/// replaced by a graspath candidate file `name` (CSV or JSON by its extension) written into
+/// `dir`: the family's candidates with likelihoods that differ, so the ranking uses them.
+fn with_candidate_file(text: &str, family: &str, dir: &Path, name: &str) -> String {
+    assert!(text.contains(family), "the task file changed");
+    let whole = task_from(text, &examples());
+    let path = dir.join(name);
+    let likelihood = |k: usize| 0.2 + (k % 5) as f64 / 5.0;
+    let mut file = String::new();
+    if name.ends_with(".csv") {
+        file.push_str("id,label,x,y,z,qx,qy,qz,qw,likelihood\n");
+        for (k, c) in whole.candidates.iter().enumerate() {
+            let (t, q) = (
+                c.object_from_wrist.translation,
+                c.object_from_wrist.rotation,
+            );
+            file.push_str(&format!(
+                "{},\"{}, from the family\",{},{},{},{},{},{},{},{}\n",
+                c.id + 100,
+                c.label,
+                t.x,
+                t.y,
+                t.z,
+                q.i,
+                q.j,
+                q.k,
+                q.w,
+                likelihood(k)
+            ));
+        }
+    } else {
+        let entries: Vec<String> = whole
+            .candidates
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let (t, q) = (c.object_from_wrist.translation, c.object_from_wrist.rotation);
+                format!(
+                    "{{\"id\": {}, \"pose\": {{\"xyz\": [{}, {}, {}], \"quaternion\": [{}, {}, {}, {}]}}, \"log_likelihood\": {}}}",
+                    c.id + 100,
+                    t.x,
+                    t.y,
+                    t.z,
+                    q.i,
+                    q.j,
+                    q.k,
+                    q.w,
+                    likelihood(k).ln()
+                )
+            })
+            .collect();
+        file.push_str(&format!(
+            "{{\"format\": \"graspath-candidates\", \"candidates\": [\n{}\n]}}\n",
+            entries.join(",\n")
+        ));
+    }
+    std::fs::write(&path, file).unwrap();
+    text.replace(family, &format!("file: {}", path.display()))
+}
+
+/// The task file loaded whole and with its candidate file read in chunks: the same
+/// candidates at every chunk size and by position, and the same streamed results as the
+/// in-memory selection of the task loaded whole.
+fn check_candidate_file_task(text: &str) {
+    let file = TaskFile::parse(text, "t.yaml", "yaml").expect("task parses");
+    let whole = Task::from_file(&file, "t.yaml", &examples()).expect("task builds");
+    let chunked = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
+    assert!(chunked.candidates.is_empty());
+    assert!(matches!(
+        chunked.candidate_source,
+        Some(CandidateSource::File(_))
+    ));
+    let n = whole.candidates.len();
+    assert_eq!(chunked.candidate_count(), n);
+    assert_eq!(chunked.max_log_likelihood(), whole.max_log_likelihood());
+    for size in [1, 7, 256, n + 3] {
+        let mut read = Vec::new();
+        chunked
+            .for_each_candidate_chunk(size, |chunk| -> Result<(), CandidateError> {
+                assert!(!chunk.is_empty() && chunk.len() <= size);
+                read.extend_from_slice(chunk);
+                Ok(())
+            })
+            .unwrap();
+        assert_eq!(read, whole.candidates, "chunks of {size}");
+    }
+    for (i, c) in whole.candidates.iter().enumerate() {
+        assert_eq!(chunked.candidate_at(i).unwrap().as_ref(), Some(c));
+    }
+    assert_eq!(chunked.candidate_at(n).unwrap(), None);
+    check_streamed_task_equals_in_memory(&chunked, &whole);
+}
+
+#[test]
+fn a_candidate_file_read_in_chunks_streams_the_in_memory_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let faces = std::fs::read_to_string(examples().join("workload_1000_faces.yaml"))
+        .unwrap()
+        .replace("count: 1000", "count: 600")
+        .replace("samples: 50", "samples: 8");
+    let family = "family: { faces: { count: 600, exclude: [bottom], depth: 0.02 } }";
+    check_candidate_file_task(&with_candidate_file(&faces, family, dir.path(), "f.csv"));
+    check_candidate_file_task(&with_candidate_file(&faces, family, dir.path(), "f.json"));
+}
+
+#[test]
+fn two_arms_with_a_candidate_file_read_in_chunks_stream_the_in_memory_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let both = std::fs::read_to_string(examples().join("pick_and_place_both.yaml"))
+        .unwrap()
+        .replace("count: 21", "count: 150");
+    let family = "family: { edge: { count: 150, depth: 0.02, margin: 0.02 } }";
+    for name in ["e.csv", "e.json"] {
+        let text = with_candidate_file(&both, family, dir.path(), name);
+        check_candidate_file_task(&text);
+        let whole = task_from(&text, &examples());
+        assert!(
+            !select(&whole, &|| {}).pairs.is_empty(),
+            "no pair to compare"
+        );
+    }
+}
+
+#[test]
+fn a_candidate_file_cut_short_while_it_is_streamed_ends_the_selection_with_its_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let faces = std::fs::read_to_string(examples().join("workload_1000_faces.yaml"))
+        .unwrap()
+        .replace("count: 1000", "count: 600")
+        .replace("samples: 50", "samples: 4");
+    let family = "family: { faces: { count: 600, exclude: [bottom], depth: 0.02 } }";
+    let text = with_candidate_file(&faces, family, dir.path(), "cut.csv");
+    let file = TaskFile::parse(&text, "t.yaml", "yaml").expect("task parses");
+    let task = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
+    let path = dir.path().join("cut.csv");
+    let mut calls = 0;
+    let result = select_streaming(&task, &|| {}, |_| -> Result<(), Stop> {
+        calls += 1;
+        if calls == 1 {
+            let bytes = std::fs::read(&path).unwrap();
+            std::fs::write(&path, &bytes[..bytes.len() / 3]).unwrap();
+        }
+        Ok(())
+    });
+    match result {
+        Err(Stop::Candidates(e)) => assert!(e.file.ends_with("cut.csv"), "{e}"),
+        other => panic!("expected the file's error, got {other:?}"),
+    }
+    assert!(calls < 600, "the selection went on after the file was cut");
+}
+
+/// A consumer's own error, or a candidate file's.
+#[derive(Debug, PartialEq)]
+enum Stop {
+    DiskFull,
+    Candidates(CandidateError),
+}
+
+impl From<CandidateError> for Stop {
+    fn from(e: CandidateError) -> Self {
+        Self::Candidates(e)
+    }
+}
+
 #[test]
 fn a_consumer_error_stops_the_stream() {
     let task = example_task("pick_and_place_left.yaml");
@@ -174,11 +355,11 @@ fn a_consumer_error_stops_the_stream() {
     let result = select_streaming(&task, &|| {}, |_| {
         calls += 1;
         if calls == 3 {
-            Err("disk full")
+            Err(Stop::DiskFull)
         } else {
             Ok(())
         }
     });
-    assert_eq!(result.unwrap_err(), "disk full");
+    assert_eq!(result.unwrap_err(), Stop::DiskFull);
     assert_eq!(calls, 3);
 }

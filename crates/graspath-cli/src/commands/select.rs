@@ -187,13 +187,17 @@ fn stream_task(
     let total = task.candidate_count() * task.arms.len();
     let progress = Progress::new(&args.output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
-    let selection = select_streaming(task, &|| progress.inc(), |streamed| match &mut records {
-        Records::Lines(lines) => {
-            write_candidate_line(lines, &streamed, trajectories).map_err(anyhow::Error::from)
+    // A write fails with the file written; a candidate file that can no longer be read (it
+    // changed since it was checked) with its own error.
+    let selection = select_streaming(task, &|| progress.inc(), |streamed| {
+        match &mut records {
+            Records::Lines(lines) => {
+                write_candidate_line(lines, &streamed, trajectories).map_err(anyhow::Error::from)
+            }
+            Records::Parquet(writer) => writer.push(&streamed).map_err(anyhow::Error::from),
         }
-        Records::Parquet(writer) => writer.push(&streamed).map_err(anyhow::Error::from),
-    })
-    .with_context(|| cannot(candidates_name))?;
+        .with_context(|| cannot(candidates_name))
+    })?;
     progress.finish();
     let elapsed = started.elapsed();
     let file = match records {
@@ -260,7 +264,8 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
             "--report needs every candidate's series in memory: use it with --format json"
         ));
     }
-    // A candidate family is computed chunk by chunk as it is scored, never held whole.
+    // A candidate family is computed, and a graspath candidate file read, chunk by chunk as
+    // they are scored, never held whole.
     let task =
         Task::from_file_chunked(&file, &title, &base_dir).context("cannot use the task file")?;
     let (selection, elapsed) = stream_task(&task, args, existing, &title, trajectories)?;

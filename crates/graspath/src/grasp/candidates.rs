@@ -15,11 +15,20 @@
 //! (then normalised), a matrix orthonormal (see [`crate::geometry::ROTATION_TOLERANCE`]); wrist
 //! and contact positions within [`MAX_OFFSET`] of the object origin; ids unique; the file at
 //! most [`MAX_FILE_BYTES`] long (the number of candidates is what the file holds).
+//!
+//! A file is read record by record, never held as text: [`read_candidates`] keeps every
+//! candidate, [`CandidateFile`] checks the file once and reads it again in chunks; both read
+//! through the same record reader, so they give the same candidates and the same errors.
+
+mod indexed;
+mod rows;
+
+pub use indexed::{CandidateFile, INDEX_STRIDE};
 
 use crate::geometry::PoseSpec;
 use nalgebra::{Isometry3, Point3};
+use rows::{scan_file, Flow, Row, ScanError};
 use serde::Deserialize;
-use std::io::Read;
 use std::path::Path;
 
 /// The largest distance (m) of a wrist or contact coordinate from the object origin: a grasp
@@ -69,18 +78,6 @@ pub struct CandidateError {
     pub location: String,
     /// What is wrong.
     pub message: String,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Wrapped {
-    #[serde(default)]
-    format: Option<String>,
-    #[serde(default)]
-    version: Option<u32>,
-    #[serde(default)]
-    frame: Option<String>,
-    candidates: Vec<serde_json::Value>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -227,252 +224,62 @@ pub(super) fn check_offset(field: &str, xyz: &[f64; 3]) -> Result<(), (String, S
 }
 
 /// Reads candidates from a `.json` or `.csv` file (by extension; others are tried as JSON).
-/// Refuses an empty set and duplicate ids.
+/// Refuses an empty set and duplicate ids. The file is read record by record
+/// ([`CandidateFile`] reads it the same way, chunk by chunk).
 pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
-    let file = path.display().to_string();
-    let error = |location: String, message: String| CandidateError {
-        file: file.clone(),
+    let mut candidates = Vec::new();
+    check_file(path, |row| candidates.push(row.candidate))?;
+    Ok(candidates)
+}
+
+/// Reads the whole file, checking every record, the ids unique and the file not empty, and
+/// hands each candidate on to `keep` in file order. A duplicate id is reported at its second
+/// use, naming the first (found by reading the file again up to it).
+fn check_file(path: &Path, mut keep: impl FnMut(Row)) -> Result<(), CandidateError> {
+    let file_error = |location: String, message: String| CandidateError {
+        file: path.display().to_string(),
         location,
         message,
     };
-    let text = read_text(path).map_err(|m| error("file".into(), m))?;
-    let is_csv = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let located = if is_csv {
-        parse_csv(&text).map_err(|(l, m)| error(l, m))?
-    } else {
-        parse_json(&text).map_err(|(l, m)| error(l, m))?
-    };
-    if located.is_empty() {
-        return Err(error("file".into(), "contains no candidates".into()));
-    }
-    let mut first_use = std::collections::HashMap::with_capacity(located.len());
-    for (location, candidate) in &located {
-        if let Some(earlier) = first_use.insert(candidate.id, location) {
-            return Err(error(
-                location.clone(),
-                format!("id {} is used twice (also by {earlier})", candidate.id),
-            ));
-        }
-    }
-    Ok(located.into_iter().map(|(_, c)| c).collect())
-}
-
-/// The file's text, at most [`MAX_FILE_BYTES`] long (also for pipes and devices).
-fn read_text(path: &Path) -> Result<String, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    if let Ok(metadata) = file.metadata() {
-        if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
-            return Err(too_large(metadata.len()));
-        }
-    }
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read: {e}"))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(too_large(bytes.len() as u64));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        format!(
-            "not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        )
-    })
-}
-
-fn too_large(bytes: u64) -> String {
-    format!("is larger than {MAX_FILE_BYTES} bytes (at least {bytes}); split the candidates into several files")
-}
-
-/// Candidates with where each one is in its file (`candidates[3]`, `line 7`).
-type Located = Vec<(String, Candidate)>;
-
-fn parse_json(text: &str) -> Result<Located, (String, String)> {
-    let document: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
-    let entries = match document {
-        serde_json::Value::Array(list) => list,
-        object @ serde_json::Value::Object(_) => {
-            let w: Wrapped = serde_json::from_value(object)
-                .map_err(|e| ("file".to_string(), format!("not a candidate document: {e}")))?;
-            if let Some(format) = &w.format {
-                if format != "graspath-candidates" {
-                    return Err((
-                        "format".into(),
-                        format!("expected 'graspath-candidates', got '{format}'"),
-                    ));
+    let mut seen = std::collections::HashSet::new();
+    let mut twice = None;
+    let mut count = 0usize;
+    scan_file(
+        path,
+        &mut |row: Row| -> Result<Flow, std::convert::Infallible> {
+            if !seen.insert(row.candidate.id) {
+                twice = Some((row.location, row.candidate.id));
+                return Ok(Flow::Stop);
+            }
+            count += 1;
+            keep(row);
+            Ok(Flow::Continue)
+        },
+    )
+    .map_err(ScanError::into_file)?;
+    if let Some((location, id)) = twice {
+        let mut first = None;
+        scan_file(
+            path,
+            &mut |row: Row| -> Result<Flow, std::convert::Infallible> {
+                if row.candidate.id == id {
+                    first = Some(row.location);
+                    return Ok(Flow::Stop);
                 }
-            }
-            if let Some(version) = w.version {
-                if version != 1 {
-                    return Err((
-                        "version".into(),
-                        format!("version {version} is not supported (this reads version 1)"),
-                    ));
-                }
-            }
-            if let Some(frame) = &w.frame {
-                if frame != "object" {
-                    return Err((
-                        "frame".into(),
-                        format!("poses must be in the object frame, got '{frame}'"),
-                    ));
-                }
-            }
-            w.candidates
-        }
-        _ => {
-            return Err((
-                "file".into(),
-                "not a candidate document: expected an object with 'candidates' or a list".into(),
-            ))
-        }
-    };
-    entries
-        .into_iter()
-        .enumerate()
-        .map(|(i, value)| {
-            let location = format!("candidates[{i}]");
-            let entry: Entry =
-                serde_json::from_value(value).map_err(|e| (location.clone(), e.to_string()))?;
-            let candidate = Raw {
-                id: entry.id,
-                label: entry.label,
-                pose: entry.pose,
-                matrix: entry.object_from_wrist,
-                xyz: entry.xyz,
-                quaternion: entry.quaternion,
-                likelihood: entry.likelihood,
-                log_likelihood: entry.log_likelihood,
-                contact: entry.contact,
-                hand_joints: entry.hand_joints,
-            }
-            .into_candidate(i)
-            .map_err(|(field, message)| (format!("{location}.{field}"), message))?;
-            Ok((location, candidate))
-        })
-        .collect()
-}
-
-fn parse_csv(text: &str) -> Result<Located, (String, String)> {
-    const KNOWN: [&str; 16] = [
-        "id",
-        "label",
-        "x",
-        "y",
-        "z",
-        "qx",
-        "qy",
-        "qz",
-        "qw",
-        "likelihood",
-        "log_likelihood",
-        "contact_x",
-        "contact_y",
-        "contact_z",
-        "hand_joints",
-        "",
-    ];
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader
-        .headers()
-        .map_err(|e| ("line 1".to_string(), e.to_string()))?
-        .clone();
-    if let Some(unknown) = headers.iter().find(|h| !KNOWN.contains(h)) {
-        return Err(("line 1".into(), format!("unknown column '{unknown}'")));
-    }
-    let column = |name: &str| headers.iter().position(|h| h == name);
-    for required in ["x", "y", "z", "qx", "qy", "qz", "qw"] {
-        if column(required).is_none() {
-            return Err(("line 1".into(), format!("missing column '{required}'")));
-        }
-    }
-    let mut candidates = Vec::new();
-    for (i, record) in reader.records().enumerate() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(i + 2, |p| p.line() as usize);
-            (format!("line {line}"), e.to_string())
-        })?;
-        let line = format!(
-            "line {}",
-            record.position().map_or(i + 2, |p| p.line() as usize)
-        );
-        let number = |name: &str| -> Result<Option<f64>, (String, String)> {
-            match column(name).and_then(|c| record.get(c)) {
-                None | Some("") => Ok(None),
-                Some(text) => text.parse::<f64>().map(Some).map_err(|_| {
-                    (
-                        line.clone(),
-                        format!("column '{name}': '{text}' is not a number"),
-                    )
-                }),
-            }
-        };
-        let need = |name: &str| -> Result<f64, (String, String)> {
-            number(name)?.ok_or_else(|| (line.clone(), format!("column '{name}' is empty")))
-        };
-        let id = match column("id").and_then(|c| record.get(c)) {
-            None | Some("") => None,
-            Some(text) => Some(text.parse::<usize>().map_err(|_| {
-                (
-                    line.clone(),
-                    format!("column 'id': '{text}' is not a whole number"),
-                )
-            })?),
-        };
-        let contact = match (
-            number("contact_x")?,
-            number("contact_y")?,
-            number("contact_z")?,
-        ) {
-            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
-            (None, None, None) => None,
-            _ => {
-                return Err((
-                    line,
-                    "contact_x, contact_y and contact_z go together".into(),
-                ))
-            }
-        };
-        let raw = Raw {
-            id,
-            label: column("label")
-                .and_then(|c| record.get(c))
-                .filter(|s| !s.is_empty())
-                .map(str::to_string),
-            pose: None,
-            matrix: None,
-            xyz: Some([need("x")?, need("y")?, need("z")?]),
-            quaternion: Some([need("qx")?, need("qy")?, need("qz")?, need("qw")?]),
-            likelihood: number("likelihood")?,
-            log_likelihood: number("log_likelihood")?,
-            contact,
-            hand_joints: match column("hand_joints").and_then(|c| record.get(c)) {
-                None => Vec::new(),
-                Some(text) => text
-                    .split(|c: char| c.is_whitespace() || c == ';')
-                    .filter(|v| !v.is_empty())
-                    .map(|v| {
-                        v.parse::<f64>().map_err(|_| {
-                            (
-                                line.clone(),
-                                format!("column 'hand_joints': '{v}' is not a number"),
-                            )
-                        })
-                    })
-                    .collect::<Result<Vec<f64>, _>>()?,
+                Ok(Flow::Continue)
             },
-        };
-        let candidate = raw
-            .into_candidate(i)
-            .map_err(|(field, message)| (line.clone(), format!("{field}: {message}")))?;
-        candidates.push((line, candidate));
+        )
+        .map_err(ScanError::into_file)?;
+        let earlier = first.map_or_else(|| "an earlier candidate".to_string(), |l| l.to_string());
+        return Err(file_error(
+            location.to_string(),
+            format!("id {id} is used twice (also by {earlier})"),
+        ));
     }
-    Ok(candidates)
+    if count == 0 {
+        return Err(file_error("file".into(), "contains no candidates".into()));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -7,12 +7,15 @@ mod families;
 mod formats;
 pub mod hand;
 pub mod model;
+mod source;
 
-pub use candidates::{read_candidates, Candidate, CandidateError};
+pub use candidates::{read_candidates, Candidate, CandidateError, CandidateFile, INDEX_STRIDE};
 pub use families::{
     edge_family, face_family, yaw_family, FaceLine, FamilyError, FamilyLayout, GRIPPER_MAX_OPENING,
 };
 pub use formats::{
-    guess_format, read_grasp_file, FramePlacementError, GraspFileOptions, GraspFormat, GraspFrame,
-    GripperConvention, FRANKA_TCP_DEPTH, MAX_ARRAY_BYTES,
+    guess_format, open_grasp_file, read_grasp_file, FramePlacementError, GraspCandidates,
+    GraspFileOptions, GraspFormat, GraspFrame, GripperConvention, FRANKA_TCP_DEPTH,
+    MAX_ARRAY_BYTES,
 };
+pub use source::CandidateSource;

@@ -66,8 +66,17 @@ pub struct Selection<S = CandidateScore> {
 }
 
 /// Scores, ranks and pairs. `progress` is called once per scored candidate and arm.
+///
+/// # Panics
+///
+/// With a task loaded by [`Task::from_file_chunked`] whose candidate file can no longer be
+/// read (removed or changed since it was checked): such a task is meant for
+/// [`select_streaming`](super::select_streaming), which reports that as an error. Tasks whose
+/// candidates are held or a family never panic here.
 pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
-    let candidates = task.all_candidates();
+    let candidates = task
+        .all_candidates()
+        .unwrap_or_else(|e| panic!("the task's candidates cannot be read again: {e}"));
     let arms: Vec<ArmResult> = task
         .arms
         .iter()

@@ -3,7 +3,8 @@
 //! scalars ([`CandidateScalars`], about 250 bytes) and its ranking are kept per candidate and
 //! arm, so the memory held does not grow with the per-sample series (`M_T`, the ranked index,
 //! limit distances), the joint trajectories or the candidates themselves (a family's are
-//! computed chunk by chunk, see [`Task::for_each_candidate_chunk`]).
+//! computed and a candidate file's read chunk by chunk, see
+//! [`Task::for_each_candidate_chunk`]).
 
 use super::rank::{assign_ranks, best_pairs, ranking_alone, ArmPair, Ranking};
 use super::run::{
@@ -11,6 +12,7 @@ use super::run::{
 };
 use super::scalars::CandidateScalars;
 use super::score::{score_candidates, CandidateScore, STREAM_CHUNK};
+use crate::grasp::CandidateError;
 use crate::task::Task;
 use std::sync::Arc;
 
@@ -41,8 +43,9 @@ pub struct Streamed<'a> {
 /// The memory held grows with the number of candidates only by the scalars and rankings,
 /// except with two arms whose pairs are checked for collisions between the arms
 /// (`collision.between_arms`): the eligible candidates then keep their whole motions for that
-/// check. `progress` is called once per scored candidate and arm.
-pub fn select_streaming<E>(
+/// check. `progress` is called once per scored candidate and arm. A candidate file that can no
+/// longer be read (changed since the task was loaded) ends the selection with its error.
+pub fn select_streaming<E: From<CandidateError>>(
     task: &Task,
     progress: &(dyn Fn() + Sync),
     mut consume: impl FnMut(Streamed<'_>) -> Result<(), E>,
@@ -58,7 +61,7 @@ pub fn select_streaming<E>(
         let mut scores = Vec::with_capacity(count);
         let mut rankings = Vec::with_capacity(count);
         let mut kept_motions = Vec::new();
-        task.for_each_candidate_chunk(STREAM_CHUNK, |chunk| {
+        task.for_each_candidate_chunk(STREAM_CHUNK, |chunk| -> Result<(), E> {
             for score in score_candidates(&setup, chunk, progress) {
                 let ranking = ranking_alone(&score, &task.selection, max_log);
                 consume(Streamed {
@@ -77,7 +80,7 @@ pub fn select_streaming<E>(
         assign_ranks(&scores, &mut rankings, &task.selection);
         for (i, (score, ranking)) in scores.iter_mut().zip(&rankings).enumerate() {
             if ranking.rank.is_some_and(|r| r <= NAMED_BEST) {
-                score.candidate = task.candidate_at(i);
+                score.candidate = task.candidate_at(i)?;
             }
         }
         motions.push(kept_motions);
@@ -103,7 +106,7 @@ pub fn select_streaming<E>(
         );
         let mut pairs = Vec::with_capacity(best.len());
         for (k, (i, j, score)) in best.into_iter().enumerate() {
-            let (Some(first), Some(second)) = (task.candidate_at(i), task.candidate_at(j)) else {
+            let (Some(first), Some(second)) = (task.candidate_at(i)?, task.candidate_at(j)?) else {
                 continue;
             };
             arms[0].scores[i].candidate = Some(Arc::clone(&first));

@@ -11,7 +11,7 @@ use super::settings::{
 };
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
-use crate::grasp::{Candidate, FamilyLayout};
+use crate::grasp::{Candidate, CandidateError, CandidateSource};
 use crate::robot::{Chain, IkOptions, TrajectoryIkOptions};
 use nalgebra::Isometry3;
 use std::sync::Arc;
@@ -66,14 +66,15 @@ pub struct Task {
     /// The object's shape (object frame, m), when given: for candidate families and views.
     pub shape: Option<Shape>,
     /// The grasp candidates (wrist poses in the object frame), shared with the results that
-    /// refer to them. Empty when the candidates are a family laid out on demand
-    /// (`candidate_family`): read them through [`Task::for_each_candidate_chunk`], count them
-    /// with [`Task::candidate_count`].
+    /// refer to them. Empty when the candidates are produced on demand (`candidate_source`):
+    /// read them through [`Task::for_each_candidate_chunk`], count them with
+    /// [`Task::candidate_count`].
     pub candidates: Vec<Arc<Candidate>>,
-    /// The candidates as a parametric family computed from their index when needed (a task
-    /// loaded by [`Task::from_file_chunked`]), so a streamed selection never holds them all;
-    /// `None` when they are held in `candidates`.
-    pub candidate_family: Option<FamilyLayout>,
+    /// The candidates as a parametric family computed from their index, or a candidate file
+    /// read again chunk by chunk, when needed (a task loaded by [`Task::from_file_chunked`]),
+    /// so a streamed selection never holds them all; `None` when they are held in
+    /// `candidates`.
+    pub candidate_source: Option<CandidateSource>,
     /// The sampled object trajectory in the world frame; its first pose is the grasp pose.
     pub path: ObjectPath,
     /// Which rows of `J` and of the tangent enter `M_T`.
@@ -119,20 +120,19 @@ impl Task {
         moved
     }
 
-    /// How many candidates the task has (held or laid out on demand).
+    /// How many candidates the task has (held or produced on demand).
     pub fn candidate_count(&self) -> usize {
-        self.candidate_family
+        self.candidate_source
             .as_ref()
-            .map_or(self.candidates.len(), FamilyLayout::len)
+            .map_or(self.candidates.len(), CandidateSource::len)
     }
 
     /// The largest natural log-likelihood of the task's candidates (`−∞` without any; 0 for a
     /// family, whose candidates are equally likely): the likelihood enters a ranking score
     /// relative to it.
     pub fn max_log_likelihood(&self) -> f64 {
-        match &self.candidate_family {
-            Some(family) if !family.is_empty() => 0.0,
-            Some(_) => f64::NEG_INFINITY,
+        match &self.candidate_source {
+            Some(source) => source.max_log_likelihood(),
             None => self
                 .candidates
                 .iter()
@@ -142,43 +142,35 @@ impl Task {
     }
 
     /// Calls `consume` with the candidates in order, at most `size` (≥ 1) at a time; stops at
-    /// the first error. A family's candidates are computed chunk by chunk and dropped after
-    /// their call.
-    pub fn for_each_candidate_chunk<E>(
+    /// the first error. Candidates produced on demand are computed or read chunk by chunk and
+    /// dropped after their call; a candidate file that can no longer be read is an error.
+    pub fn for_each_candidate_chunk<E: From<CandidateError>>(
         &self,
         size: usize,
-        mut consume: impl FnMut(&[Arc<Candidate>]) -> Result<(), E>,
+        consume: impl FnMut(&[Arc<Candidate>]) -> Result<(), E>,
     ) -> Result<(), E> {
-        let size = size.max(1);
-        match &self.candidate_family {
-            None => self.candidates.chunks(size).try_for_each(consume),
-            Some(family) => {
-                let n = family.len();
-                (0..n).step_by(size).try_for_each(|start| {
-                    let chunk: Vec<Arc<Candidate>> = (start..n.min(start + size))
-                        .filter_map(|k| family.candidate(k).map(Arc::new))
-                        .collect();
-                    consume(&chunk)
-                })
-            }
+        match &self.candidate_source {
+            None => self.candidates.chunks(size.max(1)).try_for_each(consume),
+            Some(source) => source.for_each_chunk(size, consume),
         }
     }
 
-    /// The candidate at position `index` in candidate order (`None` past the end).
-    pub fn candidate_at(&self, index: usize) -> Option<Arc<Candidate>> {
-        match &self.candidate_family {
-            None => self.candidates.get(index).cloned(),
-            Some(family) => family.candidate(index).map(Arc::new),
+    /// The candidate at position `index` in candidate order (`None` past the end); read from
+    /// the candidate file when the task reads its candidates in chunks.
+    pub fn candidate_at(&self, index: usize) -> Result<Option<Arc<Candidate>>, CandidateError> {
+        match &self.candidate_source {
+            None => Ok(self.candidates.get(index).cloned()),
+            Some(source) => Ok(source.candidate(index)?.map(Arc::new)),
         }
     }
 
-    /// Every candidate, in order: `candidates`, or the family computed whole.
-    pub fn all_candidates(&self) -> std::borrow::Cow<'_, [Arc<Candidate>]> {
-        match &self.candidate_family {
-            None => std::borrow::Cow::Borrowed(&self.candidates),
-            Some(family) => {
-                std::borrow::Cow::Owned(family.all().into_iter().map(Arc::new).collect())
-            }
+    /// Every candidate, in order: `candidates`, or those produced on demand, all at once.
+    pub fn all_candidates(&self) -> Result<std::borrow::Cow<'_, [Arc<Candidate>]>, CandidateError> {
+        match &self.candidate_source {
+            None => Ok(std::borrow::Cow::Borrowed(&self.candidates)),
+            Some(source) => Ok(std::borrow::Cow::Owned(
+                source.all()?.into_iter().map(Arc::new).collect(),
+            )),
         }
     }
 
@@ -218,7 +210,7 @@ pub struct TaskBuilder {
     arms: Vec<ArmSetup>,
     shape: Option<Shape>,
     candidates: Vec<Candidate>,
-    candidate_family: Option<FamilyLayout>,
+    candidate_source: Option<CandidateSource>,
     path: Option<PathInput>,
     rows: JacobianRows,
     ranked: RankedIndex,
@@ -251,7 +243,7 @@ impl TaskBuilder {
             arms: Vec::new(),
             shape: None,
             candidates: Vec::new(),
-            candidate_family: None,
+            candidate_source: None,
             path: None,
             rows: JacobianRows::default(),
             ranked: RankedIndex::default(),
@@ -308,15 +300,15 @@ impl TaskBuilder {
     /// The grasp candidates, `object_from_wrist` with log-likelihoods.
     pub fn candidates(mut self, candidates: Vec<Candidate>) -> Self {
         self.candidates = candidates;
-        self.candidate_family = None;
+        self.candidate_source = None;
         self
     }
 
-    /// The grasp candidates as a family laid out on demand (see [`Task::candidate_family`]);
-    /// replaces [`candidates`](Self::candidates).
-    pub fn candidate_family(mut self, family: FamilyLayout) -> Self {
+    /// The grasp candidates produced on demand (see [`Task::candidate_source`]); replaces
+    /// [`candidates`](Self::candidates).
+    pub fn candidate_source(mut self, source: CandidateSource) -> Self {
         self.candidates = Vec::new();
-        self.candidate_family = Some(family);
+        self.candidate_source = Some(source);
         self
     }
 
@@ -528,9 +520,9 @@ impl TaskBuilder {
             }
         }
         let count = self
-            .candidate_family
+            .candidate_source
             .as_ref()
-            .map_or(self.candidates.len(), FamilyLayout::len);
+            .map_or(self.candidates.len(), CandidateSource::len);
         check_count("candidates", count, limits.max_candidates, "max_candidates")
             .map_err(|m| err("candidates", m))?;
         if count == 0 {
@@ -682,7 +674,7 @@ impl TaskBuilder {
             arms,
             shape: self.shape,
             candidates: self.candidates.into_iter().map(Arc::new).collect(),
-            candidate_family: self.candidate_family,
+            candidate_source: self.candidate_source,
             path,
             rows: self.rows,
             ranked: self.ranked,

@@ -15,12 +15,11 @@ use super::settings::{
 };
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
-use crate::geometry::shape::Shape;
 use crate::grasp::hand::Hand;
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{
-    guess_format, read_grasp_file, Candidate, FamilyLayout, GraspFileOptions, GraspFormat,
-    GraspFrame,
+    guess_format, open_grasp_file, read_grasp_file, Candidate, CandidateFile, CandidateSource,
+    FamilyLayout, GraspCandidates, GraspFileOptions, GraspFormat, GraspFrame,
 };
 use crate::robot::{Chain, RobotModel, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
@@ -45,8 +44,11 @@ impl Task {
     }
 
     /// [`from_file`](Self::from_file), except that a candidate family is laid out rather than
-    /// generated ([`Task::candidate_family`]): its candidates are computed chunk by chunk when
-    /// a streamed selection reads them. The same candidates, in the same order.
+    /// generated, and a graspath candidate file (JSON or CSV) is checked and indexed rather
+    /// than held ([`Task::candidate_source`]): their candidates are computed or read again
+    /// chunk by chunk when a streamed selection reads them. The same candidates, in the same
+    /// order, and the same errors. Generated candidates and the generators' grasp files are
+    /// held as with `from_file`.
     pub fn from_file_chunked(
         file: &TaskFile,
         source_name: &str,
@@ -65,7 +67,8 @@ pub fn builder_from_file(
     builder_with(file, source_name, base_dir, false)
 }
 
-/// [`builder_from_file`], a candidate family laid out rather than generated when `lay_out`.
+/// [`builder_from_file`], with `lay_out` a candidate family laid out rather than generated
+/// and a graspath candidate file indexed rather than read whole.
 fn builder_with(
     file: &TaskFile,
     source_name: &str,
@@ -89,14 +92,17 @@ fn builder_with(
         file,
         source_name,
         base_dir,
-        file.object.shape.as_ref(),
         &limits,
         world_from_object,
         scene.as_ref(),
+        lay_out,
     )?;
     builder = match candidates {
-        SetUp::Family(family) if lay_out => builder.candidate_family(family),
+        SetUp::Family(family) if lay_out => {
+            builder.candidate_source(CandidateSource::Family(family))
+        }
         SetUp::Family(family) => builder.candidates(family.all()),
+        SetUp::File(file) => builder.candidate_source(CandidateSource::File(file)),
         SetUp::List(list) => builder.candidates(list),
     };
     let (steps, sampling) = setup_steps(file, source_name)?;
@@ -331,21 +337,23 @@ fn setup_arms(
     Ok((model.name().to_string(), arms, model))
 }
 
-/// A task file's candidates: read or generated, or a family's layout.
+/// A task file's candidates: read or generated, a family's layout, or an indexed file.
 enum SetUp {
     List(Vec<Candidate>),
     Family(FamilyLayout),
+    File(CandidateFile),
 }
 
 fn setup_candidates(
     file: &TaskFile,
     source: &str,
     base_dir: &Path,
-    shape: Option<&Shape>,
     limits: &Limits,
     world_from_object: Isometry3<f64>,
     scene: Option<&Scene>,
+    index_file: bool,
 ) -> Result<SetUp, TaskError> {
+    let shape = file.object.shape.as_ref();
     let scene = scene.map(|s| (s, world_from_object));
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     // A family's count is checked before the family is generated.
@@ -388,10 +396,13 @@ fn setup_candidates(
         return generated_candidates(generate, source, base_dir, limits, scene).map(SetUp::List);
     }
     match (&file.candidates.file, &file.candidates.family) {
-        (Some(path), None) => {
-            grasp_file_candidates(file, source, &base_dir.join(path), world_from_object)
-                .map(SetUp::List)
-        }
+        (Some(path), None) => grasp_file_candidates(
+            file,
+            source,
+            &base_dir.join(path),
+            world_from_object,
+            index_file,
+        ),
         (None, Some(family)) => {
             let shape = shape.ok_or_else(|| {
                 err(
@@ -480,13 +491,15 @@ fn setup_candidates(
 }
 
 /// Candidates from a candidate or grasp-generator file, converted to the object frame and
-/// the tool frame (`docs/grasp-files.md`).
+/// the tool frame (`docs/grasp-files.md`); with `index`, a graspath candidate file is
+/// indexed rather than read whole ([`open_grasp_file`]).
 fn grasp_file_candidates(
     file: &TaskFile,
     source: &str,
     path: &Path,
     world_from_object: Isometry3<f64>,
-) -> Result<Vec<Candidate>, TaskError> {
+    index: bool,
+) -> Result<SetUp, TaskError> {
     let c = &file.candidates;
     let err = |field: &str, message: String| TaskError::new(source, field, message);
     let format = match &c.format {
@@ -541,9 +554,15 @@ fn grasp_file_candidates(
         gripper_from_tool,
         segment: c.segment,
     };
-    read_grasp_file(path, &options)
-        .map(|(_, candidates)| candidates)
-        .map_err(|e| TaskError::caused_by(source, "candidates.file", e))
+    let opened = if index {
+        open_grasp_file(path, &options).map(|(_, opened)| match opened {
+            GraspCandidates::Held(list) => SetUp::List(list),
+            GraspCandidates::Indexed(file) => SetUp::File(file),
+        })
+    } else {
+        read_grasp_file(path, &options).map(|(_, list)| SetUp::List(list))
+    };
+    opened.map_err(|e| TaskError::caused_by(source, "candidates.file", e))
 }
 
 /// Candidates from the learned grasp model, best first, with their log-likelihoods.

@@ -28,7 +28,7 @@ mod hdf5;
 mod layouts;
 mod pickle;
 
-use super::candidates::{check_offset, Candidate, CandidateError, MAX_FILE_BYTES};
+use super::candidates::{check_offset, Candidate, CandidateError, CandidateFile, MAX_FILE_BYTES};
 use arrays::{parse_npy, read_npz, Member};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::io::Read;
@@ -252,37 +252,96 @@ struct Grasp {
     contact: Option<Point3<f64>>,
 }
 
+/// A grasp file's candidates as [`open_grasp_file`] gives them.
+#[derive(Debug, Clone)]
+pub enum GraspCandidates {
+    /// Read whole.
+    Held(Vec<Candidate>),
+    /// A graspath candidate file checked and indexed, read again in chunks.
+    Indexed(CandidateFile),
+}
+
 /// Reads a grasp file of any [`GraspFormat`] as candidates in the object frame.
 pub fn read_grasp_file(
     path: &Path,
     options: &GraspFileOptions,
 ) -> Result<(GraspFormat, Vec<Candidate>), CandidateError> {
+    let format = format_of(path, options)?;
+    read_whole(path, format, options).map(|c| (format, c))
+}
+
+/// [`read_grasp_file`], except that a graspath candidate file (JSON or CSV) that is a regular
+/// file is checked and indexed ([`CandidateFile::index`]) rather than held: its candidates
+/// are read again chunk by chunk when asked for. The generators' formats (NumPy, HDF5,
+/// pickles, GraspGen YAML) are read whole.
+pub fn open_grasp_file(
+    path: &Path,
+    options: &GraspFileOptions,
+) -> Result<(GraspFormat, GraspCandidates), CandidateError> {
+    let format = format_of(path, options)?;
+    if format == GraspFormat::Graspath && CandidateFile::can_index(path) {
+        check_graspath_options(path, options)?;
+        return CandidateFile::index(path).map(|f| (format, GraspCandidates::Indexed(f)));
+    }
+    let options = GraspFileOptions {
+        format: Some(format),
+        ..options.clone()
+    };
+    read_grasp_file(path, &options).map(|(f, c)| (f, GraspCandidates::Held(c)))
+}
+
+/// The file's format: the one `options` gives, else guessed ([`guess_format`]). An empty file
+/// is refused.
+fn format_of(path: &Path, options: &GraspFileOptions) -> Result<GraspFormat, CandidateError> {
+    let head = read_head(path).map_err(|m| file_error(path, m))?;
+    if head.is_empty() {
+        return Err(file_error(path, "is empty".into()));
+    }
+    match options.format {
+        Some(f) => Ok(f),
+        None => guess_format(path),
+    }
+}
+
+/// A graspath candidate file holds tool poses in the object frame: a frame or gripper
+/// convention is refused.
+fn check_graspath_options(path: &Path, options: &GraspFileOptions) -> Result<(), CandidateError> {
+    if options.object_from_frame != Isometry3::identity() || options.gripper_from_tool.is_some() {
+        return Err(file_error(
+            path,
+            "graspath candidate files hold tool poses in the object frame: frame and \
+             gripper_from_tool do not apply"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+fn file_error(path: &Path, message: String) -> CandidateError {
+    CandidateError {
+        file: path.display().to_string(),
+        location: "file".into(),
+        message,
+    }
+}
+
+/// A grasp file of a known format, read whole.
+fn read_whole(
+    path: &Path,
+    format: GraspFormat,
+    options: &GraspFileOptions,
+) -> Result<Vec<Candidate>, CandidateError> {
     let file = path.display().to_string();
     let error = |location: &str, message: String| CandidateError {
         file: file.clone(),
         location: location.to_string(),
         message,
     };
-    let bytes = read_bytes(path).map_err(|m| error("file", m))?;
-    if bytes.is_empty() {
-        return Err(error("file", "is empty".into()));
-    }
-    let format = match options.format {
-        Some(f) => f,
-        None => guess(path, &bytes).map_err(|m| error("file", m))?,
-    };
     if format == GraspFormat::Graspath {
-        if options.object_from_frame != Isometry3::identity() || options.gripper_from_tool.is_some()
-        {
-            return Err(error(
-                "file",
-                "graspath candidate files hold tool poses in the object frame: frame and \
-                 gripper_from_tool do not apply"
-                    .into(),
-            ));
-        }
-        return super::read_candidates(path).map(|c| (format, c));
+        check_graspath_options(path, options)?;
+        return super::read_candidates(path);
     }
+    let bytes = read_bytes(path).map_err(|m| error("file", m))?;
     let grasps = match format {
         GraspFormat::Graspath => unreachable!("handled above"),
         GraspFormat::GraspGen | GraspFormat::Acronym if !bytes.starts_with(hdf5::SIGNATURE) => {
@@ -351,7 +410,7 @@ pub fn read_grasp_file(
             },
         ));
     }
-    Ok((format, candidates))
+    Ok(candidates)
 }
 
 /// The most an `.npz` of these bytes may expand to: deflate's largest ratio, at most
@@ -375,18 +434,125 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, String> {
     Ok(bytes)
 }
 
-/// The format of a file from its content (signature, keys, shapes) and extension.
+/// The first bytes of a file (at most 8: enough for every binary signature), the file
+/// refused above [`MAX_FILE_BYTES`] when its length is known.
+fn read_head(path: &Path) -> Result<Vec<u8>, String> {
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    if let Ok(metadata) = file.metadata() {
+        if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
+            return Err(format!("is larger than {MAX_FILE_BYTES} bytes"));
+        }
+    }
+    let mut head = Vec::with_capacity(8);
+    file.take(8)
+        .read_to_end(&mut head)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    Ok(head)
+}
+
+/// Whether a file starting with `head` is one of the binary layouts (HDF5, `.npy`, `.npz`).
+fn is_binary(head: &[u8]) -> bool {
+    head.starts_with(hdf5::SIGNATURE) || head.starts_with(b"\x93NUMPY") || head.starts_with(b"PK")
+}
+
+/// The format of a file from its content (signature, keys, shapes) and extension. A CSV file
+/// is guessed from its extension and a JSON document from its top-level keys, read as they
+/// come (a graspath candidate file is not held); binary and YAML files are read whole.
 pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
-    let bytes = read_bytes(path).map_err(|m| CandidateError {
-        file: path.display().to_string(),
-        location: "file".into(),
-        message: m,
-    })?;
-    guess(path, &bytes).map_err(|m| CandidateError {
-        file: path.display().to_string(),
-        location: "file".into(),
-        message: m,
-    })
+    let head = read_head(path).map_err(|m| file_error(path, m))?;
+    let has_extension = |names: &[&str]| {
+        path.extension()
+            .is_some_and(|e| names.iter().any(|n| e.eq_ignore_ascii_case(n)))
+    };
+    if !is_binary(&head) {
+        if has_extension(&["csv"]) {
+            return Ok(GraspFormat::Graspath);
+        }
+        if !has_extension(&["yaml", "yml"]) {
+            let file = std::fs::File::open(path)
+                .map_err(|e| file_error(path, format!("cannot read: {e}")))?;
+            let reader = std::io::BufReader::new(file.take(MAX_FILE_BYTES));
+            let mut de = serde_json::Deserializer::from_reader(reader);
+            let keys = serde::Deserialize::deserialize(&mut de)
+                .and_then(|k: TopKeys| de.end().map(|()| k));
+            if let Ok(keys) = keys {
+                return Ok(keys.format());
+            }
+        }
+    }
+    let bytes = read_bytes(path).map_err(|m| file_error(path, m))?;
+    guess(path, &bytes).map_err(|m| file_error(path, m))
+}
+
+/// What tells the text layouts apart: a top-level `format` (GraspGen's `isaac_grasp`), a
+/// `grasps` object with `transforms` (GraspGen's dataset JSON), a top-level `transforms`
+/// (ACRONYM's JSON). Every other value is skipped as it is read.
+#[derive(Debug, Default)]
+struct TopKeys {
+    format: Option<serde_json::Value>,
+    grasps: Option<serde_json::Value>,
+    transforms: bool,
+}
+
+impl TopKeys {
+    fn format(&self) -> GraspFormat {
+        let isaac = self.format.as_ref().and_then(|f| f.as_str()) == Some("isaac_grasp");
+        let dataset = self
+            .grasps
+            .as_ref()
+            .and_then(|g| g.get("transforms"))
+            .is_some();
+        if isaac || dataset {
+            GraspFormat::GraspGen
+        } else if self.transforms {
+            GraspFormat::Acronym
+        } else {
+            GraspFormat::Graspath
+        }
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for TopKeys {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Keys;
+        impl<'de> serde::de::Visitor<'de> for Keys {
+            type Value = TopKeys;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("an object or a list")
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<TopKeys, A::Error> {
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {}
+                Ok(TopKeys::default())
+            }
+
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<TopKeys, A::Error> {
+                let mut keys = TopKeys::default();
+                while let Some(key) = map.next_key::<String>()? {
+                    match key.as_str() {
+                        "format" => keys.format = Some(map.next_value()?),
+                        "grasps" => keys.grasps = Some(map.next_value()?),
+                        "transforms" => {
+                            map.next_value::<serde::de::IgnoredAny>()?;
+                            keys.transforms = true;
+                        }
+                        _ => {
+                            map.next_value::<serde::de::IgnoredAny>()?;
+                        }
+                    }
+                }
+                Ok(keys)
+            }
+        }
+        deserializer.deserialize_any(Keys)
+    }
 }
 
 fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
@@ -436,16 +602,10 @@ fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
     }
     let text = std::str::from_utf8(bytes).map_err(|_| ask("not a known binary layout nor text"))?;
     let value = text_value(path, text).map_err(|m| ask(&m))?;
-    if value.get("format").and_then(|f| f.as_str()) == Some("isaac_grasp") {
-        return Ok(GraspFormat::GraspGen);
-    }
-    if value.pointer("/grasps/transforms").is_some() {
-        return Ok(GraspFormat::GraspGen);
-    }
-    if value.get("transforms").is_some() {
-        return Ok(GraspFormat::Acronym);
-    }
-    Ok(GraspFormat::Graspath)
+    // Any document that is not an object or a list is left to the graspath reader to refuse.
+    Ok(serde_json::from_value::<TopKeys>(value)
+        .unwrap_or_default()
+        .format())
 }
 
 fn text_value(path: &Path, text: &str) -> Result<serde_json::Value, String> {

@@ -114,7 +114,7 @@ pub fn select_pairs<'py>(
     };
     let int =
         |values: Vec<usize>| PyArray1::from_vec(py, values.into_iter().map(|v| v as i64).collect());
-    let all = task.all_candidates();
+    let all = task.all_candidates().map_err(error)?;
     let dict = PyDict::new(py);
     dict.set_item("rank", int((1..=pairs.len()).collect()))?;
     for (arm, side) in ["first", "second"].into_iter().enumerate() {

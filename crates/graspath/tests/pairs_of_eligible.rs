@@ -33,7 +33,9 @@ fn check_pairs_equal_select(task: &Task) -> usize {
     let reference = select(task, &|| {});
     let (first, second) = (eligible(&reference, 0), eligible(&reference, 1));
     assert!(!first.is_empty() && !second.is_empty());
-    let candidates = task.all_candidates();
+    let candidates = task
+        .all_candidates()
+        .expect("the example task's candidates");
     let as_ids = |pairs: &[(usize, usize, f64)]| -> Vec<(usize, usize, f64)> {
         pairs
             .iter()

@@ -6,6 +6,7 @@ use super::rank::{
 use super::scalars::Scored;
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::collision::{check_arms, ArmMotion};
+use crate::grasp::CandidateError;
 use crate::task::{ArmSetup, Task};
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
@@ -146,6 +147,10 @@ pub enum PairInputError {
         /// The position given twice.
         position: usize,
     },
+    /// The task's candidate file cannot be read again (removed or changed since the task
+    /// was loaded).
+    #[error(transparent)]
+    Candidates(#[from] CandidateError),
 }
 
 /// The best `count` arm pairs of a two-arm `task`, from each arm's eligible candidates and
@@ -198,7 +203,7 @@ pub fn pairs_of_eligible(
         }
     }
     // Every position is in range (checked above).
-    let all = task.all_candidates();
+    let all = task.all_candidates()?;
     // Whole motions scored on demand, once per arm and candidate.
     let motions = RefCell::new(HashMap::new());
     let need_motions = pairs_need_motions(task);

@@ -15,64 +15,68 @@ use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
 use std::io::Write;
 
+// The records' fields are declared in the byte order of their names: serialised directly, they
+// come out in the order of a `serde_json::Value` object (a sorted map), which is how
+// `candidates.json` has always been written, and a `candidates.jsonl` line has the same order.
+
 #[derive(Serialize)]
 struct FailureRecord<'a> {
-    reason: &'a str,
-    phase: &'a str,
-    sample: usize,
-    detail: &'a str,
     #[serde(skip_serializing_if = "Option::is_none")]
     bodies: Option<&'a [String; 2]>,
+    detail: &'a str,
+    phase: &'a str,
+    reason: &'a str,
+    sample: usize,
 }
 
 #[derive(Serialize)]
 struct CandidateRecord<'a> {
-    id: usize,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    approach_trajectory: &'a [Vec<f64>],
     arm: &'a str,
-    label: &'a str,
-    object_from_wrist: [[f64; 4]; 4],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clearance: Option<f64>,
     contact: Option<[f64; 3]>,
-    likelihood: f64,
-    log_likelihood: f64,
-    feasible: bool,
     failure: Option<FailureRecord<'a>>,
-    rejected: Option<&'a str>,
+    feasible: bool,
+    feasible_branches: usize,
+    hugs_limit: Option<bool>,
+    id: usize,
+    inverse_condition_at_grasp: Option<f64>,
+    inverse_condition_squared_at_grasp: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    joint_trajectory: Option<&'a [Vec<f64>]>,
+    label: &'a str,
+    likelihood: f64,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    limit_distance: Vec<Option<f64>>,
+    limit_distance_min: Option<f64>,
+    log_likelihood: f64,
+    m_t: &'a [Option<f64>],
+    mu_l1: Option<f64>,
+    mu_l2: Option<f64>,
+    mu_linf: Option<f64>,
+    mu_linf_infinite: bool,
+    object_from_wrist: [[f64; 4]; 4],
+    /// Left out of a streamed record, like `rank`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pareto: Option<bool>,
     /// `Some(rank)` in `candidates.json`; left out of a streamed record (the rank needs every
     /// candidate).
     #[serde(skip_serializing_if = "Option::is_none")]
     rank: Option<Option<usize>>,
-    score: Option<f64>,
-    /// Left out of a streamed record, like `rank`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pareto: Option<bool>,
-    mu_l2: Option<f64>,
-    mu_linf: Option<f64>,
-    mu_linf_infinite: bool,
-    mu_l1: Option<f64>,
-    skipped_samples: Option<usize>,
-    m_t: &'a [Option<f64>],
     #[serde(skip_serializing_if = "Option::is_none")]
     ranked_index: Option<&'a [Option<f64>]>,
+    rejected: Option<&'a str>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    retreat_trajectory: &'a [Vec<f64>],
+    score: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    self_motion: Option<SelfMotionRecord>,
+    skipped_samples: Option<usize>,
     yoshikawa_at_grasp: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     yoshikawa_penalized_at_grasp: Option<f64>,
-    inverse_condition_at_grasp: Option<f64>,
-    inverse_condition_squared_at_grasp: Option<f64>,
-    feasible_branches: usize,
-    limit_distance_min: Option<f64>,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    limit_distance: Vec<Option<f64>>,
-    hugs_limit: Option<bool>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    joint_trajectory: Option<&'a [Vec<f64>]>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    clearance: Option<f64>,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    approach_trajectory: &'a [Vec<f64>],
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    retreat_trajectory: &'a [Vec<f64>],
-    #[serde(skip_serializing_if = "Option::is_none")]
-    self_motion: Option<SelfMotionRecord>,
 }
 
 /// With `ik.redundancy: optimize`: `μ_l2` of the first IK branch and the range over the
@@ -80,8 +84,8 @@ struct CandidateRecord<'a> {
 #[derive(Serialize)]
 struct SelfMotionRecord {
     mu_l2_first_branch: f64,
-    mu_l2_min: f64,
     mu_l2_max: f64,
+    mu_l2_min: f64,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -197,8 +201,9 @@ pub fn candidates_json_with(selection: &Selection, trajectories: Trajectories) -
 
 /// The bytes of `candidates.json` as the CLI writes it: `candidates_json_with(selection,
 /// trajectories)` in serde_json's pretty form, then a newline. The records are rendered on all
-/// cores (each is its own document, indented one level), so the file costs a fraction of
-/// building the whole document and printing it on one thread; the bytes are the same.
+/// cores, each straight from its fields (no `Value` in between) and indented as an element of
+/// the top-level array, so the file costs a fraction of building the whole document and
+/// printing it on one thread; the bytes are the same.
 pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) -> Vec<u8> {
     use rayon::prelude::*;
     let pairs: Vec<(&str, &CandidateScore, &Ranking)> = selection
@@ -215,38 +220,25 @@ pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) 
         .par_iter()
         .map(|&(arm, score, ranking)| {
             let record = candidate_record(arm, score, ranking, trajectories, false);
-            let value = serde_json::to_value(record).expect("records serialise");
-            indented_pretty(&value)
+            serde_json::to_vec_pretty(&[record]).expect("records serialise")
         })
         .collect();
     if records.is_empty() {
         return b"[]\n".to_vec();
     }
-    let total = records.iter().map(|r| r.len() + 4).sum::<usize>() + 4;
+    // Each record was rendered as a one-element array, `[`, a line break, two spaces, the
+    // record indented as an element of the top-level array, a line break, `]`: the record's
+    // bytes are what lies between.
+    let (open, close) = (b"[\n  ".len(), b"\n]".len());
+    let total = records.iter().map(|r| r.len()).sum::<usize>() + 4;
     let mut bytes = Vec::with_capacity(total);
     bytes.push(b'[');
     for (i, record) in records.iter().enumerate() {
         bytes.extend_from_slice(if i == 0 { b"\n  " } else { b",\n  " });
-        bytes.extend_from_slice(record);
+        bytes.extend_from_slice(&record[open..record.len() - close]);
     }
     bytes.extend_from_slice(b"\n]\n");
     bytes
-}
-
-/// `value` in serde_json's pretty form as an element of a top-level array: every line after
-/// the first indented by two more spaces. A newline byte in serde_json's output is always a
-/// line break between tokens (strings escape theirs).
-fn indented_pretty(value: &Value) -> Vec<u8> {
-    let flat = serde_json::to_vec_pretty(value).expect("records serialise");
-    let lines = flat.iter().filter(|&&b| b == b'\n').count();
-    let mut out = Vec::with_capacity(flat.len() + 2 * lines);
-    for (i, line) in flat.split(|&b| b == b'\n').enumerate() {
-        if i > 0 {
-            out.extend_from_slice(b"\n  ");
-        }
-        out.extend_from_slice(line);
-    }
-    out
 }
 
 /// Writes one streamed candidate as a line of `candidates.jsonl`: the fields of its

@@ -12,7 +12,10 @@ use graspath::collision::{distance, Body};
 use graspath::robot::RobotSource;
 use graspath::select::select;
 use graspath::task::{robot_link_shapes, Gripper, Task};
-use graspath_report::{candidates_json, render_report, scene_json, summary_json};
+use graspath_report::{
+    candidates_json, candidates_json_bytes, candidates_json_with, render_report, scene_json,
+    summary_json, Trajectories,
+};
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -504,4 +507,46 @@ fn the_report_of_a_scene_is_deterministic() {
     let c = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}))).unwrap();
     let d = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}))).unwrap();
     assert_eq!(c, d);
+}
+
+/// `candidates.json` as the CLI renders it (each record straight from its fields, in parallel)
+/// is the document built as a `serde_json::Value` (whose objects are sorted maps), in
+/// serde_json's pretty form, with every optional field present somewhere: a collision's
+/// bodies, clearances, approach and retreat motions, the penalised index and the self-motion
+/// search.
+#[test]
+fn candidates_json_bytes_are_the_sorted_document_with_every_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let yaml = format!(
+        "{SCENE_TASK}index: {{ joint_limit_penalty: true }}\nik: {{ redundancy: optimize }}\n"
+    );
+    let task = load(dir.path(), &yaml);
+    let selection = select(&task, &|| {});
+    let document = candidates_json(&selection);
+    let records = document.as_array().unwrap();
+    for field in [
+        "approach_trajectory",
+        "retreat_trajectory",
+        "clearance",
+        "ranked_index",
+        "yoshikawa_penalized_at_grasp",
+        "self_motion",
+    ] {
+        assert!(
+            records.iter().any(|r| r.get(field).is_some()),
+            "no record has {field}"
+        );
+    }
+    assert!(records.iter().any(|r| r["failure"]["bodies"].is_array()));
+    for trajectories in [
+        Trajectories::All,
+        Trajectories::Feasible,
+        Trajectories::None,
+    ] {
+        let mut expected =
+            serde_json::to_vec_pretty(&candidates_json_with(&selection, trajectories)).unwrap();
+        expected.push(b'\n');
+        let bytes = candidates_json_bytes(&selection, trajectories);
+        assert!(bytes == expected, "{trajectories:?}");
+    }
 }

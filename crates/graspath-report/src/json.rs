@@ -230,7 +230,7 @@ pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) 
     // record indented as an element of the top-level array, a line break, `]`: the record's
     // bytes are what lies between.
     let (open, close) = (b"[\n  ".len(), b"\n]".len());
-    let total = records.iter().map(|r| r.len()).sum::<usize>() + 4;
+    let total = records.iter().map(Vec::len).sum::<usize>() + 4;
     let mut bytes = Vec::with_capacity(total);
     bytes.push(b'[');
     for (i, record) in records.iter().enumerate() {

@@ -15,7 +15,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::kernel::{
-    damped_step, joint_weight, Kernel, Patience, Residual, RunEnd, Strategy, Target, DAMPING_FLOOR,
+    damped_step, Kernel, Patience, Residual, RunEnd, Strategy, Target, DAMPING_FLOOR,
 };
 use super::simd::{Mask4, Real, F4};
 use crate::robot::chain::MAX_JOINTS;
@@ -261,20 +261,19 @@ impl<'k> Lanes<'k> {
                 std::array::from_fn(|r| F4::from_fn(|l| self.lanes[l].current.error[r]));
             let (kernel, lanes, current) = (&self.kernel, &self.lanes, &self.current);
             let (weights, dq) = (&mut self.weights, &mut self.dq);
+            let clamped = Mask4::from_fn(|l| lanes[l].strategy == Strategy::Clamped);
             let solved = damped_step(
                 &current.jacobian,
                 &error,
                 lambda,
                 |j, gradient| {
-                    F4::from_fn(|l| {
-                        joint_weight(
-                            lanes[l].strategy,
-                            current.q[j].0[l],
-                            kernel.lower[j],
-                            kernel.upper[j],
-                            gradient.0[l],
-                        )
-                    })
+                    joint_weights(
+                        clamped,
+                        current.q[j],
+                        kernel.lower[j],
+                        kernel.upper[j],
+                        gradient,
+                    )
                 },
                 weights,
                 dq,
@@ -388,6 +387,31 @@ impl<'k> Lanes<'k> {
             }
         }
     }
+}
+
+/// A joint's weight in each lane's step ([`joint_weight`](super::kernel::joint_weight), lane
+/// by lane, bit for bit): the lanes of `clamped` use [`Strategy::Clamped`], the others
+/// [`Strategy::LimitWeighted`]. `q` is the joint's value in each lane and `gradient` the
+/// descent direction of the cost along it; `lo` and `hi` its limits (rad / m).
+#[inline(always)]
+fn joint_weights(clamped: Mask4, q: F4, lo: f64, hi: f64, gradient: F4) -> F4 {
+    let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
+    let (lo4, hi4) = (F4::splat(lo), F4::splat(hi));
+    // Clamped: 0 on a limit when pushed outwards.
+    let pinned = F4::both(q.le(lo4), gradient.lt(zero)).or(F4::both(hi4.le(q), zero.lt(gradient)));
+    let clamped_weight = F4::select(pinned, zero, one);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return F4::select(clamped, clamped_weight, one);
+    }
+    // Limit-weighted (Chan & Dubey): the same operations as `limit_weight`, in its order.
+    let offset = F4::splat(2.0) * q - hi4 - lo4;
+    let away = zero.lt(gradient).differs(zero.lt(offset));
+    let (to_hi, to_lo) = (hi4 - q, q - lo4);
+    let outside = to_hi.le(zero).or(to_lo.le(zero));
+    let range = hi4 - lo4;
+    let dh = range * range * offset.abs() / (F4::splat(4.0) * to_hi * to_hi * to_lo * to_lo);
+    let weighted = F4::select(away, one, F4::select(outside, zero, one / (one + dh)));
+    F4::select(clamped, clamped_weight, weighted)
 }
 
 /// Runs every attempt of `attempts` to its end in the lanes of `lanes`, each allowed its own
@@ -528,6 +552,81 @@ mod tests {
     use nalgebra::Isometry3;
     use rand::rngs::Xoshiro256PlusPlus;
     use rand::{RngExt, SeedableRng};
+
+    /// The four lanes' weights equal the one-run weights bit for bit, for both strategies side
+    /// by side, on and beyond the limits, at the midpoint, for zero and signed-zero
+    /// directions, NaN, and infinite limits; then on random values.
+    #[test]
+    fn lane_weights_are_the_scalar_weights_bit_for_bit() {
+        use super::super::kernel::joint_weight;
+        let limits = [
+            (-1.5, 2.0),
+            (0.0, 1e-9),
+            (f64::NEG_INFINITY, f64::INFINITY),
+            (-1.0, f64::INFINITY),
+        ];
+        let values = [
+            -1.5,
+            2.0,
+            0.25,
+            -2.0,
+            3.0,
+            1e-10,
+            0.0,
+            -0.0,
+            5e-10,
+            1.9999999,
+            f64::NAN,
+        ];
+        let gradients = [1.0, -1.0, 0.0, -0.0, 1e-300, -3.5, f64::NAN];
+        let check = |strategies: [Strategy; 4], q: F4, lo: f64, hi: f64, gradient: F4| {
+            let clamped = Mask4::from_fn(|l| strategies[l] == Strategy::Clamped);
+            let lanes = joint_weights(clamped, q, lo, hi, gradient);
+            for l in 0..4 {
+                let one = joint_weight(strategies[l], q.0[l], lo, hi, gradient.0[l]);
+                assert_eq!(
+                    lanes.0[l].to_bits(),
+                    one.to_bits(),
+                    "{:?} q {} in [{lo}, {hi}], gradient {}",
+                    strategies[l],
+                    q.0[l],
+                    gradient.0[l]
+                );
+            }
+        };
+        let mixed = [
+            Strategy::Clamped,
+            Strategy::LimitWeighted,
+            Strategy::LimitWeighted,
+            Strategy::Clamped,
+        ];
+        for &(lo, hi) in &limits {
+            for (i, &g) in gradients.iter().enumerate() {
+                for chunk in values.chunks(4) {
+                    let q = F4::from_fn(|l| chunk[l % chunk.len()]);
+                    let gradient = F4::from_fn(|l| gradients[(i + l) % gradients.len()] * 0.5 + g);
+                    check(mixed, q, lo, hi, gradient);
+                    check([Strategy::LimitWeighted; 4], q, lo, hi, F4::splat(g));
+                    check([Strategy::Clamped; 4], q, lo, hi, F4::splat(g));
+                }
+            }
+        }
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        for _ in 0..2000 {
+            let lo = rng.random_range(-3.0..0.0);
+            let hi = lo + rng.random_range(0.0..4.0);
+            let q = F4::from_fn(|_| rng.random_range(lo - 0.1..=hi + 0.1));
+            let gradient = F4::from_fn(|_| rng.random_range(-1.0..1.0));
+            let strategies = std::array::from_fn(|_| {
+                if rng.random_range(0..2) == 0 {
+                    Strategy::Clamped
+                } else {
+                    Strategy::LimitWeighted
+                }
+            });
+            check(strategies, q, lo, hi, gradient);
+        }
+    }
 
     /// An attempt's end as bits, for exact comparison.
     type Bits = (RunEnd, usize, Vec<u64>, u64, u64, u64);

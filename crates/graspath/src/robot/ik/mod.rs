@@ -149,7 +149,7 @@ pub fn solve_ik(
 ) -> Result<IkSolution, RobotError> {
     check_options(options)?;
     chain.check_configuration(q_start)?;
-    check_pose(base_from_target, "target")?;
+    check_pose(base_from_target, &"target")?;
     let deadline = options
         .max_time
         .and_then(|budget| Instant::now().checked_add(budget));
@@ -350,8 +350,9 @@ pub(crate) fn check_options(options: &IkOptions) -> Result<(), RobotError> {
     Ok(())
 }
 
-/// Checks that a pose is finite with a unit rotation quaternion.
-pub(crate) fn check_pose(pose: &Isometry3<f64>, what: &str) -> Result<(), RobotError> {
+/// Checks that a pose is finite with a unit rotation quaternion; `what` names it in the error
+/// (formatted only then).
+pub(crate) fn check_pose(pose: &Isometry3<f64>, what: &dyn fmt::Display) -> Result<(), RobotError> {
     let t = pose.translation.vector;
     let q = pose.rotation.coords;
     if t.iter().chain(q.iter()).any(|v| !v.is_finite()) {

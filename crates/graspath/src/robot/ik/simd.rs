@@ -148,6 +148,20 @@ impl F4 {
     }
 }
 
+impl F4 {
+    /// Lane by lane: `self < other` (false with a NaN).
+    #[inline(always)]
+    pub(crate) fn lt(self, other: Self) -> Mask4 {
+        Mask4::from_fn(|l| self.0[l] < other.0[l])
+    }
+
+    /// Lane by lane: `self <= other` (false with a NaN).
+    #[inline(always)]
+    pub(crate) fn le(self, other: Self) -> Mask4 {
+        Mask4::from_fn(|l| self.0[l] <= other.0[l])
+    }
+}
+
 /// One truth value per lane of an [`F4`]: all bits set for true, none for false (the form of
 /// a vector comparison, so that selections compile to blends).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -158,6 +172,24 @@ impl Mask4 {
     #[inline(always)]
     pub(crate) fn from_bools(lanes: [bool; 4]) -> Self {
         Self(lanes.map(|b| if b { u64::MAX } else { 0 }))
+    }
+
+    /// Lane `lane` of `f(lane)`.
+    #[inline(always)]
+    pub(crate) fn from_fn(f: impl FnMut(usize) -> bool) -> Self {
+        Self::from_bools(std::array::from_fn(f))
+    }
+
+    /// Lane by lane: `self || other`.
+    #[inline(always)]
+    pub(crate) fn or(self, other: Self) -> Self {
+        Self(std::array::from_fn(|lane| self.0[lane] | other.0[lane]))
+    }
+
+    /// Lane by lane: `self != other` (exclusive or).
+    #[inline(always)]
+    pub(crate) fn differs(self, other: Self) -> Self {
+        Self(std::array::from_fn(|lane| self.0[lane] ^ other.0[lane]))
     }
 
     /// Whether lane `lane` holds.
@@ -233,6 +265,8 @@ mod tests {
                 assert_eq!(lanes_a.max(lanes_b).0[l].to_bits(), x.max(other).to_bits());
                 assert_eq!(lanes_a.min(lanes_b).0[l].to_bits(), x.min(other).to_bits());
                 assert_eq!(lanes_b.abs().0[l].to_bits(), other.abs().to_bits());
+                assert_eq!(lanes_a.lt(lanes_b).lane(l), x < other);
+                assert_eq!(lanes_a.le(lanes_b).lane(l), x <= other);
             }
         }
         let mixed = F4([1.0, f64::INFINITY, f64::NAN, -2.0]);
@@ -249,5 +283,12 @@ mod tests {
         assert_eq!(chosen.0[1], 9.0);
         assert!(chosen.0[2].is_nan());
         assert_eq!(chosen.0[3], 9.0);
+        let (p, q) = (
+            Mask4::from_bools([true, true, false, false]),
+            Mask4::from_bools([true, false, true, false]),
+        );
+        assert_eq!(p.or(q), Mask4::from_bools([true, true, true, false]));
+        assert_eq!(p.differs(q), Mask4::from_bools([false, true, true, false]));
+        assert!(!F4::splat(f64::NAN).le(F4::splat(1.0)).lane(0));
     }
 }

@@ -154,7 +154,7 @@ pub fn solve_trajectory(
         });
     }
     for (i, pose) in base_from_targets.iter().enumerate() {
-        check_pose(pose, &format!("trajectory pose {i}"))?;
+        check_pose(pose, &format_args!("trajectory pose {i}"))?;
     }
     let tracker = Tracker {
         kernel: Kernel::new(

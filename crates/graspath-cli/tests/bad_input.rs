@@ -68,6 +68,16 @@ trajectory:
   steps: [ { lift: 0.2 }, { move: [0, 0.3, 0] }, { place: 0.2 } ]
 "#;
 
+/// The task with a scene obstacle read from the cloud `c.ply`.
+const TASK_SCENE_CLOUD: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 5 } } }
+trajectory: { samples_per_step: 3, steps: [ { lift: 0.2 } ] }
+scene: { obstacles: [ { name: scan, cloud: c.ply, radius: 0.01 } ] }
+"#;
+
 /// The task file with the candidates read from `c.json` / `c.csv`.
 const TASK_FILE_JSON: &str = r#"
 robot: { builtin: baxter }
@@ -330,6 +340,9 @@ fn table() -> Vec<Row> {
         row("task unknown family", "select --task {d}/v-unknown-family.yaml --out {d}/out", &[], 2, "spiral"),
         row("task two candidate sources", "select --task {d}/v-two-sources.yaml --out {d}/out", &[], 2, "candidates"),
         row("task urdf missing link", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF), ("two.urdf", TWO_LINK_URDF)], 2, "no link named 'nope'"),
+        row("task file over the size cap", "select --task {d}/t.yaml --out {d}/out", &[], 2, "t.yaml: cannot read: the file is larger than 268435456 bytes").setup(|d| sparse(d, "t.yaml", graspath::input::MAX_TASK_FILE_BYTES + 1)),
+        row("task urdf over the size cap", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF)], 2, "two.urdf: cannot read: the file is larger than 268435456 bytes").setup(|d| sparse(d, "two.urdf", graspath::input::MAX_ROBOT_FILE_BYTES + 1)),
+        row("scene cloud over the size cap", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_SCENE_CLOUD)], 2, "c.ply: the file is larger than 4294967296 bytes").setup(|d| sparse(d, "c.ply", graspath::input::MAX_CLOUD_FILE_BYTES + 1)),
         row("task urdf malformed", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF), ("two.urdf", "<robot name=\"x\"><link></robot>")], 2, "two.urdf"),
         // Candidate files.
         row("candidates file missing", "select --task {d}/v-missing-candidates.yaml --out {d}/out", &[], 2, "nowhere.json"),
@@ -418,6 +431,14 @@ fn symlink(target: &Path, link: &Path, make_target_folder: bool) {
     std::os::unix::fs::symlink(target, link).unwrap();
 }
 
+/// Makes `name` in `dir` a sparse file of `len` bytes (no disk blocks).
+fn sparse(dir: &Path, name: &str, len: u64) {
+    std::fs::File::create(dir.join(name))
+        .unwrap()
+        .set_len(len)
+        .unwrap();
+}
+
 fn mkfifo(path: &Path) {
     let status = Command::new("mkfifo")
         .arg(path)
@@ -439,7 +460,17 @@ fn snapshot(dir: &Path) -> BTreeMap<PathBuf, String> {
                 walk(root, &path, out);
                 "folder".to_string()
             } else if file_type.is_file() {
-                format!("file {:?}", std::fs::read(&path).unwrap())
+                let metadata = std::fs::metadata(&path).unwrap();
+                if metadata.len() > 1 << 20 {
+                    // A huge (sparse) input: its length and modification time, not its bytes.
+                    format!(
+                        "file of {} bytes, {:?}",
+                        metadata.len(),
+                        metadata.modified().unwrap()
+                    )
+                } else {
+                    format!("file {:?}", std::fs::read(&path).unwrap())
+                }
             } else {
                 "special".to_string()
             };

@@ -73,6 +73,7 @@ pub mod failure;
 pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
+pub mod input;
 pub mod manipulability;
 pub mod placement;
 pub mod random;

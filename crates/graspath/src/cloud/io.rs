@@ -44,7 +44,8 @@ pub fn read_cloud(path: &Path) -> Result<PointCloud, CloudError> {
 fn read_cloud_counted(path: &Path) -> Result<(PointCloud, usize), CloudError> {
     let format = CloudFormat::from_path(path)?;
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(&name, e))?;
+    let bytes = crate::input::read(path, crate::input::MAX_CLOUD_FILE_BYTES)
+        .map_err(|e| CloudError::io(&name, e))?;
     match format {
         CloudFormat::Ply => ply::read_ply_counted(&bytes, &name),
         CloudFormat::Pcd => pcd::read_pcd_counted(&bytes, &name),
@@ -128,7 +129,8 @@ fn load_counted(path: &Path) -> Result<(PointCloud, usize), CloudError> {
         return read_cloud_counted(path);
     }
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| CloudError::io(&name, e))?;
+    let text = crate::input::read_to_string(path, crate::input::MAX_CLOUD_FILE_BYTES)
+        .map_err(|e| CloudError::io(&name, e))?;
     let source: CloudSource = serde_json::from_str(&text)
         .map_err(|e| CloudError::parse(&name, format!("line {}", e.line()), e.to_string()))?;
     let cloud = source

@@ -139,7 +139,8 @@ pub fn load_collision_mesh(mesh: &MeshRef) -> Result<TriMesh, RobotError> {
 /// Reads an `.obj` or `.stl` (ascii or binary) mesh.
 pub fn read_mesh(path: &Path) -> Result<TriangleMesh, CloudError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(&name, e))?;
+    let bytes = crate::input::read(path, crate::input::MAX_CLOUD_FILE_BYTES)
+        .map_err(|e| CloudError::io(&name, e))?;
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());

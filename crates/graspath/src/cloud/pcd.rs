@@ -273,7 +273,8 @@ pub(crate) fn read_pcd_counted(
 /// Reads a PCD point cloud file.
 pub fn read_pcd(path: &Path) -> Result<PointCloud, CloudError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(&name, e))?;
+    let bytes = crate::input::read(path, crate::input::MAX_CLOUD_FILE_BYTES)
+        .map_err(|e| CloudError::io(&name, e))?;
     read_pcd_bytes(&bytes, &name)
 }
 

@@ -227,7 +227,8 @@ pub(crate) fn read_ply_counted(
 /// Reads a PLY point cloud file.
 pub fn read_ply(path: &Path) -> Result<PointCloud, CloudError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| CloudError::io(&name, e))?;
+    let bytes = crate::input::read(path, crate::input::MAX_CLOUD_FILE_BYTES)
+        .map_err(|e| CloudError::io(&name, e))?;
     read_ply_bytes(&bytes, &name)
 }
 

@@ -66,10 +66,12 @@ impl Srdf {
     /// Reads an SRDF file.
     pub fn read(path: &Path) -> Result<Self, RobotError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
-            source_name: name.clone(),
-            message: e.to_string(),
-        })?;
+        let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
+            |e| RobotError::Io {
+                source_name: name.clone(),
+                message: e.to_string(),
+            },
+        )?;
         Self::parse(&text, &name)
     }
 

@@ -29,10 +29,12 @@ impl UrdfRobot {
     /// ([`super::xacro::expand_xacro`]); otherwise the error says how to install it.
     pub fn from_file(path: &Path) -> Result<Self, RobotError> {
         let source_name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
-            source_name: source_name.clone(),
-            message: e.to_string(),
-        })?;
+        let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
+            |e| RobotError::Io {
+                source_name: source_name.clone(),
+                message: e.to_string(),
+            },
+        )?;
         if path.extension().is_some_and(|e| e == "xacro") || text.contains("<xacro:") {
             let expanded = super::xacro::expand_xacro(path)?;
             return Self::from_xml(&expanded, &source_name);

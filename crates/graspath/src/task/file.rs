@@ -565,7 +565,7 @@ impl TaskFile {
     /// Reads a task file: YAML for `.yaml`/`.yml`, JSON for `.json` (others: JSON, then YAML).
     pub fn load(path: &Path) -> Result<Self, TaskError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path)
+        let text = crate::input::read_to_string(path, crate::input::MAX_TASK_FILE_BYTES)
             .map_err(|e| TaskError::new(&name, "", format!("cannot read: {e}")))?;
         let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         Self::parse(&text, &name, extension)

@@ -423,15 +423,7 @@ fn npz_limit(bytes: &[u8]) -> u64 {
 
 /// The file's bytes, at most [`MAX_FILE_BYTES`].
 fn read_bytes(path: &Path) -> Result<Vec<u8>, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read: {e}"))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(format!("is larger than {MAX_FILE_BYTES} bytes"));
-    }
-    Ok(bytes)
+    crate::input::read(path, MAX_FILE_BYTES).map_err(|e| format!("cannot read: {e}"))
 }
 
 /// The first bytes of a file (at most 8: enough for every binary signature), the file

@@ -89,9 +89,11 @@ impl ModelError {
         }
     }
 
-    /// Reads a whole text file; the error names it.
+    /// Reads a whole text file (at most [`crate::input::MAX_MODEL_FILE_BYTES`]); the error
+    /// names it.
     pub(crate) fn read_text(path: &std::path::Path) -> Result<String, Self> {
-        std::fs::read_to_string(path).map_err(|e| Self::io(path.display().to_string(), e))
+        crate::input::read_to_string(path, crate::input::MAX_MODEL_FILE_BYTES)
+            .map_err(|e| Self::io(path.display().to_string(), e))
     }
 
     pub(crate) fn field(

@@ -102,10 +102,12 @@ impl MjcfRobot {
     /// `<compiler meshdir>`).
     pub fn from_file(path: &Path) -> Result<Self, RobotError> {
         let source_name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
-            source_name: source_name.clone(),
-            message: e.to_string(),
-        })?;
+        let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
+            |e| RobotError::Io {
+                source_name: source_name.clone(),
+                message: e.to_string(),
+            },
+        )?;
         let folder = path.parent().unwrap_or(Path::new("."));
         Self::from_xml_in(&text, &source_name, folder)
     }

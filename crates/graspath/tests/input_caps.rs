@@ -11,17 +11,21 @@ use graspath::input::{
 use graspath::robot::{MjcfRobot, Srdf, UrdfRobot};
 use graspath::task::TaskFile;
 use std::fs::File;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// A sparse file `name` in `dir` of `len` bytes.
-fn sparse(dir: &Path, name: &str, len: u64) -> PathBuf {
+/// Makes `name` in `dir` a sparse file one byte over `cap`, reads it with `read`, and checks
+/// that the error names the file and gives the cap.
+fn refused_over_cap<T, E: std::fmt::Display>(
+    dir: &Path,
+    name: &str,
+    cap: u64,
+    read: impl FnOnce(&Path) -> Result<T, E>,
+) {
     let path = dir.join(name);
-    File::create(&path).unwrap().set_len(len).unwrap();
-    path
-}
-
-/// The error names the file and says it is too large for the cap.
-fn refused(error: impl std::fmt::Display, path: &Path, cap: u64) {
+    File::create(&path).unwrap().set_len(cap + 1).unwrap();
+    let Err(error) = read(&path) else {
+        panic!("{name}: a file over the cap was read");
+    };
     let message = error.to_string();
     assert!(
         message.contains(&path.display().to_string()),
@@ -36,66 +40,33 @@ fn refused(error: impl std::fmt::Display, path: &Path, cap: u64) {
 #[test]
 fn robot_descriptions_over_the_cap_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let over = MAX_ROBOT_FILE_BYTES + 1;
-    let urdf = sparse(dir.path(), "robot.urdf", over);
-    refused(
-        UrdfRobot::from_file(&urdf).unwrap_err(),
-        &urdf,
-        MAX_ROBOT_FILE_BYTES,
-    );
-    let mjcf = sparse(dir.path(), "robot.xml", over);
-    refused(
-        MjcfRobot::from_file(&mjcf).unwrap_err(),
-        &mjcf,
-        MAX_ROBOT_FILE_BYTES,
-    );
-    let srdf = sparse(dir.path(), "robot.srdf", over);
-    refused(Srdf::read(&srdf).unwrap_err(), &srdf, MAX_ROBOT_FILE_BYTES);
+    let d = dir.path();
+    refused_over_cap(d, "robot.urdf", MAX_ROBOT_FILE_BYTES, UrdfRobot::from_file);
+    refused_over_cap(d, "robot.xml", MAX_ROBOT_FILE_BYTES, MjcfRobot::from_file);
+    refused_over_cap(d, "robot.srdf", MAX_ROBOT_FILE_BYTES, Srdf::read);
 }
 
 #[test]
 fn a_task_file_over_the_cap_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let task = sparse(dir.path(), "task.yaml", MAX_TASK_FILE_BYTES + 1);
-    refused(
-        TaskFile::load(&task).unwrap_err(),
-        &task,
-        MAX_TASK_FILE_BYTES,
-    );
+    refused_over_cap(dir.path(), "task.yaml", MAX_TASK_FILE_BYTES, TaskFile::load);
 }
 
 #[test]
 fn model_and_demonstration_files_over_the_cap_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let model = sparse(dir.path(), "model.json", MAX_MODEL_FILE_BYTES + 1);
-    refused(
-        GraspModel::read(&model).unwrap_err(),
-        &model,
-        MAX_MODEL_FILE_BYTES,
-    );
-    let demo = sparse(dir.path(), "demo.json", MAX_MODEL_FILE_BYTES + 1);
-    refused(
-        Demonstration::read(&demo).unwrap_err(),
-        &demo,
-        MAX_MODEL_FILE_BYTES,
-    );
+    let d = dir.path();
+    refused_over_cap(d, "model.json", MAX_MODEL_FILE_BYTES, GraspModel::read);
+    refused_over_cap(d, "demo.json", MAX_MODEL_FILE_BYTES, Demonstration::read);
 }
 
 #[test]
 fn clouds_and_meshes_over_the_cap_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let over = MAX_CLOUD_FILE_BYTES + 1;
-    let ply = sparse(dir.path(), "scan.ply", over);
-    refused(read_ply(&ply).unwrap_err(), &ply, MAX_CLOUD_FILE_BYTES);
-    refused(read_cloud(&ply).unwrap_err(), &ply, MAX_CLOUD_FILE_BYTES);
-    let pcd = sparse(dir.path(), "scan.pcd", over);
-    refused(read_pcd(&pcd).unwrap_err(), &pcd, MAX_CLOUD_FILE_BYTES);
-    let source = sparse(dir.path(), "scan.json", over);
-    refused(
-        load_cloud_argument(&source).unwrap_err(),
-        &source,
-        MAX_CLOUD_FILE_BYTES,
-    );
-    let mesh = sparse(dir.path(), "bin.stl", over);
-    refused(read_mesh(&mesh).unwrap_err(), &mesh, MAX_CLOUD_FILE_BYTES);
+    let d = dir.path();
+    refused_over_cap(d, "scan.ply", MAX_CLOUD_FILE_BYTES, read_ply);
+    refused_over_cap(d, "any.ply", MAX_CLOUD_FILE_BYTES, read_cloud);
+    refused_over_cap(d, "scan.pcd", MAX_CLOUD_FILE_BYTES, read_pcd);
+    refused_over_cap(d, "scan.json", MAX_CLOUD_FILE_BYTES, load_cloud_argument);
+    refused_over_cap(d, "bin.stl", MAX_CLOUD_FILE_BYTES, read_mesh);
 }

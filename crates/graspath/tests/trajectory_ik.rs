@@ -179,7 +179,11 @@ fn a_first_sample_out_of_reach_is_reported_at_sample_zero() {
     let failure = result.failure.expect("explained");
     assert_eq!(failure.sample, 0);
     assert_eq!(failure.reason, FailureReason::Unreachable);
-    assert!(failure.detail.contains("reach"), "{failure}");
+    assert!(failure.detail.starts_with("out of reach: "), "{failure}");
+    assert!(
+        failure.detail.contains("the links between them span"),
+        "{failure}"
+    );
 }
 
 #[test]

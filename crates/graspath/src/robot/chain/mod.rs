@@ -8,7 +8,7 @@
 //!
 //! The files of this module:
 //! * `mod.rs` (this file): the flattened layout (segments, mimic drives, link slots), its
-//!   construction and checks, the accessors, the reach sphere and the joint-origin polyline.
+//!   construction and checks, the accessors and the joint-origin polyline.
 //! * [`forward`]: the scalar passes (tip pose with the Jacobian, every link frame) and the
 //!   single-configuration entry points, which choose the AVX2 kernel at run time.
 //! * [`avx2`] (x86-64 only): the same passes on 256-bit vectors, chosen at run time when the
@@ -18,6 +18,7 @@
 //!   a time on AVX2, one per vector lane.
 //! * [`fixed`]: [`FixedChain`], a fixed-size copy with a stack-allocated Jacobian.
 //! * [`sweep`]: bounds on how far link points move between two configurations.
+//! * [`reach`]: proofs that a tip pose is out of reach, from the chain's geometry alone.
 //! * `tests.rs`: the kernels against the scalar passes, bit for bit, on random chains.
 
 use super::error::RobotError;
@@ -29,11 +30,13 @@ mod avx2;
 mod batch;
 mod fixed;
 mod forward;
+mod reach;
 mod sweep;
 #[cfg(test)]
 mod tests;
 
 pub use fixed::FixedChain;
+pub(crate) use reach::OutOfReach;
 pub use sweep::{JointAxes, JointAxis, SweepBound};
 
 /// Largest number of moving joints in one chain (mimic followers included).
@@ -356,31 +359,6 @@ impl Chain {
             return Err(RobotError::NonFiniteJoint { index });
         }
         Ok(())
-    }
-
-    /// A sphere holding every reachable tip position, `(centre, radius)` in the base frame (m):
-    /// the first joint's origin does not move, and every later offset, the tool offset and each
-    /// prismatic travel add at most their length. The radius is `+∞` with an unbounded
-    /// prismatic joint.
-    pub(crate) fn reach_sphere(&self) -> (Vector3<f64>, f64) {
-        let Some(first) = self.segments.first() else {
-            return (self.tail_translation, 0.0);
-        };
-        let mut radius = self.tail_translation.norm();
-        for (i, segment) in self.segments.iter().enumerate() {
-            if i > 0 {
-                radius += segment.translation.norm();
-            }
-            if segment.kind == MotionKind::Prismatic {
-                let (source, multiplier, offset) = match &self.drives {
-                    None => (i, 1.0, 0.0),
-                    Some(drives) => (drives[i].source, drives[i].multiplier, drives[i].offset),
-                };
-                let travel = self.lower[source].abs().max(self.upper[source].abs());
-                radius += multiplier.abs() * travel + offset.abs();
-            }
-        }
-        (first.translation, radius)
     }
 
     /// The base origin, every moving joint's origin and the tip origin at `q`, in the base

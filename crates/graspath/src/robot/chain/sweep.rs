@@ -158,11 +158,6 @@ impl Chain {
             None => (i, 1.0, 0.0),
             Some(d) => (d[i].source, d[i].multiplier, d[i].offset),
         };
-        // The largest |value| of segment i's joint: the travel a prismatic joint adds.
-        let travel = |i: usize| {
-            let (source, multiplier, offset) = drive(i);
-            multiplier.abs() * self.lower[source].abs().max(self.upper[source].abs()) + offset.abs()
-        };
         let levers = self
             .link_slots
             .iter()
@@ -184,9 +179,7 @@ impl Chain {
                                     if m > i {
                                         arm += self.segments[m].translation.norm();
                                     }
-                                    if self.segments[m].kind == MotionKind::Prismatic {
-                                        arm += travel(m);
-                                    }
+                                    arm += self.travel(m);
                                 }
                                 Some(arm)
                             }

@@ -5,9 +5,9 @@
 use super::avx2;
 #[cfg(target_arch = "x86_64")]
 use super::forward::{forward_scalar, link_frames_scalar};
-use super::Chain;
+use super::{Chain, MotionKind};
 use crate::robot::spec::{ChainSpec, JointKind, JointSpec, Mimic};
-use nalgebra::{Isometry3, IsometryMatrix3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, IsometryMatrix3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
@@ -335,7 +335,7 @@ fn link_frame_kernel_is_bit_identical_to_the_scalar_pass() {
             prismatic += chain
                 .segments
                 .iter()
-                .filter(|s| s.kind == super::MotionKind::Prismatic)
+                .filter(|s| s.kind == MotionKind::Prismatic)
                 .count();
             identities += chain.link_slots.iter().filter(|s| s.identity).count();
             let links = chain.link_names().len();
@@ -393,4 +393,190 @@ fn four_lanes_equal_one_call_per_configuration_bit_for_bit() {
             }
         }
     }
+}
+
+/// A random chain of either generator, and a configuration inside its limits (every joint's
+/// limits are ±3; a revolute joint may turn any amount, which only widens what is reachable).
+fn chain_and_configurations(seed: u64) -> (Chain, Vec<Vec<f64>>) {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let joints = rng.random_range(1..10);
+    let chain = if seed.is_multiple_of(2) {
+        random_chain(&mut rng, joints)
+    } else {
+        random_chain_with_mimics(&mut rng, joints)
+    };
+    let configurations = (0..20)
+        .map(|_| {
+            (0..chain.dof())
+                .map(|_| rng.random_range(-3.0..=3.0))
+                .collect()
+        })
+        .collect();
+    (chain, configurations)
+}
+
+#[test]
+fn no_reachable_pose_is_proven_out_of_reach() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(17);
+    let mut chains: Vec<(Chain, Vec<Vec<f64>>)> = (0..400).map(chain_and_configurations).collect();
+    for robot in crate::robot::builtin::BuiltinRobot::ALL {
+        for spec in robot.chain_specs() {
+            let chain = Chain::from_spec(&spec).unwrap();
+            let configurations = (0..200)
+                .map(|_| {
+                    (0..chain.dof())
+                        .map(|j| {
+                            let (lo, hi) = (chain.lower()[j], chain.upper()[j]);
+                            if lo.is_finite() && hi.is_finite() {
+                                rng.random_range(lo..=hi)
+                            } else {
+                                rng.random_range(-7.0..7.0)
+                            }
+                        })
+                        .collect()
+                })
+                .collect();
+            chains.push((chain, configurations));
+        }
+    }
+    let (position_tolerance, rotation_tolerance) = (1e-3, 1e-2);
+    for (chain, configurations) in &chains {
+        for q in configurations {
+            let pose = chain.pose(q).unwrap();
+            let (p, r) = (pose.translation.vector, *pose.rotation.matrix());
+            let proof = chain.out_of_reach(&p, &r, 0.0, 0.0);
+            assert!(
+                proof.is_none(),
+                "{} at {q:?}: {}",
+                chain.name(),
+                proof.unwrap()
+            );
+            // A pose just within the tolerances of a reachable one is not out of reach either.
+            let shift = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .normalize();
+            let turn = nalgebra::Rotation3::from_scaled_axis(
+                Vector3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                )
+                .normalize()
+                    * (0.999 * rotation_tolerance),
+            );
+            let near = chain.out_of_reach(
+                &(p + 0.999 * position_tolerance * shift),
+                &(turn.matrix() * r),
+                position_tolerance,
+                rotation_tolerance,
+            );
+            assert!(
+                near.is_none(),
+                "{} near {q:?}: {}",
+                chain.name(),
+                near.unwrap()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_reach_anchors_are_where_forward_kinematics_puts_the_joints() {
+    for seed in 0..400 {
+        let (chain, configurations) = chain_and_configurations(seed);
+        let n = chain.segments.len();
+        for q in &configurations {
+            let pose = chain.pose(q).unwrap();
+            // [base, b₀, …, bₙ₋₁, tip]: every joint's origin before its own motion.
+            let origins: Vec<Vector3<f64>> = chain
+                .joint_origins(q)
+                .unwrap()
+                .iter()
+                .map(|p| p.coords)
+                .collect();
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()));
+            for anchor in chain.base_anchors() {
+                let joint = anchor.index / 2;
+                let gap = anchor.distance(&origins[1 + joint]);
+                assert!(
+                    close(gap, 0.0),
+                    "seed {seed}: b{joint} is {gap} m off its anchor"
+                );
+            }
+            for anchor in chain.tip_anchors() {
+                let point = pose.translation.vector + pose.rotation * anchor.offset;
+                if anchor.index == 2 * n {
+                    assert!(
+                        close((point - origins[n + 1]).norm(), 0.0),
+                        "seed {seed}: tip"
+                    );
+                    continue;
+                }
+                // aᵢ: bᵢ, moved along the axis by a prismatic joint; only revolute joints are
+                // compared here (the after-motion frame of a prismatic one is not listed).
+                let joint = (anchor.index - 1) / 2;
+                if chain.segments[joint].kind == MotionKind::Revolute {
+                    let off = (point - origins[1 + joint]).norm();
+                    assert!(
+                        close(off, anchor.slack),
+                        "seed {seed}: a{joint} is {off} m from its anchor, not {}",
+                        anchor.slack
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn baxter_grasping_towards_its_shoulder_at_arm_s_length_is_out_of_reach() {
+    use crate::robot::builtin::{baxter_spec, Arm};
+    let chain = Chain::from_spec(&baxter_spec(Arm::Left)).unwrap();
+    // The wrist centre (joint w1's origin) in the tip frame, from forward kinematics.
+    let q = chain.mid_configuration();
+    let pose = chain.pose(&q).unwrap();
+    let origins = chain.joint_origins(&q).unwrap();
+    let wrist_in_tip = pose.inverse_transform_point(&origins[6]).coords;
+    // A tip 0.55 m out from the shoulder, pointing back at it: the wrist centre lies beyond.
+    let s0 = origins[1].coords;
+    let out = Vector3::new(1.0, 0.3, -0.2).normalize();
+    let position = s0 + 0.55 * out;
+    let approach = -out;
+    let side = approach.cross(&Vector3::z()).normalize();
+    let rotation = Matrix3::from_columns(&[side, approach.cross(&side), approach]);
+    let wrist = position + rotation * wrist_in_tip;
+    // Brute force: the nearest the shoulder's second joint (s1) comes to the wrist centre as
+    // the first joint turns, and the longest the links from s1 to w1 can be end to end.
+    let nearest = (0..36_000)
+        .map(|k| {
+            let mut q = chain.mid_configuration();
+            q[0] = k as f64 * std::f64::consts::TAU / 36_000.0;
+            (chain.joint_origins(&q).unwrap()[2].coords - wrist).norm()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let links: f64 = (2..6)
+        .map(|i| (origins[i + 1].coords - origins[i].coords).norm())
+        .sum();
+    assert!(
+        nearest > links + 0.05,
+        "the pose is chosen well out of reach"
+    );
+    // The tip itself is well within the sphere about the first joint.
+    let all_links: f64 = (1..origins.len() - 1)
+        .map(|i| (origins[i + 1].coords - origins[i].coords).norm())
+        .sum();
+    assert!((position - s0).norm() < all_links - 0.3);
+    let proof = chain
+        .out_of_reach(&position, &rotation, 1e-5, 1e-4)
+        .expect("proven out of reach");
+    assert!((proof.distance - nearest).abs() < 1e-6, "{proof}");
+    assert!((proof.span - links).abs() < 1e-9, "{proof}");
+    let text = proof.to_string();
+    assert!(
+        text.contains("'left_w1'") && text.contains("'left_s1'"),
+        "{text}"
+    );
 }

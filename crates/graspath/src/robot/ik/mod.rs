@@ -32,7 +32,7 @@ pub use self_motion::{
 };
 pub use trajectory::{solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult};
 
-use super::chain::{Chain, MAX_JOINTS};
+use super::chain::{Chain, OutOfReach, MAX_JOINTS};
 use super::error::RobotError;
 use crate::failure::FailureReason;
 use kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
@@ -78,8 +78,9 @@ impl Default for IkOptions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct IkFailure {
     /// Why the search stopped.
-    /// `unreachable` (the target is farther from the first joint than the chain can reach; the
-    /// search stopped after one attempt), `time_limit` or `iteration_limit`.
+    /// `unreachable` (the chain's geometry proves the target out of reach: two of its points,
+    /// one fixed by the base and one by the target, would be farther apart than the links
+    /// between them span; the search stopped after one attempt), `time_limit` or `iteration_limit`.
     pub reason: FailureReason,
     /// The configuration (inside the limits, rad / m) with the lowest residual; its errors
     /// are [`IkSolution::position_error`] and [`IkSolution::rotation_error`].
@@ -208,10 +209,15 @@ pub(crate) struct SearchOutcome {
     pub attempts: usize,
 }
 
-/// Whether the target position lies outside the chain's reach sphere (with tolerance).
-pub(crate) fn out_of_reach(kernel: &Kernel<'_>, target: &Target) -> bool {
-    let (centre, radius) = kernel.chain.reach_sphere();
-    (target.position - centre).norm() > radius + kernel.position_tolerance
+/// A proof that no configuration reaches `target`, within the kernel's tolerances (see
+/// [`Chain::out_of_reach`]).
+pub(crate) fn out_of_reach(kernel: &Kernel<'_>, target: &Target) -> Option<OutOfReach> {
+    kernel.chain.out_of_reach(
+        &target.position,
+        &target.rotation,
+        kernel.position_tolerance,
+        kernel.rotation_tolerance,
+    )
 }
 
 /// The start of attempt `k`: `q_start` for the first two attempts (one per strategy), then a
@@ -274,7 +280,7 @@ pub(crate) fn search<R: rand::Rng>(
     rng: &mut R,
 ) -> SearchOutcome {
     let n = kernel.dof();
-    let far = out_of_reach(kernel, target);
+    let far = out_of_reach(kernel, target).is_some();
     let mut outcome = SearchOutcome {
         converged: false,
         out_of_reach: far,

@@ -21,8 +21,10 @@
 //!   farther away and no solution inside the limits was found;
 //! * `discontinuity`: solutions inside the limits exist, but only farther than
 //!   `max_joint_step` from the previous sample (the detail names the joint and the jump);
-//! * `unreachable`: the target lies outside the chain's reach, or no solution near it was
-//!   found (the detail gives the best residual).
+//! * `unreachable`: the chain's geometry proves the target out of reach (the detail names the
+//!   two points the target puts farther apart than the links between them span, see
+//!   `Chain::out_of_reach`), or no solution near it was found (the
+//!   detail gives the best residual). A target proven out of reach is not searched.
 //!
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
 //! so results are identical from run to run and at any thread count.
@@ -311,10 +313,16 @@ impl Tracker<'_> {
         let n = self.n();
         let kernel = &self.kernel;
         let target = Target::new(&self.poses[0]);
+        if let Some(proof) = out_of_reach(kernel, &target) {
+            return Err(Failure::new(
+                FailureReason::Unreachable,
+                0,
+                proof.to_string(),
+            ));
+        }
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.options.ik.random_seed);
         let mut ws = Workspace::new();
         let wanted = self.options.branches;
-        let far = out_of_reach(kernel, &target);
         let max_attempts = wanted.saturating_mul(6).saturating_add(2);
         let mut search = FirstPoseSearch {
             found: Vec::with_capacity(wanted.min(16)),
@@ -327,7 +335,6 @@ impl Tracker<'_> {
         let goes_on = |search: &FirstPoseSearch, k: usize| {
             !search.budget.exhausted()
                 && search.found.len() < wanted
-                && !far
                 && (search.found.is_empty() || k < max_attempts)
         };
         // Notes an attempt's end: its cost, and its configuration when it converged.
@@ -411,7 +418,7 @@ impl Tracker<'_> {
         let mut start = [0.0; MAX_JOINTS];
         start[..n].copy_from_slice(q_start);
         kernel.clamp(&mut start[..n]);
-        self.classify_first(&target, &start[..n], far, search.best)
+        self.classify_first(&target, &start[..n], search.best)
             .map(|q| vec![q])
     }
 
@@ -421,13 +428,9 @@ impl Tracker<'_> {
         &self,
         target: &Target,
         start: &[f64],
-        far: bool,
         best: (f64, f64),
     ) -> Result<Vec<f64>, Failure> {
         let fail = |reason, detail| Err(Failure::new(reason, 0, detail));
-        if far {
-            return fail(FailureReason::Unreachable, self.reach_detail(target));
-        }
         // The restarts, each with its own budget, run together in vector lanes; the first
         // (in restart order) that converges decides.
         let free = self.kernel.unconstrained();
@@ -466,15 +469,6 @@ impl Tracker<'_> {
                 "no solution found within the iteration budget; best residual {:.3e} m, {:.3e} rad",
                 best.0, best.1
             ),
-        )
-    }
-
-    fn reach_detail(&self, target: &Target) -> String {
-        let (centre, radius) = self.kernel.chain.reach_sphere();
-        format!(
-            "the target is {:.4} m from the first joint, beyond the chain's reach of {:.4} m",
-            (target.position - centre).norm(),
-            radius
         )
     }
 
@@ -553,8 +547,8 @@ impl Tracker<'_> {
         let acceptable = |ws: &Workspace, end: RunEnd| {
             end == RunEnd::Converged && max_difference(&ws.cur().q[..n], previous) <= step
         };
-        if out_of_reach(kernel, target) {
-            return fail(FailureReason::Unreachable, self.reach_detail(target));
+        if let Some(proof) = out_of_reach(kernel, target) {
+            return fail(FailureReason::Unreachable, proof.to_string());
         }
         // 1. The other limit strategy from the previous solution.
         ws.cur_mut().q[..n].copy_from_slice(previous);

@@ -7,8 +7,9 @@
 #
 #   PYTHON=target/pyenv/bin/python SHARED=../shared RUNS=5 examples/peers/run_faces_peer.sh
 #
-# Each side runs RUNS times in turn (graspath, peer, graspath, ...); every run's wall time
-# (process start to exit, files written) is printed by /usr/bin/time. Quote medians.
+# After one untimed run each, the two sides run RUNS times in turn (graspath, peer, graspath,
+# ...); each run's wall time (process start to exit, files written) is taken from bash's
+# microsecond clock, and the medians and the median of the pairs' ratios are printed.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -24,12 +25,37 @@ mkdir -p "$work"
 (cd "$root" && cargo run --release -q -p graspath --example export_wrist_paths -- \
   "$task" "$work/wrists.npy")
 
-for i in $(seq "$runs"); do
-  rm -rf "$work/graspath"
-  /usr/bin/time -f "graspath wall %e s" "$graspath" select --task "$task" \
-    --out "$work/graspath" --quiet
-  /usr/bin/time -f "peer wall %e s" "$python" "$here/faces_tracik.py" --wrists "$work/wrists.npy" \
+# Wall time of one command (ms), from bash's clock in microseconds.
+wall_ms() {
+  local start=$EPOCHREALTIME
+  "$@"
+  local end=$EPOCHREALTIME
+  awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", (b - a) * 1000 }'
+}
+run_graspath() {
+  "$graspath" select --task "$task" --out "$work/graspath" --force --quiet
+}
+run_peer() {
+  "$python" "$here/faces_tracik.py" --wrists "$work/wrists.npy" \
     --urdf "$shared/robots/baxter.urdf" --out "$work/peer.npz" --quiet
+}
+
+run_graspath && run_peer # warm-up, not timed
+ours=()
+theirs=()
+for i in $(seq "$runs"); do
+  ours+=("$(wall_ms run_graspath)")
+  theirs+=("$(wall_ms run_peer)")
+  echo "pair $i: graspath ${ours[-1]} ms, peer ${theirs[-1]} ms"
 done
+"$python" - "${ours[*]}" "${theirs[*]}" <<'PY'
+import statistics, sys
+ours = [float(v) for v in sys.argv[1].split()]
+theirs = [float(v) for v in sys.argv[2].split()]
+ratios = [t / o for o, t in zip(ours, theirs)]
+print(f"graspath median {statistics.median(ours):.1f} ms ({min(ours):.1f}-{max(ours):.1f}), "
+      f"peer median {statistics.median(theirs):.0f} ms ({min(theirs):.0f}-{max(theirs):.0f}), "
+      f"ratio (median of the pairs') {statistics.median(ratios):.0f}x")
+PY
 "$python" "$here/compare_faces.py" "$work/graspath/candidates.json" "$work/peer.npz" \
   --wrists "$work/wrists.npy" --urdf "$shared/robots/baxter.urdf"

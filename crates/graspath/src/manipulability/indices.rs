@@ -78,7 +78,7 @@ pub fn yoshikawa<C: Dim, S: Storage<f64, U6, C>>(
     jacobian: &Matrix<f64, U6, C, S>,
     part: JacobianPart,
 ) -> f64 {
-    singular_values(jacobian, part).iter().product()
+    product_of(&singular_values(jacobian, part))
 }
 
 /// Inverse condition number `σmin / σmax` of the selected rows (0 when `σmax = 0`).
@@ -86,15 +86,7 @@ pub fn inverse_condition<C: Dim, S: Storage<f64, U6, C>>(
     jacobian: &Matrix<f64, U6, C, S>,
     part: JacobianPart,
 ) -> f64 {
-    let s = singular_values(jacobian, part);
-    let (max, min) = (s[0], s[s.len() - 1]);
-    if max.is_nan() {
-        f64::NAN
-    } else if max > 0.0 {
-        min / max
-    } else {
-        0.0
-    }
+    ratio_of(&singular_values(jacobian, part))
 }
 
 /// Inverse condition number of `J Jᵀ`, `λmin / λmax` (the paper's eq. 12): the square of
@@ -104,6 +96,50 @@ pub fn inverse_condition_squared<C: Dim, S: Storage<f64, U6, C>>(
     part: JacobianPart,
 ) -> f64 {
     inverse_condition(jacobian, part).powi(2)
+}
+
+/// The classical indices of one configuration's selected rows, from one SVD: the values of
+/// [`yoshikawa`], [`inverse_condition`] and [`inverse_condition_squared`], bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClassicalIndices {
+    /// Yoshikawa's manipulability `sqrt(det(J Jᵀ))`.
+    pub yoshikawa: f64,
+    /// `σmin / σmax` (0 when `σmax = 0`).
+    pub inverse_condition: f64,
+    /// `λmin / λmax` of `J Jᵀ`.
+    pub inverse_condition_squared: f64,
+}
+
+/// [`ClassicalIndices`] of the selected rows of `J`.
+pub fn classical_indices<C: Dim, S: Storage<f64, U6, C>>(
+    jacobian: &Matrix<f64, U6, C, S>,
+    part: JacobianPart,
+) -> ClassicalIndices {
+    let values = singular_values(jacobian, part);
+    let inverse_condition = ratio_of(&values);
+    ClassicalIndices {
+        yoshikawa: product_of(&values),
+        inverse_condition,
+        inverse_condition_squared: inverse_condition.powi(2),
+    }
+}
+
+/// The product of singular values.
+fn product_of(values: &[f64]) -> f64 {
+    values.iter().product()
+}
+
+/// The smallest over the largest of singular values in descending order (NaN stays NaN, 0
+/// when the largest is 0).
+fn ratio_of(values: &[f64]) -> f64 {
+    let (max, min) = (values[0], values[values.len() - 1]);
+    if max.is_nan() {
+        f64::NAN
+    } else if max > 0.0 {
+        min / max
+    } else {
+        0.0
+    }
 }
 
 /// A direction for the task-relevant index, sized to the rows it is used with.
@@ -230,6 +266,41 @@ mod tests {
         Matrix6xX::from_fn(7, |r, c| {
             ((r * 7 + c) as f64 * 0.37).sin() + if r == c { 1.0 } else { 0.0 }
         })
+    }
+
+    #[test]
+    fn classical_indices_from_one_svd_equal_the_separate_functions_bit_for_bit() {
+        let mut columns = jacobian()
+            .column_iter()
+            .map(nalgebra::Matrix::into_owned)
+            .collect::<Vec<_>>();
+        let full = Matrix6xX::from_columns(&columns);
+        columns.truncate(3);
+        let short = Matrix6xX::from_columns(&columns);
+        let mut singular = full.clone();
+        singular.set_column(1, &full.column(0).into_owned());
+        let mut nan = full.clone();
+        nan[(2, 3)] = f64::NAN;
+        let none = Matrix6xX::<f64>::zeros(0);
+        let bits = |v: f64| v.to_bits();
+        for j in [&full, &short, &singular, &nan, &none] {
+            for part in [
+                JacobianPart::Full,
+                JacobianPart::Translation,
+                JacobianPart::Rotation,
+            ] {
+                let together = classical_indices(j, part);
+                assert_eq!(bits(together.yoshikawa), bits(yoshikawa(j, part)));
+                assert_eq!(
+                    bits(together.inverse_condition),
+                    bits(inverse_condition(j, part))
+                );
+                assert_eq!(
+                    bits(together.inverse_condition_squared),
+                    bits(inverse_condition_squared(j, part))
+                );
+            }
+        }
     }
 
     #[test]

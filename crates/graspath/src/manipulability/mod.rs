@@ -18,8 +18,9 @@ mod norms;
 mod tangent;
 
 pub use indices::{
-    inverse_condition, inverse_condition_squared, singular_values, task_relevant,
-    velocity_transmission_ratio, yoshikawa, Direction, JacobianPart,
+    classical_indices, inverse_condition, inverse_condition_squared, singular_values,
+    task_relevant, velocity_transmission_ratio, yoshikawa, ClassicalIndices, Direction,
+    JacobianPart,
 };
 pub use limits::{joint_limit_penalty, limit_distance};
 pub use norms::{PathNorms, SampleIndex};

@@ -11,8 +11,8 @@ use crate::failure::{FailureReason, Phase};
 use crate::geometry::se3_log;
 use crate::grasp::Candidate;
 use crate::manipulability::{
-    inverse_condition, inverse_condition_squared, joint_limit_penalty, limit_distance, yoshikawa,
-    Direction, JacobianPart, PathNorms, SampleIndex,
+    classical_indices, joint_limit_penalty, limit_distance, Direction, JacobianPart, PathNorms,
+    SampleIndex,
 };
 use crate::robot::{
     optimize_self_motion, solve_trajectory, Chain, KeptRows, SelfMotionOptions, TrajectoryIkOptions,
@@ -662,15 +662,14 @@ fn score_one(
     });
     if let Some(q) = grasp_q {
         if chain.pose_and_jacobian_into(&q, &mut jacobian).is_ok() {
-            let w = yoshikawa(&jacobian, JacobianPart::Full);
+            let indices = classical_indices(&jacobian, JacobianPart::Full);
+            let w = indices.yoshikawa;
             score.yoshikawa_at_grasp = Some(w);
             score.yoshikawa_penalized_at_grasp = ranked
                 .joint_limit_penalty
                 .map(|k| w * joint_limit_penalty(&q, chain.lower(), chain.upper(), k));
-            score.inverse_condition_at_grasp =
-                Some(inverse_condition(&jacobian, JacobianPart::Full));
-            score.inverse_condition_squared_at_grasp =
-                Some(inverse_condition_squared(&jacobian, JacobianPart::Full));
+            score.inverse_condition_at_grasp = Some(indices.inverse_condition);
+            score.inverse_condition_squared_at_grasp = Some(indices.inverse_condition_squared);
         }
     }
     score

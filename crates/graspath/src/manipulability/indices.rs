@@ -272,7 +272,7 @@ mod tests {
     fn classical_indices_from_one_svd_equal_the_separate_functions_bit_for_bit() {
         let mut columns = jacobian()
             .column_iter()
-            .map(nalgebra::Matrix::into_owned)
+            .map(Matrix::into_owned)
             .collect::<Vec<_>>();
         let full = Matrix6xX::from_columns(&columns);
         columns.truncate(3);

@@ -3,6 +3,7 @@
 //! Numbers that are infinite (a `μ_l∞` on a singular path) are written as `null` with a flag
 //! beside them, since JSON has no infinity. Output is byte-identical for the same input.
 
+use crate::pretty::write_pretty_at;
 use crate::world::has_world;
 use graspath::geometry::pose_to_rows;
 use graspath::select::{
@@ -216,26 +217,31 @@ pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) 
                 .map(move |(score, ranking)| (arm.arm.as_str(), score, ranking))
         })
         .collect();
-    let records: Vec<Vec<u8>> = pairs
-        .par_iter()
-        .map(|&(arm, score, ranking)| {
-            let record = candidate_record(arm, score, ranking, trajectories, false);
-            serde_json::to_vec_pretty(&[record]).expect("records serialise")
-        })
-        .collect();
-    if records.is_empty() {
+    if pairs.is_empty() {
         return b"[]\n".to_vec();
     }
-    // Each record was rendered as a one-element array, `[`, a line break, two spaces, the
-    // record indented as an element of the top-level array, a line break, `]`: the record's
-    // bytes are what lies between.
-    let (open, close) = (b"[\n  ".len(), b"\n]".len());
-    let total = records.iter().map(Vec::len).sum::<usize>() + 4;
+    // Chunks of records rendered on all cores, each record as an element of the top-level
+    // array (one level in), after its separator.
+    const CHUNK: usize = 16;
+    let chunks: Vec<Vec<u8>> = pairs
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut bytes = Vec::new();
+            for (i, &(arm, score, ranking)) in chunk.iter().enumerate() {
+                let first = c == 0 && i == 0;
+                bytes.extend_from_slice(if first { b"\n  " } else { b",\n  " });
+                let record = candidate_record(arm, score, ranking, trajectories, false);
+                write_pretty_at(&mut bytes, &record, 1).expect("records serialise");
+            }
+            bytes
+        })
+        .collect();
+    let total = chunks.iter().map(Vec::len).sum::<usize>() + 4;
     let mut bytes = Vec::with_capacity(total);
     bytes.push(b'[');
-    for (i, record) in records.iter().enumerate() {
-        bytes.extend_from_slice(if i == 0 { b"\n  " } else { b",\n  " });
-        bytes.extend_from_slice(&record[open..record.len() - close]);
+    for chunk in &chunks {
+        bytes.extend_from_slice(chunk);
     }
     bytes.extend_from_slice(b"\n]\n");
     bytes

@@ -10,6 +10,7 @@ mod lines;
 mod map;
 mod parquet;
 mod plots;
+mod pretty;
 mod scene;
 mod stage;
 mod style;

@@ -200,13 +200,28 @@ pub fn candidates_json_with(selection: &Selection, trajectories: Trajectories) -
     Value::Array(records)
 }
 
-/// The bytes of `candidates.json` as the CLI writes it: `candidates_json_with(selection,
-/// trajectories)` in serde_json's pretty form, then a newline. The records are rendered on all
-/// cores, each straight from its fields (no `Value` in between) and indented as an element of
-/// the top-level array, so the file costs a fraction of building the whole document and
-/// printing it on one thread; the bytes are the same.
+/// The bytes of `candidates.json` as the CLI writes it (see [`write_candidates_json`]).
 pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    write_candidates_json(&mut bytes, selection, trajectories).expect("writing to memory");
+    bytes
+}
+
+/// Writes `candidates.json` as the CLI does: `candidates_json_with(selection, trajectories)` in
+/// serde_json's pretty form, then a newline. The records are rendered straight from their
+/// fields (no `Value` in between), indented as elements of the top-level array, in chunks on
+/// all cores; each wave of chunks is written while the next one renders, so neither the
+/// document nor a copy of it is held whole. The bytes are serde_json's.
+pub fn write_candidates_json<W: Write + Send>(
+    out: &mut W,
+    selection: &Selection,
+    trajectories: Trajectories,
+) -> std::io::Result<()> {
     use rayon::prelude::*;
+    /// Records a chunk, rendered by one task.
+    const CHUNK: usize = 16;
+    /// Chunks a wave, rendered together while the wave before is written.
+    const WAVE: usize = 8;
     let pairs: Vec<(&str, &CandidateScore, &Ranking)> = selection
         .arms
         .iter()
@@ -218,33 +233,38 @@ pub fn candidates_json_bytes(selection: &Selection, trajectories: Trajectories) 
         })
         .collect();
     if pairs.is_empty() {
-        return b"[]\n".to_vec();
+        return out.write_all(b"[]\n");
     }
-    // Chunks of records rendered on all cores, each record as an element of the top-level
-    // array (one level in), after its separator.
-    const CHUNK: usize = 16;
-    let chunks: Vec<Vec<u8>> = pairs
-        .par_chunks(CHUNK)
-        .enumerate()
-        .map(|(c, chunk)| {
-            let mut bytes = Vec::new();
-            for (i, &(arm, score, ranking)) in chunk.iter().enumerate() {
-                let first = c == 0 && i == 0;
-                bytes.extend_from_slice(if first { b"\n  " } else { b",\n  " });
-                let record = candidate_record(arm, score, ranking, trajectories, false);
-                write_pretty_at(&mut bytes, &record, 1).expect("records serialise");
-            }
-            bytes
-        })
-        .collect();
-    let total = chunks.iter().map(Vec::len).sum::<usize>() + 4;
-    let mut bytes = Vec::with_capacity(total);
-    bytes.push(b'[');
-    for chunk in &chunks {
-        bytes.extend_from_slice(chunk);
+    // Each record after its separator, one level in.
+    let render = |c: usize, chunk: &[(&str, &CandidateScore, &Ranking)]| {
+        let mut bytes = Vec::new();
+        for (i, &(arm, score, ranking)) in chunk.iter().enumerate() {
+            let first = c == 0 && i == 0;
+            bytes.extend_from_slice(if first { b"\n  " } else { b",\n  " });
+            let record = candidate_record(arm, score, ranking, trajectories, false);
+            write_pretty_at(&mut bytes, &record, 1).expect("records serialise");
+        }
+        bytes
+    };
+    let chunks: Vec<&[(&str, &CandidateScore, &Ranking)]> = pairs.chunks(CHUNK).collect();
+    out.write_all(b"[")?;
+    let mut rendered: Vec<Vec<u8>> = Vec::new();
+    for (w, wave) in chunks.chunks(WAVE).enumerate() {
+        let write = |out: &mut W| rendered.iter().try_for_each(|chunk| out.write_all(chunk));
+        let (written, next) = rayon::join(
+            || write(out),
+            || {
+                wave.par_iter()
+                    .enumerate()
+                    .map(|(i, chunk)| render(w * WAVE + i, chunk))
+                    .collect()
+            },
+        );
+        written?;
+        rendered = next;
     }
-    bytes.extend_from_slice(b"\n]\n");
-    bytes
+    rendered.iter().try_for_each(|chunk| out.write_all(chunk))?;
+    out.write_all(b"\n]\n")
 }
 
 /// Writes one streamed candidate as a line of `candidates.jsonl`: the fields of its

@@ -10,14 +10,14 @@ use crate::output::{print_summary_table, OutputArgs, Progress};
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::fsutil::{check_folder_target, write_files, Existing, FolderWriter};
+use graspath::fsutil::{check_folder_target, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
 use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
-    write_candidate_line, write_ranking_jsonl, write_ranking_parquet, CandidatesParquet,
-    Trajectories,
+    write_candidate_line, write_candidates_json, write_ranking_jsonl, write_ranking_parquet,
+    CandidatesParquet, Trajectories,
 };
 use std::fs::File;
 use std::io::BufWriter;
@@ -117,6 +117,21 @@ pub fn run_task(
     report: bool,
     trajectories: Trajectories,
 ) -> Result<TaskRun> {
+    let mut run = run_task_but_candidates(task, parameter, output, title, report)?;
+    let candidates = candidates_json_bytes(&run.selection, trajectories);
+    run.files
+        .insert(0, ("candidates.json".to_string(), candidates));
+    Ok(run)
+}
+
+/// [`run_task`] without `candidates.json`, which [`run`] writes as it renders it.
+fn run_task_but_candidates(
+    task: &Task,
+    parameter: Option<&FamilyParameter>,
+    output: &OutputArgs,
+    title: &str,
+    report: bool,
+) -> Result<TaskRun> {
     let total = task.candidates.len() * task.arms.len();
     let progress = Progress::new(output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
@@ -128,16 +143,10 @@ pub fn run_task(
         bytes.push(b'\n');
         Ok(bytes)
     };
-    let mut files = vec![
-        (
-            "candidates.json".to_string(),
-            candidates_json_bytes(&selection, trajectories),
-        ),
-        (
-            "summary.json".to_string(),
-            pretty(summary_json(task, &selection))?,
-        ),
-    ];
+    let mut files = vec![(
+        "summary.json".to_string(),
+        pretty(summary_json(task, &selection))?,
+    )];
     if task.arms.len() == 2 {
         files.push(("pairs.json".to_string(), pretty(pairs_json(&selection))?));
     }
@@ -248,15 +257,18 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     if args.format == Format::Json {
         let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
         let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
-        let run = run_task(
-            &task,
-            parameter.as_ref(),
-            &args.output,
-            &title,
-            args.report,
-            trajectories,
-        )?;
-        write_files(&args.out, &run.files, existing)?;
+        let run =
+            run_task_but_candidates(&task, parameter.as_ref(), &args.output, &title, args.report)?;
+        // `candidates.json` is written as it is rendered, then the other files.
+        let mut folder = FolderWriter::begin(&args.out, existing)?;
+        let name = "candidates.json";
+        let mut file = folder.create(name)?;
+        write_candidates_json(&mut file, &run.selection, trajectories)
+            .with_context(|| format!("cannot write {}", args.out.join(name).display()))?;
+        for (name, bytes) in &run.files {
+            folder.write(name, bytes)?;
+        }
+        folder.finish()?;
         return finish(args, &task, &run.selection, &title, run.elapsed);
     }
     if args.report {

@@ -361,6 +361,20 @@ impl Chain {
         Ok(())
     }
 
+    /// Largest distance (m) segment `i` moves its child along its axis: 0 for a revolute
+    /// joint, the larger limit for a prismatic one (through its mimic drive).
+    fn travel(&self, i: usize) -> f64 {
+        if self.segments[i].kind != MotionKind::Prismatic {
+            return 0.0;
+        }
+        let (source, multiplier, offset) = match &self.drives {
+            None => (i, 1.0, 0.0),
+            Some(drives) => (drives[i].source, drives[i].multiplier, drives[i].offset),
+        };
+        let travel = self.lower[source].abs().max(self.upper[source].abs());
+        multiplier.abs() * travel + offset.abs()
+    }
+
     /// The base origin, every moving joint's origin and the tip origin at `q`, in the base
     /// frame (m): the polyline a viewer draws as the arm's links.
     pub fn joint_origins(&self, q: &[f64]) -> Result<Vec<nalgebra::Point3<f64>>, RobotError> {

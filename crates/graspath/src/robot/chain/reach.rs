@@ -237,18 +237,4 @@ impl Chain {
             })
             .sum()
     }
-
-    /// Largest distance (m) segment `i` moves its child along its axis: 0 for a revolute
-    /// joint, the larger limit for a prismatic one (through its mimic drive).
-    pub(super) fn travel(&self, i: usize) -> f64 {
-        if self.segments[i].kind != MotionKind::Prismatic {
-            return 0.0;
-        }
-        let (source, multiplier, offset) = match &self.drives {
-            None => (i, 1.0, 0.0),
-            Some(drives) => (drives[i].source, drives[i].multiplier, drives[i].offset),
-        };
-        let travel = self.lower[source].abs().max(self.upper[source].abs());
-        multiplier.abs() * travel + offset.abs()
-    }
 }

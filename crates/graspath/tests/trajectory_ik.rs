@@ -7,8 +7,8 @@ use common::{fk, pose_distance, shared_file, ur5_like};
 use graspath::failure::FailureReason;
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::robot::{
-    load_urdf_chain, solve_ik, solve_trajectory, Chain, IkOptions, RobotError, TrajectoryIkOptions,
-    TrajectoryIkResult,
+    load_urdf_chain, solve_ik, solve_trajectories, solve_trajectory, Chain, IkOptions, RobotError,
+    TrajectoryIkOptions, TrajectoryIkResult,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
@@ -320,6 +320,85 @@ fn bad_input_is_an_error() {
             ..
         })
     ));
+}
+
+/// A batch solves each trajectory as it would be solved alone, bit for bit, and in order:
+/// feasible ones, ones that leave the workspace or the limits or flip the wrist, one out of
+/// reach from the start, and, for one branch or several, each trajectory's own bad input
+/// (empty, not finite) refused on its own. Input common to all is refused once.
+#[test]
+fn a_batch_solves_each_trajectory_as_alone() {
+    let chain = ur5_like(std::f64::consts::PI);
+    let mut trajectories: Vec<Vec<Isometry3<f64>>> = vec![
+        (0..31)
+            .map(|i| fk(&chain, &[2.6 + 0.03 * i as f64, -1.2, 1.4, -0.6, 1.1, 0.3]))
+            .collect(),
+        near_wrist_singularity(&chain),
+        vec![Isometry3::translation(3.0, 3.0, 0.0); 5],
+        Vec::new(),
+        (0..20)
+            .map(|i| fk(&chain, &[0.3 - 0.02 * i as f64, -1.0, 1.2, -0.4, 0.9, 0.1]))
+            .collect(),
+    ];
+    let mut bad = trajectories[4].clone();
+    bad[7].translation.vector.y = f64::NAN;
+    trajectories.push(bad);
+    let start = fk(&chain, &[0.3, -1.0, 1.2, -0.4, 0.9, 0.1]);
+    trajectories.push(
+        (0..25)
+            .map(|i| {
+                let away = start.translation.vector.normalize() * (0.06 * i as f64);
+                Isometry3::from_parts(
+                    Translation3::from(start.translation.vector + away),
+                    start.rotation,
+                )
+            })
+            .collect(),
+    );
+    let q_start = [0.4, -1.3, 1.5, -1.0, 0.1, 0.5];
+    let batch: Vec<&[Isometry3<f64>]> = trajectories.iter().map(Vec::as_slice).collect();
+    for branches in [1, 3] {
+        let options = TrajectoryIkOptions {
+            branches,
+            ..TrajectoryIkOptions::default()
+        };
+        let together =
+            solve_trajectories(&chain, &batch, &q_start, &options).expect("valid options");
+        assert_eq!(together.len(), batch.len());
+        let mut feasible = 0;
+        for (k, (poses, got)) in batch.iter().zip(&together).enumerate() {
+            let alone = solve_trajectory(&chain, poses, &q_start, &options);
+            // Debug prints every number to its last bit.
+            assert_eq!(
+                format!("{got:?}"),
+                format!("{alone:?}"),
+                "trajectory {k}, {branches} branches"
+            );
+            if let Ok(result) = got {
+                check_branches(&chain, poses, result, options.max_joint_step);
+                feasible += usize::from(result.feasible());
+            }
+        }
+        assert!(feasible >= 1, "the batch has feasible trajectories");
+        assert!(together[3].is_err() && together[5].is_err());
+    }
+    let zero_step = TrajectoryIkOptions {
+        max_joint_step: 0.0,
+        ..TrajectoryIkOptions::default()
+    };
+    assert!(matches!(
+        solve_trajectories(&chain, &batch, &q_start, &zero_step),
+        Err(RobotError::BadOption {
+            name: "max_joint_step",
+            ..
+        })
+    ));
+    assert!(solve_trajectories(&chain, &[], &q_start, &zero_step).is_err());
+    assert!(
+        solve_trajectories(&chain, &[], &q_start, &TrajectoryIkOptions::default())
+            .expect("valid")
+            .is_empty()
+    );
 }
 
 #[test]

@@ -25,9 +25,9 @@ pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound}
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use error::RobotError;
 pub use ik::{
-    null_space, optimize_self_motion, solve_ik, solve_trajectory, IkFailure, IkOptions, IkSolution,
-    JointPath, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath, TrajectoryIkOptions,
-    TrajectoryIkResult,
+    null_space, optimize_self_motion, solve_ik, solve_trajectories, solve_trajectory, IkFailure,
+    IkOptions, IkSolution, JointPath, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
+    TrajectoryIkOptions, TrajectoryIkResult,
 };
 pub use mjcf::{MjcfRobot, SkippedGeom};
 pub use source::{RobotModel, RobotSource};

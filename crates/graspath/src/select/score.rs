@@ -15,7 +15,8 @@ use crate::manipulability::{
     SampleIndex,
 };
 use crate::robot::{
-    optimize_self_motion, solve_trajectory, Chain, KeptRows, SelfMotionOptions, TrajectoryIkOptions,
+    optimize_self_motion, solve_trajectories, solve_trajectory, Chain, KeptRows, SelfMotionOptions,
+    TrajectoryIkOptions, TrajectoryIkResult,
 };
 use crate::task::{
     defaults, ArmSetup, Collisions, Gripper, JacobianRows, NormSamples, ObjectPath, RankedIndex,
@@ -27,6 +28,10 @@ use std::sync::Arc;
 
 /// How many candidates are scored in parallel before their results are handed on in order.
 pub const STREAM_CHUNK: usize = 256;
+
+/// How many candidates share one batch of first IK solves (their branches tracked four at a
+/// time in vector lanes, see [`solve_trajectories`]).
+const SOLVE_GROUP: usize = 16;
 
 /// A candidate's scores for one arm.
 #[derive(Debug, Clone, PartialEq)]
@@ -340,15 +345,15 @@ pub fn for_each_score(
     let times = setup.path.times();
     let fingers = FingerCheck::new(&setup.world);
     for chunk in candidates.chunks(STREAM_CHUNK) {
-        let scores: Vec<CandidateScore> = chunk
-            .par_iter()
-            .map(|candidate| {
-                let score = score_one(setup, candidate, &motion, &times, fingers.as_ref());
-                progress();
-                score
+        let scores: Vec<Vec<CandidateScore>> = chunk
+            .par_chunks(SOLVE_GROUP)
+            .map(|group| {
+                let scores = score_group(setup, group, &motion, &times, fingers.as_ref());
+                scores.iter().for_each(|_| progress());
+                scores
             })
             .collect();
-        scores.into_iter().for_each(&mut consume);
+        scores.into_iter().flatten().for_each(&mut consume);
     }
 }
 
@@ -436,12 +441,162 @@ impl<'a> FingerCheck<'a> {
     }
 }
 
-fn score_one(
+/// A candidate on its way through scoring: its motion's tool poses and what checks them.
+struct Scoring<'s> {
+    setup: &'s ScoringSetup<'s>,
+    candidate: &'s Arc<Candidate>,
+    plan: WholeMotionPlan<'s>,
+    /// The tool poses of the whole motion (approach, path, retreat), chain base frame.
+    targets: Vec<Isometry3<f64>>,
+    checker: Option<ArmInScene<'s>>,
+    /// The object's first and last poses on the path, world frame.
+    first_pose: Isometry3<f64>,
+    last_pose: Isometry3<f64>,
+}
+
+impl<'s> Scoring<'s> {
+    fn new(setup: &'s ScoringSetup<'s>, candidate: &'s Arc<Candidate>) -> Self {
+        let ScoringSetup {
+            arm, path, world, ..
+        } = setup;
+        let plan = world.plan(path);
+        let base_from_world = arm.world_from_base.inverse();
+        let targets = plan
+            .tool_poses(&candidate.object_from_wrist)
+            .iter()
+            .map(|p| base_from_world * p)
+            .collect();
+        let checker = match (world.collisions, &arm.bodies) {
+            (Some(c), Some(bodies)) => Some(ArmInScene {
+                arm: bodies,
+                world_from_base: &arm.world_from_base,
+                scene: &c.scene,
+                object: world.object,
+                options: &c.options,
+            }),
+            _ => None,
+        };
+        let first_pose = path
+            .poses()
+            .next()
+            .copied()
+            .unwrap_or_else(Isometry3::identity);
+        let last_pose = path.poses().last().copied().unwrap_or(first_pose);
+        Self {
+            setup,
+            candidate,
+            plan,
+            targets,
+            checker,
+            first_pose,
+            last_pose,
+        }
+    }
+
+    /// The IK options of the first solve: one branch tracked, unless every branch is to be
+    /// compared.
+    fn first_try(setup: &ScoringSetup<'_>) -> TrajectoryIkOptions {
+        let ik = setup.ik;
+        TrajectoryIkOptions {
+            branches: if setup.redundancy == Redundancy::First {
+                1
+            } else {
+                ik.branches
+            },
+            ..ik.clone()
+        }
+    }
+
+    /// A failure whose sample counts the whole motion's samples, located in its phase.
+    fn located(&self, mut failure: Failure) -> Failure {
+        let (phase, sample) = self.plan.phase_of(failure.sample);
+        failure.phase = phase;
+        failure.sample = sample;
+        failure
+    }
+
+    /// The object carried along the path, for the collision checks.
+    fn object_along(&self) -> ObjectAlong<'_> {
+        let before = self.plan.approach_samples();
+        ObjectAlong {
+            path: before..before + self.setup.path.samples.len(),
+            world_from_object_start: &self.first_pose,
+            world_from_object_end: &self.last_pose,
+            object_from_wrist: &self.candidate.object_from_wrist,
+        }
+    }
+
+    /// What fails whatever the arm does, found before any IK: the gripper's width, and the
+    /// hand and what rides with it colliding at the tool poses.
+    fn fails_before_ik(&self, fingers: Option<&FingerCheck<'_>>) -> Option<Failure> {
+        if let Some(failure) = fingers.and_then(|f| f.failure(self.candidate)) {
+            return Some(failure);
+        }
+        let hit = self.checker.as_ref()?.check_tool_poses(&ToolMotion {
+            base_from_tool: &self.targets,
+            object: self.object_along(),
+        })?;
+        Some(self.located(collision_failure(&hit)))
+    }
+}
+
+/// Scores the candidates of `group` (see [`for_each_score`]), in order. The first IK solve of
+/// every candidate that gets that far is done in one batch ([`solve_trajectories`]).
+fn score_group(
     setup: &ScoringSetup<'_>,
-    candidate: &Arc<Candidate>,
+    group: &[Arc<Candidate>],
     motion: &ObjectMotion,
     times: &[f64],
     fingers: Option<&FingerCheck<'_>>,
+) -> Vec<CandidateScore> {
+    let chain = &setup.arm.chain;
+    let scorings: Vec<Scoring<'_>> = group.iter().map(|c| Scoring::new(setup, c)).collect();
+    let early: Vec<Option<Failure>> = scorings
+        .iter()
+        .map(|s| s.fails_before_ik(fingers))
+        .collect();
+    let trajectories: Vec<&[Isometry3<f64>]> = scorings
+        .iter()
+        .zip(&early)
+        .filter(|(_, failure)| failure.is_none())
+        .map(|(scoring, _)| scoring.targets.as_slice())
+        .collect();
+    let q_start = chain.mid_configuration();
+    let mut firsts: Vec<Result<TrajectoryIkResult, String>> =
+        match solve_trajectories(chain, &trajectories, &q_start, &Scoring::first_try(setup)) {
+            Ok(results) => results
+                .into_iter()
+                .map(|r| r.map_err(|e| e.to_string()))
+                .collect::<Vec<_>>(),
+            Err(e) => trajectories.iter().map(|_| Err(e.to_string())).collect(),
+        }
+        .into_iter()
+        .rev()
+        .collect();
+    scorings
+        .into_iter()
+        .zip(early)
+        .map(|(scoring, early)| match early {
+            Some(failure) => {
+                let mut score = CandidateScore::unscored(Arc::clone(scoring.candidate));
+                score.failure = Some(failure);
+                score
+            }
+            None => {
+                let first = firsts.pop().expect("one first solve per candidate solved");
+                score_solved(scoring, first, motion, times)
+            }
+        })
+        .collect()
+}
+
+/// The rest of a candidate's scoring, from its first IK solve (`first`, with
+/// [`Scoring::first_try`]'s options; `Err` when its input was refused).
+fn score_solved(
+    scoring: Scoring<'_>,
+    first: Result<TrajectoryIkResult, String>,
+    motion: &ObjectMotion,
+    times: &[f64],
 ) -> CandidateScore {
     let ScoringSetup {
         arm,
@@ -450,74 +605,27 @@ fn score_one(
         ranked,
         ik,
         redundancy,
-        world,
-    } = *setup;
+        ..
+    } = *scoring.setup;
+    let candidate = scoring.candidate;
     let compare_branches = redundancy != Redundancy::First;
     let chain = &arm.chain;
     let n = path.samples.len();
-    let plan = world.plan(path);
-    let before = plan.approach_samples();
-    let base_from_world = arm.world_from_base.inverse();
-    let targets: Vec<Isometry3<f64>> = plan
-        .tool_poses(&candidate.object_from_wrist)
-        .iter()
-        .map(|p| base_from_world * p)
-        .collect();
+    let before = scoring.plan.approach_samples();
+    let targets = &scoring.targets;
     let q_start = chain.mid_configuration();
     let mut jacobian = Matrix6xX::zeros(chain.dof());
     let mut score = CandidateScore::unscored(Arc::clone(candidate));
-    if let Some(failure) = fingers.and_then(|f| f.failure(candidate)) {
-        score.failure = Some(failure);
-        return score;
-    }
-    let located = |mut failure: Failure| {
-        let (phase, sample) = plan.phase_of(failure.sample);
-        failure.phase = phase;
-        failure.sample = sample;
-        failure
-    };
-    let checker = match (world.collisions, &arm.bodies) {
-        (Some(c), Some(bodies)) => Some(ArmInScene {
-            arm: bodies,
-            world_from_base: &arm.world_from_base,
-            scene: &c.scene,
-            object: world.object,
-            options: &c.options,
-        }),
-        _ => None,
-    };
-    let first_pose = path
-        .poses()
-        .next()
-        .copied()
-        .unwrap_or_else(Isometry3::identity);
-    let last_pose = path.poses().last().copied().unwrap_or(first_pose);
-    let object_along = ObjectAlong {
-        path: before..before + n,
-        world_from_object_start: &first_pose,
-        world_from_object_end: &last_pose,
-        object_from_wrist: &candidate.object_from_wrist,
-    };
-    // The hand and what rides with it collide or not whatever the arm does: no IK for them.
-    if let Some(hit) = checker.as_ref().and_then(|c| {
-        c.check_tool_poses(&ToolMotion {
-            base_from_tool: &targets,
-            object: object_along.clone(),
-        })
-    }) {
-        score.failure = Some(located(collision_failure(&hit)));
-        return score;
-    }
-    // Track one branch first; search for more only when it fails or collides, or when every
-    // branch is to be compared.
-    let first_try = TrajectoryIkOptions {
-        branches: if compare_branches { ik.branches } else { 1 },
-        ..ik.clone()
-    };
-    let mut tries = vec![first_try];
+    let located = |failure: Failure| scoring.located(failure);
+    let checker = scoring.checker.as_ref();
+    let object_along = scoring.object_along();
+    // One branch tracked first; more are searched only when it fails or collides, or when
+    // every branch is to be compared.
+    let mut tries = vec![Scoring::first_try(scoring.setup)];
     if !compare_branches && ik.branches > 1 {
         tries.push(ik.clone());
     }
+    let mut first = Some(first);
     let mut collision: Option<Failure> = None;
     // Branches found colliding, with their failure: the search with more branches finds the
     // first one again, and it need not be checked twice.
@@ -531,10 +639,13 @@ fn score_one(
     // motion starts at the grasp.
     let mut grasp_configuration: Option<Vec<f64>> = None;
     for (attempt, options) in tries.iter().enumerate() {
-        let result = match solve_trajectory(chain, &targets, &q_start, options) {
+        let solved = first.take().unwrap_or_else(|| {
+            solve_trajectory(chain, targets, &q_start, options).map_err(|e| e.to_string())
+        });
+        let result = match solved {
             Ok(r) => r,
-            Err(e) => {
-                score.failure = Some(Failure::new(FailureReason::Unreachable, 0, e.to_string()));
+            Err(message) => {
+                score.failure = Some(Failure::new(FailureReason::Unreachable, 0, message));
                 return score;
             }
         };
@@ -603,14 +714,14 @@ fn score_one(
     }
     if let (Redundancy::Optimize, Some(chosen)) = (redundancy, best.as_mut()) {
         let search = SelfMotionSearch {
-            setup,
+            setup: scoring.setup,
             candidate,
             motion,
             times,
             counted: &counted,
-            targets: &targets,
+            targets,
             path: before..before + n,
-            checker: checker.as_ref(),
+            checker,
             object_along: &object_along,
         };
         score.self_motion = search.improve(chosen, first_branch.as_ref());

@@ -7,7 +7,9 @@
 //! bit-identical to a run of that attempt alone. [`run_in_order`] runs a sequence of attempts
 //! speculatively in the lanes and hands their ends to the caller in sequence order, charging a
 //! shared evaluation budget as a one-at-a-time search would; an attempt that the budget would
-//! have cut short is handed back to be run alone.
+//! have cut short is handed back to be run alone. A lane can also go on from where its last
+//! run ended towards a new target ([`Lanes::resume`]), as trajectory tracking does from one
+//! sample to the next: four branches of a trajectory are tracked at once.
 //!
 //! Frames and units as in [`super::kernel`]: base frame, m, rad.
 
@@ -15,10 +17,11 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::kernel::{
-    damped_step, Kernel, Patience, Residual, RunEnd, Strategy, Target, DAMPING_FLOOR,
+    damped_step, Kernel, Patience, Residual, RunEnd, State, Strategy, Target, DAMPING_FLOOR,
 };
 use super::simd::{Mask4, Real, F4};
 use crate::robot::chain::MAX_JOINTS;
+use nalgebra::{Matrix3, Vector3};
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
 
@@ -125,14 +128,20 @@ impl LaneStates {
     }
 }
 
-/// Four Levenberg–Marquardt runs towards one target, advanced one iteration at a time.
+/// A tip pose in the base frame: position (m) and orientation.
+type TipPose = (Vector3<f64>, Matrix3<f64>);
+
+/// Four Levenberg–Marquardt runs, advanced one iteration at a time, each towards its lane's
+/// target (one target for all four in a search).
 pub(crate) struct Lanes<'k> {
     kernel: Kernel<'k>,
-    target: Target,
+    targets: [Target; 4],
     patience: Patience,
     lanes: [Lane; 4],
     /// Each lane's current (best) configuration, evaluated.
     current: LaneStates,
+    /// The tip pose at each lane's current configuration.
+    tips: [TipPose; 4],
     /// Each lane's candidate configuration.
     candidate: LaneStates,
     /// Scratch: the joints' weights and the step (one per joint).
@@ -145,21 +154,22 @@ impl<'k> Lanes<'k> {
         let dof = kernel.dof();
         Self {
             kernel,
-            target,
+            targets: [target; 4],
             patience,
             lanes: [Lane::idle(); 4],
             current: LaneStates::new(dof),
+            tips: [(Vector3::zeros(), Matrix3::identity()); 4],
             candidate: LaneStates::new(dof),
             weights: vec![F4::default(); dof],
             dq: vec![F4::default(); dof],
         }
     }
 
-    fn free_lane(&self) -> Option<usize> {
+    pub(crate) fn free_lane(&self) -> Option<usize> {
         self.lanes.iter().position(|l| l.phase == Phase::Idle)
     }
 
-    fn busy(&self) -> bool {
+    pub(crate) fn busy(&self) -> bool {
         self.lanes.iter().any(|l| l.phase != Phase::Idle)
     }
 
@@ -180,6 +190,41 @@ impl<'k> Lanes<'k> {
             strategy: attempt.strategy,
             cap: attempt.cap,
             limit,
+            ..Lane::idle()
+        };
+    }
+
+    /// Puts the evaluated `state` (configuration, Jacobian, tip pose) in the idle lane `lane`,
+    /// for [`Lanes::resume`] to go on from.
+    pub(crate) fn load(&mut self, lane: usize, state: &State) {
+        debug_assert_eq!(self.lanes[lane].phase, Phase::Idle);
+        let n = self.kernel.dof();
+        for (j, q) in self.current.q.iter_mut().enumerate() {
+            q.0[lane] = state.q[j];
+        }
+        for (k, column) in self.current.jacobian.iter_mut().enumerate().take(6 * n) {
+            column.0[lane] = state.jacobian[k];
+        }
+        self.tips[lane] = (state.position, state.rotation);
+    }
+
+    /// Starts a run in the idle lane `lane` from its current state (the end of its last run,
+    /// or what [`Lanes::load`] put there) towards `target`, allowed `cap` evaluations: what
+    /// [`Kernel::run`] does from a state [`Kernel::retarget`]ed to `target`, the start not
+    /// evaluated again.
+    pub(crate) fn resume(&mut self, lane: usize, tag: usize, target: Target, cap: usize) {
+        debug_assert_eq!(self.lanes[lane].phase, Phase::Idle);
+        let (position, rotation) = &self.tips[lane];
+        let current = Residual::of(&target, position, rotation);
+        self.targets[lane] = target;
+        self.lanes[lane] = Lane {
+            phase: Phase::Running,
+            tag,
+            strategy: Strategy::Clamped,
+            cap,
+            limit: cap,
+            window_cost: current.cost,
+            current,
             ..Lane::idle()
         };
     }
@@ -210,7 +255,7 @@ impl<'k> Lanes<'k> {
     }
 
     /// One iteration of every busy lane; the runs that end are appended to `ended`.
-    fn advance(&mut self, ended: &mut Vec<(usize, AttemptEnd)>) {
+    pub(crate) fn advance(&mut self, ended: &mut Vec<(usize, AttemptEnd)>) {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2, checked just above.
@@ -342,11 +387,14 @@ impl<'k> Lanes<'k> {
         for l in (0..4).filter(|&l| evaluate[l]) {
             let pose = &poses[l];
             residuals[l] = Residual::of(
-                &self.target,
+                &self.targets[l],
                 &pose.translation.vector,
                 pose.rotation.matrix(),
             );
             take[l] = starting[l] || residuals[l].cost < self.lanes[l].current.cost;
+            if take[l] {
+                self.tips[l] = (pose.translation.vector, *pose.rotation.matrix());
+            }
         }
         let take_mask = Mask4::from_bools(take);
         for (current, candidate) in self.current.q.iter_mut().zip(&self.candidate.q) {
@@ -384,6 +432,15 @@ impl<'k> Lanes<'k> {
                 if lane.mu > 1e6 {
                     self.finish(l, RunEnd::Stalled, ended);
                 }
+                continue;
+            }
+            // The next iteration's first check, done now so that the lane is free for the
+            // caller to refill before it.
+            if self
+                .kernel
+                .within_tolerance(residual.position_error, residual.rotation_error)
+            {
+                self.finish(l, RunEnd::Converged, ended);
             }
         }
     }

@@ -30,7 +30,9 @@ mod trajectory;
 pub use self_motion::{
     null_space, optimize_self_motion, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
 };
-pub use trajectory::{solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult};
+pub use trajectory::{
+    solve_trajectories, solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult,
+};
 
 use super::chain::{Chain, OutOfReach, MAX_JOINTS};
 use super::error::RobotError;

@@ -29,8 +29,13 @@
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
 //! so results are identical from run to run and at any thread count.
 //!
-//! One file on purpose (about 600 lines): the branch search and the per-sample recovery ladder
-//! share the tracker's state.
+//! [`solve_trajectories`] solves a batch of trajectories with the same results, bit for bit,
+//! as [`solve_trajectory`] one by one: the branches of the whole batch are tracked four at a
+//! time, one per vector lane ([`super::lanes`]), which is where a selection spends most of its
+//! time.
+//!
+//! One file on purpose (about 850 lines, a tenth tests): the branch search, the tracking in
+//! lanes and the per-sample recovery ladder share the tracker's state.
 
 use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use super::lanes::{run_each, run_in_order, Attempt, Handed, Lanes};
@@ -127,6 +132,24 @@ pub fn solve_trajectory(
     q_start: &[f64],
     options: &TrajectoryIkOptions,
 ) -> Result<TrajectoryIkResult, RobotError> {
+    solve_trajectories(chain, &[base_from_targets], q_start, options)?
+        .pop()
+        .expect("one trajectory, one result")
+}
+
+/// [`solve_trajectory`] of each trajectory of `trajectories`, all from `q_start` with
+/// `options`: the same results, bit for bit, in the same order. The branches of all the
+/// trajectories are tracked four at a time, one per vector lane, so a batch takes less time
+/// than its trajectories one by one.
+///
+/// The outer `Err` is for input common to all (the options, `q_start`); the inner one for a
+/// trajectory's own poses (empty, or a non-finite pose).
+pub fn solve_trajectories(
+    chain: &Chain,
+    trajectories: &[&[Isometry3<f64>]],
+    q_start: &[f64],
+    options: &TrajectoryIkOptions,
+) -> Result<Vec<Result<TrajectoryIkResult, RobotError>>, RobotError> {
     check_options(&options.ik)?;
     if !(options.max_joint_step.is_finite() && options.max_joint_step > 0.0) {
         return Err(RobotError::BadOption {
@@ -149,38 +172,95 @@ pub fn solve_trajectory(
         }
     }
     chain.check_configuration(q_start)?;
-    if base_from_targets.is_empty() {
+    let kernel = Kernel::new(
+        chain,
+        options.ik.position_tolerance,
+        options.ik.rotation_tolerance,
+    );
+    let searched: Vec<Result<Searched<'_>, RobotError>> = trajectories
+        .iter()
+        .map(|poses| {
+            check_trajectory(poses)?;
+            let tracker = Tracker {
+                kernel,
+                poses,
+                options,
+            };
+            let starts = tracker.initial_solutions(q_start);
+            Ok((tracker, starts))
+        })
+        .collect();
+    let jobs: Vec<Job<'_>> = searched
+        .iter()
+        .filter_map(|searched| match searched {
+            Ok((tracker, Ok(starts))) => Some((tracker, starts)),
+            _ => None,
+        })
+        .flat_map(|(tracker, starts)| {
+            starts.iter().enumerate().map(move |(branch, start)| Job {
+                tracker,
+                branch,
+                start,
+            })
+        })
+        .collect();
+    let mut tracked = if let [job] = jobs.as_slice() {
+        vec![job.tracker.track(job.branch, job.start)]
+    } else {
+        track_in_lanes(&jobs)
+    }
+    .into_iter();
+    let mut start_clamped = q_start.to_vec();
+    kernel.clamp(&mut start_clamped);
+    Ok(searched
+        .into_iter()
+        .map(|searched| {
+            let starts = match searched? {
+                (_, Ok(starts)) => starts,
+                (_, Err(failure)) => {
+                    return Ok(TrajectoryIkResult {
+                        branches: Vec::new(),
+                        failure: Some(failure),
+                        first_pose: Vec::new(),
+                    })
+                }
+            };
+            let outcomes = tracked.by_ref().take(starts.len());
+            Ok(assemble(outcomes, starts, &start_clamped))
+        })
+        .collect())
+}
+
+/// A trajectory's tracker and its first pose's solutions (the branches' starts), or why there
+/// are none.
+type Searched<'a> = (Tracker<'a>, Result<Vec<Vec<f64>>, Failure>);
+
+/// Why `poses` cannot be a trajectory: none, or one not finite.
+fn check_trajectory(poses: &[Isometry3<f64>]) -> Result<(), RobotError> {
+    if poses.is_empty() {
         return Err(RobotError::BadPose {
             what: "trajectory".into(),
             message: "it has no poses".into(),
         });
     }
-    for (i, pose) in base_from_targets.iter().enumerate() {
+    for (i, pose) in poses.iter().enumerate() {
         check_pose(pose, &format_args!("trajectory pose {i}"))?;
     }
-    let tracker = Tracker {
-        kernel: Kernel::new(
-            chain,
-            options.ik.position_tolerance,
-            options.ik.rotation_tolerance,
-        ),
-        poses: base_from_targets,
-        options,
-    };
-    let starts = match tracker.initial_solutions(q_start) {
-        Ok(starts) => starts,
-        Err(failure) => {
-            return Ok(TrajectoryIkResult {
-                branches: Vec::new(),
-                failure: Some(failure),
-                first_pose: Vec::new(),
-            })
-        }
-    };
+    Ok(())
+}
+
+/// A trajectory's result from its branches' outcomes (branch by branch, in the order of
+/// `starts`): the branches that follow it, nearest `start_clamped` (the clamped start
+/// configuration) first, or else the failure of the branch that got furthest.
+fn assemble(
+    outcomes: impl Iterator<Item = Result<JointPath, Failure>>,
+    starts: Vec<Vec<f64>>,
+    start_clamped: &[f64],
+) -> TrajectoryIkResult {
     let mut branches = Vec::new();
     let mut furthest: Option<Failure> = None;
-    for (b, start) in starts.iter().enumerate() {
-        match tracker.track(b, start) {
+    for outcome in outcomes {
+        match outcome {
             Ok(path) => branches.push(path),
             Err(failure) => {
                 if furthest.as_ref().is_none_or(|f| failure.sample > f.sample) {
@@ -189,11 +269,9 @@ pub fn solve_trajectory(
             }
         }
     }
-    let mut start_clamped = q_start.to_vec();
-    tracker.kernel.clamp(&mut start_clamped);
     branches.sort_by(|a: &JointPath, b: &JointPath| {
-        max_difference(&a.q[0], &start_clamped)
-            .total_cmp(&max_difference(&b.q[0], &start_clamped))
+        max_difference(&a.q[0], start_clamped)
+            .total_cmp(&max_difference(&b.q[0], start_clamped))
             .then_with(|| {
                 a.q[0]
                     .iter()
@@ -204,11 +282,11 @@ pub fn solve_trajectory(
             })
     });
     let failure = if branches.is_empty() { furthest } else { None };
-    Ok(TrajectoryIkResult {
+    TrajectoryIkResult {
         branches,
         failure,
         first_pose: starts,
-    })
+    }
 }
 
 /// Largest absolute difference between two configurations (rad / m).
@@ -699,5 +777,207 @@ impl Tracker<'_> {
                 best.1, best.2
             ),
         )
+    }
+}
+
+/// One branch to track: its trajectory's tracker, its number, its start (rad / m).
+struct Job<'t> {
+    tracker: &'t Tracker<'t>,
+    branch: usize,
+    start: &'t [f64],
+}
+
+/// [`Tracker::track`] of every job, four at a time in vector lanes: each lane goes on from one
+/// sample to the next as `track` does, and a sample its lane does not settle is resolved
+/// alone ([`Tracker::resolve`]), the lane going on from the state found; a lane whose branch
+/// ends takes the next job. Bit-identical to `track`, job by job. Every job's tracker has the
+/// same kernel and options.
+fn track_in_lanes(jobs: &[Job<'_>]) -> Vec<Result<JointPath, Failure>> {
+    let Some(first_job) = jobs.first() else {
+        return Vec::new();
+    };
+    let kernel = &first_job.tracker.kernel;
+    let n = kernel.dof();
+    let step = first_job.tracker.options.max_joint_step;
+    let per_sample = first_job.tracker.options.per_sample_iterations;
+    let mut outcomes: Vec<Option<Result<JointPath, Failure>>> = vec![None; jobs.len()];
+    // Each started job's path so far; the sample its lane works on comes next.
+    let mut paths: Vec<Vec<Vec<f64>>> = vec![Vec::new(); jobs.len()];
+    // The lane each started job runs in, all along.
+    let mut lane_of = vec![0; jobs.len()];
+    let mut ws = Workspace::new();
+    let mut lanes = Lanes::new(
+        *kernel,
+        Target::new(&first_job.tracker.poses[0]),
+        Patience::TRACKING,
+    );
+    let mut ended = Vec::with_capacity(4);
+    let mut started = 0;
+    loop {
+        while started < jobs.len() {
+            let Some(lane) = lanes.free_lane() else { break };
+            let k = started;
+            started += 1;
+            let job = &jobs[k];
+            let poses = job.tracker.poses;
+            ws.cur_mut().q[..n].copy_from_slice(job.start);
+            kernel.evaluate(&Target::new(&poses[0]), ws.cur_mut());
+            paths[k] = Vec::with_capacity(poses.len());
+            paths[k].push(job.start.to_vec());
+            if poses.len() == 1 {
+                outcomes[k] = Some(Ok(JointPath {
+                    q: std::mem::take(&mut paths[k]),
+                }));
+                continue;
+            }
+            lane_of[k] = lane;
+            lanes.load(lane, ws.cur());
+            lanes.resume(lane, k, Target::new(&poses[1]), per_sample);
+        }
+        if !lanes.busy() {
+            break;
+        }
+        lanes.advance(&mut ended);
+        for (k, end) in ended.drain(..) {
+            let job = &jobs[k];
+            let poses = job.tracker.poses;
+            let lane = lane_of[k];
+            let i = paths[k].len();
+            let previous = paths[k].last().expect("a path starts with its start");
+            let target = Target::new(&poses[i]);
+            let q = if end.end == RunEnd::Converged && max_difference(&end.q, previous) <= step {
+                end.q
+            } else {
+                if let Err(failure) = job
+                    .tracker
+                    .resolve(job.branch, i, previous, &target, &mut ws)
+                {
+                    outcomes[k] = Some(Err(failure));
+                    continue;
+                }
+                lanes.load(lane, ws.cur());
+                ws.cur().q[..n].to_vec()
+            };
+            paths[k].push(q);
+            if i + 1 == poses.len() {
+                outcomes[k] = Some(Ok(JointPath {
+                    q: std::mem::take(&mut paths[k]),
+                }));
+            } else {
+                lanes.resume(lane, k, Target::new(&poses[i + 1]), per_sample);
+            }
+        }
+    }
+    outcomes
+        .into_iter()
+        .map(|outcome| outcome.expect("every job is tracked to its end"))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::robot::builtin::{baxter, Arm, BuiltinRobot};
+
+    /// Poses of a random joint-space path of `samples` samples from a random configuration,
+    /// moving `speed` rad per sample in each joint at most; with `jump`, one sample in the
+    /// middle jumps far (a resolve, a discontinuity or a limit), and with `away`, the last
+    /// samples are pushed out of reach.
+    fn random_path(
+        chain: &Chain,
+        rng: &mut Xoshiro256PlusPlus,
+        samples: usize,
+        speed: f64,
+        jump: bool,
+        away: bool,
+    ) -> Vec<Isometry3<f64>> {
+        let kernel = Kernel::new(chain, 1e-5, 1e-5);
+        let n = chain.dof();
+        let mut q = vec![0.0; n];
+        kernel.random_configuration(rng, &mut q);
+        let velocity: Vec<f64> = (0..n).map(|_| rng.random_range(-speed..=speed)).collect();
+        (0..samples)
+            .map(|i| {
+                let mut at: Vec<f64> = q
+                    .iter()
+                    .zip(&velocity)
+                    .map(|(q, v)| q + v * i as f64)
+                    .collect();
+                if jump && i >= samples / 2 {
+                    at[n / 2] += 1.2;
+                }
+                let mut pose: Isometry3<f64> =
+                    nalgebra::convert(chain.pose(&at).expect("finite configuration"));
+                if away && i + 3 >= samples {
+                    pose.translation.vector.z += 2.5;
+                }
+                pose
+            })
+            .collect()
+    }
+
+    /// The outcome of a branch as text: every number printed to its last bit.
+    fn exact(outcome: &Result<JointPath, Failure>) -> String {
+        format!("{outcome:?}")
+    }
+
+    /// Branches tracked four at a time in the lanes follow the same paths and fail at the same
+    /// samples for the same reasons, bit for bit, as each tracked alone: several trajectories'
+    /// branches mixed in one batch, lanes refilled as branches end, samples resolved alone
+    /// (large jumps, samples out of reach), on an arm without and one with joint limits that
+    /// bind often.
+    #[test]
+    fn branches_tracked_in_lanes_are_tracked_alone_bit_for_bit() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(21);
+        let panda = BuiltinRobot::Panda.chain_specs().remove(0);
+        let panda = Chain::from_spec(&panda).expect("the built-in Panda");
+        for chain in [baxter(Arm::Left), panda] {
+            let options = TrajectoryIkOptions {
+                branches: 3,
+                ..TrajectoryIkOptions::default()
+            };
+            let kernel = Kernel::new(&chain, 1e-5, 1e-5);
+            let q_start = chain.mid_configuration();
+            for case in 0..12 {
+                let trajectories: Vec<Vec<Isometry3<f64>>> = (0..rng.random_range(1..6))
+                    .map(|_| {
+                        let samples = rng.random_range(1..25);
+                        let speed = rng.random_range(0.005..0.12);
+                        let jump = rng.random_range(0..3) == 0;
+                        let away = rng.random_range(0..4) == 0;
+                        random_path(&chain, &mut rng, samples, speed, jump, away)
+                    })
+                    .collect();
+                let trackers: Vec<Tracker<'_>> = trajectories
+                    .iter()
+                    .map(|poses| Tracker {
+                        kernel,
+                        poses,
+                        options: &options,
+                    })
+                    .collect();
+                let starts: Vec<Vec<Vec<f64>>> = trackers
+                    .iter()
+                    .map(|t| t.initial_solutions(&q_start).unwrap_or_default())
+                    .collect();
+                let jobs: Vec<Job<'_>> = trackers
+                    .iter()
+                    .zip(&starts)
+                    .flat_map(|(tracker, starts)| {
+                        starts.iter().enumerate().map(move |(branch, start)| Job {
+                            tracker,
+                            branch,
+                            start,
+                        })
+                    })
+                    .collect();
+                let in_lanes = track_in_lanes(&jobs);
+                assert_eq!(in_lanes.len(), jobs.len());
+                for (k, job) in jobs.iter().enumerate() {
+                    let alone = job.tracker.track(job.branch, job.start);
+                    assert_eq!(exact(&in_lanes[k]), exact(&alone), "case {case}, job {k}");
+                }
+            }
+        }
     }
 }

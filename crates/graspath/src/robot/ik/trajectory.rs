@@ -34,7 +34,7 @@
 //! time, one per vector lane ([`super::lanes`]), which is where a selection spends most of its
 //! time.
 //!
-//! One file on purpose (about 850 lines, a tenth tests): the branch search, the tracking in
+//! One file on purpose (about 1000 lines, an eighth tests): the branch search, the tracking in
 //! lanes and the per-sample recovery ladder share the tracker's state.
 
 use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};

@@ -1,9 +1,12 @@
 //! IK speed on Baxter's left arm (built-in model): single poses from the mid-limits start
-//! configuration (TRAC-IK's protocol), and 50-sample trajectories (per-sample cost = time / 50).
+//! configuration (TRAC-IK's protocol), 50-sample trajectories (per-sample cost = time / 50),
+//! and a batch of 16 trajectories solved together against one by one.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use graspath::robot::builtin::{baxter, Arm};
-use graspath::robot::{solve_ik, solve_trajectory, Chain, IkOptions, TrajectoryIkOptions};
+use graspath::robot::{
+    solve_ik, solve_trajectories, solve_trajectory, Chain, IkOptions, TrajectoryIkOptions,
+};
 use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -26,11 +29,16 @@ fn random_targets(chain: &Chain, count: usize) -> Vec<Isometry3<f64>> {
 
 /// A 50-sample wrist trajectory: a smooth joint-space sweep inside the limits.
 fn trajectory(chain: &Chain) -> Vec<Isometry3<f64>> {
+    shifted_trajectory(chain, 0.0)
+}
+
+/// [`trajectory`] with the first joint's sweep shifted by `shift` (rad).
+fn shifted_trajectory(chain: &Chain, shift: f64) -> Vec<Isometry3<f64>> {
     (0..50)
         .map(|i| {
             let t = i as f64 / 49.0;
             let q = [
-                0.2 + 0.4 * t,
+                0.2 + shift + 0.4 * t,
                 -0.5 + 0.3 * t,
                 0.1 - 0.6 * t,
                 1.2 - 0.4 * t,
@@ -83,5 +91,34 @@ fn bench_ik(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench_ik);
+/// 16 trajectories (the sweep, its first joint shifted by up to 0.3 rad), one branch each, as
+/// a selection's first solve: together ([`solve_trajectories`], tracked in vector lanes) and
+/// one by one.
+fn bench_batch(c: &mut Criterion) {
+    let chain = baxter(Arm::Left);
+    let mid = chain.mid_configuration();
+    let trajectories: Vec<Vec<Isometry3<f64>>> = (0..16)
+        .map(|k| shifted_trajectory(&chain, 0.02 * k as f64))
+        .collect();
+    let batch: Vec<&[Isometry3<f64>]> = trajectories.iter().map(Vec::as_slice).collect();
+    let options = TrajectoryIkOptions {
+        branches: 1,
+        ..TrajectoryIkOptions::default()
+    };
+    let mut group = c.benchmark_group("ik/baxter_16_trajectories_50_samples");
+    group.bench_function("together", |b| {
+        b.iter(|| black_box(solve_trajectories(&chain, &batch, &mid, &options).expect("valid")));
+    });
+    group.bench_function("one_by_one", |b| {
+        b.iter(|| {
+            batch
+                .iter()
+                .map(|poses| solve_trajectory(&chain, poses, &mid, &options).expect("valid"))
+                .collect::<Vec<_>>()
+        });
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_ik, bench_batch);
 criterion_main!(benches);

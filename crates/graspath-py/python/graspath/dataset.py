@@ -35,12 +35,16 @@ file's pose). One task file then serves many placed objects::
 A bad value — a cell that is not the right count of numbers, NaN or infinite, a quaternion that
 is not unit, two rotations in one row — is one :class:`DatasetError` naming the manifest, the
 line and the column (``objects.csv: line 3: field 'quaternion': must be a unit quaternion …``),
-raised before any task is loaded.
+raised before any task is loaded. So is a manifest that is not CSV text (not UTF-8, a NUL byte,
+a field longer than Python's ``csv`` field limit), and one beyond the caps that bound what is
+read into memory before the first task loads: :data:`MAX_MANIFEST_BYTES` bytes and
+:data:`MAX_MANIFEST_OBJECTS` objects (split a larger dataset into several manifests).
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import os
 from pathlib import Path
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
@@ -109,28 +113,51 @@ def dataset_tasks(dataset: Union[str, "os.PathLike[str]", Sequence[Union[str, "o
 
 MANIFEST_COLUMNS = ("object", "task", "candidates", *POSE_COLUMNS)
 
+#: The largest manifest read (bytes); checked before reading.
+MAX_MANIFEST_BYTES = 256 << 20
+
+#: The most objects a manifest may list.
+MAX_MANIFEST_OBJECTS = 1_000_000
+
 
 def _manifest(path: Path) -> List[DatasetObject]:
     if not path.is_file():
         raise DatasetError(f"{path}: no such manifest")
-    with path.open(newline="", encoding="utf-8") as f:
-        reader = csv.DictReader(f)
-        fields = reader.fieldnames or []
-        if "task" not in fields:
-            raise DatasetError(f"{path}: the manifest needs a 'task' column (has {fields})")
-        unknown = [c for c in fields if c not in MANIFEST_COLUMNS]
-        if unknown:
-            raise DatasetError(f"{path}: unknown column(s) {unknown} (columns: {', '.join(MANIFEST_COLUMNS)})")
-        objects = []
-        for row in reader:
-            where = f"{path}: line {reader.line_num}"
-            task = (row.get("task") or "").strip()
-            if not task:
-                raise DatasetError(f"{where}: field 'task' is empty")
-            candidates = (row.get("candidates") or "").strip()
-            name = (row.get("object") or "").strip() or candidates or task
-            pose = _manifest_pose(where, row)
-            objects.append(DatasetObject(name, path.parent / task, path.parent / candidates if candidates else None, pose))
+    size = path.stat().st_size
+    if size > MAX_MANIFEST_BYTES:
+        raise DatasetError(f"{path}: the manifest is {size} bytes, more than the {MAX_MANIFEST_BYTES} (MAX_MANIFEST_BYTES) read; split the dataset into several manifests")
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        raise DatasetError(f"{path}: line {line}: not UTF-8 text (byte {e.start}: {e.reason})") from None
+    reader = csv.DictReader(io.StringIO(text, newline=""))
+    try:
+        return _manifest_objects(path, reader)
+    except csv.Error as e:
+        raise DatasetError(f"{path}: line {reader.line_num + 1}: not a CSV manifest: {e}") from None
+
+
+def _manifest_objects(path: Path, reader: "csv.DictReader[str]") -> List[DatasetObject]:
+    fields = reader.fieldnames or []
+    if "task" not in fields:
+        raise DatasetError(f"{path}: the manifest needs a 'task' column (has {fields})")
+    unknown = [c for c in fields if c not in MANIFEST_COLUMNS]
+    if unknown:
+        raise DatasetError(f"{path}: unknown column(s) {unknown} (columns: {', '.join(MANIFEST_COLUMNS)})")
+    objects = []
+    for row in reader:
+        where = f"{path}: line {reader.line_num}"
+        if len(objects) == MAX_MANIFEST_OBJECTS:
+            raise DatasetError(f"{where}: the manifest lists more than {MAX_MANIFEST_OBJECTS} objects (MAX_MANIFEST_OBJECTS); split the dataset into several manifests")
+        task = (row.get("task") or "").strip()
+        if not task:
+            raise DatasetError(f"{where}: field 'task' is empty")
+        candidates = (row.get("candidates") or "").strip()
+        name = (row.get("object") or "").strip() or candidates or task
+        pose = _manifest_pose(where, row)
+        objects.append(DatasetObject(name, path.parent / task, path.parent / candidates if candidates else None, pose))
     if not objects:
         raise DatasetError(f"{path}: the manifest lists no objects")
     return objects

@@ -165,6 +165,51 @@ pub fn poses(array: &FloatArray<'_>, what: &str) -> PyResult<(Vec<Isometry3<f64>
     }
 }
 
+/// A trajectory's poses, in order.
+pub type Trajectory = Vec<Isometry3<f64>>;
+
+/// Trajectories of poses: one from shape `(n, 4, 4)` or `(4, 4)` (`None` batch), or `b` of `n`
+/// poses each from `(b, n, 4, 4)` (`Some(b)`). A bad pose is named by its indices.
+pub fn trajectories(
+    array: &FloatArray<'_>,
+    what: &str,
+) -> PyResult<(Vec<Trajectory>, Option<usize>)> {
+    let buffer = Buffer::from_array(array);
+    let (batch, n) = match buffer.shape.as_slice() {
+        [4, 4] => (None, 1),
+        [n, 4, 4] => (None, *n),
+        [b, n, 4, 4] => (Some(*b), *n),
+        _ => {
+            return Err(error(format!(
+                "{what} has shape {} but (n, 4, 4), (4, 4) or (b, n, 4, 4) is expected",
+                buffer.shape_text()
+            )))
+        }
+    };
+    let trajectories = buffer
+        .data
+        .chunks_exact(16 * n.max(1))
+        .enumerate()
+        .map(|(k, trajectory)| {
+            trajectory
+                .chunks_exact(16)
+                .enumerate()
+                .map(|(i, m)| match batch {
+                    None => pose_from_slice(m, &format!("{what}[{i}]")),
+                    Some(_) => pose_from_slice(m, &format!("{what}[{k}, {i}]")),
+                })
+                .collect::<PyResult<Vec<_>>>()
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    // `n = 0`: no poses to chunk, one empty trajectory per batch entry.
+    let trajectories = if n == 0 {
+        vec![Vec::new(); batch.unwrap_or(1)]
+    } else {
+        trajectories
+    };
+    Ok((trajectories, batch))
+}
+
 /// One pose from shape `(4, 4)`.
 pub fn single_pose(array: &FloatArray<'_>, what: &str) -> PyResult<Isometry3<f64>> {
     match poses(array, what)? {

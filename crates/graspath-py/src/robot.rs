@@ -10,7 +10,7 @@
 
 use crate::convert::{
     array, check_finite, error, index_mode, poses, renamed_keyword, rows, shape_text, single_pose,
-    write_matrix_pose, FloatArray,
+    trajectories, write_matrix_pose, FloatArray,
 };
 use crate::memory::populate;
 use graspath::manipulability::{
@@ -19,8 +19,9 @@ use graspath::manipulability::{
 };
 
 use graspath::robot::{
-    null_space, optimize_self_motion, solve_ik, solve_trajectory, Chain, IkOptions, IkSolution,
-    KeptRows, RobotError, RobotSource, SelfMotionOptions, TrajectoryIkOptions, UrdfRobot,
+    null_space, optimize_self_motion, solve_ik, solve_trajectories, Chain, IkOptions, IkSolution,
+    KeptRows, RobotError, RobotSource, SelfMotionOptions, TrajectoryIkOptions, TrajectoryIkResult,
+    UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
@@ -647,6 +648,11 @@ impl PyRobot {
     /// ``failure`` (``None``, or a dict ``sample``, ``reason`` in
     /// ``unreachable``/``joint_limit``/``discontinuity``, ``detail``).
     ///
+    /// A batch of ``b`` trajectories ``(b, n, 4, 4)``, all from ``q_start`` with the same
+    /// options, returns a list of ``b`` such dicts, each what the trajectory alone gives, bit
+    /// for bit; they are solved together, their branches tracked four at a time in vector
+    /// lanes (faster than one call per trajectory), with the GIL released.
+    ///
     /// ``q_start`` is the start configuration ``(dof,)`` near which the first sample is solved
     /// (default the middle of the limits); ``random_seed`` seeds the restarts. ``seed`` is the
     /// deprecated earlier name of ``q_start``.
@@ -677,10 +683,10 @@ impl PyRobot {
         rotation_tolerance: f64,
         random_seed: u64,
         seed: Option<FloatArray<'py>>,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let q_start = renamed_keyword(py, q_start, "q_start", seed, "seed")?;
         let dof = self.chain.dof();
-        let (targets, _) = poses(&targets, "targets")?;
+        let (trajectories, batch) = trajectories(&targets, "targets")?;
         let q_start = match &q_start {
             None => self.chain.mid_configuration(),
             Some(s) => match rows(s, dof, "q_start")? {
@@ -701,28 +707,23 @@ impl PyRobot {
             per_sample_iterations,
         };
         let chain = &self.chain;
-        let result = py
-            .detach(|| solve_trajectory(chain, &targets, &q_start, &options))
+        let batch_of: Vec<&[Isometry3<f64>]> = trajectories.iter().map(Vec::as_slice).collect();
+        let results = py
+            .detach(|| solve_trajectories(chain, &batch_of, &q_start, &options))
             .map_err(error)?;
-        let dict = PyDict::new(py);
-        dict.set_item("feasible", result.feasible())?;
-        let list = PyList::empty(py);
-        for branch in &result.branches {
-            let flat: Vec<f64> = branch.q.iter().flatten().copied().collect();
-            list.append(array(py, flat, &[branch.q.len(), dof])?)?;
+        let mut dicts = Vec::with_capacity(results.len());
+        for (k, result) in results.into_iter().enumerate() {
+            let result = match (result, batch) {
+                (Ok(result), _) => result,
+                (Err(e), None) => return Err(error(e)),
+                (Err(e), Some(_)) => return Err(error(format!("targets[{k}]: {e}"))),
+            };
+            dicts.push(trajectory_dict(py, &result, dof)?);
         }
-        dict.set_item("branches", list)?;
-        match &result.failure {
-            None => dict.set_item("failure", py.None())?,
-            Some(f) => {
-                let failure = PyDict::new(py);
-                failure.set_item("sample", f.sample)?;
-                failure.set_item("reason", f.reason.as_str())?;
-                failure.set_item("detail", &f.detail)?;
-                dict.set_item("failure", failure)?;
-            }
+        match batch {
+            None => Ok(dicts.remove(0).into_any()),
+            Some(_) => Ok(PyList::new(py, dicts)?.into_any()),
         }
-        Ok(dict)
     }
 
     /// An orthonormal basis of the joint velocities that leave the tip's twist unchanged at
@@ -1063,4 +1064,31 @@ impl PyRobot {
             Some(_) => PyArray1::from_vec(py, values).into_any().unbind(),
         })
     }
+}
+
+/// The dict `Robot.ik_trajectory` returns for one trajectory's result (`dof` joints).
+fn trajectory_dict<'py>(
+    py: Python<'py>,
+    result: &TrajectoryIkResult,
+    dof: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("feasible", result.feasible())?;
+    let list = PyList::empty(py);
+    for branch in &result.branches {
+        let flat: Vec<f64> = branch.q.iter().flatten().copied().collect();
+        list.append(array(py, flat, &[branch.q.len(), dof])?)?;
+    }
+    dict.set_item("branches", list)?;
+    match &result.failure {
+        None => dict.set_item("failure", py.None())?,
+        Some(f) => {
+            let failure = PyDict::new(py);
+            failure.set_item("sample", f.sample)?;
+            failure.set_item("reason", f.reason.as_str())?;
+            failure.set_item("detail", &f.detail)?;
+            dict.set_item("failure", failure)?;
+        }
+    }
+    Ok(dict)
 }

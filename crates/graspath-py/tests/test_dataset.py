@@ -24,7 +24,7 @@ def test_a_manifest_at_the_caps_reads_and_one_beyond_is_refused(tmp_path, monkey
     monkeypatch.setattr(gd, "MAX_MANIFEST_BYTES", size)
     assert [o.name for o in gd.dataset_tasks(path)] == ["o0", "o1", "o2"]
     monkeypatch.setattr(gd, "MAX_MANIFEST_BYTES", size - 1)
-    with pytest.raises(gd.DatasetError, match=rf"objects.csv: the manifest is {size} bytes, more than the {size - 1} \(MAX_MANIFEST_BYTES\)"):
+    with pytest.raises(gd.DatasetError, match=rf"objects.csv: the manifest is more than {size - 1} bytes \(MAX_MANIFEST_BYTES\)"):
         gd.dataset_tasks(path)
     monkeypatch.setattr(gd, "MAX_MANIFEST_BYTES", size)
     monkeypatch.setattr(gd, "MAX_MANIFEST_OBJECTS", 2)
@@ -37,9 +37,17 @@ def test_a_manifest_that_is_not_csv_text_names_the_line(tmp_path):
     path = manifest_of(tmp_path, 2, b"object,task\no0,t0.yaml\no1,t\xff1.yaml\n")
     with pytest.raises(gd.DatasetError, match=r"objects.csv: line 3: not UTF-8 text \(byte 27: invalid start byte\)"):
         gd.dataset_tasks(path)
+    # Lines ended by \r alone, as csv reads them.
+    path = manifest_of(tmp_path, 2, b"object,task\ro0,t0.yaml\ro1,t\xff1.yaml\r")
+    with pytest.raises(gd.DatasetError, match=r"objects.csv: line 3: not UTF-8 text"):
+        gd.dataset_tasks(path)
     huge = "x" * 200_000
     path = manifest_of(tmp_path, 2, f"object,task\no0,t0.yaml\no1,{huge}\n".encode())
     with pytest.raises(gd.DatasetError, match=r"objects.csv: line 3: not a CSV manifest: field larger than field limit"):
+        gd.dataset_tasks(path)
+    # Blank lines count.
+    path = manifest_of(tmp_path, 2, f"object,task\n\n\no0,t0.yaml\no1,{huge}\n".encode())
+    with pytest.raises(gd.DatasetError, match=r"objects.csv: line 5: not a CSV manifest"):
         gd.dataset_tasks(path)
     path = manifest_of(tmp_path, 2, b"object,task\no0,t0.yaml\no1,t\x001.yaml\n")
     with pytest.raises(gd.DatasetError, match=r"task file of object 'o1' not found"):

@@ -97,6 +97,40 @@ def test_infeasible_trajectory_names_the_sample(left):
 
 
 
+def test_a_batch_of_trajectories_gives_each_what_it_gives_alone(left):
+    """``(b, n, 4, 4)`` targets: a list of dicts, each equal (to the last bit) to the call with
+    that trajectory alone; feasible and infeasible ones mixed, one and several branches."""
+    paths = []
+    for k, seed in enumerate((9, 3, 14, 5)):
+        start = targets(left, 1, seed=seed)[0]
+        path = np.repeat(start[None], 15, axis=0)
+        path[:, 2, 3] += np.linspace(0.0, 0.08, 15)
+        if k == 2:
+            path[:, 0, 3] += np.linspace(0.0, 3.0, 15)  # leaves the workspace
+        paths.append(path)
+    batch = np.stack(paths)
+    for branches in (1, 3):
+        together = left.ik_trajectory(batch, branches=branches)
+        assert isinstance(together, list) and len(together) == len(paths)
+        assert [r["feasible"] for r in together].count(False) >= 1
+        assert [r["feasible"] for r in together].count(True) >= 2
+        for path, got in zip(paths, together):
+            alone = left.ik_trajectory(path, branches=branches)
+            assert got["feasible"] == alone["feasible"] and got["failure"] == alone["failure"]
+            assert len(got["branches"]) == len(alone["branches"])
+            for a, b in zip(got["branches"], alone["branches"]):
+                assert a.tobytes() == b.tobytes()
+    assert left.ik_trajectory(np.zeros((0, 5, 4, 4))) == []
+    bad = batch.copy()
+    bad[1, 3, 3] = [0, 0, 1, 1]
+    with pytest.raises(graspath.GraspathError, match=r"targets\[1, 3\]: the last row must be \[0, 0, 0, 1\]"):
+        left.ik_trajectory(bad)
+    with pytest.raises(graspath.GraspathError, match=r"targets\[0\]: trajectory: not a valid pose"):
+        left.ik_trajectory(np.zeros((2, 0, 4, 4)))
+    with pytest.raises(graspath.GraspathError, match=r"\(n, 4, 4\), \(4, 4\) or \(b, n, 4, 4\)"):
+        left.ik_trajectory(np.zeros((2, 3, 3)))
+
+
 def test_the_deprecated_seed_keyword_is_the_start_configuration(left):
     """``seed=`` (deprecated) gives the same answers as ``q_start=`` with a DeprecationWarning;
     giving both is an error."""

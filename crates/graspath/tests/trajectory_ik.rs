@@ -325,7 +325,10 @@ fn bad_input_is_an_error() {
 /// A batch solves each trajectory as it would be solved alone, bit for bit, and in order:
 /// feasible ones, ones that leave the workspace or the limits or flip the wrist, one out of
 /// reach from the start, and, for one branch or several, each trajectory's own bad input
-/// (empty, not finite) refused on its own. Input common to all is refused once.
+/// (empty, not finite) refused on its own. Input common to all is refused once. With one
+/// branch a trajectory alone is tracked by the one-at-a-time loop, so the batch's lanes are
+/// checked against it; with several both go through the lanes (the unit test in
+/// `robot/ik/trajectory.rs` checks the lanes against the loop for every branch).
 #[test]
 fn a_batch_solves_each_trajectory_as_alone() {
     let chain = ur5_like(std::f64::consts::PI);

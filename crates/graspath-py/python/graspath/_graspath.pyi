@@ -136,11 +136,13 @@ class Robot:
         rotation_tolerance: float = 1e-5,
         random_seed: int = 0,
         seed: Optional[ArrayLike] = None,
-    ) -> Dict[str, Any]:
+    ) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
         """Continuous joint paths through ``targets`` ``(n, 4, 4)`` from the start
         configuration ``q_start`` ``(dof,)`` (default the middle of the limits): ``feasible``,
         ``branches`` (list of ``(n, dof)``), ``failure`` (``None`` or ``sample``, ``reason``,
-        ``detail``). ``seed`` is the deprecated name of ``q_start``."""
+        ``detail``). A batch ``(b, n, 4, 4)`` gives a list of ``b`` such dicts, solved
+        together (each what its trajectory alone gives). ``seed`` is the deprecated name of
+        ``q_start``."""
     def nullspace(
         self,
         q: ArrayLike,

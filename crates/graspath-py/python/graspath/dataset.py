@@ -35,8 +35,8 @@ file's pose). One task file then serves many placed objects::
 A bad value — a cell that is not the right count of numbers, NaN or infinite, a quaternion that
 is not unit, two rotations in one row — is one :class:`DatasetError` naming the manifest, the
 line and the column (``objects.csv: line 3: field 'quaternion': must be a unit quaternion …``),
-raised before any task is loaded. So is a manifest that is not CSV text (not UTF-8, a NUL byte,
-a field longer than Python's ``csv`` field limit), and one beyond the caps that bound what is
+raised before any task is loaded. So is a manifest that is not CSV text (not UTF-8, a field
+longer than Python's ``csv`` field limit), and one beyond the caps that bound what is
 read into memory before the first task loads: :data:`MAX_MANIFEST_BYTES` bytes and
 :data:`MAX_MANIFEST_OBJECTS` objects (split a larger dataset into several manifests).
 """
@@ -46,6 +46,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import re
 from pathlib import Path
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
@@ -123,20 +124,25 @@ MAX_MANIFEST_OBJECTS = 1_000_000
 def _manifest(path: Path) -> List[DatasetObject]:
     if not path.is_file():
         raise DatasetError(f"{path}: no such manifest")
-    size = path.stat().st_size
-    if size > MAX_MANIFEST_BYTES:
-        raise DatasetError(f"{path}: the manifest is {size} bytes, more than the {MAX_MANIFEST_BYTES} (MAX_MANIFEST_BYTES) read; split the dataset into several manifests")
-    data = path.read_bytes()
+    too_large = f"{path}: the manifest is more than {MAX_MANIFEST_BYTES} bytes (MAX_MANIFEST_BYTES); split the dataset into several manifests"
+    if path.stat().st_size > MAX_MANIFEST_BYTES:
+        raise DatasetError(too_large)
+    with path.open("rb") as f:
+        data = f.read(MAX_MANIFEST_BYTES + 1)  # bounded even if the file grows meanwhile
+    if len(data) > MAX_MANIFEST_BYTES:
+        raise DatasetError(too_large)
     try:
-        text = data.decode("utf-8")
+        data.decode("utf-8")
     except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
+        # Lines end as csv ends them: \r\n, \n or \r.
+        line = len(re.findall(rb"\r\n|\r|\n", data[: e.start])) + 1
         raise DatasetError(f"{path}: line {line}: not UTF-8 text (byte {e.start}: {e.reason})") from None
-    reader = csv.DictReader(io.StringIO(text, newline=""))
+    reader = csv.DictReader(io.TextIOWrapper(io.BytesIO(data), encoding="utf-8", newline=""))
     try:
         return _manifest_objects(path, reader)
     except csv.Error as e:
-        raise DatasetError(f"{path}: line {reader.line_num + 1}: not a CSV manifest: {e}") from None
+        # The underlying reader has counted the line it failed on.
+        raise DatasetError(f"{path}: line {reader.reader.line_num}: not a CSV manifest: {e}") from None
 
 
 def _manifest_objects(path: Path, reader: "csv.DictReader[str]") -> List[DatasetObject]:

@@ -321,8 +321,10 @@ impl WorldSetup<'_> {
 
 /// Scores every candidate for one arm and hands each result to `consume` as soon as its chunk
 /// of [`STREAM_CHUNK`] candidates is done, in candidate order, so a consumer can write results
-/// out without holding them all. Chunks are scored in parallel (rayon); the results do not
-/// depend on the thread count. `progress` is called once per finished candidate.
+/// out without holding them all. A chunk's candidates are scored in parallel (rayon), in
+/// groups whose first IK solves are batched (at most [`SOLVE_GROUP`] candidates, fewer when
+/// there are many threads); the results depend neither on the thread count nor on the
+/// grouping. `progress` is called once per candidate, as its group finishes.
 ///
 /// In a scene, the hand and what rides rigidly with it (the links after the last moving
 /// joint, the carried object) are first checked at the commanded tool poses: a grasp whose
@@ -344,9 +346,11 @@ pub fn for_each_score(
     let motion = ObjectMotion::new(setup.path, &base_from_world);
     let times = setup.path.times();
     let fingers = FingerCheck::new(&setup.world);
+    // Groups small enough to give every thread several.
+    let group = (STREAM_CHUNK / (4 * rayon::current_num_threads())).clamp(1, SOLVE_GROUP);
     for chunk in candidates.chunks(STREAM_CHUNK) {
         let scores: Vec<Vec<CandidateScore>> = chunk
-            .par_chunks(SOLVE_GROUP)
+            .par_chunks(group)
             .map(|group| {
                 let scores = score_group(setup, group, &motion, &times, fingers.as_ref());
                 scores.iter().for_each(|_| progress());
@@ -562,17 +566,15 @@ fn score_group(
         .map(|(scoring, _)| scoring.targets.as_slice())
         .collect();
     let q_start = chain.mid_configuration();
-    let mut firsts: Vec<Result<TrajectoryIkResult, String>> =
+    let firsts: Vec<Result<TrajectoryIkResult, String>> =
         match solve_trajectories(chain, &trajectories, &q_start, &Scoring::first_try(setup)) {
             Ok(results) => results
                 .into_iter()
                 .map(|r| r.map_err(|e| e.to_string()))
-                .collect::<Vec<_>>(),
+                .collect(),
             Err(e) => trajectories.iter().map(|_| Err(e.to_string())).collect(),
-        }
-        .into_iter()
-        .rev()
-        .collect();
+        };
+    let mut firsts = firsts.into_iter();
     scorings
         .into_iter()
         .zip(early)
@@ -583,7 +585,7 @@ fn score_group(
                 score
             }
             None => {
-                let first = firsts.pop().expect("one first solve per candidate solved");
+                let first = firsts.next().expect("one first solve per candidate solved");
                 score_solved(scoring, first, motion, times)
             }
         })

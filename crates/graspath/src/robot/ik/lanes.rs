@@ -8,8 +8,9 @@
 //! speculatively in the lanes and hands their ends to the caller in sequence order, charging a
 //! shared evaluation budget as a one-at-a-time search would; an attempt that the budget would
 //! have cut short is handed back to be run alone. A lane can also go on from where its last
-//! run ended towards a new target ([`Lanes::resume`]), as trajectory tracking does from one
-//! sample to the next: four branches of a trajectory are tracked at once.
+//! run ended towards a target of its own ([`Lanes::load`], [`Lanes::resume`]), as trajectory
+//! tracking does from one sample to the next: four branches, of one trajectory or of a batch,
+//! are tracked at once.
 //!
 //! Frames and units as in [`super::kernel`]: base frame, m, rad.
 
@@ -35,11 +36,13 @@ pub(crate) struct Attempt {
     pub cap: usize,
 }
 
-/// How an attempt ended and its best state, as [`super::run_attempt`] would leave them.
+/// How a lane's run ended and its best state: as [`super::run_attempt`] would leave them for a
+/// started attempt, as [`Kernel::run`] would for a resumed run.
 #[derive(Debug, Clone)]
 pub(crate) struct AttemptEnd {
     pub end: RunEnd,
-    /// Budget evaluations spent, the start's evaluation included.
+    /// Budget evaluations spent, the start's evaluation included when the run evaluated its
+    /// start (a started attempt; a resumed run does not).
     pub spent: usize,
     /// The best configuration (rad / m, one value per joint).
     pub q: Vec<f64>,
@@ -70,7 +73,8 @@ enum Phase {
 #[derive(Debug, Clone, Copy)]
 struct Lane {
     phase: Phase,
-    /// The attempt's position in the sequence.
+    /// The caller's name for the run, handed back with its end: the attempt's position in the
+    /// sequence, or the tracked branch's.
     tag: usize,
     strategy: Strategy,
     cap: usize,
@@ -198,11 +202,10 @@ impl<'k> Lanes<'k> {
     /// for [`Lanes::resume`] to go on from.
     pub(crate) fn load(&mut self, lane: usize, state: &State) {
         debug_assert_eq!(self.lanes[lane].phase, Phase::Idle);
-        let n = self.kernel.dof();
         for (j, q) in self.current.q.iter_mut().enumerate() {
             q.0[lane] = state.q[j];
         }
-        for (k, column) in self.current.jacobian.iter_mut().enumerate().take(6 * n) {
+        for (k, column) in self.current.jacobian.iter_mut().enumerate() {
             column.0[lane] = state.jacobian[k];
         }
         self.tips[lane] = (state.position, state.rotation);
@@ -275,7 +278,8 @@ impl<'k> Lanes<'k> {
     }
 
     /// [`Kernel::run`]'s loop body for every lane, in its order: the convergence and cap
-    /// checks, the step, the budget, the clamped move, the evaluation, the acceptance.
+    /// checks, the step, the budget, the clamped move, the evaluation, the acceptance; then
+    /// the next iteration's convergence check, so that a converged lane is free at once.
     #[inline(always)]
     fn advance_body(&mut self, ended: &mut Vec<(usize, AttemptEnd)>) {
         let n = self.kernel.dof();

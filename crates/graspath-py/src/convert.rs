@@ -186,27 +186,20 @@ pub fn trajectories(
             )))
         }
     };
-    let trajectories = buffer
-        .data
-        .chunks_exact(16 * n.max(1))
-        .enumerate()
-        .map(|(k, trajectory)| {
-            trajectory
-                .chunks_exact(16)
-                .enumerate()
-                .map(|(i, m)| match batch {
-                    None => pose_from_slice(m, &format!("{what}[{i}]")),
-                    Some(_) => pose_from_slice(m, &format!("{what}[{k}, {i}]")),
+    let trajectories = (0..batch.unwrap_or(1))
+        .map(|k| {
+            (0..n)
+                .map(|i| {
+                    let name = match batch {
+                        None => format!("{what}[{i}]"),
+                        Some(_) => format!("{what}[{k}, {i}]"),
+                    };
+                    let at = 16 * (k * n + i);
+                    pose_from_slice(&buffer.data[at..at + 16], &name)
                 })
-                .collect::<PyResult<Vec<_>>>()
+                .collect()
         })
         .collect::<PyResult<Vec<_>>>()?;
-    // `n = 0`: no poses to chunk, one empty trajectory per batch entry.
-    let trajectories = if n == 0 {
-        vec![Vec::new(); batch.unwrap_or(1)]
-    } else {
-        trajectories
-    };
     Ok((trajectories, batch))
 }
 

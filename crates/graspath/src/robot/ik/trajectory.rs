@@ -196,13 +196,7 @@ pub fn solve_trajectories(
             Ok((tracker, Ok(starts))) => Some((tracker, starts)),
             _ => None,
         })
-        .flat_map(|(tracker, starts)| {
-            starts.iter().enumerate().map(move |(branch, start)| Job {
-                tracker,
-                branch,
-                start,
-            })
-        })
+        .flat_map(|(tracker, starts)| Job::branches(tracker, starts))
         .collect();
     let mut tracked = if let [job] = jobs.as_slice() {
         vec![job.tracker.track(job.branch, job.start)]
@@ -787,6 +781,20 @@ struct Job<'t> {
     start: &'t [f64],
 }
 
+impl<'t> Job<'t> {
+    /// One job per branch of `tracker`'s trajectory, branch `b` from `starts[b]`.
+    fn branches(
+        tracker: &'t Tracker<'t>,
+        starts: &'t [Vec<f64>],
+    ) -> impl Iterator<Item = Job<'t>> + 't {
+        starts.iter().enumerate().map(move |(branch, start)| Job {
+            tracker,
+            branch,
+            start,
+        })
+    }
+}
+
 /// [`Tracker::track`] of every job, four at a time in vector lanes: each lane goes on from one
 /// sample to the next as `track` does, and a sample its lane does not settle is resolved
 /// alone ([`Tracker::resolve`]), the lane going on from the state found; a lane whose branch
@@ -845,10 +853,10 @@ fn track_in_lanes(jobs: &[Job<'_>]) -> Vec<Result<JointPath, Failure>> {
             let lane = job_lane[k];
             let i = paths[k].len();
             let previous = paths[k].last().expect("a path starts with its start");
-            let target = Target::new(&poses[i]);
             let q = if end.end == RunEnd::Converged && max_difference(&end.q, previous) <= step {
                 end.q
             } else {
+                let target = Target::new(&poses[i]);
                 if let Err(failure) = job
                     .tracker
                     .resolve(job.branch, i, previous, &target, &mut ws)
@@ -971,13 +979,7 @@ mod tests {
                 let jobs: Vec<Job<'_>> = trackers
                     .iter()
                     .zip(&starts)
-                    .flat_map(|(tracker, starts)| {
-                        starts.iter().enumerate().map(move |(branch, start)| Job {
-                            tracker,
-                            branch,
-                            start,
-                        })
-                    })
+                    .flat_map(|(tracker, starts)| Job::branches(tracker, starts))
                     .collect();
                 let in_lanes = track_in_lanes(&jobs);
                 assert_eq!(in_lanes.len(), jobs.len());

@@ -28,6 +28,7 @@ use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntyped
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -207,17 +208,28 @@ impl PyRobot {
     }
 
     /// The chain ``base_link`` → ``tip_link`` of a URDF file, optionally with a tool offset
-    /// ``tool`` = ``tip_from_tool`` (4×4, metres). Link geometry is ignored.
+    /// ``tool`` = ``tip_from_tool`` (4×4, metres). Link geometry is ignored. A file named
+    /// ``*.xacro`` is expanded by the ``xacro`` program (it runs code: only for files you
+    /// trust) with ``xacro_args`` (``{name: value}``); ``search_paths`` are where
+    /// ``package://PKG`` and xacro's ``$(find PKG)`` look first.
     #[staticmethod]
-    #[pyo3(signature = (path, base_link, tip_link, tool = None))]
+    #[pyo3(signature = (path, base_link, tip_link, tool = None, *, search_paths = None, xacro_args = None))]
     fn from_urdf(
         path: PathBuf,
         base_link: &str,
         tip_link: &str,
         tool: Option<FloatArray<'_>>,
+        search_paths: Option<Vec<PathBuf>>,
+        xacro_args: Option<BTreeMap<String, String>>,
     ) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let model = RobotSource::urdf(path).load().map_err(error)?;
+        let model = RobotSource::Urdf {
+            path,
+            search_paths: search_paths.unwrap_or_default(),
+            xacro_args: xacro_args.unwrap_or_default(),
+        }
+        .load()
+        .map_err(error)?;
         Ok(Self::new(
             model.chain(base_link, tip_link, tool).map_err(error)?,
         ))

@@ -85,16 +85,88 @@ fn wrong_configuration_length_and_nan() {
     ));
 }
 
-/// Xacro text without its file cannot be expanded (files are: tests/xacro.rs).
+/// Xacro markup outside a file named `*.xacro` is refused with its line (xacro runs code:
+/// only files the user names as xacro files are expanded; files are: tests/xacro.rs); in a
+/// comment it is no markup.
 #[test]
-fn xacro_text_gets_an_instruction() {
+fn xacro_markup_is_refused_but_not_in_comments() {
     let err = UrdfRobot::from_xml(
-        r#"<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="m"/></robot>"#,
+        "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n<xacro:macro name=\"m\"/></robot>",
         "inline.urdf",
     )
     .unwrap_err();
-    assert!(matches!(err, RobotError::Xacro { .. }));
-    assert!(err.to_string().contains("pip install xacro"), "{err}");
+    assert!(
+        matches!(err, RobotError::XacroMarkup { line: 2, .. }),
+        "{err}"
+    );
+    let m = err.to_string();
+    assert!(
+        m.starts_with("inline.urdf:2: uses xacro markup (the element <xacro:macro>)"),
+        "{m}"
+    );
+    assert!(m.contains("*.xacro") && m.contains("runs code"), "{m}");
+    // Another prefix bound to the namespace, and a substitution in an attribute.
+    for (text, markup) in [
+        (
+            r#"<robot xmlns:x="https://ros.org/wiki/xacro"><link name="a"/><x:if value="1"/></robot>"#,
+            "<x:if>",
+        ),
+        (
+            r#"<robot><link name="a"><visual><origin xyz="${l} 0 0"/></visual></link></robot>"#,
+            "<origin>",
+        ),
+    ] {
+        let err = UrdfRobot::from_xml(text, "inline.urdf").unwrap_err();
+        assert!(matches!(err, RobotError::XacroMarkup { .. }), "{err}");
+        assert!(err.to_string().contains(markup), "{err}");
+    }
+    // xacro's output keeps the namespace declaration and any comments: it is plain URDF.
+    let robot = UrdfRobot::from_xml(
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <!-- =================================================================================== -->
+  <!-- <xacro:macro name="arm"> made with ${prefix} and $(find pkg) -->
+  <link name="a"/>
+</robot>"#,
+        "generated.urdf",
+    )
+    .unwrap();
+    assert_eq!(robot.link_names(), ["a"]);
+}
+
+/// A `package://` mesh URI may not climb out of its package.
+#[test]
+fn package_paths_stay_inside_their_package() {
+    let dir = tempfile::tempdir().unwrap();
+    let package = dir.path().join("share/pkg");
+    std::fs::create_dir_all(package.join("meshes")).unwrap();
+    std::fs::write(dir.path().join("share/secret.stl"), "solid x\nendsolid x\n").unwrap();
+    std::fs::write(package.join("meshes/part.stl"), "solid x\nendsolid x\n").unwrap();
+    let resolver = MeshResolver {
+        search_paths: vec![dir.path().join("share")],
+        ..MeshResolver::default()
+    };
+    assert_eq!(
+        resolver
+            .resolve("package://pkg/meshes/part.stl", "r.urdf", "l")
+            .unwrap(),
+        package.join("meshes/part.stl")
+    );
+    for uri in [
+        "package://pkg/../secret.stl",
+        "package://pkg/meshes/../../secret.stl",
+        "package://../share/secret.stl",
+        "model://pkg/../secret.stl",
+    ] {
+        let err = resolver.resolve(uri, "r.urdf", "l").unwrap_err();
+        assert!(
+            matches!(err, RobotError::MeshOutsidePackage { .. }),
+            "{uri}: {err}"
+        );
+        assert!(
+            err.to_string().contains("may not leave its package"),
+            "{err}"
+        );
+    }
 }
 
 #[test]

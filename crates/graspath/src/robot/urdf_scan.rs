@@ -12,6 +12,21 @@ use std::collections::HashMap;
 pub(crate) struct Scan {
     /// Joint name → (line of its start tag, whether it has a `<limit>` child).
     pub joints: HashMap<String, (usize, bool)>,
+    /// The first xacro markup outside comments: its line and what it is (an element in the
+    /// xacro namespace, or a `${...}` / `$(...)` substitution in an attribute).
+    pub xacro_markup: Option<(usize, String)>,
+}
+
+/// The namespace URIs that xacro's documentation and ROS descriptions bind the xacro prefix
+/// to (with and without `www.`, over http and https).
+fn is_xacro_namespace(uri: &[u8]) -> bool {
+    let uri = uri
+        .strip_prefix(b"https://")
+        .or_else(|| uri.strip_prefix(b"http://"));
+    uri.is_some_and(|rest| {
+        let rest = rest.strip_prefix(b"www.").unwrap_or(rest);
+        rest.strip_suffix(b"/").unwrap_or(rest) == b"ros.org/wiki/xacro"
+    })
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -54,6 +69,8 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
     let mut current_joint: Option<String> = None;
     let mut out = Scan::default();
     let mut seen_root = false;
+    // Prefixes bound to the xacro namespace (`xacro` by convention, whether declared or not).
+    let mut xacro_prefixes: Vec<Vec<u8>> = vec![b"xacro".to_vec()];
     loop {
         let start = reader.buffer_position() as usize;
         let event = reader.read_event().map_err(|e| {
@@ -67,10 +84,18 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
         let mut element = |e: &BytesStart<'_>, empty: bool| -> Result<(), RobotError> {
             let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
             let mut joint_name = None;
+            let mut substitution = false;
             for attribute in e.attributes().with_checks(true) {
                 let attribute = attribute.map_err(|err| {
                     xml_error(text, source_name, start, format!("in <{name}>: {err}"))
                 })?;
+                if let Some(prefix) = attribute.key.as_ref().strip_prefix(b"xmlns:") {
+                    if is_xacro_namespace(&attribute.value) {
+                        xacro_prefixes.push(prefix.to_vec());
+                    }
+                }
+                let value = attribute.value.as_ref();
+                substitution |= value.windows(2).any(|w| w == b"${" || w == b"$(");
                 if name == "joint" && attribute.key.as_ref() == b"name" {
                     joint_name = Some(
                         attribute
@@ -91,6 +116,21 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                 ));
             }
             seen_root = true;
+            if out.xacro_markup.is_none() {
+                let in_xacro_namespace = e
+                    .name()
+                    .prefix()
+                    .is_some_and(|p| xacro_prefixes.iter().any(|x| x == p.as_ref()));
+                if in_xacro_namespace {
+                    out.xacro_markup =
+                        Some((line_column(text, start).0, format!("the element <{name}>")));
+                } else if substitution {
+                    out.xacro_markup = Some((
+                        line_column(text, start).0,
+                        format!("a ${{...}} or $(...) substitution in an attribute of <{name}>"),
+                    ));
+                }
+            }
             let depth = stack.len();
             if depth == 1 && name == "joint" {
                 let joint = joint_name.unwrap_or_default();

@@ -222,12 +222,46 @@ pub struct RobotFile {
     /// A MuJoCo MJCF file (relative to the task file); chains name bodies as links.
     #[serde(default)]
     pub mjcf: Option<PathBuf>,
+    /// Folders (relative to the task file) where a URDF's `package://PKG` mesh URIs and a
+    /// xacro file's `$(find PKG)` look first.
+    #[serde(default)]
+    pub search_paths: Vec<PathBuf>,
+    /// xacro arguments for a `urdf: FILE.xacro` (`{dof: 7}`; numbers and booleans are passed
+    /// as written).
+    #[serde(default)]
+    pub xacro_args: BTreeMap<String, XacroArgument>,
     /// Arm chains by name (required with `urdf` or `mjcf`; with `builtin` they may add a tool or base pose).
     #[serde(default)]
     pub chains: BTreeMap<String, ArmFile>,
     /// A tool offset `tip_from_tool` applied to every arm that does not set its own.
     #[serde(default)]
     pub tool: Option<PoseSpec>,
+}
+
+/// A xacro argument's value as a task file writes it: text, a number or a boolean.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum XacroArgument {
+    /// A boolean, passed as `true` / `false`.
+    Bool(bool),
+    /// An integer, passed in decimal.
+    Integer(i64),
+    /// A number, passed in Rust's shortest round-trip form.
+    Number(f64),
+    /// Text, passed as it is.
+    Text(String),
+}
+
+impl XacroArgument {
+    /// The text passed to `xacro` as `NAME:=TEXT`.
+    pub fn text(&self) -> String {
+        match self {
+            XacroArgument::Bool(b) => b.to_string(),
+            XacroArgument::Integer(i) => i.to_string(),
+            XacroArgument::Number(x) => x.to_string(),
+            XacroArgument::Text(t) => t.clone(),
+        }
+    }
 }
 
 /// One arm chain.

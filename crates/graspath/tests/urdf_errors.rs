@@ -112,6 +112,10 @@ fn xacro_markup_is_refused_but_not_in_comments() {
             "<x:if>",
         ),
         (
+            r#"<robot xmlns:xa="http://wiki.ros.org/xacro"><link name="a"/><xa:arg name="x"/></robot>"#,
+            "<xa:arg>",
+        ),
+        (
             r#"<robot><link name="a"><visual><origin xyz="${l} 0 0"/></visual></link></robot>"#,
             "<origin>",
         ),
@@ -131,6 +135,46 @@ fn xacro_markup_is_refused_but_not_in_comments() {
     )
     .unwrap();
     assert_eq!(robot.link_names(), ["a"]);
+}
+
+/// A robot without links (example-robot-data ships such a `ur3.urdf`, comments only) is
+/// refused as such, as urdfdom refuses it.
+#[test]
+fn a_robot_without_links_is_refused() {
+    let err = UrdfRobot::from_xml(
+        "<robot xmlns:xacro=\"http://wiki.ros.org/xacro\"><!-- Author --></robot>",
+        "ur3.urdf",
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("ur3.urdf: not a valid URDF: the robot has no <link> element"),
+        "{err}"
+    );
+}
+
+/// `<texture/>` without a file (iCub, Romeo) is accepted, as urdfdom and Pinocchio accept
+/// it; the rest of the material, and every line number after it, is unchanged.
+#[test]
+fn a_texture_without_a_file_is_accepted() {
+    let robot = |texture: &str| {
+        format!(
+            "<robot name=\"r\">\n<material name=\"m\">\n  <color rgba=\"1 0 0 1\"/>\n  {texture}\n</material>\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>"
+        )
+    };
+    for texture in ["<texture/>", "<texture>\n</texture>", "<texture></texture>"] {
+        // The joint lacks its <limit>: the error's line shows nothing moved.
+        let err = UrdfRobot::from_xml(&robot(texture), "icub.urdf").unwrap_err();
+        let m = err.to_string();
+        let line = if texture.contains('\n') { 9 } else { 8 };
+        assert!(m.contains(&format!("(line {line};")), "{texture}: {m}");
+    }
+    let fixed = robot("<texture/>").replace(
+        "</joint>",
+        "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>",
+    );
+    let model = UrdfRobot::from_xml(&fixed, "icub.urdf").unwrap();
+    assert_eq!(model.link_names(), ["a", "b"]);
 }
 
 /// A `package://` mesh URI may not climb out of its package.

@@ -81,10 +81,19 @@ impl UrdfRobot {
                 markup,
             });
         }
-        let robot = urdf_rs::read_from_string(text).map_err(|e| RobotError::Parse {
-            source_name: source_name.to_string(),
-            message: e.to_string(),
+        let robot = urdf_rs::read_from_string(&scan.without_blank_textures(text)).map_err(|e| {
+            RobotError::Parse {
+                source_name: source_name.to_string(),
+                message: e.to_string(),
+            }
         })?;
+        if robot.links.is_empty() {
+            return Err(RobotError::Parse {
+                source_name: source_name.to_string(),
+                message: "the robot has no <link> element (a URDF describes at least one link)"
+                    .into(),
+            });
+        }
         let mut parent_of: HashMap<&str, &str> = HashMap::new();
         for joint in &robot.joints {
             if let Some(first) = parent_of.insert(&joint.child.link, &joint.name) {

@@ -158,12 +158,14 @@ fn ik_options(
 ) -> PyResult<IkOptions> {
     let max_time = match max_time {
         None => None,
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => {
-            return Err(error(format!(
-                "option 'max_time': must be a positive number of seconds or None, got {t}"
-            )))
-        }
+        Some(t) => match Duration::try_from_secs_f64(t) {
+            Ok(budget) if t > 0.0 => Some(budget),
+            _ => {
+                return Err(error(format!(
+                    "option 'max_time': must be a positive number of seconds (at most about 1.8e19) or None, got {t}"
+                )))
+            }
+        },
     };
     Ok(IkOptions {
         position_tolerance,

@@ -70,6 +70,41 @@ fn inverted_limits_are_refused() {
     assert!(err.to_string().contains("field 'limit'"), "{err}");
 }
 
+/// Limits beyond ±1e16 are refused (their span would overflow what IK samples from);
+/// Gazebo's ±1e16 for an unlimited joint is kept, and IK works on it.
+#[test]
+fn huge_limits_are_refused_and_gazebos_unlimited_is_kept() {
+    let joint = |kind: &str, limit: &str| {
+        two_links(&format!(
+            r#"<joint name="j" type="{kind}"><parent link="base"/><child link="tip"/>
+               <axis xyz="1 0 0"/><limit lower="-{limit}" upper="{limit}" effort="1" velocity="1"/></joint>"#
+        ))
+    };
+    for kind in ["prismatic", "revolute"] {
+        let err = parse_urdf_chain(&joint(kind, "1e308"), "r.urdf", "base", "tip").unwrap_err();
+        let m = err.to_string();
+        assert!(
+            m.contains("field 'limit'") && m.contains("beyond ±10000000000000000"),
+            "{m}"
+        );
+        let chain = parse_urdf_chain(&joint(kind, "1e16"), "r.urdf", "base", "tip").unwrap();
+        let target = chain.pose(&[0.25]).unwrap();
+        let solution = graspath::robot::solve_ik(
+            &chain,
+            &nalgebra::convert(target),
+            &[0.0],
+            &graspath::robot::IkOptions::default(),
+        )
+        .unwrap();
+        let q = solution.q.expect("solved");
+        let reached = chain.pose(&q).unwrap();
+        let gap = (reached.to_homogeneous() - target.to_homogeneous())
+            .abs()
+            .max();
+        assert!(gap < 1e-6, "{kind}: {gap}");
+    }
+}
+
 #[test]
 fn wrong_configuration_length_and_nan() {
     let chain = graspath::robot::builtin::baxter(graspath::robot::builtin::Arm::Left);

@@ -58,6 +58,14 @@ impl Row {
     }
 }
 
+/// A task whose robot is a URDF in the folder `robot/`.
+const TASK_URDF_IN_FOLDER: &str = r#"
+robot: { urdf: robot/arm.urdf, chains: { arm: { base: a, tip: b } } }
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 5 } } }
+trajectory: { steps: [ { lift: 0.2 } ] }
+"#;
+
 const TASK: &str = r#"
 robot: { builtin: baxter }
 arms: left
@@ -372,6 +380,10 @@ fn table() -> Vec<Row> {
         // Output folders and files.
         row("out is a symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
         row("out is a dangling symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("nowhere"), &d.join("link"), false)),
+        row("out is a symlink with a trailing slash", "select --task {d}/t.yaml --out {d}/link/ --force", &[("t.yaml", TASK), ("real/keep", "x")], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), false)),
+        row("out force over the task's folder", "select --task {d}/in/t.yaml --out {d}/in --force", &[("in/t.yaml", TASK)], 2, "in/t.yaml, an input of this run"),
+        row("out force over a folder the task reads", "select --task {d}/t.yaml --out {d}/robot --force", &[("t.yaml", TASK_URDF_IN_FOLDER), ("robot/arm.urdf", "<robot name=\"r\"/>")], 2, "robot/arm.urdf, an input of this run"),
+        row("map out force over the task's folder", "map --task {d}/in/t.yaml --x 0.7 --y 0 --out {d}/in --force", &[("in/t.yaml", TASK)], 2, "an input of this run"),
         row("out is a device", "select --task {d}/t.yaml --out /dev/null", &[("t.yaml", TASK)], 2, "/dev/null: is a character device"),
         row("out is a FIFO", "select --task {d}/t.yaml --out {d}/fifo", &[("t.yaml", TASK)], 2, "FIFO").setup(|d| mkfifo(&d.join("fifo"))),
         row("out is a non-empty folder", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK), ("out/pairs.json", "[]")], 2, "not empty (it holds 'pairs.json'); use --force"),
@@ -384,6 +396,8 @@ fn table() -> Vec<Row> {
         row("demo out symlink", "demo --out {d}/link", &[], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
         row("train out exists", "train {d}/demo.json --out {d}/model.json", &[("demo.json", "{}"), ("model.json", "old")], 2, "the file exists; use --force"),
         row("train out symlink", "train {d}/demo.json --out {d}/link --force", &[("demo.json", "{}"), ("model.json", "old")], 2, "is a symbolic link").setup(|d| symlink(&d.join("model.json"), &d.join("link"), false)),
+        row("train out over its demonstration", "train {d}/demo.json --out {d}/demo.json --force", &[("demo.json", "{}")], 2, "demo.json, an input of this run"),
+        row("generate out over its cloud", "generate --model {d}/m.json --cloud {d}/c.ply --out {d}/c.ply --force", &[("m.json", "{}"), ("c.ply", "ply")], 2, "c.ply, an input of this run"),
         row("train out folder", "train {d}/demo.json --out {d}/dir --force", &[("demo.json", "{}"), ("dir/x", "")], 2, "is an existing folder"),
         row("train missing demonstration", "train {d}/missing.json --out {d}/model.json", &[], 2, "missing.json"),
         row("train invalid demonstration", "train {d}/demo.json --out {d}/model.json", &[("demo.json", "{\"hand\": 3}")], 2, "demo.json"),

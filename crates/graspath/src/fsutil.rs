@@ -14,7 +14,8 @@
 //!   replaced; an existing non-empty folder only with [`Existing::Replace`], which moves the old
 //!   folder aside, renames the new one in and only then deletes the old one (on a failure the
 //!   old folder is put back). The current folder, one of its ancestors and the home folder are
-//!   never replaced.
+//!   never replaced, nor an output path that is or holds an input of the run
+//!   ([`check_not_an_input`]).
 //! * Missing parent folders are created, and removed again when the write fails. On any error
 //!   no temporary file or folder is left behind.
 //!
@@ -86,6 +87,9 @@ pub enum OutputErrorKind {
     /// folder.
     #[error("refusing to replace {0}; choose a new folder")]
     Protected(&'static str),
+    /// The output path is, or holds, an input of the same run (`--force` would delete it).
+    #[error("refusing to replace it: it is or holds {}, an input of this run; choose another output", .0.display())]
+    HoldsInput(PathBuf),
     /// A component of the path's parent is a file, not a folder.
     #[error("a parent of this path is a file, not a folder; choose another path")]
     ParentNotFolder,
@@ -165,7 +169,9 @@ enum Found {
 }
 
 fn inspect(path: &Path) -> Result<Found, OutputError> {
-    let metadata = match std::fs::symlink_metadata(path) {
+    // `link/` would name the folder the link points to: the link itself is what is inspected.
+    let unslashed: PathBuf = path.components().collect();
+    let metadata = match std::fs::symlink_metadata(&unslashed) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Found::Nothing),
         Err(e) if e.kind() == std::io::ErrorKind::NotADirectory => {
@@ -271,6 +277,25 @@ fn folder_state(dir: &Path, existing: Existing) -> Result<Found, OutputError> {
         }
     }
     Ok(found)
+}
+
+/// Refuses an output path that is, or (a folder) holds, one of `inputs` (files or folders the
+/// run reads), so that replacing the output (`--force`) never deletes or overwrites an input.
+/// Paths are compared after resolving links; inputs that do not exist are ignored (reading
+/// them fails on its own).
+pub fn check_not_an_input(out: &Path, inputs: &[PathBuf]) -> Result<(), OutputError> {
+    let Ok(resolved_out) = std::fs::canonicalize(out) else {
+        return Ok(());
+    };
+    for input in inputs {
+        if std::fs::canonicalize(input).is_ok_and(|i| i.starts_with(&resolved_out)) {
+            return Err(OutputError::new(
+                out,
+                OutputErrorKind::HoldsInput(input.clone()),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Why `dir` must never be replaced, if it must not.

@@ -605,6 +605,41 @@ impl TaskFile {
         Self::parse(&text, &name, extension)
     }
 
+    /// Every file and folder the task reads, as written (relative to the task file's folder):
+    /// the robot, its search paths, the candidate file or the model and cloud, the scene's
+    /// meshes and clouds, the SRDF, the hand's URDF. Outputs must never replace them.
+    pub fn input_paths(&self) -> Vec<&Path> {
+        let robot = &self.robot;
+        let candidates = &self.candidates;
+        let mut out: Vec<&Path> = [&robot.urdf, &robot.mjcf, &candidates.file]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .collect();
+        out.extend(robot.search_paths.iter().map(PathBuf::as_path));
+        if let Some(generate) = &candidates.generate {
+            out.extend([generate.model.as_path(), generate.cloud.as_path()]);
+        }
+        if let Some(scene) = &self.scene {
+            for obstacle in &scene.obstacles {
+                out.extend(
+                    obstacle
+                        .mesh
+                        .iter()
+                        .chain(&obstacle.cloud)
+                        .map(PathBuf::as_path),
+                );
+            }
+        }
+        if let Some(collision) = &self.collision {
+            out.extend(collision.srdf.as_deref());
+        }
+        if let Some(gripper) = &self.gripper {
+            out.extend(gripper.urdf.as_deref());
+        }
+        out
+    }
+
     /// Parses task text; `format` is `yaml`, `yml` or `json` (anything else: JSON, then YAML).
     pub fn parse(text: &str, file: &str, format: &str) -> Result<Self, TaskError> {
         let value: serde_json::Value = match format {

@@ -612,10 +612,8 @@ fn a_scene_task_on_a_robot_with_bare_links_keeps_its_margins() {
     let selection = select(&task, &|| {});
     let scores = &selection.arms[0].scores;
     assert_eq!(scores.len(), 40);
-    assert!(
-        scores.iter().any(|s| s.feasible()),
-        "nothing feasible to check"
-    );
+    let feasible = scores.iter().filter(|s| s.feasible()).count();
+    assert!(feasible > 0, "nothing feasible to check");
     for s in scores.iter().filter(|s| s.feasible()) {
         assert!(s.clearance.unwrap() >= margin, "{:?}", s.clearance);
     }

@@ -108,7 +108,8 @@ fn fault_of<E>(file: &Path, (location, message): Fault) -> ScanError<E> {
 
 /// The file opened for reading, refused above [`MAX_FILE_BYTES`] when its length is known.
 fn open(path: &Path) -> Result<File, Fault> {
-    let file = File::open(path).map_err(|e| ("file".to_string(), format!("cannot read: {e}")))?;
+    let file =
+        crate::input::open(path).map_err(|e| ("file".to_string(), format!("cannot read: {e}")))?;
     if let Ok(metadata) = file.metadata() {
         if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
             return Err(("file".into(), too_large(metadata.len())));

@@ -719,3 +719,74 @@ fn xacro_arguments_and_search_paths_reach_the_xacro_program() {
     let o = run(&markup, &["--xacro-arg", "a:=1"]);
     assert_clean_failure(&o, &["xacro argument 'a'", "only a file named *.xacro"]);
 }
+
+/// A run stopped by SIGTERM or SIGINT part-way through a streamed selection removes its
+/// temporary folder, writes nothing, and exits with 128 + the signal's number; a folder being
+/// replaced with `--force` is still there, unchanged.
+#[cfg(unix)]
+#[test]
+fn a_signal_leaves_no_temporary_output_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = write(
+        dir.path(),
+        "faces.yaml",
+        &std::fs::read_to_string(repo_root().join("examples/workload_1000_faces.yaml"))
+            .unwrap()
+            .replace("count: 1000", "count: 1000000"),
+    );
+    let previous = dir.path().join("out");
+    std::fs::create_dir(&previous).unwrap();
+    write(&previous, "summary.json", "{\"earlier\": true}");
+    for (signal, code) in [("TERM", 143), ("INT", 130)] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
+            .args([
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--format",
+                "jsonl",
+            ])
+            .args(["--out", previous.to_str().unwrap(), "--force", "--quiet"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let temporary = || {
+            std::fs::read_dir(dir.path())
+                .unwrap()
+                .filter_map(Result::ok)
+                .any(|e| e.file_name().to_string_lossy().contains(".graspath-"))
+        };
+        // Wait until the temporary folder exists (the selection has started writing).
+        let started = std::time::Instant::now();
+        while !temporary() {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "the run ended before it wrote anything"
+            );
+            assert!(
+                started.elapsed().as_secs() < 120,
+                "no temporary folder appeared"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        let killed = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let output = child.wait_with_output().unwrap();
+        assert_eq!(output.status.code(), Some(code), "{}", stderr(&output));
+        assert!(
+            stderr(&output).contains("stopped by a signal"),
+            "{}",
+            stderr(&output)
+        );
+        assert!(!temporary(), "a temporary entry is left after SIG{signal}");
+        let names: Vec<String> = std::fs::read_dir(&previous)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["summary.json"], "the earlier output was touched");
+    }
+}

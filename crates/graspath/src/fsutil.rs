@@ -21,12 +21,54 @@
 //!
 //! Temporary names are hidden and carry the target's name, the process id and a counter:
 //! `.NAME.graspath-PID-N.tmp` (and `.NAME.graspath-PID-N.old` for a folder being replaced).
+//! Every temporary name is remembered, so that a program stopped by a signal can remove what
+//! it leaves ([`remove_temporaries`]; the CLI does on SIGINT, SIGTERM and SIGHUP).
 
 use std::ffi::OsString;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Component, Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Every temporary file or folder this process made, with, for an old folder moved aside,
+/// where it came from.
+static TEMPORARIES: Mutex<Vec<(PathBuf, Option<PathBuf>)>> = Mutex::new(Vec::new());
+
+/// Remembers the temporary `path` (and where to put it back, for an old folder moved aside).
+fn remember(path: &Path, restore_to: Option<&Path>) {
+    let mut temporaries = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    temporaries.retain(|(p, _)| p != path);
+    temporaries.push((path.to_path_buf(), restore_to.map(Path::to_path_buf)));
+}
+
+/// Removes what this process's writers leave when the process is stopped part-way: every
+/// temporary file and folder that still exists, and an old folder moved aside for a
+/// replacement is put back where the new one has not yet arrived (else removed). Meant for
+/// the moment before the process exits on a signal: writers still running may fail.
+pub fn remove_temporaries() {
+    let temporaries = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    for (path, restore_to) in temporaries.iter() {
+        let Ok(metadata) = std::fs::symlink_metadata(path) else {
+            continue;
+        };
+        if let Some(dir) = restore_to {
+            if std::fs::symlink_metadata(dir).is_err() && std::fs::rename(path, dir).is_ok() {
+                continue;
+            }
+        }
+        if metadata.is_dir() {
+            // A writer may add a file while the folder is removed: try again a few times.
+            for _ in 0..5 {
+                if std::fs::remove_dir_all(path).is_ok() || !path.exists() {
+                    break;
+                }
+            }
+        } else {
+            let _ = std::fs::remove_file(path);
+        }
+    }
+}
 
 /// What to do when the output path already holds a regular file (single-file output) or a
 /// non-empty folder (folder output).
@@ -381,7 +423,10 @@ fn fresh<T>(
         file_name.push(format!(".graspath-{}-{n}.{suffix}", std::process::id()));
         let path = dir.join(file_name);
         match make(&path) {
-            Ok(value) => return Ok((path, value)),
+            Ok(value) => {
+                remember(&path, None);
+                return Ok((path, value));
+            }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 1_000_000 => continue,
             Err(e) => return Err(e),
         }
@@ -666,6 +711,7 @@ impl Drop for FolderWriter {
 fn replace_folder(staging: &Path, dir: &Path) -> Result<(), OutputError> {
     let (aside, ()) = fresh(dir, "old", |p| std::fs::create_dir(p))
         .map_err(|e| OutputError::io(dir, "reserve a name to move the old folder to", e))?;
+    remember(&aside, Some(dir));
     // Renaming a folder onto an empty folder replaces it.
     if let Err(e) = std::fs::rename(dir, &aside) {
         let _ = std::fs::remove_dir(&aside);

@@ -37,7 +37,9 @@ static TEMPORARIES: Mutex<Vec<(PathBuf, Option<PathBuf>)>> = Mutex::new(Vec::new
 
 /// Remembers the temporary `path` (and where to put it back, for an old folder moved aside).
 fn remember(path: &Path, restore_to: Option<&Path>) {
-    let mut temporaries = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    let mut temporaries = TEMPORARIES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     temporaries.retain(|(p, _)| p != path);
     temporaries.push((path.to_path_buf(), restore_to.map(Path::to_path_buf)));
 }
@@ -47,7 +49,9 @@ fn remember(path: &Path, restore_to: Option<&Path>) {
 /// replacement is put back where the new one has not yet arrived (else removed). Meant for
 /// the moment before the process exits on a signal: writers still running may fail.
 pub fn remove_temporaries() {
-    let temporaries = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+    let temporaries = TEMPORARIES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     for (path, restore_to) in temporaries.iter() {
         let Ok(metadata) = std::fs::symlink_metadata(path) else {
             continue;

@@ -58,6 +58,16 @@ impl Row {
     }
 }
 
+/// A task whose IK tolerance would accept any pose.
+const TASK_HUGE_IK_TOLERANCE: &str = r#"
+robot: { builtin: baxter }
+arms: left
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 5 } } }
+trajectory: { steps: [ { lift: 0.2 } ] }
+ik: { tolerance: 1e308 }
+"#;
+
 /// A task whose robot is a URDF in the folder `robot/`.
 const TASK_URDF_IN_FOLDER: &str = r#"
 robot: { urdf: robot/arm.urdf, chains: { arm: { base: a, tip: b } } }
@@ -379,6 +389,7 @@ fn table() -> Vec<Row> {
         row("candidates csv is a link to a secret", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("secret", "root:x:0:0:hunter2:/root:/bin/bash\n")], 2, "an unknown column that is not a column name (34 characters)").setup(|d| symlink(&d.join("secret"), &d.join("c.csv"), false)),
         row("candidates csv non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw\n0,0,0.05,0,0,0,1\n0,0,0.05,0,0,0.5,0.5\n")], 2, "line 3: quaternion"),
         // Output folders and files.
+        row("ik tolerance accepting any pose", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_HUGE_IK_TOLERANCE)], 2, "field 'ik.tolerance': 1e308 accepts almost any pose"),
         row("out is a symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
         row("out is a dangling symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("nowhere"), &d.join("link"), false)),
         row("out is a symlink with a trailing slash", "select --task {d}/t.yaml --out {d}/link/ --force", &[("t.yaml", TASK), ("real/keep", "x")], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), false)),

@@ -173,6 +173,8 @@ class TestErrors:
             left.ik(np.stack([np.eye(4)] * 3), np.zeros((2, 7)))
         with pytest.raises(graspath.GraspathError, match="option 'position_tolerance'"):
             left.ik(np.eye(4), position_tolerance=0.0)
+        with pytest.raises(graspath.GraspathError, match="accepts almost any pose"):
+            left.ik(np.eye(4), position_tolerance=1e308)
         for bad in (-1.0, 0.0, float("nan"), float("inf"), 1e300):
             with pytest.raises(graspath.GraspathError, match="max_time"):
                 left.ik(np.eye(4), max_time=bad)

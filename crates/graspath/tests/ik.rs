@@ -341,7 +341,9 @@ fn bad_input_is_an_error() {
     bad_target.translation.vector.y = f64::NAN;
     let err = solve_ik(&chain, &bad_target, &chain.mid_configuration(), &options).unwrap_err();
     assert!(err.to_string().contains("target"), "{err}");
-    for (position_tolerance, rotation_tolerance) in [(0.0, 1e-5), (1e-5, f64::NAN)] {
+    for (position_tolerance, rotation_tolerance) in
+        [(0.0, 1e-5), (1e-5, f64::NAN), (1e308, 1e-5), (1e-5, 4.0)]
+    {
         let options = IkOptions {
             position_tolerance,
             rotation_tolerance,

@@ -218,6 +218,10 @@ fn scene_sections_that_cannot_be_used_name_their_field() {
         ("gripper: { opening: 0.08, fingers: [a] }\n", "gripper.fingers"),
         ("collision: { margin: 0.01 }\n", "collision"),
         (
+            "scene: { obstacles: [ { name: box, sphere: { radius: 0.1 }, pose: { xyz: [2, 0, 0] } }, { name: box, sphere: { radius: 0.1 }, pose: { xyz: [3, 0, 0] } } ] }\n",
+            "scene.obstacles[1].name': 'box' is also the name of scene.obstacles[0]",
+        ),
+        (
             "scene: {}\ncollision: { srdf: bad.srdf }\n",
             "no_such_link",
         ),

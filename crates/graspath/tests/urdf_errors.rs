@@ -49,6 +49,33 @@ fn zero_axis_is_refused() {
     );
 }
 
+/// An axis whose norm overflows keeps its direction (it used to become a zero axis).
+#[test]
+fn a_huge_axis_keeps_its_direction() {
+    let chain = |axis: &str| {
+        let urdf = two_links(&format!(
+            r#"<joint name="j" type="revolute"><parent link="base"/><child link="tip"/>
+               <origin xyz="0.1 0.2 0.3"/><axis xyz="{axis}"/>
+               <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"#
+        ));
+        parse_urdf_chain(&urdf, "r.urdf", "base", "tip").unwrap()
+    };
+    let (huge, plain) = (chain("1e300 -1e300 0"), chain("1 -1 0"));
+    for q in [-0.7, 0.2, 0.9] {
+        let (a, b) = (huge.pose(&[q]).unwrap(), plain.pose(&[q]).unwrap());
+        let gap = (a.to_homogeneous() - b.to_homogeneous()).abs().max();
+        assert!(gap < 1e-15, "{gap}");
+        // The rotation stays a rotation.
+        let r = a.rotation.matrix();
+        assert!(
+            (r.transpose() * r - nalgebra::Matrix3::identity())
+                .abs()
+                .max()
+                < 1e-12
+        );
+    }
+}
+
 #[test]
 fn nan_origin_is_refused() {
     let urdf = two_links(

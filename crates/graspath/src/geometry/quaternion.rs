@@ -31,7 +31,11 @@ pub fn quaternion_xyzw(xyzw: [f64; 4]) -> Option<UnitQuaternion<f64>> {
     if xyzw.iter().any(|c| !c.is_finite()) {
         return None;
     }
-    let q = Quaternion::new(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
+    let mut q = Quaternion::new(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
+    if !q.norm_squared().is_finite() {
+        // Entries so large that the norm overflows: the same rotation, scaled down.
+        q = q / q.coords.amax();
+    }
     if q.norm() < 1e-9 {
         return None;
     }
@@ -77,6 +81,10 @@ mod tests {
     #[test]
     fn xyzw_rejects_zero_and_nan() {
         assert!(quaternion_xyzw([0.0; 4]).is_none());
+        // Entries whose norm overflows keep their rotation.
+        let huge = quaternion_xyzw([0.0, 0.0, 1e300, 1e300]).expect("a rotation");
+        let expected = quaternion_xyzw([0.0, 0.0, 1.0, 1.0]).unwrap();
+        assert!(huge.angle_to(&expected) < 1e-15);
         assert!(quaternion_xyzw([f64::NAN, 0.0, 0.0, 1.0]).is_none());
         let q = quaternion_xyzw([0.0, 0.0, 0.0, 2.0]).expect("identity");
         assert_relative_eq!(q.angle(), 0.0);

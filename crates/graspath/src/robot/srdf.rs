@@ -4,7 +4,7 @@
 //! robot does not have is an error naming the element ([`Srdf::check_links`]).
 
 use super::error::RobotError;
-use super::urdf_scan::{line_column, xml_error};
+use super::urdf_scan::{xml_error, LineCounter};
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 use std::collections::BTreeMap;
@@ -87,6 +87,7 @@ impl Srdf {
         };
         let mut stack: Vec<String> = Vec::new();
         let mut seen_root = false;
+        let mut lines = LineCounter::default();
         loop {
             let start = reader.buffer_position() as usize;
             let event = reader
@@ -157,8 +158,14 @@ impl Srdf {
                     link1: need("link1")?,
                     link2: need("link2")?,
                     reason: attributes.get("reason").cloned().unwrap_or_default(),
-                    line: line_column(text, start).0,
+                    line: lines.line(text, start),
                 }),
+                (1, _, "link" | "joint") => {
+                    return Err(xml_error(
+                        start,
+                        format!("<{tag}> is a URDF element: this is a URDF, not an SRDF (an SRDF holds <group>, <disable_collisions>, ...)"),
+                    ))
+                }
                 // Group states, virtual joints, passive joints, sphere approximations, ...:
                 // not used here.
                 _ => {}
@@ -294,6 +301,10 @@ mod tests {
             ("<robot><disable_collisions link1=\"a\"/></robot>", "link2"),
             ("<robot><group name=\"g\"></robot>", "panda.srdf:1"),
             ("<urdf/>", "not an SRDF"),
+            (
+                "<robot name=\"r\">\n<link name=\"a\"/>\n</robot>",
+                "panda.srdf:2:1: malformed XML: <link> is a URDF element: this is a URDF, not an SRDF",
+            ),
             ("", "no <robot>"),
         ] {
             let error = Srdf::parse(text, "panda.srdf").unwrap_err().to_string();

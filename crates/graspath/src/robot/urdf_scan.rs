@@ -71,6 +71,32 @@ pub(crate) fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// 1-based line numbers of increasing byte offsets in one text, counted incrementally: a
+/// whole pass costs one count over the text, not one per element.
+#[derive(Debug, Default)]
+pub(crate) struct LineCounter {
+    offset: usize,
+    line: usize,
+}
+
+impl LineCounter {
+    /// The line of byte `offset` of `text`; offsets before the previous one are counted from
+    /// the start again.
+    pub(crate) fn line(&mut self, text: &str, offset: usize) -> usize {
+        let offset = offset.min(text.len());
+        if offset < self.offset || self.line == 0 {
+            *self = Self { offset: 0, line: 1 };
+        }
+        let newlines = text.as_bytes()[self.offset..offset]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        self.line += newlines;
+        self.offset = offset;
+        self.line
+    }
+}
+
 /// A malformed-XML error at byte `offset` of `text`, with its line and column.
 pub(crate) fn xml_error(
     text: &str,
@@ -96,6 +122,7 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
     let mut current_joint: Option<String> = None;
     let mut out = Scan::default();
     let mut seen_root = false;
+    let mut lines = LineCounter::default();
     // Prefixes bound to the xacro namespace (`xacro` by convention, whether declared or not).
     let mut xacro_prefixes: Vec<Vec<u8>> = vec![b"xacro".to_vec()];
     loop {
@@ -153,10 +180,10 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                     .is_some_and(|p| xacro_prefixes.iter().any(|x| x == p.as_ref()));
                 if in_xacro_namespace {
                     out.xacro_markup =
-                        Some((line_column(text, start).0, format!("the element <{name}>")));
+                        Some((lines.line(text, start), format!("the element <{name}>")));
                 } else if substitution {
                     out.xacro_markup = Some((
-                        line_column(text, start).0,
+                        lines.line(text, start),
                         format!("a ${{...}} or $(...) substitution in an attribute of <{name}>"),
                     ));
                 }
@@ -165,7 +192,7 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             if depth == 1 && name == "joint" {
                 let joint = joint_name.unwrap_or_default();
                 out.joints
-                    .insert(joint.clone(), (line_column(text, start).0, false));
+                    .insert(joint.clone(), (lines.line(text, start), false));
                 if !empty {
                     current_joint = Some(joint);
                 }
@@ -218,4 +245,23 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
         ));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counted_lines_equal_lines_counted_from_the_start() {
+        let text = "a\n\nbc\r\nd\n\n\nef\ng";
+        let mut lines = LineCounter::default();
+        // Increasing offsets, repeated ones, then one that goes back.
+        for offset in (0..=text.len()).chain([3, 3, 9]).chain([1, text.len() + 5]) {
+            assert_eq!(
+                lines.line(text, offset),
+                line_column(text, offset).0,
+                "offset {offset}"
+            );
+        }
+    }
 }

@@ -609,6 +609,17 @@ impl TaskBuilder {
         if !(self.ik_tolerance.is_finite() && self.ik_tolerance > 0.0) {
             return Err(err("ik.tolerance", "must be positive".into()));
         }
+        // It bounds both the position (m) and the rotation (rad) error: beyond a metre any
+        // pose would count as reached.
+        if self.ik_tolerance > 1.0 {
+            return Err(err(
+                "ik.tolerance",
+                format!(
+                    "{:e} accepts almost any pose (it bounds the position error in m and the rotation error in rad); at most 1",
+                    self.ik_tolerance
+                ),
+            ));
+        }
         let path = match self.path {
             None => return Err(err("trajectory", "give the object's trajectory".into())),
             Some(PathInput::Sampled(path)) => path,

@@ -122,12 +122,23 @@ pub(crate) fn scene_from_file(
             .with_table(table.height, footprint, table.thickness)
             .map_err(|e| TaskError::caused_by(source, "scene", e))?;
     }
+    let mut names: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
     for (k, obstacle) in scene_file.obstacles.iter().enumerate() {
         let field = format!("scene.obstacles[{k}]");
         let name = obstacle
             .name
             .clone()
             .unwrap_or_else(|| format!("obstacles[{k}]"));
+        // Reports and failures name obstacles: two with one name could not be told apart.
+        if let Some(first) = names.insert(name.clone(), k) {
+            return Err(TaskError::new(
+                source,
+                format!("{field}.name"),
+                format!(
+                    "'{name}' is also the name of scene.obstacles[{first}]; names must be unique"
+                ),
+            ));
+        }
         let world_from_obstacle = obstacle
             .pose
             .as_ref()

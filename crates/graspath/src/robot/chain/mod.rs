@@ -443,7 +443,13 @@ pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Option<Vector3<f64>> {
     if axis.iter().any(|c| !c.is_finite()) {
         return None;
     }
-    Unit::try_new(*axis, 1e-9).map(Unit::into_inner)
+    // Entries so large that the norm overflows keep their direction: scale them down first.
+    let axis = if axis.norm_squared().is_finite() {
+        *axis
+    } else {
+        axis / axis.amax()
+    };
+    Unit::try_new(axis, 1e-9).map(Unit::into_inner)
 }
 
 /// The pose with rotation columns `rotation` and origin `origin` (base frame).

@@ -349,6 +349,27 @@ pub(crate) fn check_options(options: &IkOptions) -> Result<(), RobotError> {
     };
     positive("position_tolerance", options.position_tolerance)?;
     positive("rotation_tolerance", options.rotation_tolerance)?;
+    // A tolerance that accepts any pose "solves" everything: the largest that still asks
+    // for something are a metre and a half turn.
+    let at_most = |name: &'static str, value: f64, limit: f64, unit: &str| {
+        if value <= limit {
+            Ok(())
+        } else {
+            Err(RobotError::BadOption {
+                name,
+                message: format!(
+                    "{value:e} {unit} accepts almost any pose; at most {limit} {unit}"
+                ),
+            })
+        }
+    };
+    at_most("position_tolerance", options.position_tolerance, 1.0, "m")?;
+    at_most(
+        "rotation_tolerance",
+        options.rotation_tolerance,
+        std::f64::consts::PI,
+        "rad",
+    )?;
     if options.max_iterations == 0 {
         return Err(RobotError::BadOption {
             name: "max_iterations",

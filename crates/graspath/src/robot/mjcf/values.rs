@@ -130,7 +130,11 @@ impl Reader<'_> {
         match key {
             "quat" => {
                 let v = self.numbers(element, key, text, 4..=4)?;
-                let q = nalgebra::Quaternion::new(v[0], v[1], v[2], v[3]);
+                let mut q = nalgebra::Quaternion::new(v[0], v[1], v[2], v[3]);
+                if !q.norm_squared().is_finite() {
+                    // Entries so large that the norm overflows: the same rotation, scaled down.
+                    q = q / q.coords.amax();
+                }
                 if q.norm() < 1e-12 {
                     return Err(zero("the quaternion"));
                 }

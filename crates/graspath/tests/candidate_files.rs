@@ -328,6 +328,49 @@ fn a_file_changed_after_it_was_indexed_is_an_error() {
     }
 }
 
+/// A rewrite in place with the same length and the modification time set back (the case that
+/// mixed two files into one ranking) is an error too.
+#[test]
+fn a_file_rewritten_with_its_length_and_time_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        ("c.csv", csv_text(N, None)),
+        ("w.json", json_text(N, true, None)),
+    ] {
+        let path = write(dir.path(), name, &text);
+        let modified = std::fs::metadata(&path).unwrap().modified().unwrap();
+        let file = CandidateFile::index(&path).unwrap();
+        // The same bytes but one digit of the last candidate's position.
+        let at = text
+            .rfind(|c: char| c.is_ascii_digit() && c != '0')
+            .unwrap();
+        let mut other = text.clone().into_bytes();
+        other[at] = if other[at] == b'1' { b'2' } else { b'1' };
+        assert_eq!(other.len(), text.len());
+        std::fs::write(&path, &other).unwrap();
+        std::fs::File::options()
+            .write(true)
+            .open(&path)
+            .unwrap()
+            .set_modified(modified)
+            .unwrap();
+        assert_eq!(
+            std::fs::metadata(&path).unwrap().modified().unwrap(),
+            modified
+        );
+        let chunks = file
+            .for_each_chunk(16, |_| -> Result<(), CandidateError> { Ok(()) })
+            .unwrap_err();
+        let one = file.candidate(N - 1).unwrap_err();
+        for err in [chunks, one] {
+            assert!(
+                err.message.contains("changed after it was checked"),
+                "{name}: {err}"
+            );
+        }
+    }
+}
+
 #[test]
 fn only_a_regular_file_is_indexed() {
     let dir = tempfile::tempdir().unwrap();

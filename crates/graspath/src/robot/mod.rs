@@ -10,6 +10,7 @@
 pub mod builtin;
 mod chain;
 mod collision;
+mod dynamics;
 mod error;
 mod ik;
 mod mjcf;
@@ -23,6 +24,7 @@ mod xacro;
 
 pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound};
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
+pub use dynamics::{Dynamics, DynamicsData, STANDARD_GRAVITY};
 pub use error::RobotError;
 pub use ik::{
     null_space, optimize_self_motion, solve_ik, solve_trajectories, solve_trajectory, IkFailure,
@@ -31,7 +33,7 @@ pub use ik::{
 };
 pub use mjcf::{MjcfRobot, SkippedGeom};
 pub use source::{RobotModel, RobotSource};
-pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
+pub use spec::{ChainSpec, JointKind, JointSpec, Mimic, MotionLimits, RigidBody};
 pub use srdf::{DisabledPair, EndEffector, Srdf, SrdfGroup};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};
 pub use xacro::{expand_xacro, expand_xacro_with, XacroCommand};

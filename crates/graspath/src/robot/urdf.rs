@@ -363,6 +363,8 @@ impl UrdfRobot {
             lower,
             upper,
             mimic,
+            limits: Default::default(),
+            child_inertial: None,
         })
     }
 }

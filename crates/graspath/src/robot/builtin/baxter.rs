@@ -81,6 +81,8 @@ fn fixed(name: &str, child: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
         lower: 0.0,
         upper: 0.0,
         mimic: None,
+        limits: Default::default(),
+        child_inertial: None,
     }
 }
 
@@ -100,6 +102,8 @@ fn revolute(
         lower: limits.0,
         upper: limits.1,
         mimic: None,
+        limits: Default::default(),
+        child_inertial: None,
     }
 }
 

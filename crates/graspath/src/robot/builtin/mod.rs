@@ -305,6 +305,8 @@ pub fn spec_from_rows(source_name: &str, base_link: &str, rows: &[JointRow]) -> 
                 lower,
                 upper,
                 mimic: None,
+                limits: Default::default(),
+                child_inertial: None,
             }
         })
         .collect();

@@ -328,6 +328,8 @@ impl MjcfRobot {
                 lower,
                 upper,
                 mimic: None,
+                limits: Default::default(),
+                child_inertial: None,
             });
             pending = anchor.inverse().into();
         }
@@ -345,6 +347,8 @@ impl MjcfRobot {
                 lower: 0.0,
                 upper: 0.0,
                 mimic: None,
+                limits: Default::default(),
+                child_inertial: None,
             });
         }
         Ok(())

@@ -5,13 +5,15 @@
 use super::error::RobotError;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// What the pass found about each top-level `<joint>`.
 #[derive(Debug, Default)]
 pub(crate) struct Scan {
     /// Joint name → (line of its start tag, whether it has a `<limit>` child).
     pub joints: HashMap<String, (usize, bool)>,
+    /// The links that have an `<inertial>` child (`urdf-rs` gives the others a zero mass).
+    pub inertial_links: HashSet<String>,
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -52,6 +54,7 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
     reader.config_mut().check_end_names = true;
     let mut stack: Vec<(String, usize)> = Vec::new();
     let mut current_joint: Option<String> = None;
+    let mut current_link: Option<String> = None;
     let mut out = Scan::default();
     let mut seen_root = false;
     loop {
@@ -66,13 +69,13 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
         })?;
         let mut element = |e: &BytesStart<'_>, empty: bool| -> Result<(), RobotError> {
             let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
-            let mut joint_name = None;
+            let mut element_name = None;
             for attribute in e.attributes().with_checks(true) {
                 let attribute = attribute.map_err(|err| {
                     xml_error(text, source_name, start, format!("in <{name}>: {err}"))
                 })?;
-                if name == "joint" && attribute.key.as_ref() == b"name" {
-                    joint_name = Some(
+                if (name == "joint" || name == "link") && attribute.key.as_ref() == b"name" {
+                    element_name = Some(
                         attribute
                             .unescape_value()
                             .map_err(|err| {
@@ -93,11 +96,17 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             seen_root = true;
             let depth = stack.len();
             if depth == 1 && name == "joint" {
-                let joint = joint_name.unwrap_or_default();
+                let joint = element_name.unwrap_or_default();
                 out.joints
                     .insert(joint.clone(), (line_column(text, start).0, false));
                 if !empty {
                     current_joint = Some(joint);
+                }
+            } else if depth == 1 && name == "link" {
+                current_link = (!empty).then(|| element_name.clone().unwrap_or_default());
+            } else if depth == 2 && name == "inertial" && stack[1].0 == "link" {
+                if let Some(link) = &current_link {
+                    out.inertial_links.insert(link.clone());
                 }
             } else if depth == 2 && name == "limit" && stack[1].0 == "joint" {
                 if let Some(joint) = &current_joint {
@@ -117,6 +126,9 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             Event::End(_) => {
                 if stack.len() == 2 && stack[1].0 == "joint" {
                     current_joint = None;
+                }
+                if stack.len() == 2 && stack[1].0 == "link" {
+                    current_link = None;
                 }
                 stack.pop();
             }

@@ -202,7 +202,6 @@ impl Chain {
             motion_limits: self.motion_limits().to_vec(),
         })
     }
-
 }
 
 /// The joint that moves segment `i`, for messages: its name when the chain has no mimic
@@ -335,7 +334,12 @@ impl Dynamics {
 
     fn check_data(&self, data: &DynamicsData) -> Result<(), RobotError> {
         if data.value.len() != self.segments.len()
-            || data.segment_mass.len() != if self.has_mimic { self.segments.len().pow(2) } else { 0 }
+            || data.segment_mass.len()
+                != if self.has_mimic {
+                    self.segments.len().pow(2)
+                } else {
+                    0
+                }
         {
             return Err(RobotError::BadDynamicsInput {
                 what: "data",

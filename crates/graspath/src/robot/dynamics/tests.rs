@@ -39,7 +39,12 @@ fn spec(joints: Vec<JointSpec>, tip_from_tool: Option<Isometry3<f64>>) -> ChainS
 /// A planar 2R arm in the base's x–z plane: both joints turn about `y`, link lengths `l1`,
 /// `l2`, point masses `m1`, `m2` at the link ends.
 fn planar_2r(l1: f64, l2: f64, m1: f64, m2: f64) -> ChainSpec {
-    let mut a = joint("j1", JointKind::Revolute, Isometry3::identity(), Vector3::y());
+    let mut a = joint(
+        "j1",
+        JointKind::Revolute,
+        Isometry3::identity(),
+        Vector3::y(),
+    );
     a.child_inertial = Some(RigidBody::point(m1, Vector3::new(l1, 0.0, 0.0)));
     let mut b = joint(
         "j2",
@@ -133,7 +138,9 @@ fn payload_at_the_tool_equals_the_same_mass_on_the_last_link() {
     data.set_payload(Some(payload)).unwrap();
     let mut tau = [0.0; 2];
     let q = [0.4, -1.1];
-    dynamics.gravity_torques_into(&mut data, &q, &mut tau).unwrap();
+    dynamics
+        .gravity_torques_into(&mut data, &q, &mut tau)
+        .unwrap();
     let expected = heavier.gravity_torques(&q).unwrap();
     for j in 0..2 {
         close(tau[j], expected[j], 1e-12, "payload gravity");
@@ -205,8 +212,7 @@ fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize, mimic: bool) -> Cha
             ),
             turn * principal * turn.transpose(),
         ));
-        if mimic && kind != JointKind::Fixed && !moving.is_empty() && rng.random_range(0..3) == 0
-        {
+        if mimic && kind != JointKind::Fixed && !moving.is_empty() && rng.random_range(0..3) == 0 {
             let leader: &String = &moving[rng.random_range(0..moving.len())];
             j.mimic = Some(Mimic {
                 leader: leader.clone(),
@@ -218,10 +224,7 @@ fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize, mimic: bool) -> Cha
         }
         specs.push(j);
     }
-    spec(
-        specs,
-        Some(Isometry3::translation(0.05, -0.02, 0.12)),
-    )
+    spec(specs, Some(Isometry3::translation(0.05, -0.02, 0.12)))
 }
 
 fn random_vector(rng: &mut Xoshiro256PlusPlus, n: usize, range: f64) -> Vec<f64> {
@@ -254,9 +257,8 @@ fn inverse_dynamics_agrees_with_the_mass_matrix_and_its_derivatives() {
         // Velocity terms by finite differences of M.
         let step = 1e-6;
         let at = |x: &[f64]| dynamics.mass_matrix(x).unwrap();
-        let along = |d: &[f64], h: f64| -> Vec<f64> {
-            q.iter().zip(d).map(|(a, b)| a + h * b).collect()
-        };
+        let along =
+            |d: &[f64], h: f64| -> Vec<f64> { q.iter().zip(d).map(|(a, b)| a + h * b).collect() };
         let m_dot = (at(&along(&qd, step)) - at(&along(&qd, -step))) / (2.0 * step);
         let qd_v = DVector::from_column_slice(&qd);
         let tau_v = dynamics.inverse_dynamics(&q, &qd, &zero).unwrap();
@@ -290,7 +292,9 @@ fn gravity_is_the_gradient_of_the_potential_energy() {
                 .iter()
                 .zip(&bodies)
                 .filter_map(|(frame, body)| body.map(|b| (frame, b)))
-                .map(|(frame, b)| -b.mass * gravity.dot(&(frame * nalgebra::Point3::from(b.com)).coords))
+                .map(|(frame, b)| {
+                    -b.mass * gravity.dot(&(frame * nalgebra::Point3::from(b.com)).coords)
+                })
                 .sum()
         };
         // Links before the first moving joint do not move: their energy is constant.
@@ -375,12 +379,16 @@ fn mimic_joints_equal_the_independent_chain_mapped() {
         let expected = jac.transpose() * m_full * &jac;
         assert!((m - &expected).amax() <= 1e-11 * expected.amax().max(1.0));
         let g = dynamics.gravity_torques(q.as_slice()).unwrap();
-        let g_full = jac.transpose() * DVector::from_vec(full.gravity_torques(q_full.as_slice()).unwrap());
+        let g_full =
+            jac.transpose() * DVector::from_vec(full.gravity_torques(q_full.as_slice()).unwrap());
         for j in 0..n {
             close(g[j], g_full[j], 1e-11, "mimic g");
         }
     }
-    assert!(seen_mimic >= 10, "only {seen_mimic} chains had mimic joints");
+    assert!(
+        seen_mimic >= 10,
+        "only {seen_mimic} chains had mimic joints"
+    );
 }
 
 /// Wrong lengths, non-finite inputs and a workspace of another model are errors, never panics.
@@ -405,17 +413,27 @@ fn bad_inputs_are_errors() {
         Err(RobotError::BadDynamicsInput { what: "qd", .. })
     ));
     assert!(matches!(
-        dynamics.inverse_dynamics_into(&mut data, &[0.0; 2], &[0.0; 2], &[f64::INFINITY, 0.0], &mut tau),
+        dynamics.inverse_dynamics_into(
+            &mut data,
+            &[0.0; 2],
+            &[0.0; 2],
+            &[f64::INFINITY, 0.0],
+            &mut tau
+        ),
         Err(RobotError::BadDynamicsInput { what: "qdd", .. })
     ));
     assert!(matches!(
         dynamics.gravity_torques_into(&mut data, &[0.0; 2], &mut [0.0; 3]),
         Err(RobotError::BadDynamicsInput { what: "tau", .. })
     ));
-    let other = Chain::from_spec(&random_chain(&mut Xoshiro256PlusPlus::seed_from_u64(1), 5, false))
-        .unwrap()
-        .dynamics()
-        .unwrap();
+    let other = Chain::from_spec(&random_chain(
+        &mut Xoshiro256PlusPlus::seed_from_u64(1),
+        5,
+        false,
+    ))
+    .unwrap()
+    .dynamics()
+    .unwrap();
     let mut foreign = other.data();
     if other.dof() != 2 {
         assert!(matches!(
@@ -423,7 +441,10 @@ fn bad_inputs_are_errors() {
             Err(RobotError::BadDynamicsInput { what: "data", .. })
         ));
     }
-    assert!(dynamics.clone().with_gravity(Vector3::new(0.0, f64::NAN, 0.0)).is_err());
+    assert!(dynamics
+        .clone()
+        .with_gravity(Vector3::new(0.0, f64::NAN, 0.0))
+        .is_err());
     // A negative mass in the model is refused when the model is built.
     let mut negative = planar_2r(0.5, 0.5, 1.0, 1.0);
     negative.joints[0].child_inertial = Some(RigidBody::point(-2.0, Vector3::zeros()));

@@ -252,7 +252,7 @@ pub enum RobotError {
     /// Dynamics was asked of a chain whose moving segment carries no inertial data: none of
     /// the links it moves has a mass, centre of mass and inertia in the source.
     #[error(
-        "{source_name}: chain '{chain}' has no inertial data for the links moved by joint '{joint}' ({links}): dynamics needs each moving link's mass, centre of mass and inertia (URDF <inertial>, MJCF <inertial> or geoms with mass)"
+        "{source_name}: chain '{chain}' has no inertial data for the links moved by joint '{joint}' ({links}): dynamics needs each moving link's mass, centre of mass and inertia (a URDF or MJCF <inertial>; inertia from MJCF geoms is not computed)"
     )]
     NoInertia {
         /// The file or built-in model.

@@ -484,8 +484,46 @@ impl Chain {
         }
     }
 
+    /// The segments with one identity slot each (see [`SegmentFrames`]).
+    pub(in crate::robot) fn segment_frames(&self) -> SegmentFrames {
+        let slots = (0..self.segments.len())
+            .map(|i| LinkSlot {
+                segment: Some(i),
+                rotation: Matrix3::identity(),
+                translation: Vector3::zeros(),
+                identity: true,
+            })
+            .collect();
+        SegmentFrames {
+            segments: self.segments.clone(),
+            slots,
+        }
+    }
+
     fn tail(&self) -> (&Matrix3<f64>, &Vector3<f64>) {
         (&self.tail_rotation, &self.tail_translation)
+    }
+}
+
+/// The moving segments of a chain and one identity slot per segment: the link-frame pass
+/// over them writes each segment's aligned frame (after its motion; its `z` is the joint axis),
+/// with the AVX2 kernel when the processor has it.
+#[derive(Debug, Clone, PartialEq)]
+pub(in crate::robot) struct SegmentFrames {
+    segments: Vec<Segment>,
+    slots: Vec<LinkSlot>,
+}
+
+impl SegmentFrames {
+    /// `out[i]` = segment `i`'s aligned frame in the base frame, segment `i` moved by
+    /// `joint_value(i)` (rad or m). `out` has one entry per segment.
+    #[inline(always)]
+    pub(in crate::robot) fn frames_into(
+        &self,
+        joint_value: impl Fn(usize) -> f64,
+        out: &mut [nalgebra::IsometryMatrix3<f64>],
+    ) {
+        forward::link_frames(&self.segments, &self.slots, joint_value, out);
     }
 }
 

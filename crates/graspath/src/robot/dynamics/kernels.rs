@@ -25,23 +25,6 @@ fn apply(body: &WorldBody, w: &Vector3<f64>, v: &Vector3<f64>) -> (Vector3<f64>,
     )
 }
 
-/// `‖c‖² 1 − c cᵀ`: the rotational inertia about the origin of a unit point mass at `c`.
-#[inline(always)]
-fn point_inertia(c: &Vector3<f64>) -> Matrix3<f64> {
-    let (x, y, z) = (c[0], c[1], c[2]);
-    Matrix3::new(
-        y * y + z * z,
-        -x * y,
-        -x * z,
-        -x * y,
-        x * x + z * z,
-        -y * z,
-        -x * z,
-        -y * z,
-        x * x + y * y,
-    )
-}
-
 /// A body (mass kg, centre `com` m and inertia about it kg·m², in a frame with rotation
 /// `rotation` and origin `origin` in the base) about the base origin along base axes.
 #[inline(always)]
@@ -58,11 +41,54 @@ fn world_body(
         mass,
         first_moment: c * mass,
         rotational: if rotational {
-            rotation * inertia * rotation.transpose() + point_inertia(&c) * mass
+            let mut turned = symmetric_sandwich(rotation, inertia);
+            let (x, y, z) = (c[0], c[1], c[2]);
+            let (mx, my, mz) = (mass * x, mass * y, mass * z);
+            // + m (‖c‖² 1 − c cᵀ)
+            turned[(0, 0)] += my * y + mz * z;
+            turned[(1, 1)] += mx * x + mz * z;
+            turned[(2, 2)] += mx * x + my * y;
+            let (xy, xz, yz) = (mx * y, mx * z, my * z);
+            turned[(0, 1)] -= xy;
+            turned[(1, 0)] -= xy;
+            turned[(0, 2)] -= xz;
+            turned[(2, 0)] -= xz;
+            turned[(1, 2)] -= yz;
+            turned[(2, 1)] -= yz;
+            turned
         } else {
             Matrix3::zeros()
         },
     }
+}
+
+/// `R I Rᵀ` for a symmetric `I`, computing the upper triangle and mirroring it.
+#[inline(always)]
+fn symmetric_sandwich(r: &Matrix3<f64>, inertia: &Matrix3<f64>) -> Matrix3<f64> {
+    let a = r * inertia;
+    let entry = |i: usize, j: usize| {
+        a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)]
+    };
+    let (xx, xy, xz, yy, yz, zz) = (
+        entry(0, 0),
+        entry(0, 1),
+        entry(0, 2),
+        entry(1, 1),
+        entry(1, 2),
+        entry(2, 2),
+    );
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
+/// Which bodies the forward pass places about the base origin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Bodies {
+    /// None (the caller places them itself).
+    None,
+    /// Masses and first moments (enough for gravity).
+    FirstMoments,
+    /// Masses, first moments and rotational inertias.
+    Full,
 }
 
 impl Dynamics {
@@ -77,42 +103,50 @@ impl Dynamics {
         }
     }
 
-    /// The forward pass shared by every kernel: each segment's joint origin and axis (base
-    /// frame) and its body about the base origin (with its rotational inertia when
-    /// `rotational`), the payload joined to the last segment's body.
+    /// The forward pass shared by every kernel: each segment's aligned frame by the FK
+    /// kernel's link-frame pass (AVX2 when the processor has it), then its joint origin and
+    /// axis, motion subspace and, as far as `bodies` asks, its body about the base origin,
+    /// the payload joined to the last segment's body. The tool frame is always placed.
     #[inline(always)]
-    fn place(&self, data: &mut DynamicsData, q: &[f64], rotational: bool) {
-        let mut r = Matrix3::<f64>::identity();
-        let mut p = Vector3::<f64>::zeros();
-        for (i, s) in self.segments.iter().enumerate() {
-            let value = self.drive(i, q, true);
-            data.value[i] = value;
-            p += r * s.translation;
-            let mut turned = r * s.rotation;
-            match s.kind {
-                MotionKind::Revolute => {
-                    let (sin, cos) = crate::robot::trig::sin_cos(value);
-                    let x = turned.column(0).into_owned();
-                    let y = turned.column(1).into_owned();
-                    turned.set_column(0, &(x * cos + y * sin));
-                    turned.set_column(1, &(y * cos - x * sin));
-                }
-                MotionKind::Prismatic => {
-                    p += turned.column(2) * value;
-                }
-            }
-            r = turned;
+    fn place(&self, data: &mut DynamicsData, q: &[f64], bodies: Bodies) {
+        if self.has_mimic {
+            let segments = &self.segments;
+            self.frames.frames_into(
+                |i| segments[i].multiplier * q[segments[i].source] + segments[i].offset,
+                &mut data.frames,
+            );
+        } else {
+            self.frames.frames_into(|i| q[i], &mut data.frames);
+        }
+        let placed = self
+            .segments
+            .iter()
+            .zip(&data.frames)
+            .zip(data.origin.iter_mut().zip(data.axis.iter_mut()))
+            .zip(data.motion_w.iter_mut().zip(data.motion_v.iter_mut()))
+            .zip(data.body.iter_mut());
+        for ((((s, frame), (origin, axis)), (motion_w, motion_v)), body) in placed {
+            let r = frame.rotation.matrix();
+            let p = frame.translation.vector;
             let z = r.column(2).into_owned();
-            data.origin[i] = p;
-            data.axis[i] = z;
-            (data.motion_w[i], data.motion_v[i]) = match s.kind {
+            *origin = p;
+            *axis = z;
+            (*motion_w, *motion_v) = match s.kind {
                 MotionKind::Revolute => (z, p.cross(&z)),
                 MotionKind::Prismatic => (Vector3::zeros(), z),
             };
-            data.body[i] = world_body(s.mass, &s.com, &s.inertia, &r, &p, rotational);
+            if bodies != Bodies::None {
+                *body = world_body(s.mass, &s.com, &s.inertia, r, &p, bodies == Bodies::Full);
+            }
         }
-        data.tool_rotation = r * self.tail_rotation;
-        data.tool_origin = p + r * self.tail_translation;
+        if let Some(last) = data.frames.last() {
+            let r = last.rotation.matrix();
+            data.tool_rotation = r * self.tail_rotation;
+            data.tool_origin = last.translation.vector + r * self.tail_translation;
+        }
+        if bodies == Bodies::None {
+            return;
+        }
         if let (Some(payload), Some(last)) = (&data.payload, data.body.last_mut()) {
             let extra = world_body(
                 payload.mass,
@@ -120,7 +154,7 @@ impl Dynamics {
                 &payload.inertia,
                 &data.tool_rotation,
                 &data.tool_origin,
-                rotational,
+                bodies == Bodies::Full,
             );
             last.mass += extra.mass;
             last.first_moment += extra.first_moment;
@@ -144,7 +178,7 @@ impl Dynamics {
 
     /// `g(q)` without checks.
     pub(super) fn gravity_unchecked(&self, data: &mut DynamicsData, q: &[f64], tau: &mut [f64]) {
-        self.place(data, q, false);
+        self.place(data, q, Bodies::FirstMoments);
         let lift = -self.gravity;
         let mut mass = 0.0;
         let mut moment = Vector3::<f64>::zeros();
@@ -169,15 +203,13 @@ impl Dynamics {
         qdd: &[f64],
         tau: &mut [f64],
     ) {
-        self.place(data, q, true);
+        self.place(data, q, Bodies::Full);
         let n = self.segments.len();
         let (mut w, mut v) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
         let (mut dw, mut dv) = (Vector3::<f64>::zeros(), -self.gravity);
         for i in 0..n {
             let rate = self.drive(i, qd, false);
             let accel = self.drive(i, qdd, false);
-            data.rate[i] = rate;
-            data.accel[i] = accel;
             let (sw, sv) = (data.motion_w[i], data.motion_v[i]);
             let (jw, jv) = (sw * rate, sv * rate);
             w += jw;
@@ -201,27 +233,56 @@ impl Dynamics {
         self.gather(data, tau);
     }
 
-    /// `M(q)` without checks; `out` is the column-major dof × dof storage.
+    /// `M(q)` without checks; `out` is the column-major dof × dof storage. The bodies are
+    /// placed about the base origin in the backward sweep that sums them.
     pub(super) fn crba_unchecked(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
-        self.place(data, q, true);
+        self.place(data, q, Bodies::None);
         let n = self.segments.len();
         let mut composite = WorldBody::ZERO;
         let stride = if self.has_mimic { n } else { self.dof };
         for i in (0..n).rev() {
-            let body = data.body[i];
+            let s = &self.segments[i];
+            let frame = &data.frames[i];
+            let body = world_body(
+                s.mass,
+                &s.com,
+                &s.inertia,
+                frame.rotation.matrix(),
+                &frame.translation.vector,
+                true,
+            );
             composite.mass += body.mass;
             composite.first_moment += body.first_moment;
             composite.rotational += body.rotational;
-            let (fn_, ff) = apply(&composite, &data.motion_w[i], &data.motion_v[i]);
-            for k in 0..=i {
-                let entry = data.motion_w[k].dot(&fn_) + data.motion_v[k].dot(&ff);
-                if self.has_mimic {
-                    data.segment_mass[k * stride + i] = entry;
-                    data.segment_mass[i * stride + k] = entry;
-                } else {
-                    out[k * stride + i] = entry;
-                    out[i * stride + k] = entry;
+            if i + 1 == n {
+                if let Some(payload) = &data.payload {
+                    let extra = world_body(
+                        payload.mass,
+                        &payload.com,
+                        &payload.inertia,
+                        &data.tool_rotation,
+                        &data.tool_origin,
+                        true,
+                    );
+                    composite.mass += extra.mass;
+                    composite.first_moment += extra.first_moment;
+                    composite.rotational += extra.rotational;
                 }
+            }
+            let (fn_, ff) = apply(&composite, &data.motion_w[i], &data.motion_v[i]);
+            let target: &mut [f64] = if self.has_mimic {
+                &mut data.segment_mass
+            } else {
+                out
+            };
+            for (k, (kw, kv)) in data.motion_w[..=i]
+                .iter()
+                .zip(&data.motion_v[..=i])
+                .enumerate()
+            {
+                let entry = kw.dot(&fn_) + kv.dot(&ff);
+                target[k * stride + i] = entry;
+                target[i * stride + k] = entry;
             }
         }
         if self.has_mimic {
@@ -235,4 +296,5 @@ impl Dynamics {
             }
         }
     }
+
 }

@@ -36,10 +36,10 @@ mod kernels;
 #[cfg(test)]
 mod tests;
 
-use super::chain::{Chain, MotionKind};
+use super::chain::{Chain, MotionKind, SegmentFrames};
 use super::error::RobotError;
 use super::spec::{MotionLimits, RigidBody};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Vector3};
 
 /// Standard gravity (m/s²).
 pub const STANDARD_GRAVITY: f64 = 9.81;
@@ -69,6 +69,8 @@ pub struct Dynamics {
     chain: String,
     dof: usize,
     segments: Vec<Segment>,
+    /// The FK kernel's link-frame pass over the segments.
+    frames: SegmentFrames,
     has_mimic: bool,
     tail_rotation: Matrix3<f64>,
     tail_translation: Vector3<f64>,
@@ -98,10 +100,8 @@ impl WorldBody {
 #[derive(Debug, Clone)]
 pub struct DynamicsData {
     payload: Option<RigidBody>,
-    /// Segment joint values, rates and accelerations (after the mimic drives).
-    value: Vec<f64>,
-    rate: Vec<f64>,
-    accel: Vec<f64>,
+    /// Each segment's aligned frame (base frame), from the FK kernel's link-frame pass.
+    frames: Vec<IsometryMatrix3<f64>>,
     /// Joint origin and unit axis of each segment, base frame.
     origin: Vec<Vector3<f64>>,
     axis: Vec<Vector3<f64>>,
@@ -162,6 +162,24 @@ impl Chain {
     /// (none of the links it moves has any), never by assuming a zero mass; with
     /// [`RobotError::BadInertia`] when a segment's data is not a valid body. A segment whose
     /// links give an explicit zero mass is massless, as the file says.
+    ///
+    /// ```
+    /// use graspath::robot::builtin::{baxter, Arm};
+    /// use graspath::robot::RigidBody;
+    /// use nalgebra::Vector3;
+    /// let chain = baxter(Arm::Left);
+    /// let dynamics = chain.dynamics()?;
+    /// let mut data = dynamics.data();
+    /// let (mut empty, mut loaded) = ([0.0; 7], [0.0; 7]);
+    /// // The arm stretched out forward: the shoulder (s1) holds it against gravity.
+    /// let q = [0.0; 7];
+    /// dynamics.gravity_torques_into(&mut data, &q, &mut empty)?;
+    /// // 2 kg held 5 cm beyond the gripper's tool frame: the shoulder needs more.
+    /// data.set_payload(Some(RigidBody::point(2.0, Vector3::new(0.0, 0.0, 0.05))))?;
+    /// dynamics.gravity_torques_into(&mut data, &q, &mut loaded)?;
+    /// assert!(loaded[1].abs() > empty[1].abs() + 10.0);
+    /// # Ok::<(), graspath::robot::RobotError>(())
+    /// ```
     pub fn dynamics(&self) -> Result<Dynamics, RobotError> {
         let layout = self.dynamics_layout();
         let mut segments = Vec::with_capacity(layout.segments.len());
@@ -195,6 +213,7 @@ impl Chain {
             chain: self.name(),
             dof: self.dof(),
             segments,
+            frames: self.segment_frames(),
             has_mimic: layout.has_mimic,
             tail_rotation: layout.tail_rotation,
             tail_translation: layout.tail_translation,
@@ -225,9 +244,7 @@ impl Dynamics {
         let n = self.segments.len();
         DynamicsData {
             payload: None,
-            value: vec![0.0; n],
-            rate: vec![0.0; n],
-            accel: vec![0.0; n],
+            frames: vec![IsometryMatrix3::identity(); n],
             origin: vec![Vector3::zeros(); n],
             axis: vec![Vector3::zeros(); n],
             motion_w: vec![Vector3::zeros(); n],
@@ -333,7 +350,7 @@ impl Dynamics {
     }
 
     fn check_data(&self, data: &DynamicsData) -> Result<(), RobotError> {
-        if data.value.len() != self.segments.len()
+        if data.frames.len() != self.segments.len()
             || data.segment_mass.len()
                 != if self.has_mimic {
                     self.segments.len().pow(2)

@@ -66,9 +66,8 @@ fn world_body(
 #[inline(always)]
 fn symmetric_sandwich(r: &Matrix3<f64>, inertia: &Matrix3<f64>) -> Matrix3<f64> {
     let a = r * inertia;
-    let entry = |i: usize, j: usize| {
-        a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)]
-    };
+    let entry =
+        |i: usize, j: usize| a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)];
     let (xx, xy, xz, yy, yz, zz) = (
         entry(0, 0),
         entry(0, 1),
@@ -296,5 +295,4 @@ impl Dynamics {
             }
         }
     }
-
 }

@@ -6,6 +6,10 @@
 //! The Jacobian has rows `[v; ω]`: `v` is the linear velocity (m/s) of the tip origin and `ω`
 //! the angular velocity (rad/s) of the tip, both along base-frame axes (Siciliano's `J₀`,
 //! Pinocchio's `LOCAL_WORLD_ALIGNED`). Column `j` belongs to the chain's `j`-th active joint.
+//!
+//! Rigid-body dynamics of a chain (gravity torques, inverse dynamics, the mass matrix, a
+//! payload at the tool) is [`Dynamics`], built by [`Chain::dynamics`] from the links' mass
+//! properties ([`RigidBody`]) and the joints' [`MotionLimits`]; see `docs/dynamics.md`.
 
 pub mod builtin;
 mod chain;

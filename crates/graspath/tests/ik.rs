@@ -238,6 +238,8 @@ fn mixed_chain() -> Chain {
         lower: lo,
         upper: hi,
         mimic: None,
+        limits: Default::default(),
+        child_inertial: None,
     };
     let inf = f64::INFINITY;
     Chain::from_spec(&ChainSpec {

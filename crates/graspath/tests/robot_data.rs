@@ -178,3 +178,154 @@ fn full_robots_load_with_their_collision_meshes() {
         eprintln!("{file}: {meshes} collision meshes resolved, {read} read");
     }
 }
+
+/// Gravity torques, inverse dynamics and the mass matrix of `built_in` equal `reference`'s
+/// (both with gravity along their own base's −z, which is the same direction when
+/// `reference_from_base` is a turn about z) to `tolerance`, relative to the largest entry, at
+/// 50 seeded states.
+fn check_same_dynamics(what: &str, built_in: &Chain, reference: &Chain, tolerance: f64) {
+    let ours = built_in.dynamics().unwrap();
+    let theirs = reference.dynamics().unwrap();
+    let mut worst = 0.0f64;
+    let relative = |a: &[f64], b: &[f64]| {
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let error = a
+            .iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        error / scale
+    };
+    for (k, q) in common::configurations(built_in, 50, 41).iter().enumerate() {
+        let qd: Vec<f64> = (0..q.len())
+            .map(|j| ((k + j) % 5) as f64 * 0.4 - 0.8)
+            .collect();
+        let qdd: Vec<f64> = (0..q.len())
+            .map(|j| ((k * 3 + j) % 7) as f64 - 3.0)
+            .collect();
+        let pairs = [
+            (
+                ours.gravity_torques(q).unwrap(),
+                theirs.gravity_torques(q).unwrap(),
+            ),
+            (
+                ours.inverse_dynamics(q, &qd, &qdd).unwrap(),
+                theirs.inverse_dynamics(q, &qd, &qdd).unwrap(),
+            ),
+            (
+                ours.mass_matrix(q).unwrap().as_slice().to_vec(),
+                theirs.mass_matrix(q).unwrap().as_slice().to_vec(),
+            ),
+        ];
+        for (a, b) in &pairs {
+            worst = worst.max(relative(a, b));
+        }
+    }
+    assert!(
+        worst <= tolerance,
+        "{what}: built-in dynamics differ from the URDF's by {worst:e} (relative)"
+    );
+    eprintln!("{what}: built-in dynamics within {worst:.1e} of the URDF's");
+}
+
+/// The built-in Panda, Baxter and xArm 7 carry their URDFs' masses, centres of mass and
+/// inertias (the off-chain links, such as fingers and cameras, folded in) and their velocity
+/// and effort limits. The tables are written to 10 significant digits.
+#[test]
+fn built_in_dynamics_equal_the_urdfs() {
+    let Some(data) = common::robot_data() else {
+        return;
+    };
+    let cases = [
+        (
+            "panda",
+            ARM_CHAIN,
+            "panda_description/urdf/panda.urdf",
+            "panda_link0",
+            "panda_hand_tcp",
+        ),
+        (
+            "baxter",
+            "left",
+            "baxter_description/urdf/baxter.urdf",
+            "base",
+            "left_gripper",
+        ),
+        (
+            "baxter",
+            "right",
+            "baxter_description/urdf/baxter.urdf",
+            "base",
+            "right_gripper",
+        ),
+        (
+            "xarm7",
+            ARM_CHAIN,
+            "xarm_description/urdf/xarm7.urdf",
+            "link_base",
+            "link_eef",
+        ),
+    ];
+    for (name, chain, file, base, tip) in cases {
+        let reference = urdf(&data, file).chain(base, tip, None).unwrap();
+        let built_in = builtin(name, chain);
+        let what = format!("{name} {chain}");
+        check_same_dynamics(&what, &built_in, &reference, 1e-8);
+        for (j, (ours, theirs)) in built_in
+            .motion_limits()
+            .iter()
+            .zip(reference.motion_limits())
+            .enumerate()
+        {
+            assert_eq!(ours.velocity, theirs.velocity, "{what}: joint {j} velocity");
+            assert_eq!(ours.effort, theirs.effort, "{what}: joint {j} effort");
+        }
+    }
+}
+
+/// The built-in UR5 and UR10 take Universal Robots' published masses and centres of mass
+/// (in the DH frames); ROS-Industrial's `ur_description` (example-robot-data) has nearly the
+/// same masses with centres placed by hand at the links' middles. The two are different
+/// models, so they agree only roughly: the total masses to 1 %, and the shoulder-lift and
+/// elbow gravity torques, which the heavy links dominate, to 20 % of the largest such torque
+/// over the configurations. A
+/// centre of mass moved into a wrong frame (a sign, a swapped axis, a missing link length)
+/// is off by far more.
+#[test]
+fn ur_gravity_is_close_to_ur_description() {
+    let Some(data) = common::robot_data() else {
+        return;
+    };
+    for name in ["ur5", "ur10"] {
+        let model = urdf(&data, &format!("ur_description/urdf/{name}_robot.urdf"));
+        // ur_description's chain starts at `base_link`, the built-in `base` turned about z:
+        // the same gravity direction, and joint torques do not depend on the base frame.
+        let reference = model.chain("base_link", "tool0", None).unwrap();
+        let built_in = builtin(name, ARM_CHAIN);
+        let ours = built_in.dynamics().unwrap();
+        let theirs = reference.dynamics().unwrap();
+        let (m_ours, m_theirs) = (ours.moving_mass(), theirs.moving_mass());
+        assert!(
+            (m_ours - m_theirs).abs() <= 0.01 * m_theirs,
+            "{name}: moving mass {m_ours} kg vs {m_theirs} kg"
+        );
+        // The largest difference over the configurations, relative to the largest torque
+        // (the shoulder lift's with the arm stretched out).
+        let (mut difference, mut scale) = (0.0f64, 0.0f64);
+        for q in common::configurations(&built_in, 50, 43) {
+            let a = ours.gravity_torques(&q).unwrap();
+            let b = theirs.gravity_torques(&q).unwrap();
+            for j in [1, 2] {
+                difference = difference.max((a[j] - b[j]).abs());
+                scale = scale.max(b[j].abs());
+            }
+        }
+        let worst = difference / scale;
+        assert!(
+            worst <= 0.2,
+            "{name}: shoulder and elbow gravity torques differ by {worst:.3} of the largest"
+        );
+        eprintln!(
+            "{name}: shoulder and elbow gravity torques within {worst:.3} of ur_description's"
+        );
+    }
+}

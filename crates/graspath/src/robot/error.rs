@@ -279,6 +279,39 @@ pub enum RobotError {
         /// Why not.
         reason: String,
     },
+    /// Dynamics was asked of a chain whose moving segment carries no inertial data: none of
+    /// the links it moves has a mass, centre of mass and inertia in the source.
+    #[error(
+        "{source_name}: chain '{chain}' has no inertial data for the links moved by joint '{joint}' ({links}): dynamics needs each moving link's mass, centre of mass and inertia (a URDF or MJCF <inertial>; inertia from MJCF geoms is not computed)"
+    )]
+    NoInertia {
+        /// The file or built-in model.
+        source_name: String,
+        /// Chain name (`base->tip`).
+        chain: String,
+        /// The moving joint whose segment has no data.
+        joint: String,
+        /// The links that segment moves, comma-separated.
+        links: String,
+    },
+    /// Inertial data that cannot describe a body: a negative or non-finite mass, a
+    /// non-finite centre of mass, an asymmetric inertia or one with a negative diagonal.
+    #[error("{what}: not a valid rigid body ({message})")]
+    BadInertia {
+        /// Which body, e.g. `chain 'a->b', segment of joint 'j2'` or `payload`.
+        what: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A joint-velocity, joint-acceleration or output buffer of the wrong length, or a
+    /// non-finite joint velocity or acceleration.
+    #[error("{what}: {message}")]
+    BadDynamicsInput {
+        /// `qd`, `qdd`, `tau` or `mass matrix`.
+        what: &'static str,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 fn suggestion_text(suggestions: &[String]) -> String {

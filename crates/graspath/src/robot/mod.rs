@@ -6,10 +6,15 @@
 //! The Jacobian has rows `[v; ω]`: `v` is the linear velocity (m/s) of the tip origin and `ω`
 //! the angular velocity (rad/s) of the tip, both along base-frame axes (Siciliano's `J₀`,
 //! Pinocchio's `LOCAL_WORLD_ALIGNED`). Column `j` belongs to the chain's `j`-th active joint.
+//!
+//! Rigid-body dynamics of a chain (gravity torques, inverse dynamics, the mass matrix, a
+//! payload at the tool) is [`Dynamics`], built by [`Chain::dynamics`] from the links' mass
+//! properties ([`RigidBody`]) and the joints' [`MotionLimits`]; see `docs/dynamics.md`.
 
 pub mod builtin;
 mod chain;
 mod collision;
+mod dynamics;
 mod error;
 mod ik;
 mod mjcf;
@@ -23,6 +28,7 @@ mod xacro;
 
 pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound};
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
+pub use dynamics::{Dynamics, DynamicsData, STANDARD_GRAVITY};
 pub use error::RobotError;
 pub use ik::{
     null_space, optimize_self_motion, solve_ik, solve_trajectories, solve_trajectory, IkFailure,
@@ -31,7 +37,7 @@ pub use ik::{
 };
 pub use mjcf::{MjcfRobot, SkippedGeom};
 pub use source::{RobotModel, RobotSource};
-pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
+pub use spec::{ChainSpec, JointKind, JointSpec, Mimic, MotionLimits, RigidBody};
 pub use srdf::{DisabledPair, EndEffector, Srdf, SrdfGroup};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};
 pub use xacro::{

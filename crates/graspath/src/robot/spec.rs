@@ -1,7 +1,7 @@
 //! A chain described joint by joint, before flattening: what a URDF file or a built-in model
 //! provides.
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Vector3};
 
 /// The motion a joint allows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,6 +49,93 @@ pub struct JointSpec {
     pub upper: f64,
     /// Set when the joint mimics another joint.
     pub mimic: Option<Mimic>,
+    /// Velocity, effort and acceleration limits (unknown ones `None`).
+    pub limits: MotionLimits,
+    /// The mass properties of the child link together with everything rigidly attached to it
+    /// that is not on the chain (fixed children, and branches locked at zero), in the child
+    /// link frame. `None` when the source gives no inertial data for any of them.
+    pub child_inertial: Option<RigidBody>,
+}
+
+/// A joint's limits beyond its position range. `None` where the source does not say.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MotionLimits {
+    /// Largest speed (rad/s or m/s).
+    pub velocity: Option<f64>,
+    /// Largest torque (N·m) or force (N).
+    pub effort: Option<f64>,
+    /// Largest acceleration (rad/s² or m/s²).
+    pub acceleration: Option<f64>,
+}
+
+/// The mass properties of a rigid body in some frame `F` (the frame is named where the body
+/// is used): its mass (kg), its centre of mass in `F` (m) and its rotational inertia about the
+/// centre of mass along `F`'s axes (kg·m², symmetric).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidBody {
+    /// Mass (kg), non-negative.
+    pub mass: f64,
+    /// Centre of mass in `F` (m).
+    pub com: Vector3<f64>,
+    /// Rotational inertia about the centre of mass, along `F`'s axes (kg·m²).
+    pub inertia: Matrix3<f64>,
+}
+
+impl RigidBody {
+    /// A body of mass `mass` (kg) at `com` (m) with the principal moments or full inertia
+    /// `inertia` about its centre of mass (kg·m²).
+    pub fn new(mass: f64, com: Vector3<f64>, inertia: Matrix3<f64>) -> Self {
+        Self { mass, com, inertia }
+    }
+
+    /// A point mass (kg) at `com` (m).
+    pub fn point(mass: f64, com: Vector3<f64>) -> Self {
+        Self::new(mass, com, Matrix3::zeros())
+    }
+
+    /// The body described in frame `G`, given `g_from_f` (this body is in `F`).
+    pub fn transformed(&self, g_from_f: &Isometry3<f64>) -> Self {
+        let rotation = g_from_f.rotation.to_rotation_matrix().into_inner();
+        Self {
+            mass: self.mass,
+            com: g_from_f.transform_point(&self.com.into()).coords,
+            inertia: rotation * self.inertia * rotation.transpose(),
+        }
+    }
+
+    /// The two bodies as one (both in the same frame). The centre of mass of two massless
+    /// bodies is the origin.
+    pub fn combined(&self, other: &Self) -> Self {
+        let mass = self.mass + other.mass;
+        let com = if mass > 0.0 {
+            (self.com * self.mass + other.com * other.mass) / mass
+        } else {
+            Vector3::zeros()
+        };
+        let about = |b: &Self| {
+            let d = b.com - com;
+            b.inertia + b.mass * (Matrix3::identity() * d.norm_squared() - d * d.transpose())
+        };
+        Self {
+            mass,
+            com,
+            inertia: about(self) + about(other),
+        }
+    }
+
+    /// Whether every number is finite, the mass non-negative and the inertia symmetric
+    /// (to 1e-9 relative) with non-negative diagonal. Physical consistency (the triangle
+    /// inequality of the principal moments) is not required: published models break it.
+    pub fn is_valid(&self) -> bool {
+        let finite = self.mass.is_finite()
+            && self.com.iter().all(|v| v.is_finite())
+            && self.inertia.iter().all(|v| v.is_finite());
+        let scale = self.inertia.amax().max(f64::MIN_POSITIVE);
+        finite
+            && self.mass >= 0.0
+            && (self.inertia - self.inertia.transpose()).amax() <= 1e-9 * scale
+            && (0..3).all(|i| self.inertia[(i, i)] >= 0.0)
+    }
 }
 
 /// A serial chain from a base link to a tip link, every joint in order from the base.

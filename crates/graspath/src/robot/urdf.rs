@@ -11,11 +11,11 @@
 use super::chain::{unit_axis, Chain};
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 use super::error::{closest_names, RobotError};
-use super::spec::{ChainSpec, JointKind, JointSpec, Mimic};
+use super::spec::{ChainSpec, JointKind, JointSpec, Mimic, MotionLimits, RigidBody};
 use super::xacro::XacroOptions;
 use crate::geometry::shape::Shape;
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-use std::collections::HashMap;
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 /// A parsed URDF robot from which chains are extracted.
@@ -23,6 +23,8 @@ use std::path::Path;
 pub struct UrdfRobot {
     source_name: String,
     robot: urdf_rs::Robot,
+    /// The links with an `<inertial>` element.
+    inertial_links: HashSet<String>,
 }
 
 impl UrdfRobot {
@@ -123,6 +125,7 @@ impl UrdfRobot {
         Ok(Self {
             source_name: source_name.to_string(),
             robot,
+            inertial_links: scan.inertial_links,
         })
     }
 
@@ -237,6 +240,12 @@ impl UrdfRobot {
 
     /// The chain from `base_link` down to `tip_link`, with an optional tool offset
     /// `tip_from_tool` appended.
+    ///
+    /// Each joint carries its `<limit effort velocity>` (and the ROS 2 `acceleration`
+    /// extension) as [`MotionLimits`]; a value that is absent, zero or not finite is unknown.
+    /// Each joint's `child_inertial` is the `<inertial>` of its child link together with every
+    /// link hanging from that link off the chain (a camera, a hand's fingers: their joints
+    /// locked at zero, as Pinocchio's reduced models lock them), in the child link frame.
     pub fn chain_spec(
         &self,
         base_link: &str,
@@ -276,10 +285,15 @@ impl UrdfRobot {
             }
         }
         path.reverse();
-        let joints = path
-            .into_iter()
-            .map(|j| self.joint_spec(j))
-            .collect::<Result<Vec<_>, _>>()?;
+        let on_path: HashSet<&str> = std::iter::once(base_link)
+            .chain(path.iter().map(|j| j.child.link.as_str()))
+            .collect();
+        let mut joints = Vec::with_capacity(path.len());
+        for joint in path {
+            let mut spec = self.joint_spec(joint)?;
+            spec.child_inertial = self.attached_body(&joint.child.link, &on_path)?;
+            joints.push(spec);
+        }
         Ok(ChainSpec {
             source_name: self.source_name.clone(),
             base_link: base_link.to_string(),
@@ -297,6 +311,88 @@ impl UrdfRobot {
         tip_from_tool: Option<Isometry3<f64>>,
     ) -> Result<Chain, RobotError> {
         Chain::from_spec(&self.chain_spec(base_link, tip_link, tip_from_tool)?)
+    }
+
+    /// The `<inertial>` of link `name` in its link frame, `None` when it has none.
+    fn link_body(&self, link: &urdf_rs::Link) -> Result<Option<RigidBody>, RobotError> {
+        if !self.inertial_links.contains(&link.name) {
+            return Ok(None);
+        }
+        let inertial = &link.inertial;
+        let (xyz, rpy) = (inertial.origin.xyz.0, inertial.origin.rpy.0);
+        let i = &inertial.inertia;
+        let body = RigidBody::new(
+            inertial.mass.value,
+            Vector3::zeros(),
+            Matrix3::new(
+                i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
+            ),
+        );
+        let bad = || {
+            RobotError::BadInertia {
+            what: format!("{}: link '{}', <inertial>", self.source_name, link.name),
+            message: format!(
+                "mass {}, origin xyz {xyz:?} rpy {rpy:?}, inertia {:?}: the mass must be finite and non-negative, the rest finite, the diagonal non-negative",
+                inertial.mass.value,
+                [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz]
+            ),
+        }
+        };
+        if xyz.iter().chain(&rpy).any(|v| !v.is_finite()) || !body.is_valid() {
+            return Err(bad());
+        }
+        let link_from_inertial = Isometry3::from_parts(
+            Translation3::new(xyz[0], xyz[1], xyz[2]),
+            UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+        );
+        Ok(Some(body.transformed(&link_from_inertial)))
+    }
+
+    /// The mass properties of link `link` and of every link below it that is not in
+    /// `on_path` (joints locked at zero), in `link`'s frame; `None` when none of them has an
+    /// `<inertial>`.
+    fn attached_body(
+        &self,
+        link: &str,
+        on_path: &HashSet<&str>,
+    ) -> Result<Option<RigidBody>, RobotError> {
+        let mut total: Option<RigidBody> = None;
+        // (link, link_from_it), depth first; a link has one parent, so each is met once.
+        let mut stack = vec![(link, Isometry3::<f64>::identity())];
+        let mut visited = 0;
+        while let Some((name, top_from_link)) = stack.pop() {
+            visited += 1;
+            if visited > self.robot.links.len() {
+                break;
+            }
+            if let Some(urdf_link) = self.robot.links.iter().find(|l| l.name == name) {
+                if let Some(body) = self.link_body(urdf_link)? {
+                    let body = body.transformed(&top_from_link);
+                    total = Some(total.map_or(body, |t| t.combined(&body)));
+                }
+            }
+            for joint in self.robot.joints.iter().filter(|j| j.parent.link == name) {
+                let child = joint.child.link.as_str();
+                if on_path.contains(child) {
+                    continue;
+                }
+                let (xyz, rpy) = (joint.origin.xyz.0, joint.origin.rpy.0);
+                if xyz.iter().chain(&rpy).any(|v| !v.is_finite()) {
+                    return Err(RobotError::BadJoint {
+                        source_name: self.source_name.clone(),
+                        joint: joint.name.clone(),
+                        field: "origin",
+                        message: format!("not finite: xyz {xyz:?}, rpy {rpy:?}"),
+                    });
+                }
+                let parent_from_child = Isometry3::from_parts(
+                    Translation3::new(xyz[0], xyz[1], xyz[2]),
+                    UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+                );
+                stack.push((child, top_from_link * parent_from_child));
+            }
+        }
+        Ok(total)
     }
 
     fn require_link(&self, name: &str, role: &'static str) -> Result<(), RobotError> {
@@ -386,6 +482,16 @@ impl UrdfRobot {
                 })
             })
             .transpose()?;
+        let known = |v: f64| (v.is_finite() && v > 0.0).then_some(v);
+        let limits = if kind == JointKind::Fixed {
+            MotionLimits::default()
+        } else {
+            MotionLimits {
+                velocity: known(joint.limit.velocity),
+                effort: known(joint.limit.effort),
+                acceleration: known(joint.limit.acceleration),
+            }
+        };
         Ok(JointSpec {
             name: joint.name.clone(),
             child_link: joint.child.link.clone(),
@@ -395,6 +501,8 @@ impl UrdfRobot {
             lower,
             upper,
             mimic,
+            limits,
+            child_inertial: None,
         })
     }
 }

@@ -5,7 +5,7 @@
 use super::error::RobotError;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// What the pass found about each top-level `<joint>`.
 #[derive(Debug, Default)]
@@ -19,6 +19,8 @@ pub(crate) struct Scan {
     /// `<texture/>`): urdfdom and Pinocchio ignore them, `urdf-rs` refuses them, and a texture
     /// plays no part in kinematics or collision, so [`Scan::without_blank_textures`] blanks them.
     pub blank_textures: Vec<std::ops::Range<usize>>,
+    /// The links that have an `<inertial>` child (`urdf-rs` gives the others a zero mass).
+    pub inertial_links: HashSet<String>,
 }
 
 impl Scan {
@@ -120,6 +122,7 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
     // Open elements: name, start offset, whether the element is a blank texture.
     let mut stack: Vec<(String, usize, bool)> = Vec::new();
     let mut current_joint: Option<String> = None;
+    let mut current_link: Option<String> = None;
     let mut out = Scan::default();
     let mut seen_root = false;
     let mut lines = LineCounter::default();
@@ -138,7 +141,7 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
         let end = reader.buffer_position() as usize;
         let mut element = |e: &BytesStart<'_>, empty: bool| -> Result<(), RobotError> {
             let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
-            let mut joint_name = None;
+            let mut element_name = None;
             let mut substitution = false;
             let mut has_filename = false;
             for attribute in e.attributes().with_checks(true) {
@@ -153,8 +156,8 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                 has_filename |= attribute.key.as_ref() == b"filename";
                 let value = attribute.value.as_ref();
                 substitution |= value.windows(2).any(|w| w == b"${" || w == b"$(");
-                if name == "joint" && attribute.key.as_ref() == b"name" {
-                    joint_name = Some(
+                if (name == "joint" || name == "link") && attribute.key.as_ref() == b"name" {
+                    element_name = Some(
                         attribute
                             .unescape_value()
                             .map_err(|err| {
@@ -190,11 +193,17 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             }
             let depth = stack.len();
             if depth == 1 && name == "joint" {
-                let joint = joint_name.unwrap_or_default();
+                let joint = element_name.unwrap_or_default();
                 out.joints
                     .insert(joint.clone(), (lines.line(text, start), false));
                 if !empty {
                     current_joint = Some(joint);
+                }
+            } else if depth == 1 && name == "link" {
+                current_link = (!empty).then(|| element_name.clone().unwrap_or_default());
+            } else if depth == 2 && name == "inertial" && stack[1].0 == "link" {
+                if let Some(link) = &current_link {
+                    out.inertial_links.insert(link.clone());
                 }
             } else if depth == 2 && name == "limit" && stack[1].0 == "joint" {
                 if let Some(joint) = &current_joint {
@@ -219,6 +228,9 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             Event::End(_) => {
                 if stack.len() == 2 && stack[1].0 == "joint" {
                     current_joint = None;
+                }
+                if stack.len() == 2 && stack[1].0 == "link" {
+                    current_link = None;
                 }
                 if let Some((_, open, true)) = stack.pop() {
                     out.blank_textures.push(open..end);

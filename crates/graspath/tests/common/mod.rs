@@ -130,6 +130,8 @@ pub fn ur5_like(limit: f64) -> Chain {
         lower: -limit,
         upper: limit,
         mimic: None,
+        limits: Default::default(),
+        child_inertial: None,
     };
     let y = Vector3::y();
     let z = Vector3::z();

@@ -3,17 +3,24 @@
 //! limits published in Rethink's `baxter_description` (torso mount, shoulder `s0 s1`, elbow
 //! `e0 e1`, wrist `w0 w1 w2`, hand, gripper base and the 0.1327 m endpoint of the standard
 //! electric gripper fingers).
+//!
+//! **Dynamics**: the link masses, centres of mass and inertias of `baxter_description` as
+//! shipped in example-robot-data 6.0.0 (`baxter.urdf`), link frames, with the hand, the
+//! gripper base, the fixed sensor links and the gripper's two fingers (closed) folded into
+//! the wrist link `w2` (the same numbers for both arms); velocity 1.5 rad/s and effort
+//! 50 N·m on `s0 s1 e0 e1`, 4.0 rad/s and 15 N·m on `w0 w1 w2`, from the same file. No
+//! acceleration limits are set (unknown).
 
 // The published parameters round π/2 and π/4 to 1.57079632679 and 0.7854; they are kept
 // verbatim so the model equals the published one to the last digit.
 #![allow(clippy::approx_constant)]
 
-use super::origin;
+use super::{limits, origin, with_dynamics, LinkInertia};
 use crate::geometry::shape::Shape;
 use crate::robot::chain::Chain;
 use crate::robot::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
 use crate::robot::error::RobotError;
-use crate::robot::spec::{ChainSpec, JointKind, JointSpec};
+use crate::robot::spec::{ChainSpec, JointKind, JointSpec, MotionLimits};
 use nalgebra::{Isometry3, Vector3};
 use std::fmt;
 use std::str::FromStr;
@@ -81,6 +88,8 @@ fn fixed(name: &str, child: &str, xyz: [f64; 3], rpy: [f64; 3]) -> JointSpec {
         lower: 0.0,
         upper: 0.0,
         mimic: None,
+        limits: Default::default(),
+        child_inertial: None,
     }
 }
 
@@ -100,8 +109,109 @@ fn revolute(
         lower: limits.0,
         upper: limits.1,
         mimic: None,
+        limits: Default::default(),
+        child_inertial: None,
     }
 }
+
+/// Shoulder to wrist links (`s0 … w2`), link frames, either arm (see the module documentation).
+pub const BAXTER_INERTIA: [LinkInertia; 7] = [
+    LinkInertia::new(
+        5.70044,
+        [0.01783, 0.00086, 0.19127],
+        [
+            0.04709102262,
+            0.03766976455,
+            0.03595988478,
+            0.00012787556,
+            0.00614870039,
+            0.00078086899,
+        ],
+    ),
+    LinkInertia::new(
+        3.22708,
+        [0.06845119458, 0.002689916643, -0.005289836075],
+        [
+            0.01175210771,
+            0.0278861366,
+            0.02078765231,
+            -0.0003009536104,
+            0.002076737228,
+            -0.000188218507,
+        ],
+    ),
+    LinkInertia::new(
+        4.31272,
+        [-0.00276, 0.00132, 0.18086],
+        [
+            0.02661733557,
+            0.02844355207,
+            0.01248008322,
+            0.00029270634,
+            0.00392189887,
+            0.0010838933,
+        ],
+    ),
+    LinkInertia::new(
+        2.07216,
+        [0.02611298674, 0.001589923268, -0.01116946095],
+        [
+            0.007115849589,
+            0.01318268426,
+            0.009268913912,
+            0.00036037157,
+            0.0007458804722,
+            -0.0001966324041,
+        ],
+    ),
+    LinkInertia::new(
+        2.24675,
+        [-0.001682439969, 0.00459979526, 0.1395191312],
+        [
+            0.01667747847,
+            0.01675492125,
+            0.003746624126,
+            0.0001840118339,
+            0.0001864692861,
+            -0.0006473324988,
+        ],
+    ),
+    LinkInertia::new(
+        1.60979,
+        [0.06041, 0.00697, 0.006],
+        [
+            0.00387607152,
+            0.00700537914,
+            0.0055275524,
+            -0.00044384784,
+            -0.00021115038,
+            0.00015348067,
+        ],
+    ),
+    LinkInertia::new(
+        0.90268,
+        [0.003097722227, 0.0005753714495, 0.08719067111],
+        [
+            0.04378759515,
+            0.04384990004,
+            0.04056629688,
+            7.059177175e-06,
+            4.689007807e-05,
+            2.576346357e-05,
+        ],
+    ),
+];
+
+/// Velocity (rad/s) and effort (N·m) limits, `s0 s1 e0 e1 w0 w1 w2`.
+pub const BAXTER_MOTION_LIMITS: [MotionLimits; 7] = [
+    limits(1.5, 50.0, None),
+    limits(1.5, 50.0, None),
+    limits(1.5, 50.0, None),
+    limits(1.5, 50.0, None),
+    limits(4.0, 15.0, None),
+    limits(4.0, 15.0, None),
+    limits(4.0, 15.0, None),
+];
 
 /// The chain description of one Baxter arm, `base → {arm}_gripper`.
 pub fn baxter_spec(arm: Arm) -> ChainSpec {
@@ -167,13 +277,17 @@ pub fn baxter_spec(arm: Arm) -> ChainSpec {
         [0.0, 0.0, 0.1327],
         [0.0; 3],
     ));
-    ChainSpec {
-        source_name: BAXTER_SOURCE.to_string(),
-        base_link: "base".to_string(),
-        tip_link: format!("{side}_gripper"),
-        joints,
-        tip_from_tool: None,
-    }
+    with_dynamics(
+        ChainSpec {
+            source_name: BAXTER_SOURCE.to_string(),
+            base_link: "base".to_string(),
+            tip_link: format!("{side}_gripper"),
+            joints,
+            tip_from_tool: None,
+        },
+        &BAXTER_INERTIA,
+        &BAXTER_MOTION_LIMITS,
+    )
 }
 
 /// One Baxter arm as a chain, `base → {arm}_gripper`.

@@ -12,13 +12,22 @@
 //! frame along joint 7's axis, with link 7's orientation (`iiwa_link_ee_kuka` in
 //! `iiwa_description`, KUKA's flange coordinate system). A tool offset follows it.
 //!
+//! **Dynamics**: the link masses, centres of mass and inertias of the `lbr_fri_ros2_stack`
+//! description (`lbr_description/urdf/iiwa14/iiwa14_description.xacro`, commit 218d723,
+//! from KUKA's CAD data), moved from its link frames into this model's (the two differ by a
+//! constant transform per link, checked to 1e-15 over random configurations). Limits from
+//! KUKA's LBR iiwa 14 R820 specification: maximum torques 320, 320, 176, 176, 110, 40, 40 N·m
+//! and speeds 85, 85, 100, 75, 130, 135, 135 °/s. No acceleration limits are set (unknown).
+//!
 //! Collision primitives (approximations): a cylinder for link 0 and capsules along the
 //! skeleton; radii from KUKA's dimension drawing (housings about 0.16–0.2 m across at the
 //! shoulder and elbow, 0.13 m at the wrist).
 
-use super::{skeleton_capsules, spec_from_rows, JointRow, Motion};
+use super::{
+    limits, skeleton_capsules, spec_from_rows, with_dynamics, JointRow, LinkInertia, Motion,
+};
 use crate::robot::collision::LinkCollisions;
-use crate::robot::spec::ChainSpec;
+use crate::robot::spec::{ChainSpec, MotionLimits};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 const fn deg(d: f64) -> f64 {
@@ -42,6 +51,56 @@ const fn rev(
 }
 
 /// The parameter table: joint, child link, origin xyz (m), origin rpy (rad), limit (±°).
+/// Links 1–7, link frames (see the module documentation).
+pub const IIWA14_INERTIA: [LinkInertia; 7] = [
+    LinkInertia::new(
+        5.289529,
+        [0.0, -0.033795, 0.122404],
+        [0.042462, 0.042838, 0.01587, 0.0, 0.0, 0.006341],
+    ),
+    LinkInertia::new(
+        5.688888,
+        [-0.000136, 0.076322, 0.037548],
+        [0.055182, 0.016523, 0.053983, -5.6e-05, 3.3e-05, 0.010034],
+    ),
+    LinkInertia::new(
+        3.461245,
+        [0.0, 0.034913, 0.146608],
+        [0.02172, 0.02073, 0.007701, 0.0, 0.0, -0.003845],
+    ),
+    LinkInertia::new(
+        4.122995,
+        [0.0, 0.086944, 0.029293],
+        [0.03241, 0.009883, 0.030758, 0.0, 0.0, 0.006022],
+    ),
+    LinkInertia::new(
+        1.563756,
+        [0.0, 0.029824, 0.099267],
+        [0.008677, 0.007297, 0.003935, 0.0, 0.0, -0.002869],
+    ),
+    LinkInertia::new(
+        2.457878,
+        [0.0, 0.00495, 0.00032],
+        [0.007227, 0.004734, 0.006958, 0.0, 0.0, 0.000318],
+    ),
+    LinkInertia::new(
+        0.265331,
+        [3e-06, -2e-06, 0.023782],
+        [0.000175, 0.000175, 0.000306, 0.0, 0.0, 0.0],
+    ),
+];
+
+/// Velocity (rad/s) and effort (N·m) limits, joints 1–7.
+pub const IIWA14_MOTION_LIMITS: [MotionLimits; 7] = [
+    limits(deg(85.0), 320.0, None),
+    limits(deg(85.0), 320.0, None),
+    limits(deg(100.0), 176.0, None),
+    limits(deg(75.0), 176.0, None),
+    limits(deg(130.0), 110.0, None),
+    limits(deg(135.0), 40.0, None),
+    limits(deg(135.0), 40.0, None),
+];
+
 const ROWS: [JointRow; 8] = [
     rev(
         "iiwa_joint_1",
@@ -103,7 +162,11 @@ const ROWS: [JointRow; 8] = [
 
 /// The arm's chain description, `iiwa_link_0 → iiwa_flange`.
 pub fn iiwa14_spec() -> ChainSpec {
-    spec_from_rows("built-in iiwa14", "iiwa_link_0", &ROWS)
+    with_dynamics(
+        spec_from_rows("built-in iiwa14", "iiwa_link_0", &ROWS),
+        &IIWA14_INERTIA,
+        &IIWA14_MOTION_LIMITS,
+    )
 }
 
 /// Collision primitives, link by link (see the module documentation).

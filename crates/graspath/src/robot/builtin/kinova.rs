@@ -14,16 +14,74 @@
 //! interface), as in `ros_kortex`. A tool offset (for example a Robotiq 2F-85's TCP) follows
 //! it.
 //!
+//! **Dynamics**: the link masses, centres of mass and inertias of Kinova's `ros_kortex`
+//! (`kortex_description/arms/gen3/7dof/urdf/GEN3-7DOF-NOVISION_FOR_URDF_ARM_V12.urdf`,
+//! commit 6cd75d4: the arm without the vision module), link frames; the same file's
+//! velocity limits, 1.3963 rad/s (joints 1–4) and 1.2218 rad/s (5–7), and efforts, 39 N·m
+//! (1–4) and 9 N·m (5–7). No acceleration limits are set (unknown).
+//!
 //! Collision primitives (approximations): a cylinder for the base and capsules along the
 //! skeleton; radii from Kinova's dimension drawing (actuators about 0.1 m across, the wrist
 //! 0.08 m).
 
-use super::{skeleton_capsules, spec_from_rows, JointRow, Motion};
+use super::{
+    limits, skeleton_capsules, spec_from_rows, with_dynamics, JointRow, LinkInertia, Motion,
+};
 use crate::robot::collision::LinkCollisions;
-use crate::robot::spec::ChainSpec;
+use crate::robot::spec::{ChainSpec, MotionLimits};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The parameter table: joint, child link, origin xyz (m), origin roll (rad), limits (rad).
+/// Links 1–7 (shoulder to bracelet), link frames (see the module documentation).
+pub const GEN3_INERTIA: [LinkInertia; 7] = [
+    LinkInertia::new(
+        1.377,
+        [-2.3e-05, -0.010364, -0.07336],
+        [0.00457, 0.004831, 0.001409, 1e-06, 2e-06, 0.000448],
+    ),
+    LinkInertia::new(
+        1.163,
+        [-4.4e-05, -0.09958, -0.013278],
+        [0.011088, 0.001072, 0.011255, 5e-06, 0.0, -0.000691],
+    ),
+    LinkInertia::new(
+        1.163,
+        [-4.4e-05, -0.006641, -0.117892],
+        [0.010932, 0.011127, 0.001043, 0.0, -7e-06, 0.000606],
+    ),
+    LinkInertia::new(
+        0.93,
+        [-1.8e-05, -0.075478, -0.015006],
+        [0.008147, 0.000631, 0.008316, -1e-06, 0.0, -0.0005],
+    ),
+    LinkInertia::new(
+        0.678,
+        [1e-06, -0.009432, -0.063883],
+        [0.001596, 0.001607, 0.000399, 0.0, 0.0, 0.000256],
+    ),
+    LinkInertia::new(
+        0.678,
+        [1e-06, -0.045483, -0.00965],
+        [0.001641, 0.00041, 0.001641, 0.0, 0.0, -0.000278],
+    ),
+    LinkInertia::new(
+        0.364,
+        [-9.3e-05, 0.000132, -0.022905],
+        [0.000214, 0.000223, 0.00024, 0.0, 1e-06, -2e-06],
+    ),
+];
+
+/// Velocity (rad/s) and effort (N·m) limits, joints 1–7.
+pub const GEN3_MOTION_LIMITS: [MotionLimits; 7] = [
+    limits(1.3963, 39.0, None),
+    limits(1.3963, 39.0, None),
+    limits(1.3963, 39.0, None),
+    limits(1.3963, 39.0, None),
+    limits(1.2218, 9.0, None),
+    limits(1.2218, 9.0, None),
+    limits(1.2218, 9.0, None),
+];
+
 const ROWS: [JointRow; 8] = [
     JointRow::rolled(
         "joint_1",
@@ -85,7 +143,11 @@ const ROWS: [JointRow; 8] = [
 
 /// The arm's chain description, `base_link → end_effector_link`.
 pub fn gen3_spec() -> ChainSpec {
-    spec_from_rows("built-in gen3", "base_link", &ROWS)
+    with_dynamics(
+        spec_from_rows("built-in gen3", "base_link", &ROWS),
+        &GEN3_INERTIA,
+        &GEN3_MOTION_LIMITS,
+    )
 }
 
 /// Collision primitives, link by link (see the module documentation).

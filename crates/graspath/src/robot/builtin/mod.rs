@@ -36,9 +36,9 @@ pub mod xarm;
 pub use baxter::{baxter, baxter_collisions, baxter_spec, baxter_with_tool, Arm, BAXTER_SOURCE};
 
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
-use super::spec::{ChainSpec, JointKind, JointSpec};
+use super::spec::{ChainSpec, JointKind, JointSpec, MotionLimits, RigidBody};
 use crate::geometry::shape::Shape;
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use std::fmt;
 
 /// The name of the one chain of a single-arm built-in robot.
@@ -305,6 +305,8 @@ pub fn spec_from_rows(source_name: &str, base_link: &str, rows: &[JointRow]) -> 
                 lower,
                 upper,
                 mimic: None,
+                limits: Default::default(),
+                child_inertial: None,
             }
         })
         .collect();
@@ -315,6 +317,67 @@ pub fn spec_from_rows(source_name: &str, base_link: &str, rows: &[JointRow]) -> 
         joints,
         tip_from_tool: None,
     }
+}
+
+/// The mass properties of one moving link as published, in the link's frame (the frame of the
+/// joint that moves it, after the motion), everything rigidly attached to it up to the next
+/// moving joint included.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinkInertia {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Centre of mass in the link frame (m).
+    pub com: [f64; 3],
+    /// Inertia about the centre of mass along the link frame's axes, `[ixx, iyy, izz, ixy,
+    /// ixz, iyz]` (kg·m²).
+    pub inertia: [f64; 6],
+}
+
+impl LinkInertia {
+    /// A row of a robot's table: mass (kg), centre of mass (m), `[ixx, iyy, izz, ixy, ixz,
+    /// iyz]` (kg·m²).
+    pub const fn new(mass: f64, com: [f64; 3], inertia: [f64; 6]) -> Self {
+        Self { mass, com, inertia }
+    }
+
+    /// The body in the link frame.
+    pub fn body(&self) -> RigidBody {
+        let [xx, yy, zz, xy, xz, yz] = self.inertia;
+        RigidBody::new(
+            self.mass,
+            Vector3::from(self.com),
+            Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz),
+        )
+    }
+}
+
+/// Velocity (rad/s) and effort (N·m) limits, and the acceleration limit (rad/s²) where the
+/// maker publishes one.
+pub const fn limits(velocity: f64, effort: f64, acceleration: Option<f64>) -> MotionLimits {
+    MotionLimits {
+        velocity: Some(velocity),
+        effort: Some(effort),
+        acceleration,
+    }
+}
+
+/// Gives the moving joints of `spec`, in order, the bodies of their child links and their
+/// limits (one entry each); fixed joints carry nothing (their links are included in the
+/// moving link before them).
+pub fn with_dynamics(
+    mut spec: ChainSpec,
+    bodies: &[LinkInertia],
+    joint_limits: &[MotionLimits],
+) -> ChainSpec {
+    let moving = spec
+        .joints
+        .iter_mut()
+        .filter(|j| j.kind != JointKind::Fixed);
+    for ((joint, body), limit) in moving.zip(bodies).zip(joint_limits) {
+        joint.child_inertial = Some(body.body());
+        joint.limits = *limit;
+    }
+    spec
 }
 
 /// A capsule of `radius` (m) about the segment from `a` to `b` (link frame, m).

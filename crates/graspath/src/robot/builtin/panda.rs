@@ -13,14 +13,30 @@
 //! — as in `franka_description`. A tool offset given by the user follows `panda_hand_tcp`;
 //! the flange is reached with the sub-chain `panda_link0 → panda_link8`.
 //!
+//! **Dynamics.** Panda: the link masses, centres of mass and inertias of example-robot-data's
+//! `panda_description/urdf/panda.urdf` (6.0.0; `franka_ros`'s description, whose arm links
+//! carry the parameters identified by Gaz, Cognetti, Oliva, Robuffo Giordano and De Luca,
+//! RA-L 2019), the Franka Hand (0.73 kg) and its two fingers (0.015 kg each, closed) folded
+//! into link 7. FR3: Franka's `franka_description` (`robots/fr3/inertials.yaml` and
+//! `end_effectors/franka_hand/inertials.yaml`, commit b299b39), the hand (0.6544 kg) and
+//! fingers (0.0291 kg each) folded into link 7 the same way. Limits, from Franka's datasheets
+//! (as in the two descriptions): effort 87 N·m (joints 1–4) and 12 N·m (5–7); velocity
+//! Panda 2.175 / 2.61 rad/s, FR3 2.62 (1–4), 5.26, 4.18, 5.26 rad/s (`fr3/joint_limits.yaml`);
+//! acceleration Panda 15, 7.5, 10, 12.5, 15, 20, 20 rad/s² (Franka's "robot and interface
+//! specifications"); FR3 accelerations are not set (unknown). Inertias of the hands are
+//! Franka's estimates, not identified values.
+//!
 //! Collision primitives (approximations): capsules along the skeleton with the radii below
 //! (the arm's housings are about 0.12–0.15 m across in Franka's dimension drawing), and one
 //! capsule across the hand's body (about 0.2 m wide, 0.08 m deep); the fingers belong to the
 //! hand model.
 
-use super::{capsule_between, skeleton_capsules, spec_from_rows, JointRow, Motion};
+use super::{
+    capsule_between, limits, skeleton_capsules, spec_from_rows, with_dynamics, JointRow,
+    LinkInertia, Motion,
+};
 use crate::robot::collision::LinkCollisions;
-use crate::robot::spec::ChainSpec;
+use crate::robot::spec::{ChainSpec, MotionLimits};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
 /// Which Franka arm.
@@ -52,6 +68,163 @@ pub const FR3_LIMITS: [(f64, f64); 7] = [
     (-2.8065, 2.8065),
     (0.5445, 4.5169),
     (-3.0159, 3.0159),
+];
+
+/// Panda links 1–7 (link 7 with the flange, hand and fingers), link frames; see the module
+/// documentation for the source.
+pub const PANDA_INERTIA: [LinkInertia; 7] = [
+    LinkInertia::new(
+        4.970684,
+        [0.003875, 0.002081, -0.04762],
+        [0.70337, 0.70661, 0.009117, -0.000139, 0.006772, 0.019169],
+    ),
+    LinkInertia::new(
+        0.646926,
+        [-0.003141, -0.02872, 0.003495],
+        [0.007962, 0.02811, 0.025995, -0.003925, 0.010254, 0.000704],
+    ),
+    LinkInertia::new(
+        3.228604,
+        [0.027518, 0.039252, -0.066502],
+        [0.037242, 0.036155, 0.01083, -0.004761, -0.011396, -0.012805],
+    ),
+    LinkInertia::new(
+        3.587895,
+        [-0.05317, 0.104419, 0.027454],
+        [0.025853, 0.019552, 0.028323, 0.007796, -0.001332, 0.008641],
+    ),
+    LinkInertia::new(
+        1.225946,
+        [-0.011953, 0.041065, -0.038437],
+        [0.035549, 0.029474, 0.008627, -0.002117, -0.004037, 0.000229],
+    ),
+    LinkInertia::new(
+        1.666555,
+        [0.060149, -0.014117, -0.010517],
+        [0.001964, 0.004354, 0.005433, 0.000109, -0.001158, 0.000341],
+    ),
+    LinkInertia::new(
+        1.495522,
+        [0.001720874298, 0.001360354417, 0.1004852811],
+        [
+            0.01652985371,
+            0.01410724864,
+            0.006676955557,
+            0.0003948922971,
+            -0.0007066957106,
+            -0.001051105327,
+        ],
+    ),
+];
+
+/// FR3 links 1–7 (link 7 with the flange, hand and fingers), link frames.
+pub const FR3_INERTIA: [LinkInertia; 7] = [
+    LinkInertia::new(
+        2.927465345,
+        [4.128e-07, -0.0181251324, -0.038603597],
+        [
+            0.02392731649,
+            0.02248216133,
+            0.006350098259,
+            1.331790346e-05,
+            -0.0001140477492,
+            -0.001995032063,
+        ],
+    ),
+    LinkInertia::new(
+        2.935537034,
+        [0.0031828864, -0.0743221644, 0.0088146084],
+        [
+            0.04193894626,
+            0.02514514885,
+            0.06170214473,
+            0.0002025733152,
+            0.004077784227,
+            -0.004225215801,
+        ],
+    ),
+    LinkInertia::new(
+        2.24490137,
+        [0.0407015686, -0.0048200565, -0.0289730823],
+        [
+            0.02410142547,
+            0.01974053267,
+            0.01904449448,
+            0.002404694559,
+            -0.00285626927,
+            -0.002104212684,
+        ],
+    ),
+    LinkInertia::new(
+        2.615595579,
+        [-0.0459100965, 0.063049296, -0.0085187868],
+        [
+            0.03452998322,
+            0.02888162193,
+            0.04125471171,
+            0.01322552266,
+            0.01015142998,
+            -0.0009762833871,
+        ],
+    ),
+    LinkInertia::new(
+        2.327120759,
+        [-0.0016039605, 0.0292536262, -0.097296599],
+        [
+            0.05161027846,
+            0.04787729713,
+            0.01642362558,
+            -0.005715173388,
+            -0.003567316763,
+            0.01067398511,
+        ],
+    ),
+    LinkInertia::new(
+        1.817037652,
+        [0.0597131221, -0.0410294666, -0.0101692726],
+        [
+            0.005412333594,
+            0.01405832955,
+            0.01608081792,
+            0.00619345636,
+            0.001421928931,
+            -0.001314075374,
+        ],
+    ),
+    LinkInertia::new(
+        1.339743286,
+        [0.006688116436, 0.008635018567, 0.0629612874],
+        [
+            0.008880215577,
+            0.008852020162,
+            0.001809609189,
+            -0.0008046193808,
+            -0.0001797136872,
+            6.345985282e-05,
+        ],
+    ),
+];
+
+/// Panda velocity (rad/s), effort (N·m) and acceleration (rad/s²) limits, joints 1–7.
+pub const PANDA_MOTION_LIMITS: [MotionLimits; 7] = [
+    limits(2.175, 87.0, Some(15.0)),
+    limits(2.175, 87.0, Some(7.5)),
+    limits(2.175, 87.0, Some(10.0)),
+    limits(2.175, 87.0, Some(12.5)),
+    limits(2.61, 12.0, Some(15.0)),
+    limits(2.61, 12.0, Some(20.0)),
+    limits(2.61, 12.0, Some(20.0)),
+];
+
+/// FR3 velocity (rad/s) and effort (N·m) limits, joints 1–7.
+pub const FR3_MOTION_LIMITS: [MotionLimits; 7] = [
+    limits(2.62, 87.0, None),
+    limits(2.62, 87.0, None),
+    limits(2.62, 87.0, None),
+    limits(2.62, 87.0, None),
+    limits(5.26, 12.0, None),
+    limits(4.18, 12.0, None),
+    limits(5.26, 12.0, None),
 ];
 
 /// Joint origins in the parent link (xyz m, rpy rad), joints 1–7, flange, hand, TCP.
@@ -126,7 +299,11 @@ pub fn panda_spec(variant: Variant) -> ChainSpec {
         Variant::Panda => "built-in panda",
         Variant::Fr3 => "built-in fr3",
     };
-    spec_from_rows(source, base, &rows)
+    let (bodies, motion) = match variant {
+        Variant::Panda => (&PANDA_INERTIA, &PANDA_MOTION_LIMITS),
+        Variant::Fr3 => (&FR3_INERTIA, &FR3_MOTION_LIMITS),
+    };
+    with_dynamics(spec_from_rows(source, base, &rows), bodies, motion)
 }
 
 /// Collision capsules, link by link (see the module documentation).

@@ -20,12 +20,12 @@
 //! `ur_e_description` (UR5 0.13585/0.1197, UR10 0.220941/0.1719, UR5e 0.138/0.131, UR10e
 //! 0.176/0.137 m). Radii are the datasheets' housing sizes, rounded up.
 
-use super::{capsule_between, dh_rows, spec_from_rows, DhRow};
+use super::{capsule_between, dh_rows, limits, spec_from_rows, DhRow, LinkInertia};
 use crate::geometry::shape::Shape;
 use crate::robot::collision::{CollisionGeometry, CollisionShape, LinkCollisions};
-use crate::robot::spec::ChainSpec;
-use nalgebra::{Isometry3, Translation3};
-use std::f64::consts::{FRAC_PI_2, TAU};
+use crate::robot::spec::{ChainSpec, JointKind, MotionLimits};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// A Universal Robots arm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -111,6 +111,178 @@ impl UrModel {
     }
 }
 
+/// Link masses, centres of mass and inertias in the **DH frames** `1…6` (the frame at the far
+/// end of each link), per model; see the module documentation for the sources.
+pub const UR_INERTIA: [(UrModel, [LinkInertia; 6]); 4] = [
+    (
+        UrModel::Ur5,
+        [
+            LinkInertia::new(
+                3.7,
+                [0.0, -0.02561, 0.00193],
+                [0.01497235833, 0.01040625, 0.01497235833, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                8.393,
+                [0.2125, 0.0, 0.11336],
+                [0.0151074, 0.1338858354, 0.1338858354, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                2.33,
+                [0.15, 0.0, 0.0265],
+                [0.004095, 0.03121680352, 0.03121680352, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                1.219,
+                [0.0, -0.0018, 0.01634],
+                [0.002013889583, 0.0021942, 0.002013889583, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                1.219,
+                [0.0, 0.0018, 0.01634],
+                [0.001831039583, 0.0021942, 0.001831039583, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                0.1879,
+                [0.0, 0.0, -0.001159],
+                [
+                    8.062475833e-05,
+                    8.062475833e-05,
+                    0.0001321171875,
+                    0.0,
+                    0.0,
+                    0.0,
+                ],
+            ),
+        ],
+    ),
+    (
+        UrModel::Ur10,
+        [
+            LinkInertia::new(
+                7.1,
+                [0.021, 0.0, 0.027],
+                [0.03408, 0.03529, 0.02156, 2e-05, -0.00425, 8e-05],
+            ),
+            LinkInertia::new(
+                12.7,
+                [0.38, 0.0, 0.158],
+                [0.02814, 0.77068, 0.76943, 5e-05, -0.01561, 2e-05],
+            ),
+            LinkInertia::new(
+                4.27,
+                [0.24, 0.0, 0.068],
+                [0.01014, 0.30928, 0.30646, 8e-05, 0.00916, 0.0],
+            ),
+            LinkInertia::new(
+                2.0,
+                [0.0, 0.007, 0.018],
+                [0.00296, 0.00222, 0.00258, -1e-05, 0.0, -0.00024],
+            ),
+            LinkInertia::new(
+                2.0,
+                [0.0, 0.007, 0.018],
+                [0.00296, 0.00222, 0.00258, -1e-05, 0.0, -0.00024],
+            ),
+            LinkInertia::new(
+                0.365,
+                [0.0, 0.0, -0.026],
+                [0.0004, 0.00041, 0.00034, 0.0, 0.0, 0.0],
+            ),
+        ],
+    ),
+    (
+        UrModel::Ur5e,
+        [
+            LinkInertia::new(
+                3.761,
+                [0.0, -0.02561, 0.00193],
+                [0.0102675, 0.00666, 0.0102675, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                8.058,
+                [0.2125, 0.0, 0.11336],
+                [0.0151074, 0.1338858354, 0.1338858354, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                2.846,
+                [0.15, 0.0, 0.0265],
+                [0.004095, 0.03120936758, 0.03120936758, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                1.37,
+                [0.0, -0.0018, 0.01634],
+                [0.0025599, 0.0021942, 0.0025599, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                1.3,
+                [0.0, 0.0018, 0.01634],
+                [0.0025599, 0.0021942, 0.0025599, 0.0, 0.0, 0.0],
+            ),
+            LinkInertia::new(
+                0.365,
+                [0.0, 0.0, -0.001159],
+                [
+                    9.890414008e-05,
+                    9.890414008e-05,
+                    0.0001321171875,
+                    0.0,
+                    0.0,
+                    0.0,
+                ],
+            ),
+        ],
+    ),
+    (
+        UrModel::Ur10e,
+        [
+            LinkInertia::new(
+                7.369,
+                [0.021, 0.0, 0.027],
+                [0.03408, 0.03529, 0.02156, 2e-05, -0.00425, 8e-05],
+            ),
+            LinkInertia::new(
+                13.051,
+                [0.38, 0.0, 0.158],
+                [0.02814, 0.77068, 0.76943, 5e-05, -0.01561, 2e-05],
+            ),
+            LinkInertia::new(
+                3.989,
+                [0.24, 0.0, 0.068],
+                [0.01014, 0.30928, 0.30646, 8e-05, 0.00916, 0.0],
+            ),
+            LinkInertia::new(
+                2.1,
+                [0.0, 0.007, 0.018],
+                [0.00296, 0.00222, 0.00258, -1e-05, 0.0, -0.00024],
+            ),
+            LinkInertia::new(
+                1.98,
+                [0.0, 0.007, 0.018],
+                [0.00296, 0.00222, 0.00258, -1e-05, 0.0, -0.00024],
+            ),
+            LinkInertia::new(
+                0.615,
+                [0.0, 0.0, -0.026],
+                [0.0004, 0.00041, 0.00034, 0.0, 0.0, 0.0],
+            ),
+        ],
+    ),
+];
+
+/// Velocity (rad/s) and effort (N·m) limits per model, joints 1–6 (Universal Robots' user
+/// manuals and "max. joint torques" article, as in `Universal_Robots_ROS2_Description`);
+/// UR publishes no acceleration limits.
+fn ur_motion_limits(model: UrModel) -> [MotionLimits; 6] {
+    let (big, small, wrist) = match model {
+        UrModel::Ur5 | UrModel::Ur5e => ((PI, 150.0), (PI, 150.0), (PI, 28.0)),
+        UrModel::Ur10 => ((2.0 * PI / 3.0, 330.0), (PI, 150.0), (PI, 56.0)),
+        UrModel::Ur10e => ((2.0 * PI / 3.0, 330.0), (PI, 150.0), (PI, 54.0)),
+    };
+    let l = |(v, e): (f64, f64)| limits(v, e, None);
+    [l(big), l(big), l(small), l(wrist), l(wrist), l(wrist)]
+}
+
 /// The full DH table of a model: `(d, a, α)` per joint.
 pub fn ur_dh_table(model: UrModel) -> [(f64, f64, f64); 6] {
     let [d1, a2, a3, d4, d5, d6] = model.dh();
@@ -134,7 +306,31 @@ pub fn ur_spec(model: UrModel) -> ChainSpec {
         })
         .collect();
     let source = format!("built-in {}", model.name());
-    spec_from_rows(&source, "base", &dh_rows(&table, "tool0_joint", "tool0"))
+    let mut spec = spec_from_rows(&source, "base", &dh_rows(&table, "tool0_joint", "tool0"));
+    let bodies = UR_INERTIA
+        .iter()
+        .find(|(m, _)| *m == model)
+        .map(|(_, b)| b)
+        .expect("every model has a row");
+    let moving = spec
+        .joints
+        .iter_mut()
+        .filter(|j| j.kind != JointKind::Fixed);
+    for (((joint, body), (d, a, alpha)), limit) in moving
+        .zip(bodies)
+        .zip(ur_dh_table(model))
+        .zip(ur_motion_limits(model))
+    {
+        // Link i's frame is DH frame i − 1 turned by qᵢ; DH frame i follows it by the row's
+        // constant part Tz(d)·Tx(a)·Rx(α).
+        let link_from_dh = Isometry3::from_parts(
+            Translation3::new(a, 0.0, d),
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), alpha),
+        );
+        joint.child_inertial = Some(body.body().transformed(&link_from_dh));
+        joint.limits = limit;
+    }
+    spec
 }
 
 /// Collision primitives, link by link (see the module documentation).

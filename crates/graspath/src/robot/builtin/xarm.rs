@@ -10,6 +10,11 @@
 //! **Tool frame**: `link_eef`, the flange (the frame of link 7, `z` out of the flange). With
 //! the xArm Gripper, UFACTORY's TCP offset is 0.172 m along `z`: give it as the tool offset.
 //!
+//! **Dynamics**: the link masses, centres of mass and inertias of UFACTORY's
+//! `xarm_description` as shipped in example-robot-data 6.0.0 (`xarm7.urdf`), link frames;
+//! velocity 3.14 rad/s on every joint and effort 50, 50, 30, 30, 30, 20, 20 N·m from the same
+//! file. No acceleration limits are set (unknown).
+//!
 //! Collision primitives (approximations): a cylinder for the base and capsules along the
 //! skeleton; radii from UFACTORY's dimension drawing (joint housings about 0.1–0.12 m
 //! across).
@@ -17,12 +22,101 @@
 // UFACTORY writes π/2 as 1.5708; kept verbatim.
 #![allow(clippy::approx_constant)]
 
-use super::{skeleton_capsules, spec_from_rows, JointRow, Motion};
+use super::{
+    limits, skeleton_capsules, spec_from_rows, with_dynamics, JointRow, LinkInertia, Motion,
+};
 use crate::robot::collision::LinkCollisions;
-use crate::robot::spec::ChainSpec;
+use crate::robot::spec::{ChainSpec, MotionLimits};
 use std::f64::consts::{PI, TAU};
 
 /// The parameter table: joint, child link, origin xyz (m), origin roll (rad), limits (rad).
+/// Links 1–7, link frames (see the module documentation).
+pub const XARM7_INERTIA: [LinkInertia; 7] = [
+    LinkInertia::new(
+        2.382,
+        [-0.0002, 0.02905, -0.01233],
+        [
+            0.0056905,
+            0.0049566,
+            0.003316654,
+            -1.579e-05,
+            5.125e-06,
+            -0.000873378,
+        ],
+    ),
+    LinkInertia::new(
+        1.869,
+        [0.00022, -0.12856, 0.01735],
+        [
+            0.0095989,
+            0.00382472,
+            0.007565669,
+            1.541e-06,
+            5.56e-06,
+            -0.00317156,
+        ],
+    ),
+    LinkInertia::new(
+        1.6383,
+        [0.0466, -0.02463, -0.00768],
+        [
+            0.00310955,
+            0.00264483,
+            0.0026624,
+            0.00030837,
+            -0.00058453,
+            0.000338893,
+        ],
+    ),
+    LinkInertia::new(
+        1.7269,
+        [0.07047, -0.11575, 0.012],
+        [
+            0.005889,
+            0.00359703,
+            0.00543244,
+            0.00137112,
+            0.00088143,
+            -0.001762155,
+        ],
+    ),
+    LinkInertia::new(
+        1.3203,
+        [-0.00032, 0.01604, -0.026],
+        [
+            0.00534665,
+            0.0049779,
+            0.0013624,
+            1.5117e-05,
+            -3.69e-07,
+            -0.00022132,
+        ],
+    ),
+    LinkInertia::new(
+        1.325,
+        [0.06469, 0.03278, 0.02141],
+        [
+            0.0014745, 0.0019037, 0.0023652, -0.000488, 0.0002953, 0.00014749,
+        ],
+    ),
+    LinkInertia::new(
+        0.17,
+        [0.0, -0.00677, -0.01098],
+        [9.3e-05, 5.87e-05, 0.000132, 0.0, 0.0, -3.6e-06],
+    ),
+];
+
+/// Velocity (rad/s) and effort (N·m) limits, joints 1–7.
+pub const XARM7_MOTION_LIMITS: [MotionLimits; 7] = [
+    limits(3.14, 50.0, None),
+    limits(3.14, 50.0, None),
+    limits(3.14, 30.0, None),
+    limits(3.14, 30.0, None),
+    limits(3.14, 30.0, None),
+    limits(3.14, 20.0, None),
+    limits(3.14, 20.0, None),
+];
+
 const ROWS: [JointRow; 8] = [
     JointRow::rolled(
         "joint1",
@@ -78,7 +172,11 @@ const ROWS: [JointRow; 8] = [
 
 /// The arm's chain description, `link_base → link_eef`.
 pub fn xarm7_spec() -> ChainSpec {
-    spec_from_rows("built-in xarm7", "link_base", &ROWS)
+    with_dynamics(
+        spec_from_rows("built-in xarm7", "link_base", &ROWS),
+        &XARM7_INERTIA,
+        &XARM7_MOTION_LIMITS,
+    )
 }
 
 /// Collision primitives, link by link (see the module documentation).

@@ -250,7 +250,7 @@ pub(super) fn forward_scalar(
 /// The link-frame pass: the AVX2 kernel when the processor has it, the scalar one otherwise.
 /// Both do the same IEEE operations in the same order and give bit-identical frames.
 #[inline(always)]
-fn link_frames(
+pub(super) fn link_frames(
     segments: &[Segment],
     slots: &[LinkSlot],
     joint_value: impl Fn(usize) -> f64,

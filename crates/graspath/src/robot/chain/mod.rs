@@ -22,7 +22,7 @@
 //! * `tests.rs`: the kernels against the scalar passes, bit for bit, on random chains.
 
 use super::error::RobotError;
-use super::spec::{ChainSpec, JointKind};
+use super::spec::{ChainSpec, JointKind, MotionLimits, RigidBody};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, Unit, Vector3};
 
 #[cfg(target_arch = "x86_64")]
@@ -162,6 +162,11 @@ pub struct Chain {
     /// Every link from the base to the tip, in chain order.
     link_names: Vec<String>,
     link_slots: Vec<LinkSlot>,
+    /// Velocity, effort and acceleration limits of the independent joints, in the order of `q`.
+    motion_limits: Vec<MotionLimits>,
+    /// The mass properties of everything moving segment `i` carries, in its aligned frame
+    /// (after the joint motion); `None` when no link of the segment has inertial data.
+    segment_bodies: Vec<Option<RigidBody>>,
 }
 
 /// A rotation taking the `z` axis onto the unit vector `axis`.
@@ -197,6 +202,22 @@ impl Chain {
         };
         let mut link_names = vec![spec.base_link.clone()];
         let mut link_slots = vec![slot(None, &pending)];
+        let mut motion_limits = Vec::new();
+        let mut segment_bodies: Vec<Option<RigidBody>> = Vec::new();
+        // Folds a link's body (in the link frame, `aligned_from_link = pending`) into the
+        // current segment; links before the first moving joint sit on the base and carry
+        // nothing the joints feel.
+        let fold = |bodies: &mut Vec<Option<RigidBody>>,
+                    body: &Option<RigidBody>,
+                    pending: &Isometry3<f64>| {
+            if let (Some(slot), Some(body)) = (bodies.last_mut(), body) {
+                let body = body.transformed(pending);
+                *slot = Some(match slot {
+                    Some(held) => held.combined(&body),
+                    None => body,
+                });
+            }
+        };
         let child_name = |joint: &super::spec::JointSpec| {
             if joint.child_link.is_empty() {
                 format!("{}_child", joint.name)
@@ -209,6 +230,7 @@ impl Chain {
             let motion = match joint.kind {
                 JointKind::Fixed => {
                     pending *= joint.parent_from_joint;
+                    fold(&mut segment_bodies, &joint.child_inertial, &pending);
                     link_names.push(child_name(joint));
                     link_slots.push(slot(segments.len().checked_sub(1), &pending));
                     continue;
@@ -225,6 +247,7 @@ impl Chain {
                     joint_kinds.push(joint.kind);
                     lower.push(joint.lower);
                     upper.push(joint.upper);
+                    motion_limits.push(joint.limits);
                     Drive {
                         source: joint_names.len() - 1,
                         multiplier: 1.0,
@@ -258,6 +281,8 @@ impl Chain {
                 translation: placement.translation.vector,
                 kind: motion,
             });
+            segment_bodies.push(None);
+            fold(&mut segment_bodies, &joint.child_inertial, &pending);
             link_names.push(child_name(joint));
             link_slots.push(slot(Some(segments.len() - 1), &pending));
         }
@@ -284,7 +309,15 @@ impl Chain {
             tail_translation: tail.translation.vector,
             link_names,
             link_slots,
+            motion_limits,
+            segment_bodies,
         })
+    }
+
+    /// Velocity, effort and acceleration limits of the independent joints, in the order of
+    /// `q` (rad/s, N·m, rad/s² for revolute joints; m/s, N, m/s² for prismatic ones).
+    pub fn motion_limits(&self) -> &[MotionLimits] {
+        &self.motion_limits
     }
 
     /// The links of the chain in order, base first, tip link last (the tool frame is not a
@@ -432,9 +465,104 @@ impl Chain {
         Ok(points)
     }
 
+    /// The flattened layout the dynamics kernels copy: per moving segment its placement at
+    /// `q = 0` (rotation, translation, kind), its drive `(source, multiplier, offset)`, its
+    /// body (aligned frame) and the names of the links it carries; then the tail
+    /// (last aligned frame to tool).
+    pub(in crate::robot) fn dynamics_layout(&self) -> DynamicsLayout {
+        let segments = self
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(i, segment)| {
+                let drive = match &self.drives {
+                    None => (i, 1.0, 0.0),
+                    Some(d) => (d[i].source, d[i].multiplier, d[i].offset),
+                };
+                let links = self
+                    .link_slots
+                    .iter()
+                    .zip(&self.link_names)
+                    .filter(|(slot, _)| slot.segment == Some(i))
+                    .map(|(_, name)| name.clone())
+                    .collect();
+                LayoutSegment {
+                    rotation: segment.rotation,
+                    translation: segment.translation,
+                    kind: segment.kind,
+                    drive,
+                    body: self.segment_bodies[i],
+                    links,
+                }
+            })
+            .collect();
+        DynamicsLayout {
+            segments,
+            has_mimic: self.drives.is_some(),
+            tail_rotation: self.tail_rotation,
+            tail_translation: self.tail_translation,
+        }
+    }
+
+    /// The segments with one identity slot each (see [`SegmentFrames`]).
+    pub(in crate::robot) fn segment_frames(&self) -> SegmentFrames {
+        let slots = (0..self.segments.len())
+            .map(|i| LinkSlot {
+                segment: Some(i),
+                rotation: Matrix3::identity(),
+                translation: Vector3::zeros(),
+                identity: true,
+            })
+            .collect();
+        SegmentFrames {
+            segments: self.segments.clone(),
+            slots,
+        }
+    }
+
     fn tail(&self) -> (&Matrix3<f64>, &Vector3<f64>) {
         (&self.tail_rotation, &self.tail_translation)
     }
+}
+
+/// The moving segments of a chain and one identity slot per segment: the link-frame pass
+/// over them writes each segment's aligned frame (after its motion; its `z` is the joint axis),
+/// with the AVX2 kernel when the processor has it.
+#[derive(Debug, Clone, PartialEq)]
+pub(in crate::robot) struct SegmentFrames {
+    segments: Vec<Segment>,
+    slots: Vec<LinkSlot>,
+}
+
+impl SegmentFrames {
+    /// `out[i]` = segment `i`'s aligned frame in the base frame, segment `i` moved by
+    /// `joint_value(i)` (rad or m). `out` has one entry per segment.
+    #[inline(always)]
+    pub(in crate::robot) fn frames_into(
+        &self,
+        joint_value: impl Fn(usize) -> f64,
+        out: &mut [nalgebra::IsometryMatrix3<f64>],
+    ) {
+        forward::link_frames(&self.segments, &self.slots, joint_value, out);
+    }
+}
+
+/// One moving segment as [`Chain::dynamics_layout`] gives it.
+pub(in crate::robot) struct LayoutSegment {
+    pub rotation: Matrix3<f64>,
+    pub translation: Vector3<f64>,
+    pub kind: MotionKind,
+    pub drive: (usize, f64, f64),
+    pub body: Option<RigidBody>,
+    pub links: Vec<String>,
+}
+
+/// The chain's layout for the dynamics kernels ([`Chain::dynamics_layout`]).
+pub(in crate::robot) struct DynamicsLayout {
+    pub segments: Vec<LayoutSegment>,
+    pub has_mimic: bool,
+    pub tail_rotation: Matrix3<f64>,
+    pub tail_translation: Vector3<f64>,
 }
 
 /// A unit vector from a possibly unnormalised axis, or `None` when it is (nearly) zero or

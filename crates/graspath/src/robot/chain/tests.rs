@@ -46,6 +46,8 @@ fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize) -> Chain {
             lower: -3.0,
             upper: 3.0,
             mimic: None,
+            limits: Default::default(),
+            child_inertial: None,
         });
     }
     Chain::from_spec(&ChainSpec {
@@ -163,6 +165,8 @@ fn batches_of_a_chain_with_a_mimic_joint_equal_single_calls() {
         lower: -3.0,
         upper: 3.0,
         mimic,
+        limits: Default::default(),
+        child_inertial: None,
     };
     let chain = Chain::from_spec(&ChainSpec {
         source_name: "mimic".into(),
@@ -281,6 +285,8 @@ fn random_chain_with_mimics(rng: &mut Xoshiro256PlusPlus, joints: usize) -> Chai
             lower: -3.0,
             upper: 3.0,
             mimic,
+            limits: Default::default(),
+            child_inertial: None,
         });
     }
     Chain::from_spec(&ChainSpec {

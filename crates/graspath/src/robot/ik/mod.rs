@@ -424,6 +424,8 @@ mod tests {
                 1.0
             },
             mimic: None,
+            limits: Default::default(),
+            child_inertial: None,
         };
         let chain = Chain::from_spec(&ChainSpec {
             source_name: "test".into(),

@@ -35,16 +35,28 @@
 //! geoms, meshes given by inline vertices and primitives fitted to a mesh are skipped and listed
 //! by [`MjcfRobot::skipped_geoms`] with the reason.
 //!
+//! **Mass properties and limits** (for the dynamics): a body's `<inertial>` (in its body
+//! frame), with the bodies hanging from a chain body off the chain folded in at their written
+//! pose (MuJoCo's `qpos0`); a joint's effort limit from its `actuatorfrcrange` or its
+//! actuators' `forcerange` times `gear` (the smallest wins); MJCF has no velocity limits.
+//! Where a body has no `<inertial>`, MuJoCo's compiler would infer one from its geoms
+//! (`inertiafromgeom="auto"`); this reader does not: the body has no inertial data, and
+//! asking a chain through it for dynamics is an error ([`RobotError::NoInertia`]) that says
+//! so, never a silent zero mass. With `<compiler inertiafromgeom="true">` every `<inertial>`
+//! is ignored, as MuJoCo ignores them, and the same error follows.
+//!
 //! Not supported (an error names the element): `<include>`, `<replicate>`, `<attach>`,
-//! `<composite>`, `<flexcomp>`, joints inside `<frame>`. Sites, cameras, lights, inertials and
-//! actuators are ignored.
+//! `<composite>`, `<flexcomp>`, joints inside `<frame>`. Sites, cameras and lights are
+//! ignored.
 //!
 //! Files: `dom.rs` (the element tree, via quick-xml), `parse.rs` (compiler, defaults, bodies,
-//! joints), `values.rs` (numbers, angles, orientations), `geom.rs` (collision shapes), this file
+//! joints), `values.rs` (numbers, angles, orientations), `geom.rs` (collision shapes),
+//! `inertia.rs` (inertials, actuator force ranges), this file
 //! (the model's chains and collisions).
 
 mod dom;
 mod geom;
+mod inertia;
 mod parse;
 mod values;
 
@@ -52,8 +64,8 @@ use super::chain::Chain;
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 use super::error::closest_names;
 use super::error::RobotError;
-use super::spec::{ChainSpec, JointKind, JointSpec};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+use super::spec::{ChainSpec, JointKind, JointSpec, MotionLimits, RigidBody};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parse::{GeomKind, JointType, Model};
 use std::path::{Path, PathBuf};
 
@@ -249,9 +261,16 @@ impl MjcfRobot {
             }
         }
         path.reverse();
+        let on_path: Vec<usize> = std::iter::once(base_index)
+            .chain(path.iter().copied())
+            .collect();
         let mut joints = Vec::new();
-        for index in path {
+        for &index in &path {
             self.body_joints(index, &mut joints)?;
+            if let Some(last) = joints.last_mut() {
+                // The last joint of a body carries the body frame (see `body_joints`).
+                last.child_inertial = self.attached_body(index, &on_path);
+            }
         }
         Ok(ChainSpec {
             source_name: self.source_name.clone(),
@@ -270,6 +289,30 @@ impl MjcfRobot {
         tip_from_tool: Option<Isometry3<f64>>,
     ) -> Result<Chain, RobotError> {
         Chain::from_spec(&self.chain_spec(base, tip, tip_from_tool)?)
+    }
+
+    /// The mass properties of body `index` and of every body below it that is not in
+    /// `on_path` (their joints held at `qpos0`, the written pose), in `index`'s frame; `None`
+    /// when none of them has an `<inertial>` or when `<compiler inertiafromgeom="true">` tells
+    /// MuJoCo to ignore them all.
+    fn attached_body(&self, index: usize, on_path: &[usize]) -> Option<RigidBody> {
+        if self.model.compiler.inertia_from_geom_only {
+            return None;
+        }
+        let mut total: Option<RigidBody> = None;
+        let mut stack = vec![(index, Isometry3::<f64>::identity())];
+        while let Some((at, top_from_body)) = stack.pop() {
+            if let Some(body) = &self.model.bodies[at].inertial {
+                let body = body.transformed(&top_from_body);
+                total = Some(total.map_or(body, |t| t.combined(&body)));
+            }
+            for (child, b) in self.model.bodies.iter().enumerate() {
+                if b.parent == Some(at) && !on_path.contains(&child) {
+                    stack.push((child, top_from_body * b.parent_from_body));
+                }
+            }
+        }
+        total
     }
 
     /// The chain joints that carry body `index` from its parent's frame to its own.
@@ -314,7 +357,7 @@ impl MjcfRobot {
                 }
             };
             let last = k + 1 == body.joints.len();
-            let child_link = if last && joint.pos == nalgebra::Vector3::zeros() {
+            let child_link = if last && joint.pos == Vector3::zeros() {
                 body.name.clone()
             } else {
                 format!("{}@{}", body.name, joint.name)
@@ -328,12 +371,18 @@ impl MjcfRobot {
                 lower,
                 upper,
                 mimic: None,
+                limits: MotionLimits {
+                    effort: joint.effort,
+                    ..MotionLimits::default()
+                },
+                // A link between two joints of one body is a frame, not a body: massless.
+                child_inertial: (!last).then(|| RigidBody::point(0.0, Vector3::zeros())),
             });
             pending = anchor.inverse().into();
         }
         let needs_fixed = match body.joints.last() {
             None => true,
-            Some(joint) => joint.pos != nalgebra::Vector3::zeros(),
+            Some(joint) => joint.pos != Vector3::zeros(),
         };
         if needs_fixed {
             out.push(JointSpec {
@@ -341,10 +390,12 @@ impl MjcfRobot {
                 child_link: body.name.clone(),
                 kind: JointKind::Fixed,
                 parent_from_joint: pending,
-                axis: nalgebra::Vector3::z(),
+                axis: Vector3::z(),
                 lower: 0.0,
                 upper: 0.0,
                 mimic: None,
+                limits: Default::default(),
+                child_inertial: None,
             });
         }
         Ok(())

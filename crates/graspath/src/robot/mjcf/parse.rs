@@ -8,6 +8,7 @@ use super::dom::Element;
 use crate::geometry::shape::Shape;
 use crate::robot::chain::unit_axis;
 use crate::robot::error::RobotError;
+use crate::robot::spec::RigidBody;
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::collections::HashMap;
 
@@ -25,6 +26,9 @@ pub(crate) struct Compiler {
     pub mesh_dir: Option<String>,
     /// `autolimits` (default true): a joint with a `range` and no `limited` is limited.
     pub auto_limits: bool,
+    /// `inertiafromgeom="true"`: MuJoCo ignores every `<inertial>` and takes the bodies'
+    /// mass properties from their geoms, which this reader does not compute.
+    pub inertia_from_geom_only: bool,
 }
 
 /// The motion a joint allows.
@@ -61,6 +65,9 @@ pub(crate) struct Joint {
     pub range: Option<(f64, f64)>,
     /// `ref`: the joint value (rad or m) at which the body has its written pose.
     pub reference: f64,
+    /// The largest torque (N·m) or force (N) the joint's actuators can apply: its
+    /// `actuatorfrcrange`, else the actuators' `forcerange` times their gear.
+    pub effort: Option<f64>,
 }
 
 /// What a geom is made of.
@@ -94,6 +101,8 @@ pub(crate) struct Body {
     pub parent_from_body: Isometry3<f64>,
     pub joints: Vec<Joint>,
     pub geoms: Vec<Geom>,
+    /// The body's `<inertial>`, in the body frame.
+    pub inertial: Option<RigidBody>,
 }
 
 /// A mesh asset.
@@ -132,6 +141,7 @@ pub(crate) fn read(root: &Element, source_name: &str) -> Result<Model, RobotErro
             euler_seq: *b"xyz",
             mesh_dir: None,
             auto_limits: true,
+            inertia_from_geom_only: false,
         },
         classes: HashMap::new(),
         meshes: HashMap::new(),
@@ -141,6 +151,7 @@ pub(crate) fn read(root: &Element, source_name: &str) -> Result<Model, RobotErro
             parent_from_body: Isometry3::identity(),
             joints: Vec::new(),
             geoms: Vec::new(),
+            inertial: None,
         }],
     };
     if root.name != "mujoco" {
@@ -168,6 +179,9 @@ pub(crate) fn read(root: &Element, source_name: &str) -> Result<Model, RobotErro
     }
     for world in root.children.iter().filter(|c| c.name == "worldbody") {
         reader.walk(world, 0, Isometry3::identity(), MAIN, false)?;
+    }
+    for actuators in root.children.iter().filter(|c| c.name == "actuator") {
+        reader.actuators(actuators)?;
     }
     Ok(Model {
         name: root.get("model").unwrap_or("MuJoCo Model").to_string(),
@@ -234,6 +248,12 @@ impl Reader<'_> {
         }
         if let Some(value) = element.get("autolimits") {
             self.compiler.auto_limits = self.boolean(element, "autolimits", value)?;
+        }
+        if let Some(value) = element.get("inertiafromgeom") {
+            self.compiler.inertia_from_geom_only = match value {
+                "auto" => false,
+                other => self.boolean(element, "inertiafromgeom", other)?,
+            };
         }
         Ok(())
     }
@@ -387,6 +407,7 @@ impl Reader<'_> {
                         parent_from_body,
                         joints: Vec::new(),
                         geoms: Vec::new(),
+                        inertial: None,
                     });
                     self.walk(child, index, Isometry3::identity(), &inner, false)?;
                 }
@@ -408,6 +429,10 @@ impl Reader<'_> {
                     }
                     let joint = self.joint(child, childclass, self.bodies[body].joints.len())?;
                     self.bodies[body].joints.push(joint);
+                }
+                "inertial" => {
+                    let inertial = self.inertial(child)?;
+                    self.bodies[body].inertial = Some(inertial.transformed(&body_from_frame));
                 }
                 "geom" => {
                     if let Some(geom) = self.geom(child, childclass)? {
@@ -444,6 +469,7 @@ impl Reader<'_> {
                 axis: Vector3::z_axis(),
                 range: None,
                 reference: 0.0,
+                effort: None,
             });
         }
         let class = self.class_of(element, childclass)?;
@@ -506,6 +532,10 @@ impl Reader<'_> {
             Some(text) => convert(self.numbers(element, "ref", text, 1..=1)?[0]),
             None => 0.0,
         };
+        let effort = match get("actuatorfrcrange") {
+            Some(text) => self.force_range(element, "actuatorfrcrange", text, 1.0)?,
+            None => None,
+        };
         Ok(Joint {
             name,
             kind,
@@ -513,6 +543,7 @@ impl Reader<'_> {
             axis: Unit::new_unchecked(axis),
             range,
             reference,
+            effort,
         })
     }
 }

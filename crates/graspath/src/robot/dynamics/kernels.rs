@@ -1,0 +1,298 @@
+//! The dynamics passes, in the base frame (Featherstone's algorithms in absolute
+//! coordinates). A spatial motion vector is `(ω, v)`: the angular velocity and the velocity of
+//! the body point at the base origin; a spatial force is `(n, f)`: the moment about the base
+//! origin and the force. A segment's joint motion is `S = (z, p × z)` (revolute, axis `z`
+//! through `p`) or `(0, z)` (prismatic); a body's spatial inertia about the origin is
+//! `(m, h = m·c, I_O)`, mapping `(ω, v)` to `(I_O ω + h × v, m v − h × ω)`.
+//!
+//! Every pass starts with the forward kinematics of the segment frames (the FK kernel's
+//! operations: `p += R t`, `R = R · E`, a turn about `z` or a slide along it), then:
+//! * gravity: backward sums of mass and first moment; `τᵢ = zᵢ · ((Cᵢ − Mᵢ pᵢ) × (−g))`;
+//! * RNEA: `Vᵢ = Vᵢ₋₁ + Sᵢ q̇ᵢ`, `Aᵢ = Aᵢ₋₁ + Sᵢ q̈ᵢ + Vᵢ × Sᵢ q̇ᵢ` from `A₀ = (0, −g)`,
+//!   `Fᵢ = Yᵢ Aᵢ + Vᵢ ×* Yᵢ Vᵢ`, then `τᵢ = Sᵢ · Σⱼ≥ᵢ Fⱼ`;
+//! * CRBA: composite inertias `Yᶜᵢ = Σⱼ≥ᵢ Yⱼ`, `Mₖᵢ = Sₖ · Yᶜᵢ Sᵢ` for `k ≤ i`.
+
+use super::{Dynamics, DynamicsData, WorldBody};
+use crate::robot::chain::MotionKind;
+use nalgebra::{Matrix3, Vector3};
+
+/// `(I_O ω + h × v, m v − h × ω)`: a body's spatial inertia times a motion `(ω, v)`.
+#[inline(always)]
+fn apply(body: &WorldBody, w: &Vector3<f64>, v: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    (
+        body.rotational * w + body.first_moment.cross(v),
+        body.mass * v - body.first_moment.cross(w),
+    )
+}
+
+/// A body (mass kg, centre `com` m and inertia about it kg·m², in a frame with rotation
+/// `rotation` and origin `origin` in the base) about the base origin along base axes.
+#[inline(always)]
+fn world_body(
+    mass: f64,
+    com: &Vector3<f64>,
+    inertia: &Matrix3<f64>,
+    rotation: &Matrix3<f64>,
+    origin: &Vector3<f64>,
+    rotational: bool,
+) -> WorldBody {
+    let c = origin + rotation * com;
+    WorldBody {
+        mass,
+        first_moment: c * mass,
+        rotational: if rotational {
+            let mut turned = symmetric_sandwich(rotation, inertia);
+            let (x, y, z) = (c[0], c[1], c[2]);
+            let (mx, my, mz) = (mass * x, mass * y, mass * z);
+            // + m (‖c‖² 1 − c cᵀ)
+            turned[(0, 0)] += my * y + mz * z;
+            turned[(1, 1)] += mx * x + mz * z;
+            turned[(2, 2)] += mx * x + my * y;
+            let (xy, xz, yz) = (mx * y, mx * z, my * z);
+            turned[(0, 1)] -= xy;
+            turned[(1, 0)] -= xy;
+            turned[(0, 2)] -= xz;
+            turned[(2, 0)] -= xz;
+            turned[(1, 2)] -= yz;
+            turned[(2, 1)] -= yz;
+            turned
+        } else {
+            Matrix3::zeros()
+        },
+    }
+}
+
+/// `R I Rᵀ` for a symmetric `I`, computing the upper triangle and mirroring it.
+#[inline(always)]
+fn symmetric_sandwich(r: &Matrix3<f64>, inertia: &Matrix3<f64>) -> Matrix3<f64> {
+    let a = r * inertia;
+    let entry =
+        |i: usize, j: usize| a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)];
+    let (xx, xy, xz, yy, yz, zz) = (
+        entry(0, 0),
+        entry(0, 1),
+        entry(0, 2),
+        entry(1, 1),
+        entry(1, 2),
+        entry(2, 2),
+    );
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
+/// Which bodies the forward pass places about the base origin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Bodies {
+    /// None (the caller places them itself).
+    None,
+    /// Masses and first moments (enough for gravity).
+    FirstMoments,
+    /// Masses, first moments and rotational inertias.
+    Full,
+}
+
+impl Dynamics {
+    /// Segment `i`'s joint value, rate and acceleration from the independent ones.
+    #[inline(always)]
+    fn drive(&self, i: usize, x: &[f64], with_offset: bool) -> f64 {
+        let s = &self.segments[i];
+        if self.has_mimic {
+            s.multiplier * x[s.source] + if with_offset { s.offset } else { 0.0 }
+        } else {
+            x[i]
+        }
+    }
+
+    /// The forward pass shared by every kernel: each segment's aligned frame by the FK
+    /// kernel's link-frame pass (AVX2 when the processor has it), then its joint origin and
+    /// axis, motion subspace and, as far as `bodies` asks, its body about the base origin,
+    /// the payload joined to the last segment's body. The tool frame is always placed.
+    #[inline(always)]
+    fn place(&self, data: &mut DynamicsData, q: &[f64], bodies: Bodies) {
+        if self.has_mimic {
+            let segments = &self.segments;
+            self.frames.frames_into(
+                |i| segments[i].multiplier * q[segments[i].source] + segments[i].offset,
+                &mut data.frames,
+            );
+        } else {
+            self.frames.frames_into(|i| q[i], &mut data.frames);
+        }
+        let placed = self
+            .segments
+            .iter()
+            .zip(&data.frames)
+            .zip(data.origin.iter_mut().zip(data.axis.iter_mut()))
+            .zip(data.motion_w.iter_mut().zip(data.motion_v.iter_mut()))
+            .zip(data.body.iter_mut());
+        for ((((s, frame), (origin, axis)), (motion_w, motion_v)), body) in placed {
+            let r = frame.rotation.matrix();
+            let p = frame.translation.vector;
+            let z = r.column(2).into_owned();
+            *origin = p;
+            *axis = z;
+            (*motion_w, *motion_v) = match s.kind {
+                MotionKind::Revolute => (z, p.cross(&z)),
+                MotionKind::Prismatic => (Vector3::zeros(), z),
+            };
+            if bodies != Bodies::None {
+                *body = world_body(s.mass, &s.com, &s.inertia, r, &p, bodies == Bodies::Full);
+            }
+        }
+        if let Some(last) = data.frames.last() {
+            let r = last.rotation.matrix();
+            data.tool_rotation = r * self.tail_rotation;
+            data.tool_origin = last.translation.vector + r * self.tail_translation;
+        }
+        if bodies == Bodies::None {
+            return;
+        }
+        if let (Some(payload), Some(last)) = (&data.payload, data.body.last_mut()) {
+            let extra = world_body(
+                payload.mass,
+                &payload.com,
+                &payload.inertia,
+                &data.tool_rotation,
+                &data.tool_origin,
+                bodies == Bodies::Full,
+            );
+            last.mass += extra.mass;
+            last.first_moment += extra.first_moment;
+            last.rotational += extra.rotational;
+        }
+    }
+
+    /// Adds the segment torques of `data.segment_tau` into `tau` through the drives (mimic
+    /// followers reach their leader times the multiplier).
+    #[inline(always)]
+    fn gather(&self, data: &DynamicsData, tau: &mut [f64]) {
+        if !self.has_mimic {
+            tau.copy_from_slice(&data.segment_tau);
+            return;
+        }
+        tau.fill(0.0);
+        for (s, t) in self.segments.iter().zip(&data.segment_tau) {
+            tau[s.source] += s.multiplier * t;
+        }
+    }
+
+    /// `g(q)` without checks.
+    pub(super) fn gravity_unchecked(&self, data: &mut DynamicsData, q: &[f64], tau: &mut [f64]) {
+        self.place(data, q, Bodies::FirstMoments);
+        let lift = -self.gravity;
+        let mut mass = 0.0;
+        let mut moment = Vector3::<f64>::zeros();
+        for i in (0..self.segments.len()).rev() {
+            mass += data.body[i].mass;
+            moment += data.body[i].first_moment;
+            let z = &data.axis[i];
+            data.segment_tau[i] = match self.segments[i].kind {
+                MotionKind::Revolute => z.dot(&(moment - data.origin[i] * mass).cross(&lift)),
+                MotionKind::Prismatic => z.dot(&lift) * mass,
+            };
+        }
+        self.gather(data, tau);
+    }
+
+    /// `τ(q, q̇, q̈)` without checks.
+    pub(super) fn rnea_unchecked(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        tau: &mut [f64],
+    ) {
+        self.place(data, q, Bodies::Full);
+        let n = self.segments.len();
+        let (mut w, mut v) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
+        let (mut dw, mut dv) = (Vector3::<f64>::zeros(), -self.gravity);
+        for i in 0..n {
+            let rate = self.drive(i, qd, false);
+            let accel = self.drive(i, qdd, false);
+            let (sw, sv) = (data.motion_w[i], data.motion_v[i]);
+            let (jw, jv) = (sw * rate, sv * rate);
+            w += jw;
+            v += jv;
+            // A += S q̈ + V × (S q̇).
+            dw += sw * accel + w.cross(&jw);
+            dv += sv * accel + w.cross(&jv) + v.cross(&jw);
+            let body = &data.body[i];
+            let (n_a, f_a) = apply(body, &dw, &dv);
+            let (n_v, f_v) = apply(body, &w, &v);
+            // F = Y A + V ×* (Y V).
+            data.force_n[i] = n_a + w.cross(&n_v) + v.cross(&f_v);
+            data.force_f[i] = f_a + w.cross(&f_v);
+        }
+        let (mut sum_n, mut sum_f) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
+        for i in (0..n).rev() {
+            sum_n += data.force_n[i];
+            sum_f += data.force_f[i];
+            data.segment_tau[i] = data.motion_w[i].dot(&sum_n) + data.motion_v[i].dot(&sum_f);
+        }
+        self.gather(data, tau);
+    }
+
+    /// `M(q)` without checks; `out` is the column-major dof × dof storage. The bodies are
+    /// placed about the base origin in the backward sweep that sums them.
+    pub(super) fn crba_unchecked(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
+        self.place(data, q, Bodies::None);
+        let n = self.segments.len();
+        let mut composite = WorldBody::ZERO;
+        let stride = if self.has_mimic { n } else { self.dof };
+        for i in (0..n).rev() {
+            let s = &self.segments[i];
+            let frame = &data.frames[i];
+            let body = world_body(
+                s.mass,
+                &s.com,
+                &s.inertia,
+                frame.rotation.matrix(),
+                &frame.translation.vector,
+                true,
+            );
+            composite.mass += body.mass;
+            composite.first_moment += body.first_moment;
+            composite.rotational += body.rotational;
+            if i + 1 == n {
+                if let Some(payload) = &data.payload {
+                    let extra = world_body(
+                        payload.mass,
+                        &payload.com,
+                        &payload.inertia,
+                        &data.tool_rotation,
+                        &data.tool_origin,
+                        true,
+                    );
+                    composite.mass += extra.mass;
+                    composite.first_moment += extra.first_moment;
+                    composite.rotational += extra.rotational;
+                }
+            }
+            let (fn_, ff) = apply(&composite, &data.motion_w[i], &data.motion_v[i]);
+            let target: &mut [f64] = if self.has_mimic {
+                &mut data.segment_mass
+            } else {
+                out
+            };
+            for (k, (kw, kv)) in data.motion_w[..=i]
+                .iter()
+                .zip(&data.motion_v[..=i])
+                .enumerate()
+            {
+                let entry = kw.dot(&fn_) + kv.dot(&ff);
+                target[k * stride + i] = entry;
+                target[i * stride + k] = entry;
+            }
+        }
+        if self.has_mimic {
+            out.fill(0.0);
+            let dof = self.dof;
+            for (a, sa) in self.segments.iter().enumerate() {
+                for (b, sb) in self.segments.iter().enumerate() {
+                    out[sb.source * dof + sa.source] +=
+                        sa.multiplier * sb.multiplier * data.segment_mass[b * n + a];
+                }
+            }
+        }
+    }
+}

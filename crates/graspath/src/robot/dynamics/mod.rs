@@ -1,0 +1,451 @@
+//! Rigid-body dynamics of a serial chain, beside the forward kinematics: the gravity torques
+//! `g(q)`, inverse dynamics `τ(q, q̇, q̈)` by the recursive Newton–Euler algorithm and the
+//! joint-space inertia matrix `M(q)` by the composite rigid body algorithm.
+//!
+//! **Model and data**, as in Pinocchio: [`Dynamics`] is the model (built once from a
+//! [`Chain`] with [`Chain::dynamics`], shared between threads), [`DynamicsData`] the workspace
+//! of one thread ([`Dynamics::data`], allocated once). The kernels write into caller buffers
+//! and allocate nothing.
+//!
+//! **Frames and units.** Everything is expressed in the **chain base frame**: the gravity
+//! vector (default 9.81 m/s² along the base's −z; a task whose world `z` is not the base's
+//! must rotate its gravity into the base frame, `g_base = base_from_world.rotation · g_world`),
+//! the joint axes, the bodies. `q` in rad (revolute) or m (prismatic), `q̇` in rad/s or m/s,
+//! `q̈` in rad/s² or m/s²; torques in N·m, forces in N; `M` in kg·m² (revolute rows) or kg
+//! (prismatic rows). The conventions are Pinocchio's: `g(q) = rnea(q, 0, 0)` is the torque
+//! that holds the chain still against gravity, `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)`.
+//!
+//! **Joints** are those of the FK kernel: revolute and continuous joints turn about their
+//! axis, prismatic ones slide along it, fixed joints are folded (their child's body joins the
+//! moving segment before them), and a mimic joint moves with its leader,
+//! `q_f = m · q_leader + offset`: its segment's torque reaches the leader's entry of `τ`
+//! multiplied by `m` (virtual work), and `M` is `Jᵀ M_segments J` with the same mapping.
+//!
+//! **Payload.** [`DynamicsData::set_payload`] attaches one rigid body to the tool frame (the
+//! frame of [`Chain::pose`], after `tip_from_tool`); its mass, centre of mass and inertia are
+//! in that frame. The torques are linear in the payload's mass, first moment and inertia,
+//! hence affine in its mass for a given shape and grasp.
+//!
+//! The algorithms work in the base frame (Featherstone's RNEA and CRBA in absolute
+//! coordinates): spatial velocities, accelerations and forces are referred to the base
+//! origin, so the composite inertias and the backward force sums are plain sums. The
+//! kernels themselves are in [`kernels`]; the checks against Pinocchio, closed forms and
+//! finite differences in `tests/dynamics.rs` and `tests.rs`.
+
+mod kernels;
+#[cfg(test)]
+mod tests;
+
+use super::chain::{Chain, MotionKind, SegmentFrames};
+use super::error::RobotError;
+use super::spec::{MotionLimits, RigidBody};
+use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Vector3};
+
+/// Standard gravity (m/s²).
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
+/// One moving segment: its placement at `q = 0` in the previous aligned frame (the base for
+/// the first), its motion and drive, and its body in its own aligned frame (after the motion).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Segment {
+    rotation: Matrix3<f64>,
+    translation: Vector3<f64>,
+    kind: MotionKind,
+    source: usize,
+    multiplier: f64,
+    offset: f64,
+    mass: f64,
+    /// Centre of mass in the aligned frame (m).
+    com: Vector3<f64>,
+    /// Inertia about the centre of mass, aligned axes (kg·m²).
+    inertia: Matrix3<f64>,
+}
+
+/// The dynamics model of one chain: per moving segment its placement, joint axis and mass
+/// properties, the tool frame, the gravity vector and the joints' motion limits. Built by
+/// [`Chain::dynamics`]; evaluated with a [`DynamicsData`] workspace.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dynamics {
+    chain: String,
+    dof: usize,
+    segments: Vec<Segment>,
+    /// The FK kernel's link-frame pass over the segments.
+    frames: SegmentFrames,
+    has_mimic: bool,
+    tail_rotation: Matrix3<f64>,
+    tail_translation: Vector3<f64>,
+    gravity: Vector3<f64>,
+    motion_limits: Vec<MotionLimits>,
+}
+
+/// A spatial inertia about the base origin, base axes: mass (kg), first moment `h = m·c`
+/// (kg·m) and rotational inertia about the origin (kg·m²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct WorldBody {
+    mass: f64,
+    first_moment: Vector3<f64>,
+    rotational: Matrix3<f64>,
+}
+
+impl WorldBody {
+    const ZERO: Self = Self {
+        mass: 0.0,
+        first_moment: Vector3::new(0.0, 0.0, 0.0),
+        rotational: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+}
+
+/// The workspace of the dynamics kernels for one model (one per thread): per-segment
+/// buffers sized once by [`Dynamics::data`], and the optional payload at the tool.
+#[derive(Debug, Clone)]
+pub struct DynamicsData {
+    payload: Option<RigidBody>,
+    /// Each segment's aligned frame (base frame), from the FK kernel's link-frame pass.
+    frames: Vec<IsometryMatrix3<f64>>,
+    /// Joint origin and unit axis of each segment, base frame.
+    origin: Vec<Vector3<f64>>,
+    axis: Vec<Vector3<f64>>,
+    /// Each segment's motion subspace `S = (ω, v)` (about the base origin).
+    motion_w: Vec<Vector3<f64>>,
+    motion_v: Vec<Vector3<f64>>,
+    /// Each segment's spatial force `(n, f)` in the RNEA (about the base origin).
+    force_n: Vec<Vector3<f64>>,
+    force_f: Vec<Vector3<f64>>,
+    /// Each segment's body (payload included on the last), about the base origin.
+    body: Vec<WorldBody>,
+    /// Segment torques, and the segment-level mass matrix for chains with mimic joints.
+    segment_tau: Vec<f64>,
+    segment_mass: Vec<f64>,
+    /// Tool frame of the last evaluation (rotation, origin; base frame).
+    tool_rotation: Matrix3<f64>,
+    tool_origin: Vector3<f64>,
+}
+
+impl DynamicsData {
+    /// Attaches `payload` (mass properties in the **tool frame**: kg, m, kg·m² about its centre
+    /// of mass) rigidly to the tool frame, or removes it with `None`. Every later evaluation
+    /// with this workspace includes it.
+    pub fn set_payload(&mut self, payload: Option<RigidBody>) -> Result<(), RobotError> {
+        if let Some(body) = &payload {
+            check_body(body, "payload")?;
+        }
+        self.payload = payload;
+        Ok(())
+    }
+
+    /// The payload attached to the tool frame, if any.
+    pub fn payload(&self) -> Option<&RigidBody> {
+        self.payload.as_ref()
+    }
+}
+
+/// Checks a body's numbers ([`RigidBody::is_valid`]); `what` names it in the error.
+fn check_body(body: &RigidBody, what: &str) -> Result<(), RobotError> {
+    if body.is_valid() {
+        return Ok(());
+    }
+    Err(RobotError::BadInertia {
+        what: what.to_string(),
+        message: format!(
+            "mass {}, centre of mass {:?}, inertia {:?}: the mass must be finite and non-negative, the inertia finite and symmetric with a non-negative diagonal",
+            body.mass,
+            body.com.as_slice(),
+            body.inertia.as_slice()
+        ),
+    })
+}
+
+impl Chain {
+    /// The chain's dynamics model, with gravity 9.81 m/s² along the base's −z.
+    ///
+    /// Fails with [`RobotError::NoInertia`] when a moving segment carries no inertial data
+    /// (none of the links it moves has any), never by assuming a zero mass; with
+    /// [`RobotError::BadInertia`] when a segment's data is not a valid body. A segment whose
+    /// links give an explicit zero mass is massless, as the file says.
+    ///
+    /// ```
+    /// use graspath::robot::builtin::{baxter, Arm};
+    /// use graspath::robot::RigidBody;
+    /// use nalgebra::Vector3;
+    /// let chain = baxter(Arm::Left);
+    /// let dynamics = chain.dynamics()?;
+    /// let mut data = dynamics.data();
+    /// let (mut empty, mut loaded) = ([0.0; 7], [0.0; 7]);
+    /// // The arm stretched out forward: the shoulder (s1) holds it against gravity.
+    /// let q = [0.0; 7];
+    /// dynamics.gravity_torques_into(&mut data, &q, &mut empty)?;
+    /// // 2 kg held 5 cm beyond the gripper's tool frame: the shoulder needs more.
+    /// data.set_payload(Some(RigidBody::point(2.0, Vector3::new(0.0, 0.0, 0.05))))?;
+    /// dynamics.gravity_torques_into(&mut data, &q, &mut loaded)?;
+    /// assert!(loaded[1].abs() > empty[1].abs() + 10.0);
+    /// # Ok::<(), graspath::robot::RobotError>(())
+    /// ```
+    pub fn dynamics(&self) -> Result<Dynamics, RobotError> {
+        let layout = self.dynamics_layout();
+        let mut segments = Vec::with_capacity(layout.segments.len());
+        for (i, s) in layout.segments.iter().enumerate() {
+            let joint = segment_joint_name(self, &layout, i);
+            let Some(body) = s.body else {
+                return Err(RobotError::NoInertia {
+                    source_name: self.source_name().to_string(),
+                    chain: self.name(),
+                    joint,
+                    links: s.links.join(", "),
+                });
+            };
+            check_body(
+                &body,
+                &format!("chain '{}', segment of joint '{joint}'", self.name()),
+            )?;
+            segments.push(Segment {
+                rotation: s.rotation,
+                translation: s.translation,
+                kind: s.kind,
+                source: s.drive.0,
+                multiplier: s.drive.1,
+                offset: s.drive.2,
+                mass: body.mass,
+                com: body.com,
+                inertia: body.inertia,
+            });
+        }
+        Ok(Dynamics {
+            chain: self.name(),
+            dof: self.dof(),
+            segments,
+            frames: self.segment_frames(),
+            has_mimic: layout.has_mimic,
+            tail_rotation: layout.tail_rotation,
+            tail_translation: layout.tail_translation,
+            gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
+            motion_limits: self.motion_limits().to_vec(),
+        })
+    }
+}
+
+/// The joint that moves segment `i`, for messages: its name when the chain has no mimic
+/// joints (segment `i` is then joint `i`), else the link it moves (a mimic follower has no
+/// entry in `q`).
+fn segment_joint_name(chain: &Chain, layout: &super::chain::DynamicsLayout, i: usize) -> String {
+    if !layout.has_mimic {
+        if let Some(name) = chain.joint_names().get(i) {
+            return name.clone();
+        }
+    }
+    layout.segments[i]
+        .links
+        .first()
+        .map_or_else(|| format!("#{i}"), |link| format!("(moving link '{link}')"))
+}
+
+impl Dynamics {
+    /// A new workspace for this model (the only allocation; reuse it across calls).
+    pub fn data(&self) -> DynamicsData {
+        let n = self.segments.len();
+        DynamicsData {
+            payload: None,
+            frames: vec![IsometryMatrix3::identity(); n],
+            origin: vec![Vector3::zeros(); n],
+            axis: vec![Vector3::zeros(); n],
+            motion_w: vec![Vector3::zeros(); n],
+            motion_v: vec![Vector3::zeros(); n],
+            force_n: vec![Vector3::zeros(); n],
+            force_f: vec![Vector3::zeros(); n],
+            body: vec![WorldBody::ZERO; n],
+            segment_tau: vec![0.0; n],
+            segment_mass: if self.has_mimic {
+                vec![0.0; n * n]
+            } else {
+                Vec::new()
+            },
+            tool_rotation: Matrix3::identity(),
+            tool_origin: Vector3::zeros(),
+        }
+    }
+
+    /// The number of independent joints (the length of `q`, `q̇`, `q̈` and `τ`).
+    pub fn dof(&self) -> usize {
+        self.dof
+    }
+
+    /// The gravity vector, base frame (m/s²).
+    pub fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
+    /// Sets the gravity vector in the base frame (m/s²); it must be finite.
+    pub fn set_gravity(&mut self, gravity: Vector3<f64>) -> Result<(), RobotError> {
+        if gravity.iter().any(|v| !v.is_finite()) {
+            return Err(RobotError::BadOption {
+                name: "gravity",
+                message: format!("{:?} is not finite", gravity.as_slice()),
+            });
+        }
+        self.gravity = gravity;
+        Ok(())
+    }
+
+    /// The model with gravity `gravity` (base frame, m/s²; see [`Dynamics::set_gravity`]).
+    pub fn with_gravity(mut self, gravity: Vector3<f64>) -> Result<Self, RobotError> {
+        self.set_gravity(gravity)?;
+        Ok(self)
+    }
+
+    /// Velocity, effort and acceleration limits of the independent joints, in the order of `q`.
+    pub fn motion_limits(&self) -> &[MotionLimits] {
+        &self.motion_limits
+    }
+
+    /// The total mass carried by the moving segments (kg), without the payload.
+    pub fn moving_mass(&self) -> f64 {
+        self.segments.iter().map(|s| s.mass).sum()
+    }
+
+    fn check_q(&self, q: &[f64]) -> Result<(), RobotError> {
+        if q.len() != self.dof {
+            return Err(RobotError::WrongDof {
+                chain: self.chain.clone(),
+                expected: self.dof,
+                got: q.len(),
+            });
+        }
+        if let Some(index) = q.iter().position(|v| !v.is_finite()) {
+            return Err(RobotError::NonFiniteJoint { index });
+        }
+        Ok(())
+    }
+
+    fn check_vector(&self, what: &'static str, v: &[f64]) -> Result<(), RobotError> {
+        if v.len() != self.dof {
+            return Err(RobotError::BadDynamicsInput {
+                what,
+                message: format!(
+                    "has {} values but the chain '{}' has {} joints",
+                    v.len(),
+                    self.chain,
+                    self.dof
+                ),
+            });
+        }
+        if let Some(index) = v.iter().position(|x| !x.is_finite()) {
+            return Err(RobotError::BadDynamicsInput {
+                what,
+                message: format!("entry {index} is not a finite number"),
+            });
+        }
+        Ok(())
+    }
+
+    fn check_out(&self, len: usize) -> Result<(), RobotError> {
+        if len != self.dof {
+            return Err(RobotError::BadDynamicsInput {
+                what: "tau",
+                message: format!(
+                    "the output has {len} entries but the chain '{}' has {} joints",
+                    self.chain, self.dof
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    fn check_data(&self, data: &DynamicsData) -> Result<(), RobotError> {
+        if data.frames.len() != self.segments.len()
+            || data.segment_mass.len()
+                != if self.has_mimic {
+                    self.segments.len().pow(2)
+                } else {
+                    0
+                }
+        {
+            return Err(RobotError::BadDynamicsInput {
+                what: "data",
+                message: format!(
+                    "the workspace was made for another model than chain '{}' (use Dynamics::data)",
+                    self.chain
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The gravity torques `g(q)` (N·m or N) into `tau`: the joint torques that hold the
+    /// chain (and the payload of `data`) still at `q` against [`Dynamics::gravity`].
+    /// Equals `rnea(q, 0, 0)`. Nothing is allocated.
+    pub fn gravity_torques_into(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        tau: &mut [f64],
+    ) -> Result<(), RobotError> {
+        self.check_data(data)?;
+        self.check_q(q)?;
+        self.check_out(tau.len())?;
+        self.gravity_unchecked(data, q, tau);
+        Ok(())
+    }
+
+    /// Inverse dynamics by the recursive Newton–Euler algorithm: the joint torques
+    /// `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` (N·m or N) into `tau`, payload included.
+    /// Nothing is allocated.
+    pub fn inverse_dynamics_into(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        tau: &mut [f64],
+    ) -> Result<(), RobotError> {
+        self.check_data(data)?;
+        self.check_q(q)?;
+        self.check_vector("qd", qd)?;
+        self.check_vector("qdd", qdd)?;
+        self.check_out(tau.len())?;
+        self.rnea_unchecked(data, q, qd, qdd, tau);
+        Ok(())
+    }
+
+    /// The joint-space inertia matrix `M(q)` (dof × dof, symmetric; kg·m² / kg) by the
+    /// composite rigid body algorithm, payload included. `out` is resized once if its shape
+    /// is wrong; with the right shape nothing is allocated.
+    pub fn mass_matrix_into(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        out: &mut DMatrix<f64>,
+    ) -> Result<(), RobotError> {
+        self.check_data(data)?;
+        self.check_q(q)?;
+        if out.shape() != (self.dof, self.dof) {
+            *out = DMatrix::zeros(self.dof, self.dof);
+        }
+        self.crba_unchecked(data, q, out.as_mut_slice());
+        Ok(())
+    }
+
+    /// `g(q)`, newly allocated, without payload (see [`Dynamics::gravity_torques_into`]).
+    pub fn gravity_torques(&self, q: &[f64]) -> Result<Vec<f64>, RobotError> {
+        let mut tau = vec![0.0; self.dof];
+        self.gravity_torques_into(&mut self.data(), q, &mut tau)?;
+        Ok(tau)
+    }
+
+    /// `τ(q, q̇, q̈)`, newly allocated, without payload (see [`Dynamics::inverse_dynamics_into`]).
+    pub fn inverse_dynamics(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+    ) -> Result<Vec<f64>, RobotError> {
+        let mut tau = vec![0.0; self.dof];
+        self.inverse_dynamics_into(&mut self.data(), q, qd, qdd, &mut tau)?;
+        Ok(tau)
+    }
+
+    /// `M(q)`, newly allocated, without payload (see [`Dynamics::mass_matrix_into`]).
+    pub fn mass_matrix(&self, q: &[f64]) -> Result<DMatrix<f64>, RobotError> {
+        let mut m = DMatrix::zeros(self.dof, self.dof);
+        self.mass_matrix_into(&mut self.data(), q, &mut m)?;
+        Ok(m)
+    }
+}

@@ -1,0 +1,172 @@
+//! Gravity torques, inverse dynamics and the mass matrix against Pinocchio 4.1
+//! (`computeGeneralizedGravity`, `rnea`, `crba`) on the arm chains of example-robot-data's
+//! Panda, UR5 and Baxter, without and with a payload at the tool.
+//!
+//! The reference values are in `tests/data/dynamics/pinocchio_dynamics.json`, written by the
+//! script beside it (`pinocchio_reference.py`, which says how to run it): Pinocchio's model of
+//! the whole URDF reduced to the chain's joints (the others locked at zero), and the payload
+//! appended as a body at the tool frame. The URDFs themselves are read from
+//! example-robot-data (`GRASPATH_ROBOT_DATA`, set by `.ci/run`): in CI (`CI=true`) a missing
+//! package fails these tests, elsewhere they print why they skip.
+
+mod common;
+
+use graspath::robot::{Chain, RigidBody, RobotSource};
+use nalgebra::{DMatrix, Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use serde_json::Value;
+
+/// The largest error allowed, relative to the largest entry of the reference vector or
+/// matrix.
+const TOL: f64 = 1e-9;
+
+fn reference() -> Value {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/dynamics/pinocchio_dynamics.json"
+    );
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+fn vector3(v: &Value) -> Vector3<f64> {
+    Vector3::from_vec(numbers(v))
+}
+
+/// `‖ours − reference‖∞ / ‖reference‖∞`, asserted below [`TOL`].
+fn relative_error(ours: &[f64], reference: &[f64], what: &str) -> f64 {
+    assert_eq!(ours.len(), reference.len(), "{what}: length");
+    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let error = ours
+        .iter()
+        .zip(reference)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let relative = error / scale.max(f64::MIN_POSITIVE);
+    assert!(
+        relative <= TOL,
+        "{what}: relative error {relative:e}\n ours      {ours:?}\n reference {reference:?}"
+    );
+    relative
+}
+
+fn chain(data: &std::path::Path, robot: &Value, tip_from_tool: Option<Isometry3<f64>>) -> Chain {
+    let share = data
+        .parent()
+        .and_then(|p| p.parent())
+        .unwrap()
+        .to_path_buf();
+    RobotSource::Urdf {
+        path: data.join(robot["urdf"].as_str().unwrap()),
+        search_paths: vec![share],
+    }
+    .load()
+    .unwrap()
+    .chain(
+        robot["base"].as_str().unwrap(),
+        robot["tip"].as_str().unwrap(),
+        tip_from_tool,
+    )
+    .unwrap()
+}
+
+#[test]
+fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
+    let Some(data) = common::robot_data() else {
+        return;
+    };
+    let reference = reference();
+    let tool = &reference["tip_from_tool"];
+    let (xyz, rpy) = (numbers(&tool["xyz"]), numbers(&tool["rpy"]));
+    let tip_from_tool = Isometry3::from_parts(
+        Translation3::new(xyz[0], xyz[1], xyz[2]),
+        UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    );
+    let p = &reference["payload"];
+    let inertia: Vec<f64> = p["inertia"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(numbers)
+        .collect();
+    let payload = RigidBody::new(
+        p["mass"].as_f64().unwrap(),
+        vector3(&p["com"]),
+        Matrix3::from_row_slice(&inertia),
+    );
+    let robots = reference["robots"].as_array().unwrap();
+    assert_eq!(robots.len(), 3);
+    for robot in robots {
+        let name = robot["name"].as_str().unwrap();
+        let gravity = vector3(&robot["gravity_base"]);
+        let bare = chain(&data, robot, None).dynamics().unwrap();
+        let tooled = chain(&data, robot, Some(tip_from_tool));
+        let names: Vec<String> = robot["joint_names"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_str().unwrap().to_string())
+            .collect();
+        assert_eq!(tooled.joint_names(), names.as_slice(), "{name}");
+        let loaded = tooled.dynamics().unwrap().with_gravity(gravity).unwrap();
+        let bare = bare.with_gravity(gravity).unwrap();
+        let moving = robot["moving_mass"].as_f64().unwrap();
+        assert!(
+            (bare.moving_mass() - moving).abs() <= 1e-12 * moving,
+            "{name}: moving mass {} vs {moving}",
+            bare.moving_mass()
+        );
+        let mut bare_data = bare.data();
+        let mut loaded_data = loaded.data();
+        loaded_data.set_payload(Some(payload)).unwrap();
+        let n = bare.dof();
+        let mut tau = vec![0.0; n];
+        let mut mass = DMatrix::zeros(n, n);
+        let mut worst = [0.0f64; 6];
+        let samples = robot["samples"].as_array().unwrap();
+        assert!(samples.len() >= 20);
+        for sample in samples {
+            let (q, qd, qdd) = (
+                numbers(&sample["q"]),
+                numbers(&sample["qd"]),
+                numbers(&sample["qdd"]),
+            );
+            for (k, (dynamics, workspace, key)) in [
+                (&bare, &mut bare_data, ""),
+                (&loaded, &mut loaded_data, "_payload"),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let what = |f: &str| format!("{name}: {f}{key} at q = {q:?}");
+                dynamics
+                    .gravity_torques_into(workspace, &q, &mut tau)
+                    .unwrap();
+                let e = relative_error(&tau, &numbers(&sample[format!("g{key}")]), &what("g"));
+                worst[3 * k] = worst[3 * k].max(e);
+                dynamics
+                    .inverse_dynamics_into(workspace, &q, &qd, &qdd, &mut tau)
+                    .unwrap();
+                let e = relative_error(&tau, &numbers(&sample[format!("tau{key}")]), &what("rnea"));
+                worst[3 * k + 1] = worst[3 * k + 1].max(e);
+                dynamics.mass_matrix_into(workspace, &q, &mut mass).unwrap();
+                // Row-major reference; M is symmetric, so compare its transpose's storage.
+                let e = relative_error(
+                    mass.transpose().as_slice(),
+                    &numbers(&sample[format!("mass_matrix{key}")]),
+                    &what("crba"),
+                );
+                worst[3 * k + 2] = worst[3 * k + 2].max(e);
+            }
+        }
+        eprintln!(
+            "{name}: largest relative errors: g {:.1e}, rnea {:.1e}, crba {:.1e}; with payload: g {:.1e}, rnea {:.1e}, crba {:.1e}",
+            worst[0], worst[1], worst[2], worst[3], worst[4], worst[5]
+        );
+    }
+}

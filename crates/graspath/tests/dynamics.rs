@@ -64,6 +64,7 @@ fn chain(data: &std::path::Path, robot: &Value, tip_from_tool: Option<Isometry3<
     RobotSource::Urdf {
         path: data.join(robot["urdf"].as_str().unwrap()),
         search_paths: vec![share],
+        xacro_args: Default::default(),
     }
     .load()
     .unwrap()

@@ -12,8 +12,8 @@
 //!
 //! A buffer that is really new is allocated with transparent huge pages asked for and has its
 //! pages mapped (`MADV_POPULATE_WRITE`, Linux ≥ 5.14) block by block, by the threads that then
-//! write the block. Best effort: on other systems, or when the kernel refuses, nothing happens
-//! and the pages are mapped as they are written.
+//! write the block ([`kinematics_into`]). Best effort: on other systems, or when the kernel
+//! refuses, nothing happens and the pages are mapped as they are written.
 
 use crate::convert::{error, shape_text};
 use graspath::robot::{Chain, RobotError};
@@ -116,6 +116,15 @@ fn new_buffer(len: usize) -> Vec<f64> {
     #[cfg(target_os = "linux")]
     advise(&mut buffer, libc::MADV_HUGEPAGE);
     buffer
+}
+
+/// A new float64 array of `shape` whose values the caller will all write (large ones come
+/// from the cache: their contents are those of an earlier result until then).
+pub fn new_float_array<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    Ok(new_array(py, shape)?.0)
 }
 
 /// A new float64 array of `shape` whose values will all be written, and whether its pages are
@@ -223,21 +232,17 @@ impl<'py> ResultArray<'py> {
     }
 }
 
-/// How new result pages are mapped (an experiment switch: `GRASPATH_POPULATE`).
-fn strategy() -> u8 {
-    match std::env::var("GRASPATH_POPULATE").as_deref() {
-        Ok("none") => 0,
-        Ok("whole") => 1,
-        _ => 2,
-    }
-}
-
-/// Configurations per block whose result pages are mapped together just before the block is
-/// written.
+/// Configurations per block whose new result pages are mapped together, by the thread that
+/// then writes the block (about 1.9 MB of a 7-joint chain's poses and Jacobians: one huge
+/// page).
 const BLOCK: usize = 4096;
 
 /// Poses and Jacobians (row-major, see `Chain::batch_into`) of the configurations `q` into
-/// the buffers given, in parallel; `fresh` buffers have their pages mapped first.
+/// the buffers given, in parallel. `fresh` buffers (new memory) are cut into blocks whose
+/// pages are mapped in one go by the thread that writes the block, just before writing it:
+/// mapping in parallel, and the pages still in cache when they are written. (Mapping the
+/// whole result first, or faulting pages in one by one as they are written, measured slower
+/// and far more variable; see BENCHMARKS.md.)
 pub fn kinematics_into(
     chain: &Chain,
     q: &[f64],
@@ -246,31 +251,15 @@ pub fn kinematics_into(
     fresh: bool,
 ) -> Result<(), RobotError> {
     let dof = chain.dof();
-    let mode = if fresh { strategy() } else { 0 };
-    if dof == 0 || mode == 0 {
+    let n = q.len() / dof.max(1);
+    let sizes_fit = poses.as_deref().is_none_or(|p| p.len() == 16 * n)
+        && jacobians.as_deref().is_none_or(|j| j.len() == 6 * dof * n);
+    if !fresh || dof == 0 || !sizes_fit || n <= BLOCK {
         return chain.batch_into(q, poses, jacobians);
     }
-    if mode == 1 {
-        let mut poses = poses;
-        let mut jacobians = jacobians;
-        if let Some(p) = poses.as_deref_mut() {
-            populate(p);
-        }
-        if let Some(j) = jacobians.as_deref_mut() {
-            populate(j);
-        }
-        return chain.batch_into(q, poses, jacobians);
-    }
-    let n = q.len() / dof;
-    if poses.as_deref().is_some_and(|p| p.len() != 16 * n)
-        || jacobians.as_deref().is_some_and(|j| j.len() != 6 * dof * n)
-    {
-        return chain.batch_into(q, poses, jacobians);
-    }
-    let blocks = split_blocks(q, dof, poses, jacobians);
-    blocks
+    let result = split_blocks(q, dof, poses, jacobians)
         .into_par_iter()
-        .map(|(q, mut poses, mut jacobians)| {
+        .try_for_each(|(q, mut poses, mut jacobians)| {
             if let Some(p) = poses.as_deref_mut() {
                 populate(p);
             }
@@ -278,12 +267,14 @@ pub fn kinematics_into(
                 populate(j);
             }
             chain.batch_into(q, poses, jacobians)
-        })
-        .collect::<Result<Vec<()>, RobotError>>()
-        .map(|_| ())
-        .map_err(|_| RobotError::NonFiniteJoint {
+        });
+    // A block names its own first non-finite value: name the first of all.
+    result.map_err(|e| match e {
+        RobotError::NonFiniteJoint { .. } => RobotError::NonFiniteJoint {
             index: q.iter().position(|v| !v.is_finite()).unwrap_or(0),
-        })
+        },
+        e => e,
+    })
 }
 
 /// A block of configurations with its share of each buffer.

@@ -12,7 +12,7 @@ use crate::convert::{
     array, check_finite, error, index_mode, non_finite_error, poses, renamed_keyword, row_major,
     rows, shape_text, single_pose, trajectories, FloatArray,
 };
-use crate::memory::{kinematics_into, split_rows, split_rows_ref, ResultArray};
+use crate::memory::{kinematics_into, new_float_array, split_rows, split_rows_ref, ResultArray};
 use graspath::manipulability::{
     singular_values, task_relevant, velocity_transmission_ratio, wrist_tangent, ClassicalIndices,
     Direction, JacobianPart,
@@ -24,7 +24,7 @@ use graspath::robot::{
     UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList};
 use rayon::prelude::*;
@@ -313,7 +313,7 @@ impl PyRobot {
                     for (k, flag) in out.iter_mut().enumerate() {
                         *flag = chain.within_limits(&q[k * dof..(k + 1) * dof]);
                     }
-                })
+                });
         });
         drop(guard);
         Ok(flags.into_any().unbind())
@@ -408,8 +408,12 @@ impl PyRobot {
             return Ok(dict);
         };
         let rows = if part == JacobianPart::Full { 6 } else { 3 };
-        let columns = [(); 3].map(|()| PyArray1::<f64>::zeros(py, n, false));
-        let singular = PyArray2::<f64>::zeros(py, [n, rows], false);
+        let columns = [
+            new_float_array(py, &[n])?,
+            new_float_array(py, &[n])?,
+            new_float_array(py, &[n])?,
+        ];
+        let singular = new_float_array(py, &[n, rows])?;
         let mut guards = columns
             .iter()
             .map(|c| c.try_readwrite().map_err(error))
@@ -457,7 +461,7 @@ impl PyRobot {
                             }
                         }
                     },
-                )
+                );
         });
         drop(guards);
         drop(singular_guard);
@@ -611,10 +615,10 @@ impl PyRobot {
             return Ok(dict);
         };
         // Every result is written once, in place, by the task that solves its pose.
-        let q_out = PyArray2::<f64>::zeros(py, [n, dof], false);
-        let best_out = PyArray2::<f64>::zeros(py, [n, dof], false);
+        let q_out = new_float_array(py, &[n, dof])?;
+        let best_out = new_float_array(py, &[n, dof])?;
         let converged_out = PyArray1::<bool>::zeros(py, n, false);
-        let errors_out = [(); 2].map(|()| PyArray1::<f64>::zeros(py, n, false));
+        let errors_out = [new_float_array(py, &[n])?, new_float_array(py, &[n])?];
         let iterations_out = PyArray1::<i64>::zeros(py, n, false);
         let mut reasons: Vec<Option<&'static str>> = vec![None; n];
         {
@@ -1078,7 +1082,7 @@ impl PyRobot {
             let result = value(&mut Matrix6xX::zeros(dof), 0, &data);
             return Ok(result.into_pyobject(py)?.into_any().unbind());
         };
-        let values = PyArray1::<f64>::zeros(py, n, false);
+        let values = new_float_array(py, &[n])?;
         let mut guard = values.try_readwrite().map_err(error)?;
         let out = guard.as_slice_mut().map_err(error)?;
         py.detach(|| {
@@ -1094,7 +1098,7 @@ impl PyRobot {
                             *o = value(jacobian, i, &q[k * dof..(k + 1) * dof]);
                         }
                     },
-                )
+                );
         });
         drop(guard);
         Ok(values.into_any().unbind())

@@ -246,3 +246,34 @@ def test_jacobian_out_is_written_in_place_and_single_results_keep_their_types(pa
     assert empty["yoshikawa"].shape == (0,) and empty["singular_values"].shape == (0, 6)
     assert panda.within_limits(np.zeros((0, 7))).shape == (0,)
     assert panda.fk_jacobian(np.zeros((0, 7)))[1].shape == (0, 6, 7)
+
+
+def test_large_results_reuse_freed_memory_and_every_value_is_rewritten(panda):
+    default = graspath.result_cache()["max_bytes"]
+    assert default == 1 << 30
+    n = 20_000  # 2.6 MB of poses, 6.7 MB of Jacobians: both from the cache
+    q = configurations(panda, n)
+    poses, jacobians = panda.fk_jacobian(q)
+    del poses, jacobians
+    held = graspath.result_cache()
+    assert held["buffers"] >= 2 and held["bytes"] >= n * (16 + 42) * 8
+    other = configurations(panda, n)
+    poses, jacobians = panda.fk_jacobian(other)  # in the freed buffers
+    assert graspath.result_cache()["bytes"] <= held["bytes"] - n * (16 + 42) * 8
+    p_out, j_out = np.empty_like(poses), np.empty_like(jacobians)
+    panda.fk_jacobian(other, out=(p_out, j_out))
+    np.testing.assert_array_equal(poses, p_out)
+    np.testing.assert_array_equal(jacobians, j_out)
+    # A view keeps its buffer: nothing else is written into it while the view lives.
+    view = poses[n - 3 :]
+    del poses
+    again = panda.fk(q)
+    np.testing.assert_array_equal(view, p_out[n - 3 :])
+    np.testing.assert_array_equal(again, panda.fk(q, out=np.empty((n, 4, 4))))
+    indices = panda.indices(q[:5000])
+    np.testing.assert_array_equal(indices["yoshikawa"], [panda.indices(qi)["yoshikawa"] for qi in q[:5000]])
+    assert graspath.result_cache(max_bytes=0) == {"max_bytes": 0, "bytes": 0, "buffers": 0}
+    del view, again
+    assert graspath.result_cache()["bytes"] == 0
+    np.testing.assert_array_equal(panda.fk_jacobian(other)[1], j_out)
+    graspath.result_cache(max_bytes=default)

@@ -193,12 +193,11 @@ impl Chain {
         debug_assert_eq!(q.len(), n * dof);
         // Each task checks its rows while they are in cache, then writes its results.
         let run = |q: &[f64], poses: Option<&mut [f64]>, jacobians: Option<&mut [f64]>| {
-            if q.iter().all(|v| v.is_finite()) {
-                self.rows_into(q, poses, jacobians);
-                Ok(())
-            } else {
-                Err(())
+            if !q.iter().all(|v| v.is_finite()) {
+                return Err(());
             }
+            self.rows_into(q, poses, jacobians);
+            Ok(())
         };
         let rows = q.par_chunks(dof * BATCH_CHUNK);
         let result = match (poses, jacobians) {
@@ -327,28 +326,18 @@ impl Chain {
                 let count = rows.len() / dof;
                 let first = 4 * group;
                 if let Some(poses) = poses.as_deref_mut() {
-                    let (rotation, origin) = lane_values(&tip);
-                    for lane in 0..count {
-                        let out = &mut poses[16 * (first + lane)..16 * (first + lane + 1)];
-                        for r in 0..3 {
-                            out[4 * r] = rotation[0][r][lane];
-                            out[4 * r + 1] = rotation[1][r][lane];
-                            out[4 * r + 2] = rotation[2][r][lane];
-                            out[4 * r + 3] = origin[r][lane];
-                        }
-                        out[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
-                    }
+                    // SAFETY: AVX2 is present (checked above).
+                    unsafe { avx2::store_pose_rows(&tip, count, &mut poses[16 * first..]) };
                 }
                 if let Some(jacobians) = jacobians.as_deref_mut() {
-                    let lanes = &lanes[..6 * n];
-                    for lane in 0..count {
-                        let at = 6 * dof * (first + lane);
-                        let out = &mut jacobians[at..at + 6 * dof];
-                        for (r, row) in out.chunks_exact_mut(dof).enumerate() {
-                            for (i, value) in row.iter_mut().enumerate() {
-                                *value = lanes[6 * i + r][lane];
-                            }
-                        }
+                    // SAFETY: AVX2 is present (checked above).
+                    unsafe {
+                        avx2::store_jacobian_rows(
+                            &lanes[..6 * n],
+                            dof,
+                            count,
+                            &mut jacobians[6 * dof * first..],
+                        );
                     }
                 }
             }
@@ -383,21 +372,6 @@ fn write_pose_rows(out: &mut [f64], pose: &IsometryMatrix3<f64>) {
         out[4 * r + 3] = origin[r];
     }
     out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
-}
-
-/// The tip poses of a lane group as plain values: `rotation[c][r][lane]` (column `c`, row
-/// `r`) and `origin[r][lane]`.
-#[cfg(target_arch = "x86_64")]
-#[allow(clippy::type_complexity)]
-fn lane_values(poses: &avx2::Poses4) -> ([[[f64; 4]; 3]; 3], [[f64; 4]; 3]) {
-    // SAFETY: `__m256d` and `[f64; 4]` have the same size and every bit pattern is valid.
-    let lanes = |v: &std::arch::x86_64::__m256d| unsafe {
-        std::mem::transmute::<std::arch::x86_64::__m256d, [f64; 4]>(*v)
-    };
-    (
-        poses.rotation.each_ref().map(|c| c.each_ref().map(lanes)),
-        poses.origin.each_ref().map(lanes),
-    )
 }
 
 /// Fills `values[j]` with joint `j` of up to four configurations (`rows`, `dof` values each),

@@ -497,24 +497,30 @@ pub(super) unsafe fn store_jacobian_rows(
     for r in 0..6 {
         for i in (0..dof).step_by(4) {
             let width = (dof - i).min(4);
-            let column = |k: usize| {
-                if k < width {
-                    _mm256_loadu_pd(lanes[6 * (i + k) + r].as_ptr())
-                } else {
-                    _mm256_setzero_pd()
-                }
-            };
-            let rows = transpose4(column(0), column(1), column(2), column(3));
-            let keep = |k: usize| if k < width { -1 } else { 0 };
-            let mask = _mm256_setr_epi64x(keep(0), keep(1), keep(2), keep(3));
+            // Written out rather than with closures: a closure would not inherit AVX2.
+            let mut columns = [_mm256_setzero_pd(); 4];
+            for (k, column) in columns.iter_mut().enumerate().take(width) {
+                *column = _mm256_loadu_pd(lanes[6 * (i + k) + r].as_ptr());
+            }
+            let rows = transpose4(columns[0], columns[1], columns[2], columns[3]);
             for (lane, row) in rows.iter().enumerate().take(count) {
                 // SAFETY: the `width` values written end at
                 // `6·dof·lane + dof·r + i + width ≤ 6 · dof · count ≤ out.len()`.
                 let at = out.add(6 * dof * lane + dof * r + i);
-                if width == 4 {
-                    _mm256_storeu_pd(at, *row);
-                } else {
-                    _mm256_maskstore_pd(at, mask, *row);
+                // A short block is stored in halves and singles (masked stores are slow on
+                // some processors).
+                let (low, high) = (
+                    _mm256_castpd256_pd128(*row),
+                    _mm256_extractf128_pd::<1>(*row),
+                );
+                match width {
+                    4 => _mm256_storeu_pd(at, *row),
+                    3 => {
+                        _mm_storeu_pd(at, low);
+                        _mm_store_sd(at.add(2), high);
+                    }
+                    2 => _mm_storeu_pd(at, low),
+                    _ => _mm_store_sd(at, low),
                 }
             }
         }

@@ -5,7 +5,9 @@
 Run: `python examples/python/bench_batch.py [--n 1000000] [--repeat 9] [--threads 1 2]` after
 `pip install ./crates/graspath-py torch`. Each thread count runs in its own process
 (RAYON_NUM_THREADS for graspath, `torch.set_num_threads` for PyTorch, both set before the first
-call); inside it the calls take turns, `--repeat` rounds, and the median of each is reported.
+call); inside it the calls take turns, `--repeat` rounds, and the median of each is reported:
+wall-clock time, and the CPU time of the process's threads (`getrusage`), which time spent
+waiting for a core (on a busy machine) does not inflate.
 The PyTorch script is first checked against graspath (float64, largest difference ≤ 1e-12).
 """
 
@@ -13,6 +15,7 @@ import argparse
 import json
 import os
 import platform
+import resource
 import subprocess
 import sys
 import time
@@ -53,15 +56,21 @@ def worker(args):
     if torch is not None:
         q_torch = torch.from_numpy(q)
         calls["torch fk_jacobian, float64"] = lambda: kinematics.fk_jacobian(q_torch)
+    def cpu_seconds():
+        usage = resource.getrusage(resource.RUSAGE_SELF)  # every thread of this process
+        return usage.ru_utime + usage.ru_stime
+
     times = {name: [] for name in calls}
+    cpu = {name: [] for name in calls}
     for name, call in calls.items():
         call()  # warm-up: first-call costs (thread pools, imports) are not measured
     for _ in range(args.repeat):
         for name, call in calls.items():
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), cpu_seconds()
             result = call()
             del result  # a new result is freed inside the timing, as in a loop of calls
             times[name].append(time.perf_counter() - start)
+            cpu[name].append(cpu_seconds() - start_cpu)
     print(
         json.dumps(
             {
@@ -71,6 +80,7 @@ def worker(args):
                 "median": {name: float(np.median(t)) for name, t in times.items()},
                 "min": {name: float(np.min(t)) for name, t in times.items()},
                 "max": {name: float(np.max(t)) for name, t in times.items()},
+                "cpu": {name: float(np.median(t)) for name, t in cpu.items()},
             }
         )
     )
@@ -103,14 +113,17 @@ def main():
     first = results[0]
     if first["torch"]:
         print(f"torch {first['torch']} (CPU), largest difference to graspath {first['torch_error']:.1e}")
-    header = "| call | " + " | ".join(f"{r['threads']} thread(s): median, configs/s" for r in results) + " |"
+    header = "| call | " + " | ".join(
+        f"{r['threads']} thread(s): wall median (range), configs/s | CPU time" for r in results
+    ) + " |"
     print(header)
-    print("|---" * (len(results) + 1) + "|")
+    print("|---" * (2 * len(results) + 1) + "|")
     for name in first["median"]:
         cells = []
         for r in results:
             t = r["median"][name]
-            cells.append(f"{t * 1e3:.1f} ms, {args.n / t / 1e6:.1f} M/s (range {r['min'][name] * 1e3:.1f}–{r['max'][name] * 1e3:.1f})")
+            cells.append(f"{t * 1e3:.1f} ms ({r['min'][name] * 1e3:.0f}–{r['max'][name] * 1e3:.0f}), {args.n / t / 1e6:.1f} M/s")
+            cells.append(f"{r['cpu'][name] * 1e3:.1f} ms")
         print(f"| {name} | " + " | ".join(cells) + " |")
     for r in results:
         m = r["median"]

@@ -28,7 +28,9 @@ Exit codes:
   2  bad input: usage, an unreadable or invalid file or field, a refused --out
      (a symbolic link, a device, an existing file or non-empty folder without --force)
   3  select: nothing selected (no feasible candidate; with two arms, no valid pair);
-     the results are written all the same; --allow-empty exits 0 instead";
+     the results are written all the same; --allow-empty exits 0 instead
+  130, 143, 129  stopped by SIGINT (Ctrl-C), SIGTERM or SIGHUP: the run's temporary
+     output is removed and nothing is written";
 
 /// Input given on the command line or read from a file or stdin cannot be used. The message
 /// names the argument, file, line or field.

@@ -10,7 +10,7 @@ use std::path::Path;
 pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead>> {
     match path {
         Some(p) if p != Path::new("-") => {
-            let file = std::fs::File::open(p)
+            let file = graspath::input::open(p)
                 .map_err(|e| bad_input!("{}: cannot open: {e}", p.display()))?;
             Ok(Box::new(BufReader::new(file)))
         }

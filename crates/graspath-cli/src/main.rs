@@ -46,7 +46,27 @@ pub enum Finished {
     NothingSelected,
 }
 
+/// On SIGINT, SIGTERM or SIGHUP: the run's temporary files and folders are removed (an old
+/// folder being replaced is put back) and the process exits with 128 + the signal's number, as
+/// a shell reports a process killed by it.
+#[cfg(unix)]
+fn remove_temporaries_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            graspath::fsutil::remove_temporaries();
+            eprintln!("graspath: stopped by a signal; nothing was written");
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    remove_temporaries_on_signals();
     let cli = Cli::parse();
     let done = |r: anyhow::Result<()>| r.map(|()| Finished::Done);
     let result = match cli.command {

@@ -46,11 +46,14 @@ impl OutputArgs {
 }
 
 /// `--progress-every`: a finite number of seconds, at least a millisecond.
+/// The longest `--progress-every` interval (s): a week, far beyond any run.
+const MAX_PROGRESS_SECONDS: f64 = 7.0 * 24.0 * 3600.0;
+
 fn positive_seconds(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.001 => Ok(v),
+        Ok(v) if (0.001..=MAX_PROGRESS_SECONDS).contains(&v) => Ok(v),
         _ => Err(format!(
-            "`{text}` is not a number of seconds of at least 0.001"
+            "`{text}` is not a number of seconds from 0.001 to {MAX_PROGRESS_SECONDS} (a week)"
         )),
     }
 }

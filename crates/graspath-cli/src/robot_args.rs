@@ -11,9 +11,17 @@ use std::path::PathBuf;
 /// robot (`--robot --arm`).
 #[derive(Debug, Args)]
 pub struct RobotArgs {
-    /// A URDF file (a .xacro file is expanded when the `xacro` command is installed).
+    /// A URDF file. A file named *.xacro is expanded by the `xacro` program (it runs code:
+    /// only expand files you trust); markup in other files is refused.
     #[arg(long, value_name = "FILE", conflicts_with = "robot", requires_all = ["base", "tip"])]
     pub urdf: Option<PathBuf>,
+    /// A folder where `package://PKG` mesh URIs and xacro's `$(find PKG)` look first
+    /// (repeatable; then ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the file's folders).
+    #[arg(long, value_name = "DIR", requires = "urdf")]
+    pub search_path: Vec<PathBuf>,
+    /// A xacro argument for a *.xacro --urdf file (repeatable), e.g. `--xacro-arg dof:=7`.
+    #[arg(long, value_name = "NAME:=VALUE", requires = "urdf", value_parser = parse_xacro_arg)]
+    pub xacro_arg: Vec<(String, String)>,
     /// A MuJoCo MJCF file; --base and --tip name its bodies.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["robot", "urdf"], requires_all = ["base", "tip"])]
     pub mjcf: Option<PathBuf>,
@@ -75,7 +83,12 @@ impl RobotArgs {
                 let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
                     return Err(bad_input!("--urdf needs --base LINK and --tip LINK"));
                 };
-                Ok(RobotSource::urdf(path).load()?.chain(base, tip, tool)?)
+                let source = RobotSource::Urdf {
+                    path: path.clone(),
+                    search_paths: self.search_path.clone(),
+                    xacro_args: self.xacro_arg.iter().cloned().collect(),
+                };
+                Ok(source.load()?.chain(base, tip, tool)?)
             }
             (None, Some(name)) => {
                 let model = RobotSource::builtin(name.as_str())
@@ -92,4 +105,11 @@ impl RobotArgs {
             _ => Err(bad_input!("choose a robot: --robot NAME (e.g. --robot baxter --arm left, --robot ur5e), --urdf FILE --base LINK --tip LINK, or --mjcf FILE --base BODY --tip BODY")),
         }
     }
+}
+
+/// `NAME:=VALUE` (xacro's own argument syntax) as a pair; the library checks the name.
+fn parse_xacro_arg(text: &str) -> Result<(String, String), String> {
+    text.split_once(":=")
+        .map(|(name, value)| (name.to_string(), value.to_string()))
+        .ok_or_else(|| format!("'{text}' is not NAME:=VALUE (e.g. dof:=7)"))
 }

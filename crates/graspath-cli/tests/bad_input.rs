@@ -58,6 +58,14 @@ impl Row {
     }
 }
 
+/// A task whose robot is a URDF in the folder `robot/`.
+const TASK_URDF_IN_FOLDER: &str = r#"
+robot: { urdf: robot/arm.urdf, chains: { arm: { base: a, tip: b } } }
+object: { pose: { xyz: [0.75, 0.0, -0.10] }, shape: { box: { size: [0.06, 0.40, 0.10] } } }
+candidates: { family: { edge: { count: 5 } } }
+trajectory: { steps: [ { lift: 0.2 } ] }
+"#;
+
 const TASK: &str = r#"
 robot: { builtin: baxter }
 arms: left
@@ -368,10 +376,20 @@ fn table() -> Vec<Row> {
         row("grasp camera frame without camera", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.75, 0, -0.1] } }\ncandidates: { file: g.npz, frame: camera }\ntrajectory: { steps: [ { lift: 0.2 } ] }\n"), ("g.npz", "")], 2, "field 'candidates.frame': poses in the camera frame need"),
         row("grasp options without file", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.75, 0, -0.1] }, shape: { box: { size: [0.06, 0.4, 0.1] } } }\ncandidates: { family: { edge: { count: 3 } }, frame: world }\ntrajectory: { steps: [ { lift: 0.2 } ] }\n")], 2, "field 'candidates.frame': applies only to a candidate file"),
         row("candidates csv unknown column", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw,score\n0,0,0.05,0,0,0,1,1\n")], 2, "unknown column 'score'"),
+        row("candidates csv is a link to a secret", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("secret", "root:x:0:0:hunter2:/root:/bin/bash\n")], 2, "an unknown column that is not a column name (34 characters)").setup(|d| symlink(&d.join("secret"), &d.join("c.csv"), false)),
         row("candidates csv non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV), ("c.csv", "x,y,z,qx,qy,qz,qw\n0,0,0.05,0,0,0,1\n0,0,0.05,0,0,0.5,0.5\n")], 2, "line 3: quaternion"),
         // Output folders and files.
         row("out is a symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
         row("out is a dangling symlink", "select --task {d}/t.yaml --out {d}/link", &[("t.yaml", TASK)], 2, "is a symbolic link").setup(|d| symlink(&d.join("nowhere"), &d.join("link"), false)),
+        row("out is a symlink with a trailing slash", "select --task {d}/t.yaml --out {d}/link/ --force", &[("t.yaml", TASK), ("real/keep", "x")], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), false)),
+        row("out force over the task's folder", "select --task {d}/in/t.yaml --out {d}/in --force", &[("in/t.yaml", TASK)], 2, "in/t.yaml, an input of this run"),
+        row("out force over a folder the task reads", "select --task {d}/t.yaml --out {d}/robot --force", &[("t.yaml", TASK_URDF_IN_FOLDER), ("robot/arm.urdf", "<robot name=\"r\"/>")], 2, "robot/arm.urdf, an input of this run"),
+        row("map out force over the task's folder", "map --task {d}/in/t.yaml --x 0.7 --y 0 --out {d}/in --force", &[("in/t.yaml", TASK)], 2, "an input of this run"),
+        row("task is a FIFO", "select --task {d}/fifo.yaml --out {d}/out", &[], 2, "a FIFO (named pipe), not a regular file").setup(|d| mkfifo(&d.join("fifo.yaml"))),
+        row("candidate file is a FIFO", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_CSV)], 2, "a FIFO (named pipe), not a regular file").setup(|d| mkfifo(&d.join("c.csv"))),
+        row("robot is a FIFO", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF_IN_FOLDER)], 2, "a FIFO (named pipe), not a regular file").setup(|d| { std::fs::create_dir(d.join("robot")).unwrap(); mkfifo(&d.join("robot/arm.urdf")) }),
+        row("task is a device", "select --task /dev/zero --out {d}/out", &[], 2, "a character device, not a regular file"),
+        row("kinematics input is a FIFO", "kinematics --robot panda --input {d}/q.jsonl", &[], 2, "a FIFO (named pipe), not a regular file").setup(|d| mkfifo(&d.join("q.jsonl"))),
         row("out is a device", "select --task {d}/t.yaml --out /dev/null", &[("t.yaml", TASK)], 2, "/dev/null: is a character device"),
         row("out is a FIFO", "select --task {d}/t.yaml --out {d}/fifo", &[("t.yaml", TASK)], 2, "FIFO").setup(|d| mkfifo(&d.join("fifo"))),
         row("out is a non-empty folder", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK), ("out/pairs.json", "[]")], 2, "not empty (it holds 'pairs.json'); use --force"),
@@ -384,6 +402,8 @@ fn table() -> Vec<Row> {
         row("demo out symlink", "demo --out {d}/link", &[], 2, "is a symbolic link").setup(|d| symlink(&d.join("real"), &d.join("link"), true)),
         row("train out exists", "train {d}/demo.json --out {d}/model.json", &[("demo.json", "{}"), ("model.json", "old")], 2, "the file exists; use --force"),
         row("train out symlink", "train {d}/demo.json --out {d}/link --force", &[("demo.json", "{}"), ("model.json", "old")], 2, "is a symbolic link").setup(|d| symlink(&d.join("model.json"), &d.join("link"), false)),
+        row("train out over its demonstration", "train {d}/demo.json --out {d}/demo.json --force", &[("demo.json", "{}")], 2, "demo.json, an input of this run"),
+        row("generate out over its cloud", "generate --model {d}/m.json --cloud {d}/c.ply --out {d}/c.ply --force", &[("m.json", "{}"), ("c.ply", "ply")], 2, "c.ply, an input of this run"),
         row("train out folder", "train {d}/demo.json --out {d}/dir --force", &[("demo.json", "{}"), ("dir/x", "")], 2, "is an existing folder"),
         row("train missing demonstration", "train {d}/missing.json --out {d}/model.json", &[], 2, "missing.json"),
         row("train invalid demonstration", "train {d}/demo.json --out {d}/model.json", &[("demo.json", "{\"hand\": 3}")], 2, "demo.json"),

@@ -647,3 +647,146 @@ fn readme_table_matches(findings: &serde_json::Value) {
         );
     }
 }
+
+/// `--xacro-arg` and `--search-path` reach the xacro program (a stand-in that records its
+/// arguments and environment); a file not named *.xacro is never handed to it.
+#[cfg(unix)]
+#[test]
+fn xacro_arguments_and_search_paths_reach_the_xacro_program() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log");
+    let urdf = r#"<robot name="r"><link name="base"/><joint name="j" type="revolute"><parent link="base"/><child link="tip"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint><link name="tip"/></robot>"#;
+    let stand_in = write(
+        dir.path(),
+        "xacro-stand-in",
+        &format!(
+            "#!/bin/sh\n{{ for a in \"$@\"; do echo \"arg=$a\"; done; export -p; }} > '{}'\necho '{urdf}'\n",
+            log.display()
+        ),
+    );
+    std::fs::set_permissions(&stand_in, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let xacro = write(dir.path(), "arm.urdf.xacro", "<robot/>");
+    let share = dir.path().join("share");
+    let run = |file: &Path, extra: &[&str]| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_graspath"));
+        command
+            .args(["kinematics", "--urdf"])
+            .arg(file)
+            .args(["--base", "base", "--tip", "tip"])
+            .args(extra)
+            .env("GRASPATH_XACRO", &stand_in)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        command.output().unwrap()
+    };
+    let o = run(
+        &xacro,
+        &[
+            "--xacro-arg",
+            "reach:=0.65",
+            "--xacro-arg",
+            "side:=left",
+            "--search-path",
+            share.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let record = std::fs::read_to_string(&log).unwrap();
+    assert!(
+        record.contains("arg=reach:=0.65\narg=side:=left\n"),
+        "{record}"
+    );
+    assert!(
+        record.contains(&format!("search\t{}", share.display())),
+        "{record}"
+    );
+    let o = run(&xacro, &["--xacro-arg", "reach=0.65"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_clean_failure(&o, &["--xacro-arg", "NAME:=VALUE"]);
+    // A plain URDF with xacro markup is refused, and nothing runs.
+    std::fs::remove_file(&log).unwrap();
+    let markup = write(
+        dir.path(),
+        "arm.urdf",
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:include filename="x.xacro"/></robot>"#,
+    );
+    let o = run(&markup, &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_clean_failure(&o, &["arm.urdf:1: uses xacro markup", "*.xacro"]);
+    assert!(!log.exists());
+    let o = run(&markup, &["--xacro-arg", "a:=1"]);
+    assert_clean_failure(&o, &["xacro argument 'a'", "only a file named *.xacro"]);
+}
+
+/// A run stopped by SIGTERM or SIGINT part-way through a streamed selection removes its
+/// temporary folder, writes nothing, and exits with 128 + the signal's number; a folder being
+/// replaced with `--force` is still there, unchanged.
+#[cfg(unix)]
+#[test]
+fn a_signal_leaves_no_temporary_output_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = write(
+        dir.path(),
+        "faces.yaml",
+        &std::fs::read_to_string(repo_root().join("examples/workload_1000_faces.yaml"))
+            .unwrap()
+            .replace("count: 1000", "count: 1000000"),
+    );
+    let previous = dir.path().join("out");
+    std::fs::create_dir(&previous).unwrap();
+    write(&previous, "summary.json", "{\"earlier\": true}");
+    for (signal, code) in [("TERM", 143), ("INT", 130)] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
+            .args([
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--format",
+                "jsonl",
+            ])
+            .args(["--out", previous.to_str().unwrap(), "--force", "--quiet"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let temporary = || {
+            std::fs::read_dir(dir.path())
+                .unwrap()
+                .filter_map(Result::ok)
+                .any(|e| e.file_name().to_string_lossy().contains(".graspath-"))
+        };
+        // Wait until the temporary folder exists (the selection has started writing).
+        let started = std::time::Instant::now();
+        while !temporary() {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "the run ended before it wrote anything"
+            );
+            assert!(
+                started.elapsed().as_secs() < 120,
+                "no temporary folder appeared"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        let killed = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let output = child.wait_with_output().unwrap();
+        assert_eq!(output.status.code(), Some(code), "{}", stderr(&output));
+        assert!(
+            stderr(&output).contains("stopped by a signal"),
+            "{}",
+            stderr(&output)
+        );
+        assert!(!temporary(), "a temporary entry is left after SIG{signal}");
+        let names: Vec<String> = std::fs::read_dir(&previous)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["summary.json"], "the earlier output was touched");
+    }
+}

@@ -354,7 +354,7 @@ fn progress_every_logs_rising_counts_and_a_final_line() {
         "2",
     );
     assert!(quiet.status.success() && quiet.stderr.is_empty());
-    for bad in ["0", "-1", "nan", "soon"] {
+    for bad in ["0", "-1", "nan", "soon", "1e20", "inf"] {
         let flag = format!("--progress-every={bad}");
         let refused = graspath(&["select", "--task", task.to_str().unwrap(), &flag], "2");
         assert_eq!(refused.status.code(), Some(2), "{flag}");

@@ -29,6 +29,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList};
 use rayon::prelude::*;
 use std::borrow::Cow;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -128,12 +129,14 @@ fn ik_options(
 ) -> PyResult<IkOptions> {
     let max_time = match max_time {
         None => None,
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => {
-            return Err(error(format!(
-                "option 'max_time': must be a positive number of seconds or None, got {t}"
-            )))
-        }
+        Some(t) => match Duration::try_from_secs_f64(t) {
+            Ok(budget) if t > 0.0 => Some(budget),
+            _ => {
+                return Err(error(format!(
+                    "option 'max_time': must be a positive number of seconds (at most about 1.8e19) or None, got {t}"
+                )))
+            }
+        },
     };
     Ok(IkOptions {
         position_tolerance,
@@ -185,17 +188,28 @@ impl PyRobot {
     }
 
     /// The chain ``base_link`` → ``tip_link`` of a URDF file, optionally with a tool offset
-    /// ``tool`` = ``tip_from_tool`` (4×4, metres). Link geometry is ignored.
+    /// ``tool`` = ``tip_from_tool`` (4×4, metres). Link geometry is ignored. A file named
+    /// ``*.xacro`` is expanded by the ``xacro`` program (it runs code: only for files you
+    /// trust) with ``xacro_args`` (``{name: value}``); ``search_paths`` are where
+    /// ``package://PKG`` and xacro's ``$(find PKG)`` look first.
     #[staticmethod]
-    #[pyo3(signature = (path, base_link, tip_link, tool = None))]
+    #[pyo3(signature = (path, base_link, tip_link, tool = None, *, search_paths = None, xacro_args = None))]
     fn from_urdf(
         path: PathBuf,
         base_link: &str,
         tip_link: &str,
         tool: Option<FloatArray<'_>>,
+        search_paths: Option<Vec<PathBuf>>,
+        xacro_args: Option<BTreeMap<String, String>>,
     ) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let model = RobotSource::urdf(path).load().map_err(error)?;
+        let model = RobotSource::Urdf {
+            path,
+            search_paths: search_paths.unwrap_or_default(),
+            xacro_args: xacro_args.unwrap_or_default(),
+        }
+        .load()
+        .map_err(error)?;
         Ok(Self::new(
             model.chain(base_link, tip_link, tool).map_err(error)?,
         ))

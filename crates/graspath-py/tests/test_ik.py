@@ -173,8 +173,9 @@ class TestErrors:
             left.ik(np.stack([np.eye(4)] * 3), np.zeros((2, 7)))
         with pytest.raises(graspath.GraspathError, match="option 'position_tolerance'"):
             left.ik(np.eye(4), position_tolerance=0.0)
-        with pytest.raises(graspath.GraspathError, match="max_time"):
-            left.ik(np.eye(4), max_time=-1.0)
+        for bad in (-1.0, 0.0, float("nan"), float("inf"), 1e300):
+            with pytest.raises(graspath.GraspathError, match="max_time"):
+                left.ik(np.eye(4), max_time=bad)
         with pytest.raises(graspath.GraspathError, match="option 'max_joint_step'"):
             left.ik_trajectory(np.stack([np.eye(4)] * 2), max_joint_step=0.0)
         with pytest.raises(graspath.GraspathError, match="trajectory: not a valid pose"):

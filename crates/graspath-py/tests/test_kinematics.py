@@ -264,3 +264,43 @@ def test_builtin_arms():
         graspath.Robot.builtin("pand")
     with pytest.raises(graspath.GraspathError, match="arm"):
         graspath.Robot.builtin("ur5e", "left")
+
+
+XACRO_ARM = """<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="reach" default="0.4"/>
+  <link name="base"/>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="tip"/><origin xyz="$(arg reach) 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/>
+  </joint>
+  <link name="tip"/>
+</robot>
+"""
+
+
+class TestXacro:
+    """Only files named *.xacro are expanded (xacro runs code), with their arguments."""
+
+    def test_markup_outside_a_xacro_file_is_refused(self, tmp_path):
+        path = tmp_path / "arm.urdf"
+        path.write_text(XACRO_ARM)
+        with pytest.raises(graspath.GraspathError, match=r"arm.urdf:3: uses xacro markup .*\*\.xacro"):
+            graspath.Robot.from_urdf(path, "base", "tip")
+        with pytest.raises(graspath.GraspathError, match="only a file named \\*.xacro is expanded"):
+            graspath.Robot.from_urdf(path, "base", "tip", xacro_args={"reach": "1"})
+
+    def test_arguments_reach_xacro(self, tmp_path):
+        import os
+        import shutil
+
+        if not (os.environ.get("GRASPATH_XACRO") or shutil.which("xacro")):
+            if os.environ.get("CI") == "true":
+                pytest.fail("xacro is required in CI (.ci/run installs it and sets GRASPATH_XACRO)")
+            pytest.skip("xacro is not installed")
+        path = tmp_path / "arm.urdf.xacro"
+        path.write_text(XACRO_ARM)
+        for reach, args in [(0.4, None), (0.65, {"reach": "0.65"})]:
+            robot = graspath.Robot.from_urdf(path, "base", "tip", xacro_args=args, search_paths=[tmp_path])
+            pose = robot.fk(np.array([0.3]))
+            np.testing.assert_allclose(pose[:3, 3], [reach, 0.0, 0.0], atol=1e-12)

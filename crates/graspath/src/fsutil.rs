@@ -14,18 +14,65 @@
 //!   replaced; an existing non-empty folder only with [`Existing::Replace`], which moves the old
 //!   folder aside, renames the new one in and only then deletes the old one (on a failure the
 //!   old folder is put back). The current folder, one of its ancestors and the home folder are
-//!   never replaced.
+//!   never replaced, nor an output path that is or holds an input of the run
+//!   ([`check_not_an_input`]).
 //! * Missing parent folders are created, and removed again when the write fails. On any error
 //!   no temporary file or folder is left behind.
 //!
 //! Temporary names are hidden and carry the target's name, the process id and a counter:
 //! `.NAME.graspath-PID-N.tmp` (and `.NAME.graspath-PID-N.old` for a folder being replaced).
+//! Every temporary name is remembered, so that a program stopped by a signal can remove what
+//! it leaves ([`remove_temporaries`]; the CLI does on SIGINT, SIGTERM and SIGHUP).
 
 use std::ffi::OsString;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Component, Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Every temporary file or folder this process made, with, for an old folder moved aside,
+/// where it came from.
+static TEMPORARIES: Mutex<Vec<(PathBuf, Option<PathBuf>)>> = Mutex::new(Vec::new());
+
+/// Remembers the temporary `path` (and where to put it back, for an old folder moved aside).
+fn remember(path: &Path, restore_to: Option<&Path>) {
+    let mut temporaries = TEMPORARIES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    temporaries.retain(|(p, _)| p != path);
+    temporaries.push((path.to_path_buf(), restore_to.map(Path::to_path_buf)));
+}
+
+/// Removes what this process's writers leave when the process is stopped part-way: every
+/// temporary file and folder that still exists, and an old folder moved aside for a
+/// replacement is put back where the new one has not yet arrived (else removed). Meant for
+/// the moment before the process exits on a signal: writers still running may fail.
+pub fn remove_temporaries() {
+    let temporaries = TEMPORARIES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    for (path, restore_to) in temporaries.iter() {
+        let Ok(metadata) = std::fs::symlink_metadata(path) else {
+            continue;
+        };
+        if let Some(dir) = restore_to {
+            if std::fs::symlink_metadata(dir).is_err() && std::fs::rename(path, dir).is_ok() {
+                continue;
+            }
+        }
+        if metadata.is_dir() {
+            // A writer may add a file while the folder is removed: try again a few times.
+            for _ in 0..5 {
+                if std::fs::remove_dir_all(path).is_ok() || !path.exists() {
+                    break;
+                }
+            }
+        } else {
+            let _ = std::fs::remove_file(path);
+        }
+    }
+}
 
 /// What to do when the output path already holds a regular file (single-file output) or a
 /// non-empty folder (folder output).
@@ -86,6 +133,9 @@ pub enum OutputErrorKind {
     /// folder.
     #[error("refusing to replace {0}; choose a new folder")]
     Protected(&'static str),
+    /// The output path is, or holds, an input of the same run (`--force` would delete it).
+    #[error("refusing to replace it: it is or holds {}, an input of this run; choose another output", .0.display())]
+    HoldsInput(PathBuf),
     /// A component of the path's parent is a file, not a folder.
     #[error("a parent of this path is a file, not a folder; choose another path")]
     ParentNotFolder,
@@ -165,7 +215,9 @@ enum Found {
 }
 
 fn inspect(path: &Path) -> Result<Found, OutputError> {
-    let metadata = match std::fs::symlink_metadata(path) {
+    // `link/` would name the folder the link points to: the link itself is what is inspected.
+    let unslashed: PathBuf = path.components().collect();
+    let metadata = match std::fs::symlink_metadata(&unslashed) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Found::Nothing),
         Err(e) if e.kind() == std::io::ErrorKind::NotADirectory => {
@@ -273,6 +325,25 @@ fn folder_state(dir: &Path, existing: Existing) -> Result<Found, OutputError> {
     Ok(found)
 }
 
+/// Refuses an output path that is, or (a folder) holds, one of `inputs` (files or folders the
+/// run reads), so that replacing the output (`--force`) never deletes or overwrites an input.
+/// Paths are compared after resolving links; inputs that do not exist are ignored (reading
+/// them fails on its own).
+pub fn check_not_an_input(out: &Path, inputs: &[PathBuf]) -> Result<(), OutputError> {
+    let Ok(resolved_out) = std::fs::canonicalize(out) else {
+        return Ok(());
+    };
+    for input in inputs {
+        if std::fs::canonicalize(input).is_ok_and(|i| i.starts_with(&resolved_out)) {
+            return Err(OutputError::new(
+                out,
+                OutputErrorKind::HoldsInput(input.clone()),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Why `dir` must never be replaced, if it must not.
 fn protected(dir: &Path) -> Option<&'static str> {
     let dir = std::fs::canonicalize(dir).ok()?;
@@ -356,7 +427,10 @@ fn fresh<T>(
         file_name.push(format!(".graspath-{}-{n}.{suffix}", std::process::id()));
         let path = dir.join(file_name);
         match make(&path) {
-            Ok(value) => return Ok((path, value)),
+            Ok(value) => {
+                remember(&path, None);
+                return Ok((path, value));
+            }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 1_000_000 => continue,
             Err(e) => return Err(e),
         }
@@ -641,6 +715,7 @@ impl Drop for FolderWriter {
 fn replace_folder(staging: &Path, dir: &Path) -> Result<(), OutputError> {
     let (aside, ()) = fresh(dir, "old", |p| std::fs::create_dir(p))
         .map_err(|e| OutputError::io(dir, "reserve a name to move the old folder to", e))?;
+    remember(&aside, Some(dir));
     // Renaming a folder onto an empty folder replaces it.
     if let Err(e) = std::fs::rename(dir, &aside) {
         let _ = std::fs::remove_dir(&aside);

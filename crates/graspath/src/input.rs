@@ -1,6 +1,9 @@
-//! Reading an input file whole, with a cap on its size: a file that is far too large (a
-//! multi-gigabyte file named by mistake, a device such as `/dev/zero`, a FIFO that never ends)
-//! is a clear error after at most the cap has been read, never an exhausted machine.
+//! Opening input files ([`open`]) and reading them whole with a cap on their size ([`read`]).
+//!
+//! Only regular files are read: a FIFO, a socket, a device or a folder is refused before any
+//! byte is read ([`open`] opens without blocking, so a FIFO without a writer cannot hang the
+//! program), and a file that is far too large (a multi-gigabyte file named by mistake) is a
+//! clear error before it is read, never an exhausted machine.
 //!
 //! Each kind of input has its cap here, well above any real file of that kind. Readers that
 //! stream their file (candidate files, see [`crate::grasp`]) check sizes on their own.
@@ -25,7 +28,7 @@ pub const MAX_CLOUD_FILE_BYTES: u64 = 4 << 30;
 /// is read when the file's length is known, otherwise once `max_bytes + 1` bytes have been
 /// read. The refusal is an error of kind [`io::ErrorKind::FileTooLarge`] that gives the cap.
 pub fn read(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
-    let file = File::open(path)?;
+    let file = open(path)?;
     let known = file
         .metadata()
         .ok()
@@ -41,6 +44,56 @@ pub fn read(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
         return Err(too_large(max_bytes));
     }
     Ok(bytes)
+}
+
+/// Opens the regular file at `path` for reading. A FIFO, socket, device or folder is refused
+/// with an error of kind [`io::ErrorKind::InvalidInput`] that says what it is; on Unix the file
+/// is opened without blocking (`O_NONBLOCK`, which changes nothing for a regular file), so a
+/// FIFO is refused at once instead of waiting for a writer.
+pub fn open(path: &Path) -> io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path)?;
+    let file_type = file.metadata()?.file_type();
+    if file_type.is_file() {
+        return Ok(file);
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("{}, not a regular file", kind_of(&file_type)),
+    ))
+}
+
+#[cfg(unix)]
+fn kind_of(file_type: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if file_type.is_dir() {
+        "a folder"
+    } else if file_type.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if file_type.is_socket() {
+        "a socket"
+    } else if file_type.is_char_device() {
+        "a character device"
+    } else if file_type.is_block_device() {
+        "a block device"
+    } else {
+        "a special file"
+    }
+}
+
+#[cfg(not(unix))]
+fn kind_of(file_type: &std::fs::FileType) -> &'static str {
+    if file_type.is_dir() {
+        "a folder"
+    } else {
+        "a special file"
+    }
 }
 
 /// [`read`] as UTF-8 text; text that is not UTF-8 is an error of kind
@@ -98,10 +151,21 @@ mod tests {
 
     #[cfg(unix)]
     #[test]
-    fn an_endless_stream_stops_at_the_cap() {
-        // A device without a length: only the cap and one byte more are read.
-        let err = read(Path::new("/dev/zero"), 1 << 16).unwrap_err();
-        assert_eq!(err.kind(), io::ErrorKind::FileTooLarge);
+    fn special_files_are_refused_before_anything_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        // No writer: a blocking open would wait for ever.
+        for (path, what) in [
+            (fifo.as_path(), "a FIFO (named pipe)"),
+            (Path::new("/dev/zero"), "a character device"),
+            (dir.path(), "a folder"),
+        ] {
+            let err = read(path, 1 << 16).unwrap_err();
+            assert_eq!(err.kind(), io::ErrorKind::InvalidInput, "{path:?}");
+            assert_eq!(err.to_string(), format!("{what}, not a regular file"));
+        }
     }
 
     #[test]

@@ -267,6 +267,7 @@ fn hand_meshes_resolve_through_the_robot_source() {
     let source = RobotSource::Urdf {
         path: urdf.clone(),
         search_paths: vec![dir.path().join("share")],
+        xacro_args: Default::default(),
     };
     let hand = hand_from_robot(&source.load().unwrap(), "palm").unwrap();
     assert!(matches!(

@@ -26,6 +26,7 @@ fn urdf(data: &std::path::Path, relative: &str) -> RobotModel {
     RobotSource::Urdf {
         path: data.join(relative),
         search_paths: vec![share],
+        xacro_args: Default::default(),
     }
     .load()
     .unwrap_or_else(|e| panic!("{relative}: {e}"))

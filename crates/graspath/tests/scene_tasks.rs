@@ -585,3 +585,36 @@ fn an_object_rests_on_the_obstacle_it_stands_on() {
         assert_eq!(x.norms, y.norms);
     }
 }
+
+/// A scene task on an MJCF robot whose chain has links without collision geometry (the tool
+/// frame `panda_hand_tcp`, `panda_link8`, ... — nearly every real tool-frame chain): the
+/// bodies that ride with the object are those of the tip link's rigid group, whatever the
+/// number of bodies (this indexed the bodies by the tip's link index and panicked).
+#[test]
+fn a_scene_task_on_a_robot_with_bare_links_keeps_its_margins() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let example = std::fs::read_to_string(root.join("../../examples/scene/panda_shelf_pick.yaml"))
+        .unwrap()
+        .replace(
+            "robot: { builtin: panda }",
+            &format!(
+                "robot: {{ mjcf: {}, chains: {{ arm: {{ base: panda_link0, tip: panda_hand_tcp }} }} }}",
+                root.join("tests/data/mjcf/panda.xml").display()
+            ),
+        )
+        .replace("count: 200", "count: 40");
+    assert!(example.contains("mjcf"));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("task.yaml");
+    std::fs::write(&path, example).unwrap();
+    let task = Task::load(&path).unwrap();
+    let margin = task.collisions.as_ref().unwrap().options.margin;
+    let selection = select(&task, &|| {});
+    let scores = &selection.arms[0].scores;
+    assert_eq!(scores.len(), 40);
+    let feasible = scores.iter().filter(|s| s.feasible()).count();
+    assert!(feasible > 0, "nothing feasible to check");
+    for s in scores.iter().filter(|s| s.feasible()) {
+        assert!(s.clearance.unwrap() >= margin, "{:?}", s.clearance);
+    }
+}

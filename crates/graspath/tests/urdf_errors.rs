@@ -70,6 +70,41 @@ fn inverted_limits_are_refused() {
     assert!(err.to_string().contains("field 'limit'"), "{err}");
 }
 
+/// Limits beyond ±1e16 are refused (their span would overflow what IK samples from);
+/// Gazebo's ±1e16 for an unlimited joint is kept, and IK works on it.
+#[test]
+fn huge_limits_are_refused_and_gazebos_unlimited_is_kept() {
+    let joint = |kind: &str, limit: &str| {
+        two_links(&format!(
+            r#"<joint name="j" type="{kind}"><parent link="base"/><child link="tip"/>
+               <axis xyz="1 0 0"/><limit lower="-{limit}" upper="{limit}" effort="1" velocity="1"/></joint>"#
+        ))
+    };
+    for kind in ["prismatic", "revolute"] {
+        let err = parse_urdf_chain(&joint(kind, "1e308"), "r.urdf", "base", "tip").unwrap_err();
+        let m = err.to_string();
+        assert!(
+            m.contains("field 'limit'") && m.contains("beyond ±10000000000000000"),
+            "{m}"
+        );
+        let chain = parse_urdf_chain(&joint(kind, "1e16"), "r.urdf", "base", "tip").unwrap();
+        let target = chain.pose(&[0.25]).unwrap();
+        let solution = graspath::robot::solve_ik(
+            &chain,
+            &nalgebra::convert(target),
+            &[0.0],
+            &graspath::robot::IkOptions::default(),
+        )
+        .unwrap();
+        let q = solution.q.expect("solved");
+        let reached = chain.pose(&q).unwrap();
+        let gap = (reached.to_homogeneous() - target.to_homogeneous())
+            .abs()
+            .max();
+        assert!(gap < 1e-6, "{kind}: {gap}");
+    }
+}
+
 #[test]
 fn wrong_configuration_length_and_nan() {
     let chain = graspath::robot::builtin::baxter(graspath::robot::builtin::Arm::Left);
@@ -85,16 +120,132 @@ fn wrong_configuration_length_and_nan() {
     ));
 }
 
-/// Xacro text without its file cannot be expanded (files are: tests/xacro.rs).
+/// Xacro markup outside a file named `*.xacro` is refused with its line (xacro runs code:
+/// only files the user names as xacro files are expanded; files are: tests/xacro.rs); in a
+/// comment it is no markup.
 #[test]
-fn xacro_text_gets_an_instruction() {
+fn xacro_markup_is_refused_but_not_in_comments() {
     let err = UrdfRobot::from_xml(
-        r#"<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="m"/></robot>"#,
+        "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n<xacro:macro name=\"m\"/></robot>",
         "inline.urdf",
     )
     .unwrap_err();
-    assert!(matches!(err, RobotError::Xacro { .. }));
-    assert!(err.to_string().contains("pip install xacro"), "{err}");
+    assert!(
+        matches!(err, RobotError::XacroMarkup { line: 2, .. }),
+        "{err}"
+    );
+    let m = err.to_string();
+    assert!(
+        m.starts_with("inline.urdf:2: uses xacro markup (the element <xacro:macro>)"),
+        "{m}"
+    );
+    assert!(m.contains("*.xacro") && m.contains("runs code"), "{m}");
+    // Another prefix bound to the namespace, and a substitution in an attribute.
+    for (text, markup) in [
+        (
+            r#"<robot xmlns:x="https://ros.org/wiki/xacro"><link name="a"/><x:if value="1"/></robot>"#,
+            "<x:if>",
+        ),
+        (
+            r#"<robot xmlns:xa="http://wiki.ros.org/xacro"><link name="a"/><xa:arg name="x"/></robot>"#,
+            "<xa:arg>",
+        ),
+        (
+            r#"<robot><link name="a"><visual><origin xyz="${l} 0 0"/></visual></link></robot>"#,
+            "<origin>",
+        ),
+    ] {
+        let err = UrdfRobot::from_xml(text, "inline.urdf").unwrap_err();
+        assert!(matches!(err, RobotError::XacroMarkup { .. }), "{err}");
+        assert!(err.to_string().contains(markup), "{err}");
+    }
+    // xacro's output keeps the namespace declaration and any comments: it is plain URDF.
+    let robot = UrdfRobot::from_xml(
+        r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <!-- =================================================================================== -->
+  <!-- <xacro:macro name="arm"> made with ${prefix} and $(find pkg) -->
+  <link name="a"/>
+</robot>"#,
+        "generated.urdf",
+    )
+    .unwrap();
+    assert_eq!(robot.link_names(), ["a"]);
+}
+
+/// A robot without links (example-robot-data ships such a `ur3.urdf`, comments only) is
+/// refused as such, as urdfdom refuses it.
+#[test]
+fn a_robot_without_links_is_refused() {
+    let err = UrdfRobot::from_xml(
+        "<robot xmlns:xacro=\"http://wiki.ros.org/xacro\"><!-- Author --></robot>",
+        "ur3.urdf",
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("ur3.urdf: not a valid URDF: the robot has no <link> element"),
+        "{err}"
+    );
+}
+
+/// `<texture/>` without a file (iCub, Romeo) is accepted, as urdfdom and Pinocchio accept
+/// it; the rest of the material, and every line number after it, is unchanged.
+#[test]
+fn a_texture_without_a_file_is_accepted() {
+    let robot = |texture: &str| {
+        format!(
+            "<robot name=\"r\">\n<material name=\"m\">\n  <color rgba=\"1 0 0 1\"/>\n  {texture}\n</material>\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>"
+        )
+    };
+    for texture in ["<texture/>", "<texture>\n</texture>", "<texture></texture>"] {
+        // The joint lacks its <limit>: the error's line shows nothing moved.
+        let err = UrdfRobot::from_xml(&robot(texture), "icub.urdf").unwrap_err();
+        let m = err.to_string();
+        let line = if texture.contains('\n') { 9 } else { 8 };
+        assert!(m.contains(&format!("(line {line};")), "{texture}: {m}");
+    }
+    let fixed = robot("<texture/>").replace(
+        "</joint>",
+        "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>",
+    );
+    let model = UrdfRobot::from_xml(&fixed, "icub.urdf").unwrap();
+    assert_eq!(model.link_names(), ["a", "b"]);
+}
+
+/// A `package://` mesh URI may not climb out of its package.
+#[test]
+fn package_paths_stay_inside_their_package() {
+    let dir = tempfile::tempdir().unwrap();
+    let package = dir.path().join("share/pkg");
+    std::fs::create_dir_all(package.join("meshes")).unwrap();
+    std::fs::write(dir.path().join("share/secret.stl"), "solid x\nendsolid x\n").unwrap();
+    std::fs::write(package.join("meshes/part.stl"), "solid x\nendsolid x\n").unwrap();
+    let resolver = MeshResolver {
+        search_paths: vec![dir.path().join("share")],
+        ..MeshResolver::default()
+    };
+    assert_eq!(
+        resolver
+            .resolve("package://pkg/meshes/part.stl", "r.urdf", "l")
+            .unwrap(),
+        package.join("meshes/part.stl")
+    );
+    for uri in [
+        "package://pkg/../secret.stl",
+        "package://pkg/meshes/../../secret.stl",
+        "package://../share/secret.stl",
+        "model://pkg/../secret.stl",
+    ] {
+        let err = resolver.resolve(uri, "r.urdf", "l").unwrap_err();
+        assert!(
+            matches!(err, RobotError::MeshOutsidePackage { .. }),
+            "{uri}: {err}"
+        );
+        assert!(
+            err.to_string().contains("may not leave its package"),
+            "{err}"
+        );
+    }
 }
 
 #[test]

@@ -112,6 +112,7 @@ impl GenerateArgs {
 pub fn run(args: &GenerateArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     check_file_target(&args.out, existing)?;
+    super::check_out_spares(&args.out, &[&args.model, &args.cloud])?;
     let model = GraspModel::read(&args.model)?;
     let (cloud, cloud_report) = load_cloud_filtered(&args.cloud, &args.outliers()?)?;
     let source = args.cloud.display().to_string();

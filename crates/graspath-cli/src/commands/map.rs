@@ -71,6 +71,7 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
     check_folder_target(&args.out, existing)?;
     let grid = grid(args)?;
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
+    super::check_out_spares_task_inputs(&args.out, &args.task, &file)?;
     let name = args.task.display().to_string();
     let base_dir = args
         .task

@@ -7,3 +7,26 @@ pub mod kinematics;
 pub mod map;
 pub mod select;
 pub mod train;
+
+use graspath::fsutil::{check_not_an_input, OutputError};
+use graspath::task::TaskFile;
+use std::path::{Path, PathBuf};
+
+/// Refuses an `--out` that is or holds the task file or a file or folder the task reads
+/// (`--force` would delete it).
+pub fn check_out_spares_task_inputs(
+    out: &Path,
+    task_path: &Path,
+    file: &TaskFile,
+) -> Result<(), OutputError> {
+    let base_dir = task_path.parent().unwrap_or(Path::new(""));
+    let mut inputs = vec![task_path.to_path_buf()];
+    inputs.extend(file.input_paths().into_iter().map(|p| base_dir.join(p)));
+    check_not_an_input(out, &inputs)
+}
+
+/// Refuses an `--out` that is or holds one of `inputs`.
+pub fn check_out_spares(out: &Path, inputs: &[&Path]) -> Result<(), OutputError> {
+    let inputs: Vec<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
+    check_not_an_input(out, &inputs)
+}

@@ -251,6 +251,7 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     // Refuse a bad --out before the work, not after it.
     check_folder_target(&args.out, existing)?;
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
+    super::check_out_spares_task_inputs(&args.out, &args.task, &file)?;
     let title = args.task.display().to_string();
     let base_dir = args.task.parent().map(PathBuf::from).unwrap_or_default();
     let trajectories = TrajectoriesArg::or_default_for(args.trajectories, args.format);

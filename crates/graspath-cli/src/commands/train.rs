@@ -28,6 +28,7 @@ pub struct TrainArgs {
 pub fn run(args: &TrainArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     check_file_target(&args.out, existing)?;
+    super::check_out_spares(&args.out, &[&args.demonstration])?;
     let model = train_file(&args.demonstration)?;
     write_file(&args.out, &model.to_json()?, existing)?;
     if !args.quiet {

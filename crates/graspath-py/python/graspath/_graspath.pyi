@@ -42,9 +42,17 @@ class Robot:
         """A built-in robot's chain (``arm``: ``left``/``right`` for Baxter, ``arm`` otherwise), base to tool frame."""
     @staticmethod
     def from_urdf(
-        path: StrPath, base_link: str, tip_link: str, tool: Optional[ArrayLike] = None
+        path: StrPath,
+        base_link: str,
+        tip_link: str,
+        tool: Optional[ArrayLike] = None,
+        *,
+        search_paths: Optional[Sequence[StrPath]] = None,
+        xacro_args: Optional[Mapping[str, str]] = None,
     ) -> Robot:
-        """The chain ``base_link`` → ``tip_link`` of a URDF file."""
+        """The chain ``base_link`` → ``tip_link`` of a URDF file; a ``*.xacro`` file is expanded
+        by the ``xacro`` program with ``xacro_args`` (xacro runs code: only for files you
+        trust); ``search_paths`` are where ``package://PKG`` and ``$(find PKG)`` look first."""
     @staticmethod
     def from_mjcf(
         path: StrPath, base_body: str, tip_body: str, tool: Optional[ArrayLike] = None

@@ -82,6 +82,9 @@ pub struct ArmBodies {
     pub(crate) bodies: Vec<LinkBody>,
     /// The tip link (the last of [`Chain::link_names`]) and the tool on it.
     pub(crate) tip: usize,
+    /// The rigid group the tip link moves with (its last moving joint + 1; 0: none): the
+    /// bodies of that group and the hand are carried with the object.
+    pub(crate) tip_group: usize,
     pub(crate) link_from_tool: IsometryMatrix3<f64>,
     /// Per link (in [`Chain::link_names`] order): where it is when the configuration does
     /// not matter.
@@ -159,6 +162,7 @@ impl ArmBodies {
             sweep: chain.sweep_bound(),
             bodies,
             tip,
+            tip_group: group(tip),
             link_from_tool,
             rigid,
             self_pairs: Vec::new(),

@@ -294,7 +294,7 @@ impl<'a> Slots<'a> {
         }
         if self.setup.object.is_some() {
             let o = self.object_slot();
-            let tip_group = arm.bodies[arm.tip].group;
+            let tip_group = arm.tip_group;
             match at {
                 ObjectAt::Start | ObjectAt::End => {
                     for (i, b) in arm.bodies.iter().enumerate() {

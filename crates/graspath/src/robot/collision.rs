@@ -95,14 +95,14 @@ impl MeshResolver {
     }
 
     /// The files a URI may name, in the order they are tried; `None` for an unsupported
-    /// scheme (`http://`, ...).
+    /// scheme (`http://`, ...). A package URI that would leave its package (a `..`
+    /// component, or a package name that is not one folder) names no file.
     pub fn candidates(&self, uri: &str) -> Option<Vec<PathBuf>> {
-        let package = uri
-            .strip_prefix("package://")
-            .or_else(|| uri.strip_prefix("model://"));
-        if let Some(rest) = package {
-            let (package, relative) = rest.split_once('/').unwrap_or((rest, ""));
+        if let Some((package, relative)) = package_uri(uri) {
             let mut out = Vec::new();
+            if leaves_package(package, relative) {
+                return Some(out);
+            }
             for d in &self.search_paths {
                 out.push(d.join(package).join(relative));
                 out.push(d.join("share").join(package).join(relative));
@@ -134,6 +134,15 @@ impl MeshResolver {
 
     /// The first existing file a URI names, for link `link` of robot file `source_name`.
     pub fn resolve(&self, uri: &str, source_name: &str, link: &str) -> Result<PathBuf, RobotError> {
+        if let Some((package, relative)) = package_uri(uri) {
+            if leaves_package(package, relative) {
+                return Err(RobotError::MeshOutsidePackage {
+                    source_name: source_name.to_string(),
+                    link: link.to_string(),
+                    uri: uri.to_string(),
+                });
+            }
+        }
         let candidates = self.candidates(uri).ok_or_else(|| RobotError::MeshScheme {
             source_name: source_name.to_string(),
             link: link.to_string(),
@@ -149,4 +158,24 @@ impl MeshResolver {
             }),
         }
     }
+}
+
+/// The package and the path inside it of a `package://` or `model://` URI.
+fn package_uri(uri: &str) -> Option<(&str, &str)> {
+    let rest = uri
+        .strip_prefix("package://")
+        .or_else(|| uri.strip_prefix("model://"))?;
+    Some(rest.split_once('/').unwrap_or((rest, "")))
+}
+
+/// Whether `package://package/relative` would name a file outside the package's folder.
+fn leaves_package(package: &str, relative: &str) -> bool {
+    let not_a_folder_name = package.is_empty() || package == "." || package == "..";
+    not_a_folder_name
+        || Path::new(relative).components().any(|c| {
+            !matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        })
 }

@@ -12,23 +12,43 @@ pub enum RobotError {
         /// The operating system's message.
         message: String,
     },
-    /// A `.xacro` file was given and no `xacro` command could expand it (or xacro text was
-    /// given without its file).
+    /// A `.xacro` file was given and no `xacro` program is installed to expand it.
     #[error("{source_name}: this is a xacro file; {}", xacro_hint(.reason))]
     Xacro {
         /// The file.
         source_name: String,
-        /// Why it was not expanded (empty: xacro text given without a file).
+        /// Why it was not expanded.
         reason: String,
     },
-    /// The `xacro` command ran but failed (its exit status and standard error are included).
+    /// A file not named `*.xacro` uses xacro markup. xacro runs code, so graspath expands only
+    /// files the user names as xacro files.
+    #[error("{source_name}:{line}: uses xacro markup ({markup}) but is not named *.xacro; xacro runs code, so only files named *.xacro are expanded: if you trust this file, name it (or a copy) *.xacro, or expand it yourself (`xacro FILE > robot.urdf`) and load the .urdf")]
+    XacroMarkup {
+        /// The file.
+        source_name: String,
+        /// 1-based line of the first xacro element or substitution.
+        line: usize,
+        /// What was found, e.g. `<xacro:macro>` or `${...} in an attribute of <origin>`.
+        markup: String,
+    },
+    /// A xacro argument cannot be passed to `xacro`.
+    #[error("{source_name}: xacro argument '{name}': {message}")]
+    XacroArgument {
+        /// The file.
+        source_name: String,
+        /// The argument's name (empty when the argument list as a whole is at fault).
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The `xacro` program ran but failed (its exit code and standard error are included).
     #[error("{source_name}: `{command}` failed: {message}")]
     XacroFailed {
         /// The file.
         source_name: String,
         /// The command line that was run.
         command: String,
-        /// Exit status and the end of the command's standard error.
+        /// Exit code (or time limit) and the end of the program's standard error.
         message: String,
     },
     /// An MJCF (MuJoCo XML) element or attribute cannot be used: a missing or malformed
@@ -118,6 +138,16 @@ pub enum RobotError {
     /// A collision mesh URI of a scheme that cannot be resolved to a file.
     #[error("{source_name}: link '{link}', collision mesh '{uri}': unsupported URI scheme (use package://, model://, file:// or a path)")]
     MeshScheme {
+        /// The URDF file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// The URI.
+        uri: String,
+    },
+    /// A `package://` or `model://` mesh URI whose path climbs out of its package (a `..`).
+    #[error("{source_name}: link '{link}', mesh '{uri}': a package path may not leave its package ('..' is refused)")]
+    MeshOutsidePackage {
         /// The URDF file.
         source_name: String,
         /// The link.
@@ -270,12 +300,7 @@ fn suggestion_text(suggestions: &[String]) -> String {
 }
 
 fn xacro_hint(reason: &str) -> String {
-    let install = "install xacro (`pip install xacro`, or ROS's xacro package) so it is expanded on load, or expand it yourself (`xacro FILE > robot.urdf`) and load the .urdf";
-    if reason.is_empty() {
-        format!("expand it first: {install}")
-    } else {
-        format!("expand it first ({reason}): {install}")
-    }
+    format!("expand it first ({reason}): install xacro (`pip install xacro`, or ROS's xacro package) so it is expanded on load, or set GRASPATH_XACRO to the program, or expand it yourself (`xacro FILE > robot.urdf`) and load the .urdf")
 }
 
 fn display_paths(paths: &[std::path::PathBuf]) -> String {

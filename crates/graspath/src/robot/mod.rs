@@ -34,4 +34,7 @@ pub use source::{RobotModel, RobotSource};
 pub use spec::{ChainSpec, JointKind, JointSpec, Mimic};
 pub use srdf::{DisabledPair, EndEffector, Srdf, SrdfGroup};
 pub use urdf::{load_urdf_chain, parse_urdf_chain, UrdfRobot};
-pub use xacro::{expand_xacro, expand_xacro_with, XacroCommand};
+pub use xacro::{
+    expand_xacro, expand_xacro_with, find_xacro_program, is_xacro_path, XacroOptions,
+    PASSED_ENVIRONMENT,
+};

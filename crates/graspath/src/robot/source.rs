@@ -29,7 +29,9 @@ use super::error::RobotError;
 use super::mjcf::MjcfRobot;
 use super::spec::ChainSpec;
 use super::urdf::UrdfRobot;
+use super::xacro::{is_xacro_path, XacroOptions};
 use nalgebra::Isometry3;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The built-in robots' names (see [`super::builtin`]).
@@ -42,11 +44,15 @@ pub enum RobotSource {
     Builtin(String),
     /// A URDF file; `search_paths` are tried first when resolving `package://` and
     /// `model://` mesh URIs (then `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH`, the file's folder).
+    /// A file named `*.xacro` is expanded first (see [`super::xacro`]: xacro runs code), with
+    /// `xacro_args` and with `$(find PKG)` looked up in the same folders as `package://PKG`.
     Urdf {
-        /// The URDF file.
+        /// The URDF (or `*.xacro`) file.
         path: PathBuf,
-        /// Extra folders for mesh lookup.
+        /// Extra folders for mesh and package lookup.
         search_paths: Vec<PathBuf>,
+        /// xacro arguments (`NAME:=VALUE`); only for a `*.xacro` file.
+        xacro_args: BTreeMap<String, String>,
     },
     /// A MuJoCo MJCF file (see [`MjcfRobot`]): links are its bodies; mesh files are relative
     /// to its `<compiler meshdir>`.
@@ -67,6 +73,7 @@ impl RobotSource {
         RobotSource::Urdf {
             path: path.into(),
             search_paths: Vec::new(),
+            xacro_args: BTreeMap::new(),
         }
     }
 
@@ -76,8 +83,8 @@ impl RobotSource {
     }
 
     /// Loads the model: a built-in one is checked by name ("did you mean"), a URDF file is
-    /// read and checked (see [`UrdfRobot`]; a `.xacro` file is expanded first when the `xacro`
-    /// command is installed), an MJCF file likewise (see [`MjcfRobot`]). Meshes are not read.
+    /// read and checked (see [`UrdfRobot`]; a `*.xacro` file is expanded first when the `xacro`
+    /// program is installed), an MJCF file likewise (see [`MjcfRobot`]). Meshes are not read.
     pub fn load(&self) -> Result<RobotModel, RobotError> {
         match self {
             RobotSource::Builtin(name) => match BuiltinRobot::from_name(name) {
@@ -91,13 +98,35 @@ impl RobotSource {
                     suggestions: closest_names(name, BUILTIN_ROBOTS.to_vec()),
                 }),
             },
-            RobotSource::Urdf { path, search_paths } => {
-                let robot = UrdfRobot::from_file(path)?;
+            RobotSource::Urdf {
+                path,
+                search_paths,
+                xacro_args,
+            } => {
                 let base_dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+                let meshes = MeshResolver::from_env(&base_dir, search_paths.clone());
+                let robot = if is_xacro_path(path) {
+                    let options = XacroOptions {
+                        args: xacro_args.clone(),
+                        packages: Some(meshes.clone()),
+                        ..XacroOptions::default()
+                    };
+                    UrdfRobot::from_xacro(path, &options)?
+                } else if let Some(name) = xacro_args.keys().next() {
+                    return Err(RobotError::XacroArgument {
+                        source_name: path.display().to_string(),
+                        name: name.clone(),
+                        message:
+                            "xacro arguments are given, but only a file named *.xacro is expanded"
+                                .into(),
+                    });
+                } else {
+                    UrdfRobot::from_file(path)?
+                };
                 Ok(RobotModel {
                     source_name: robot.source_name().to_string(),
                     kind: Kind::Urdf {
-                        meshes: MeshResolver::from_env(&base_dir, search_paths.clone()),
+                        meshes,
                         robot: Box::new(robot),
                     },
                 })

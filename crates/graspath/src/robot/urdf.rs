@@ -4,13 +4,15 @@
 //! revolute or prismatic joint needs its `<limit>` (the URDF specification requires it), and
 //! a link may be the child of one joint only. Collision geometry is read on request
 //! ([`UrdfRobot::collisions`]), so `package://` mesh paths never slow down or stop chain
-//! building. A `.xacro` file is expanded by the `xacro` command when it is installed, else
-//! refused with the way to install it.
+//! building. A file named `*.xacro` is expanded by the `xacro` program when it is installed, else
+//! refused with the way to install it; xacro markup in a file with any other name is refused
+//! (xacro runs code: see [`super::xacro`]).
 
 use super::chain::{unit_axis, Chain};
 use super::collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 use super::error::{closest_names, RobotError};
 use super::spec::{ChainSpec, JointKind, JointSpec, Mimic};
+use super::xacro::XacroOptions;
 use crate::geometry::shape::Shape;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -24,10 +26,14 @@ pub struct UrdfRobot {
 }
 
 impl UrdfRobot {
-    /// Reads and parses a URDF file. A `.xacro` file (or a file using `<xacro:` elements) is
-    /// first expanded by the `xacro` command when it is installed
-    /// ([`super::xacro::expand_xacro`]); otherwise the error says how to install it.
+    /// Reads and parses a URDF file. A file named `*.xacro` ([`super::xacro::is_xacro_path`])
+    /// is first expanded by the `xacro` program with no arguments
+    /// ([`super::xacro::expand_xacro`]; [`UrdfRobot::from_xacro`] passes arguments); xacro
+    /// markup in a file with any other name is refused.
     pub fn from_file(path: &Path) -> Result<Self, RobotError> {
+        if super::xacro::is_xacro_path(path) {
+            return Self::from_xacro(path, &XacroOptions::default());
+        }
         let source_name = path.display().to_string();
         let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
             |e| RobotError::Io {
@@ -35,22 +41,32 @@ impl UrdfRobot {
                 message: e.to_string(),
             },
         )?;
-        if path.extension().is_some_and(|e| e == "xacro") || text.contains("<xacro:") {
-            let expanded = super::xacro::expand_xacro(path)?;
-            return Self::from_xml(&expanded, &source_name);
-        }
         Self::from_xml(&text, &source_name)
     }
 
-    /// Parses URDF text; `source_name` names it in errors. Xacro text is refused (it can only
-    /// be expanded from its file: [`UrdfRobot::from_file`]).
-    pub fn from_xml(text: &str, source_name: &str) -> Result<Self, RobotError> {
-        if text.contains("<xacro:") {
-            return Err(RobotError::Xacro {
-                source_name: source_name.to_string(),
-                reason: String::new(),
-            });
+    /// Expands the xacro file `path` with `options` and parses the URDF it gives. The file is
+    /// expanded whatever its name: call this only for files the user named as xacro files
+    /// (xacro runs code).
+    pub fn from_xacro(path: &Path, options: &XacroOptions) -> Result<Self, RobotError> {
+        let source_name = path.display().to_string();
+        // A missing file, or one that is not a regular file (a FIFO would block xacro), is
+        // named as such, not as a xacro failure.
+        let io = |message: String| RobotError::Io {
+            source_name: source_name.clone(),
+            message,
+        };
+        let metadata = std::fs::metadata(path).map_err(|e| io(e.to_string()))?;
+        if !metadata.is_file() {
+            return Err(io("not a regular file".into()));
         }
+        let expanded = super::xacro::expand_xacro(path, options)?;
+        Self::from_xml(&expanded, &source_name)
+    }
+
+    /// Parses URDF text; `source_name` names it in errors. Text with xacro markup outside
+    /// comments is refused ([`RobotError::XacroMarkup`]): it can only be expanded from a file
+    /// named `*.xacro`.
+    pub fn from_xml(text: &str, source_name: &str) -> Result<Self, RobotError> {
         if super::mjcf::is_mjcf(text) {
             return Err(RobotError::Parse {
                 source_name: source_name.to_string(),
@@ -58,10 +74,26 @@ impl UrdfRobot {
             });
         }
         let scan = super::urdf_scan::scan(text, source_name)?;
-        let robot = urdf_rs::read_from_string(text).map_err(|e| RobotError::Parse {
-            source_name: source_name.to_string(),
-            message: e.to_string(),
+        if let Some((line, markup)) = scan.xacro_markup {
+            return Err(RobotError::XacroMarkup {
+                source_name: source_name.to_string(),
+                line,
+                markup,
+            });
+        }
+        let robot = urdf_rs::read_from_string(&scan.without_blank_textures(text)).map_err(|e| {
+            RobotError::Parse {
+                source_name: source_name.to_string(),
+                message: e.to_string(),
+            }
         })?;
+        if robot.links.is_empty() {
+            return Err(RobotError::Parse {
+                source_name: source_name.to_string(),
+                message: "the robot has no <link> element (a URDF describes at least one link)"
+                    .into(),
+            });
+        }
         let mut parent_of: HashMap<&str, &str> = HashMap::new();
         for joint in &robot.joints {
             if let Some(first) = parent_of.insert(&joint.child.link, &joint.name) {

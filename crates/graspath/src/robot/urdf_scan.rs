@@ -12,6 +12,47 @@ use std::collections::HashMap;
 pub(crate) struct Scan {
     /// Joint name → (line of its start tag, whether it has a `<limit>` child).
     pub joints: HashMap<String, (usize, bool)>,
+    /// The first xacro markup outside comments: its line and what it is (an element in the
+    /// xacro namespace, or a `${...}` / `$(...)` substitution in an attribute).
+    pub xacro_markup: Option<(usize, String)>,
+    /// Byte ranges of `<texture>` elements without a `filename` (iCub and Romeo write
+    /// `<texture/>`): urdfdom and Pinocchio ignore them, `urdf-rs` refuses them, and a texture
+    /// plays no part in kinematics or collision, so [`Scan::without_blank_textures`] blanks them.
+    pub blank_textures: Vec<std::ops::Range<usize>>,
+}
+
+impl Scan {
+    /// `text` with the [`Scan::blank_textures`] replaced by spaces (line breaks kept, so every
+    /// line and column stays where it was).
+    pub fn without_blank_textures<'a>(&self, text: &'a str) -> std::borrow::Cow<'a, str> {
+        if self.blank_textures.is_empty() {
+            return std::borrow::Cow::Borrowed(text);
+        }
+        let mut bytes = text.as_bytes().to_vec();
+        for range in &self.blank_textures {
+            for b in &mut bytes[range.clone()] {
+                if *b != b'\n' {
+                    *b = b' ';
+                }
+            }
+        }
+        // Only whole elements, which start and end at ASCII '<' and '>', were blanked.
+        std::borrow::Cow::Owned(String::from_utf8_lossy(&bytes).into_owned())
+    }
+}
+
+/// The namespace URIs that xacro's documentation and ROS descriptions bind the xacro prefix
+/// to (`ros.org/wiki/xacro` with and without `www.`, and `wiki.ros.org/xacro`; over http and
+/// https).
+fn is_xacro_namespace(uri: &[u8]) -> bool {
+    let uri = uri
+        .strip_prefix(b"https://")
+        .or_else(|| uri.strip_prefix(b"http://"));
+    uri.is_some_and(|rest| {
+        let rest = rest.strip_prefix(b"www.").unwrap_or(rest);
+        let rest = rest.strip_suffix(b"/").unwrap_or(rest);
+        rest == b"ros.org/wiki/xacro" || rest == b"wiki.ros.org/xacro"
+    })
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -50,10 +91,13 @@ pub(crate) fn xml_error(
 pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
     let mut reader = Reader::from_str(text);
     reader.config_mut().check_end_names = true;
-    let mut stack: Vec<(String, usize)> = Vec::new();
+    // Open elements: name, start offset, whether the element is a blank texture.
+    let mut stack: Vec<(String, usize, bool)> = Vec::new();
     let mut current_joint: Option<String> = None;
     let mut out = Scan::default();
     let mut seen_root = false;
+    // Prefixes bound to the xacro namespace (`xacro` by convention, whether declared or not).
+    let mut xacro_prefixes: Vec<Vec<u8>> = vec![b"xacro".to_vec()];
     loop {
         let start = reader.buffer_position() as usize;
         let event = reader.read_event().map_err(|e| {
@@ -64,13 +108,24 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                 e.to_string(),
             )
         })?;
+        let end = reader.buffer_position() as usize;
         let mut element = |e: &BytesStart<'_>, empty: bool| -> Result<(), RobotError> {
             let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
             let mut joint_name = None;
+            let mut substitution = false;
+            let mut has_filename = false;
             for attribute in e.attributes().with_checks(true) {
                 let attribute = attribute.map_err(|err| {
                     xml_error(text, source_name, start, format!("in <{name}>: {err}"))
                 })?;
+                if let Some(prefix) = attribute.key.as_ref().strip_prefix(b"xmlns:") {
+                    if is_xacro_namespace(&attribute.value) {
+                        xacro_prefixes.push(prefix.to_vec());
+                    }
+                }
+                has_filename |= attribute.key.as_ref() == b"filename";
+                let value = attribute.value.as_ref();
+                substitution |= value.windows(2).any(|w| w == b"${" || w == b"$(");
                 if name == "joint" && attribute.key.as_ref() == b"name" {
                     joint_name = Some(
                         attribute
@@ -91,6 +146,21 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                 ));
             }
             seen_root = true;
+            if out.xacro_markup.is_none() {
+                let in_xacro_namespace = e
+                    .name()
+                    .prefix()
+                    .is_some_and(|p| xacro_prefixes.iter().any(|x| x == p.as_ref()));
+                if in_xacro_namespace {
+                    out.xacro_markup =
+                        Some((line_column(text, start).0, format!("the element <{name}>")));
+                } else if substitution {
+                    out.xacro_markup = Some((
+                        line_column(text, start).0,
+                        format!("a ${{...}} or $(...) substitution in an attribute of <{name}>"),
+                    ));
+                }
+            }
             let depth = stack.len();
             if depth == 1 && name == "joint" {
                 let joint = joint_name.unwrap_or_default();
@@ -106,8 +176,13 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                     }
                 }
             }
-            if !empty {
-                stack.push((name, start));
+            let blank_texture = name == "texture" && !has_filename;
+            if empty {
+                if blank_texture {
+                    out.blank_textures.push(start..end);
+                }
+            } else {
+                stack.push((name, start, blank_texture));
             }
             Ok(())
         };
@@ -118,13 +193,15 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
                 if stack.len() == 2 && stack[1].0 == "joint" {
                     current_joint = None;
                 }
-                stack.pop();
+                if let Some((_, open, true)) = stack.pop() {
+                    out.blank_textures.push(open..end);
+                }
             }
             Event::Eof => break,
             _ => {}
         }
     }
-    if let Some((name, start)) = stack.last() {
+    if let Some((name, start, _)) = stack.last() {
         return Err(xml_error(
             text,
             source_name,

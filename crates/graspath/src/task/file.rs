@@ -222,12 +222,46 @@ pub struct RobotFile {
     /// A MuJoCo MJCF file (relative to the task file); chains name bodies as links.
     #[serde(default)]
     pub mjcf: Option<PathBuf>,
+    /// Folders (relative to the task file) where a URDF's `package://PKG` mesh URIs and a
+    /// xacro file's `$(find PKG)` look first.
+    #[serde(default)]
+    pub search_paths: Vec<PathBuf>,
+    /// xacro arguments for a `urdf: FILE.xacro` (`{dof: 7}`; numbers and booleans are passed
+    /// as written).
+    #[serde(default)]
+    pub xacro_args: BTreeMap<String, XacroArgument>,
     /// Arm chains by name (required with `urdf` or `mjcf`; with `builtin` they may add a tool or base pose).
     #[serde(default)]
     pub chains: BTreeMap<String, ArmFile>,
     /// A tool offset `tip_from_tool` applied to every arm that does not set its own.
     #[serde(default)]
     pub tool: Option<PoseSpec>,
+}
+
+/// A xacro argument's value as a task file writes it: text, a number or a boolean.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum XacroArgument {
+    /// A boolean, passed as `true` / `false`.
+    Bool(bool),
+    /// An integer, passed in decimal.
+    Integer(i64),
+    /// A number, passed in Rust's shortest round-trip form.
+    Number(f64),
+    /// Text, passed as it is.
+    Text(String),
+}
+
+impl XacroArgument {
+    /// The text passed to `xacro` as `NAME:=TEXT`.
+    pub fn text(&self) -> String {
+        match self {
+            XacroArgument::Bool(b) => b.to_string(),
+            XacroArgument::Integer(i) => i.to_string(),
+            XacroArgument::Number(x) => x.to_string(),
+            XacroArgument::Text(t) => t.clone(),
+        }
+    }
 }
 
 /// One arm chain.
@@ -569,6 +603,41 @@ impl TaskFile {
             .map_err(|e| TaskError::new(&name, "", format!("cannot read: {e}")))?;
         let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         Self::parse(&text, &name, extension)
+    }
+
+    /// Every file and folder the task reads, as written (relative to the task file's folder):
+    /// the robot, its search paths, the candidate file or the model and cloud, the scene's
+    /// meshes and clouds, the SRDF, the hand's URDF. Outputs must never replace them.
+    pub fn input_paths(&self) -> Vec<&Path> {
+        let robot = &self.robot;
+        let candidates = &self.candidates;
+        let mut out: Vec<&Path> = [&robot.urdf, &robot.mjcf, &candidates.file]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .collect();
+        out.extend(robot.search_paths.iter().map(PathBuf::as_path));
+        if let Some(generate) = &candidates.generate {
+            out.extend([generate.model.as_path(), generate.cloud.as_path()]);
+        }
+        if let Some(scene) = &self.scene {
+            for obstacle in &scene.obstacles {
+                out.extend(
+                    obstacle
+                        .mesh
+                        .iter()
+                        .chain(&obstacle.cloud)
+                        .map(PathBuf::as_path),
+                );
+            }
+        }
+        if let Some(collision) = &self.collision {
+            out.extend(collision.srdf.as_deref());
+        }
+        if let Some(gripper) = &self.gripper {
+            out.extend(gripper.urdf.as_deref());
+        }
+        out
     }
 
     /// Parses task text; `format` is `yaml`, `yml` or `json` (anything else: JSON, then YAML).

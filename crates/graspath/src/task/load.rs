@@ -246,7 +246,22 @@ fn setup_arms(
     // The one robot-source resolver (shared with the CLI, Python and the hand loader).
     let (robot_source, source_field) = match (&robot.builtin, &robot.urdf, &robot.mjcf) {
         (Some(name), None, None) => (RobotSource::builtin(name.as_str()), "robot.builtin"),
-        (None, Some(path), None) => (RobotSource::urdf(base_dir.join(path)), "robot.urdf"),
+        (None, Some(path), None) => (
+            RobotSource::Urdf {
+                path: base_dir.join(path),
+                search_paths: robot
+                    .search_paths
+                    .iter()
+                    .map(|p| base_dir.join(p))
+                    .collect(),
+                xacro_args: robot
+                    .xacro_args
+                    .iter()
+                    .map(|(name, value)| (name.clone(), value.text()))
+                    .collect(),
+            },
+            "robot.urdf",
+        ),
         (None, None, Some(path)) => (RobotSource::mjcf(base_dir.join(path)), "robot.mjcf"),
         (None, None, None) => {
             return Err(err(
@@ -261,6 +276,20 @@ fn setup_arms(
             ))
         }
     };
+    if robot.urdf.is_none() {
+        if !robot.search_paths.is_empty() {
+            return Err(err(
+                "robot.search_paths",
+                "search paths are for a URDF robot (urdf: FILE)".into(),
+            ));
+        }
+        if !robot.xacro_args.is_empty() {
+            return Err(err(
+                "robot.xacro_args",
+                "xacro arguments are for a urdf: FILE.xacro robot".into(),
+            ));
+        }
+    }
     let model = robot_source
         .load()
         .map_err(|e| TaskError::caused_by(source, source_field, e))?;

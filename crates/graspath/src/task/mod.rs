@@ -23,7 +23,7 @@ pub use error::TaskError;
 pub use file::{
     pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,
     LikelihoodFile, NormFile, ObjectFile, PenaltyFile, RobotFile, RotateFile, SelectionFile,
-    SpacingFile, StepFile, TaskFile, TrajectoryFile,
+    SpacingFile, StepFile, TaskFile, TrajectoryFile, XacroArgument,
 };
 pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};

@@ -108,7 +108,8 @@ fn fault_of<E>(file: &Path, (location, message): Fault) -> ScanError<E> {
 
 /// The file opened for reading, refused above [`MAX_FILE_BYTES`] when its length is known.
 fn open(path: &Path) -> Result<File, Fault> {
-    let file = File::open(path).map_err(|e| ("file".to_string(), format!("cannot read: {e}")))?;
+    let file =
+        crate::input::open(path).map_err(|e| ("file".to_string(), format!("cannot read: {e}")))?;
     if let Ok(metadata) = file.metadata() {
         if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
             return Err(("file".into(), too_large(metadata.len())));
@@ -122,7 +123,7 @@ fn too_large(bytes: u64) -> String {
 }
 
 /// A reader that counts the bytes it hands on (the JSON entries' offsets) and refuses more
-/// than [`MAX_FILE_BYTES`] (pipes and devices, whose length is not known beforehand).
+/// than [`MAX_FILE_BYTES`] (should the file grow while it is read).
 struct Counted<'a, R> {
     inner: R,
     count: &'a Cell<u64>,
@@ -296,7 +297,22 @@ fn csv_columns<R: Read>(reader: &mut csv::Reader<R>) -> Result<Columns, Fault> {
         .headers()
         .map_err(|e| ("line 1".to_string(), e.to_string()))?;
     if let Some(unknown) = headers.iter().find(|h| !h.is_empty() && !KNOWN.contains(h)) {
-        return Err(("line 1".into(), format!("unknown column '{unknown}'")));
+        // A name is quoted only when it looks like one: the first line of a file that is no
+        // candidate file at all (a link to a secret, say) is not echoed.
+        let looks_like_a_name = unknown.len() <= 32
+            && unknown
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ');
+        let message = if looks_like_a_name {
+            format!("unknown column '{unknown}'")
+        } else {
+            format!(
+                "an unknown column that is not a column name ({} characters); the columns are {}",
+                unknown.chars().count(),
+                KNOWN.join(", ")
+            )
+        };
+        return Err(("line 1".into(), message));
     }
     let columns = Columns(KNOWN.map(|name| headers.iter().position(|h| h == name)));
     if let Some(k) = (X..QX + 4).find(|k| columns.0[*k].is_none()) {

@@ -429,7 +429,7 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, String> {
 /// The first bytes of a file (at most 8: enough for every binary signature), the file
 /// refused above [`MAX_FILE_BYTES`] when its length is known.
 fn read_head(path: &Path) -> Result<Vec<u8>, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    let file = crate::input::open(path).map_err(|e| format!("cannot read: {e}"))?;
     if let Ok(metadata) = file.metadata() {
         if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
             return Err(format!("is larger than {MAX_FILE_BYTES} bytes"));
@@ -461,7 +461,7 @@ pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
             return Ok(GraspFormat::Graspath);
         }
         if !has_extension(&["yaml", "yml"]) {
-            let file = std::fs::File::open(path)
+            let file = crate::input::open(path)
                 .map_err(|e| file_error(path, format!("cannot read: {e}")))?;
             let reader = std::io::BufReader::new(file.take(MAX_FILE_BYTES));
             let mut de = serde_json::Deserializer::from_reader(reader);

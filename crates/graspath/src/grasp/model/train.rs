@@ -85,6 +85,7 @@ impl HandSource {
                 let model = RobotSource::Urdf {
                     path: base_dir.join(urdf),
                     search_paths: search_paths.iter().map(|p| base_dir.join(p)).collect(),
+                    xacro_args: Default::default(),
                 }
                 .load()
                 .map_err(crate::grasp::hand::HandError::from)?;

@@ -83,6 +83,12 @@ struct LinkSlot {
 /// mistake (millimetres) or a corrupt file, and would overflow the kinematics.
 pub const MAX_JOINT_OFFSET: f64 = 1000.0;
 
+/// The largest joint limit magnitude (rad or m) of a revolute or prismatic joint. Gazebo's
+/// SDF-to-URDF writer gives an unlimited joint ±1e16 (example-robot-data's `iris.urdf`), which
+/// is kept; anything beyond is a corrupt file or a unit mistake, and would overflow the span
+/// `upper − lower` that IK samples from.
+pub const MAX_JOINT_LIMIT: f64 = 1e16;
+
 /// Checks what the kinematics needs of one joint: a finite origin within
 /// [`MAX_JOINT_OFFSET`], and finite limits `lower ≤ upper` on a revolute or prismatic joint
 /// (only a continuous joint is unbounded).
@@ -116,6 +122,20 @@ fn check_joint(spec: &ChainSpec, joint: &super::spec::JointSpec) -> Result<(), R
             "limit",
             format!(
                 "lower {} and upper {} must be finite with lower <= upper",
+                joint.lower, joint.upper
+            ),
+        ));
+    }
+    if bounded && joint.lower.abs().max(joint.upper.abs()) > MAX_JOINT_LIMIT {
+        let unit = if joint.kind == JointKind::Prismatic {
+            "m (are the units metres?)"
+        } else {
+            "rad (a joint that turns without limit is `continuous`)"
+        };
+        return Err(bad(
+            "limit",
+            format!(
+                "lower {} or upper {} is beyond ±{MAX_JOINT_LIMIT} {unit}",
                 joint.lower, joint.upper
             ),
         ));

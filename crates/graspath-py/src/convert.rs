@@ -1,17 +1,20 @@
 //! Conversions between numpy arrays / Python objects and the library's types, and the mapping
 //! of library errors to `graspath.GraspathError`.
 //!
-//! Arrays come in as anything numpy can turn into `float64` (lists, int arrays, views); they are
-//! copied once into contiguous row-major buffers so that the heavy work can run without the GIL.
+//! Arrays come in as anything numpy can turn into `float64` (lists, int arrays, views). A
+//! C-contiguous float64 array is read where it lies; any other layout (Fortran order, strided
+//! views) is read through its strides into a row-major copy, so that the heavy work can run on
+//! row-major values without the GIL.
 
 use crate::GraspathError;
 use graspath::geometry::{pose_from_rows, pose_to_rows};
 use graspath::task::JacobianRows;
-use nalgebra::{Isometry3, IsometryMatrix3};
+use nalgebra::Isometry3;
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString};
+use std::borrow::Cow;
 use std::fmt::Display;
 
 /// Any array-like that numpy can convert to `float64`.
@@ -76,19 +79,30 @@ pub struct Buffer {
 impl Buffer {
     /// Copies `array` (any layout) into a row-major buffer.
     pub fn from_array(array: &FloatArray<'_>) -> Self {
-        let shape = array.shape().to_vec();
-        // C-contiguous arrays (the usual case) are copied in one block.
-        let data = match array.as_slice() {
-            Ok(slice) => slice.to_vec(),
-            Err(_) => array.as_array().iter().copied().collect(),
-        };
-        Self { shape, data }
+        Self {
+            shape: array.shape().to_vec(),
+            data: row_major(array).into_owned(),
+        }
     }
 
     /// The shape as Python prints it, e.g. `(3, 7)`.
     pub fn shape_text(&self) -> String {
         shape_text(&self.shape)
     }
+}
+
+/// The values of `array` in row-major (C) order: the array's own memory when it is
+/// C-contiguous, else a copy read through its strides in index order (Fortran-ordered and
+/// strided arrays give the same values as their C-ordered copies).
+pub fn row_major<'a>(array: &'a FloatArray<'_>) -> Cow<'a, [f64]> {
+    // `as_slice` also accepts Fortran-contiguous arrays, whose memory order is not row-major:
+    // only C order is borrowed as it lies.
+    if array.is_c_contiguous() {
+        if let Ok(slice) = array.as_slice() {
+            return Cow::Borrowed(slice);
+        }
+    }
+    Cow::Owned(array.as_array().iter().copied().collect())
 }
 
 /// A shape as Python prints it.
@@ -126,16 +140,22 @@ pub fn rows(
 
 /// Checks that every value is finite; names the first offending entry.
 pub fn check_finite(data: &[f64], width: usize, what: &str, batch: bool) -> PyResult<()> {
-    if let Some(k) = data.iter().position(|v| !v.is_finite()) {
-        let (row, col) = (k / width.max(1), k % width.max(1));
-        let place = if batch {
-            format!("{what}[{row}, {col}]")
-        } else {
-            format!("{what}[{col}]")
-        };
-        return Err(error(format!("{place} is not a finite number")));
+    match data.iter().position(|v| !v.is_finite()) {
+        Some(k) => Err(non_finite_error(k, width, what, batch)),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// The error for the value at `index` of row-major rows of `width` values that is not finite,
+/// named by its position in the array (`q[row, col]`, or `q[col]` for one row).
+pub fn non_finite_error(index: usize, width: usize, what: &str, batch: bool) -> PyErr {
+    let (row, col) = (index / width.max(1), index % width.max(1));
+    let place = if batch {
+        format!("{what}[{row}, {col}]")
+    } else {
+        format!("{what}[{col}]")
+    };
+    error(format!("{place} is not a finite number"))
 }
 
 /// A pose from 16 row-major values of a 4×4 homogeneous matrix.
@@ -217,16 +237,6 @@ pub fn single_pose(array: &FloatArray<'_>, what: &str) -> PyResult<Isometry3<f64
 pub fn push_isometry(out: &mut Vec<f64>, pose: &Isometry3<f64>) {
     for row in pose_to_rows(pose) {
         out.extend_from_slice(&row);
-    }
-}
-
-/// Writes the 16 row-major values of a rotation-matrix pose into `out`.
-pub fn write_matrix_pose(out: &mut [f64], pose: &IsometryMatrix3<f64>) {
-    let m = pose.to_homogeneous();
-    for i in 0..4 {
-        for j in 0..4 {
-            out[4 * i + j] = m[(i, j)];
-        }
     }
 }
 

@@ -21,6 +21,9 @@
 //! * `placement::placement_map` (`graspath.placement_map`): the selection over a grid of
 //!   object placements, the document `graspath map` writes.
 //!
+//! * `memory::result_cache` (`graspath.result_cache`): the cache of large result arrays'
+//!   memory, which batch calls write into instead of new memory.
+//!
 //! Every library error becomes a `graspath.GraspathError` (a subclass of `ValueError`) with
 //! the library's message.
 
@@ -64,6 +67,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(model::generate, module)?)?;
     module.add("DEFAULTS", task::defaults_dict(py)?)?;
     module.add_function(wrap_pyfunction!(grasps::read_grasps, module)?)?;
+    module.add_function(wrap_pyfunction!(memory::result_cache, module)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -9,13 +9,13 @@
 //! requires in one `#[pymethods]` block.
 
 use crate::convert::{
-    array, check_finite, error, index_mode, poses, renamed_keyword, rows, shape_text, single_pose,
-    trajectories, write_matrix_pose, FloatArray,
+    array, check_finite, error, index_mode, non_finite_error, poses, renamed_keyword, row_major,
+    rows, shape_text, single_pose, trajectories, FloatArray,
 };
-use crate::memory::populate;
+use crate::memory::{kinematics_into, new_float_array, split_rows, split_rows_ref, ResultArray};
 use graspath::manipulability::{
-    inverse_condition, inverse_condition_squared, singular_values, task_relevant,
-    velocity_transmission_ratio, wrist_tangent, yoshikawa, Direction, JacobianPart,
+    singular_values, task_relevant, velocity_transmission_ratio, wrist_tangent, ClassicalIndices,
+    Direction, JacobianPart,
 };
 
 use graspath::robot::{
@@ -24,16 +24,14 @@ use graspath::robot::{
     UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
-use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadwriteArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyList};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Duration;
-
-/// Configurations per rayon task in batch calls.
-const BATCH_CHUNK: usize = 256;
 
 /// A serial kinematic chain from a base link to a tip link.
 #[pyclass(module = "graspath", name = "Robot", frozen)]
@@ -47,23 +45,44 @@ impl PyRobot {
         Self { chain }
     }
 
-    /// Configurations from `(dof,)` or `(n, dof)`, checked finite.
-    fn configurations(&self, q: &FloatArray<'_>) -> PyResult<(Vec<f64>, Option<usize>)> {
-        let dof = self.chain.dof();
-        let shape = q.shape();
-        let fits = matches!(shape, [w] if *w == dof) || matches!(shape, [_, w] if *w == dof);
-        if !fits {
-            return Err(error(format!(
-                "q has shape {} but the chain '{}' has {dof} joints: expected ({dof},) or (n, {dof})",
-                shape_text(shape),
-                self.chain.name()
-            )));
-        }
-        let (data, batch) = rows(q, dof, "q")?;
-        check_finite(&data, dof, "q", batch.is_some())?;
+    /// Configurations from `(dof,)` or `(n, dof)`, checked finite: row-major values (the
+    /// array's own memory when it is C-contiguous float64) and `Some(n)` for the batch form.
+    fn configurations<'a>(
+        &self,
+        q: &'a FloatArray<'_>,
+    ) -> PyResult<(Cow<'a, [f64]>, Option<usize>)> {
+        let (data, batch) = self.configurations_unchecked(q)?;
+        check_finite(&data, self.chain.dof(), "q", batch.is_some())?;
         Ok((data, batch))
     }
+
+    /// [`Self::configurations`] without the finiteness check (for calls whose kernel checks).
+    fn configurations_unchecked<'a>(
+        &self,
+        q: &'a FloatArray<'_>,
+    ) -> PyResult<(Cow<'a, [f64]>, Option<usize>)> {
+        let dof = self.chain.dof();
+        let batch = match q.shape() {
+            [w] if *w == dof => None,
+            [n, w] if *w == dof => Some(*n),
+            shape => {
+                return Err(error(format!(
+                    "q has shape {} but the chain '{}' has {dof} joints: expected ({dof},) or \
+                     (n, {dof})",
+                    shape_text(shape),
+                    self.chain.name()
+                )))
+            }
+        };
+        Ok((row_major(q), batch))
+    }
 }
+
+/// Configurations per rayon task of the index calls (an SVD or a projection each).
+const INDEX_CHUNK: usize = 64;
+
+/// Configurations per rayon task of `within_limits` (a few comparisons each).
+const SCALAR_CHUNK: usize = 4096;
 
 fn part_of(part: &str) -> PyResult<JacobianPart> {
     match part {
@@ -100,54 +119,6 @@ fn tool_pose(tool: Option<FloatArray<'_>>) -> PyResult<Option<Isometry3<f64>>> {
     tool.map(|t| single_pose(&t, "tool")).transpose()
 }
 
-/// Computes poses and Jacobians of every configuration, in parallel, into row-major buffers:
-/// `pose_out` `(n, 4, 4)` and, when given, `jacobian_out` `(n, 6, dof)`. Configurations must
-/// have been checked (length and finiteness). The output does not depend on the thread count.
-fn batch_into(
-    chain: &Chain,
-    q: &[f64],
-    pose_out: &mut [f64],
-    jacobian_out: Option<&mut [f64]>,
-) -> Result<(), RobotError> {
-    let dof = chain.dof();
-    if dof == 0 {
-        // No joint: the Jacobians are empty, every pose is the fixed tip pose.
-        let pose = chain.pose(&[])?;
-        pose_out
-            .chunks_exact_mut(16)
-            .for_each(|row| write_matrix_pose(row, &pose));
-        return Ok(());
-    }
-    // Rayon splits the batch into runs of whole configurations; each run goes through the
-    // library's batch call (four configurations per vector lane group where available).
-    let Some(jacobian_out) = jacobian_out else {
-        return pose_out
-            .par_chunks_mut(16 * BATCH_CHUNK)
-            .zip(q.par_chunks(dof * BATCH_CHUNK))
-            .try_for_each(|(poses, rows)| {
-                chain.for_each_pose(rows, |k, pose| {
-                    write_matrix_pose(&mut poses[16 * k..16 * (k + 1)], pose);
-                })
-            });
-    };
-    pose_out
-        .par_chunks_mut(16 * BATCH_CHUNK)
-        .zip(jacobian_out.par_chunks_mut(6 * dof * BATCH_CHUNK))
-        .zip(q.par_chunks(dof * BATCH_CHUNK))
-        .try_for_each(|((poses, jacobians), rows)| {
-            chain.for_each_pose_and_jacobian(rows, |k, pose, jacobian| {
-                write_matrix_pose(&mut poses[16 * k..16 * (k + 1)], pose);
-                // Column-major 6 × dof into row-major.
-                let out = &mut jacobians[6 * dof * k..6 * dof * (k + 1)];
-                for (c, column) in jacobian.chunks_exact(6).enumerate() {
-                    for (r, value) in column.iter().enumerate() {
-                        out[r * dof + c] = *value;
-                    }
-                }
-            })
-        })
-}
-
 /// The IK settings shared by `ik` and `ik_trajectory`.
 fn ik_options(
     position_tolerance: f64,
@@ -174,6 +145,13 @@ fn ik_options(
         max_iterations,
         random_seed,
     })
+}
+
+/// Copies `values` into `out` (as many as both hold).
+fn copy_into(out: &mut [f64], values: &[f64]) {
+    for (o, v) in out.iter_mut().zip(values) {
+        *o = *v;
+    }
 }
 
 fn failure_reason(solution: &IkSolution) -> Option<&'static str> {
@@ -331,27 +309,36 @@ impl PyRobot {
     fn within_limits<'py>(&self, py: Python<'py>, q: FloatArray<'py>) -> PyResult<Py<PyAny>> {
         let dof = self.chain.dof();
         let (data, batch) = self.configurations(&q)?;
-        let flags: Vec<bool> = data
-            .chunks(dof.max(1))
-            .map(|qi| self.chain.within_limits(qi))
-            .collect();
-        Ok(match batch {
-            None => flags
-                .first()
-                .copied()
-                .unwrap_or(true)
-                .into_pyobject(py)?
+        let Some(n) = batch else {
+            return Ok(PyBool::new(py, self.chain.within_limits(&data))
                 .to_owned()
                 .into_any()
-                .unbind(),
-            Some(_) => PyArray1::from_vec(py, flags).into_any().unbind(),
-        })
+                .unbind());
+        };
+        let flags = PyArray1::<bool>::zeros(py, n, false);
+        let mut guard = flags.try_readwrite().map_err(error)?;
+        let out = guard.as_slice_mut().map_err(error)?;
+        let chain = &self.chain;
+        py.detach(|| {
+            split_rows_ref(&data, dof, n, SCALAR_CHUNK)
+                .into_par_iter()
+                .zip(split_rows(out, 1, n, SCALAR_CHUNK))
+                .for_each(|(q, out)| {
+                    for (k, flag) in out.iter_mut().enumerate() {
+                        *flag = chain.within_limits(&q[k * dof..(k + 1) * dof]);
+                    }
+                });
+        });
+        drop(guard);
+        Ok(flags.into_any().unbind())
     }
 
-    /// The tip pose ``base_from_tip``: ``(4, 4)`` for ``q`` of shape ``(dof,)``, ``(n, 4, 4)``
-    /// for ``(n, dof)``. Batches run in parallel without the GIL. ``out``: an existing
-    /// C-contiguous float64 array of that shape to write into (and return), so that repeated
-    /// calls allocate nothing.
+    /// The tip pose ``base_from_tip`` (metres): ``(4, 4)`` for ``q`` of shape ``(dof,)``,
+    /// ``(n, 4, 4)`` for ``(n, dof)``. Batches are written in place in parallel without the
+    /// GIL, each value bit-identical to the call on that configuration alone. ``q`` may have
+    /// any layout (Fortran order and strided views are read through their strides). ``out``:
+    /// an existing C-contiguous float64 array of that shape to write into (and return), so
+    /// that repeated calls allocate nothing; on an error its contents are unspecified.
     #[pyo3(signature = (q, out = None))]
     fn fk<'py>(
         &self,
@@ -359,13 +346,14 @@ impl PyRobot {
         q: FloatArray<'py>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
-        let (poses, _) = self.evaluate(py, q, out.map(|o| (o, None)), false)?;
-        Ok(poses)
+        let (poses, _) = self.evaluate(py, q, Some(out), None)?;
+        poses.ok_or_else(|| error("no pose was computed"))
     }
 
     /// The geometric Jacobian of the tip in the base frame, rows ``[v; ω]``: ``(6, dof)`` for
-    /// ``q`` of shape ``(dof,)``, ``(n, 6, dof)`` for ``(n, dof)``; ``out``: an existing float64
-    /// array of that shape to copy the result into (and return).
+    /// ``q`` of shape ``(dof,)``, ``(n, 6, dof)`` for ``(n, dof)``; written as :meth:`fk`
+    /// writes poses. ``out``: an existing C-contiguous float64 array of that shape to write
+    /// into (and return).
     #[pyo3(signature = (q, out = None))]
     fn jacobian<'py>(
         &self,
@@ -373,20 +361,14 @@ impl PyRobot {
         q: FloatArray<'py>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
-        let (_, jacobians) = self.evaluate(py, q, None, true)?;
-        match (out, jacobians) {
-            (None, Some(j)) => Ok(j),
-            (Some(out), Some(j)) => {
-                out.call_method1("__setitem__", (pyo3::types::PyEllipsis::get(py), j))?;
-                Ok(out.unbind())
-            }
-            (_, None) => Err(error("no Jacobian was computed")),
-        }
+        let (_, jacobians) = self.evaluate(py, q, None, Some(out))?;
+        jacobians.ok_or_else(|| error("no Jacobian was computed"))
     }
 
     /// Both the tip pose and the Jacobian, in one pass: ``(poses, jacobians)`` with shapes
-    /// ``(4, 4)`` and ``(6, dof)``, or ``(n, 4, 4)`` and ``(n, 6, dof)``. ``out``: a pair of
-    /// existing C-contiguous float64 arrays of those shapes to write into (and return).
+    /// ``(4, 4)`` and ``(6, dof)``, or ``(n, 4, 4)`` and ``(n, 6, dof)``; written as :meth:`fk`
+    /// writes poses. ``out``: a pair of existing C-contiguous float64 arrays of those shapes to
+    /// write into (and return).
     #[pyo3(signature = (q, out = None))]
     fn fk_jacobian<'py>(
         &self,
@@ -394,9 +376,14 @@ impl PyRobot {
         q: FloatArray<'py>,
         out: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>,
     ) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
-        let (poses, jacobians) = self.evaluate(py, q, out.map(|(p, j)| (p, Some(j))), true)?;
-        let jacobians = jacobians.ok_or_else(|| error("no Jacobian was computed"))?;
-        Ok((poses, jacobians))
+        let (pose_out, jacobian_out) = match out {
+            Some((p, j)) => (Some(p), Some(j)),
+            None => (None, None),
+        };
+        match self.evaluate(py, q, Some(pose_out), Some(jacobian_out))? {
+            (Some(poses), Some(jacobians)) => Ok((poses, jacobians)),
+            _ => Err(error("no Jacobian was computed")),
+        }
     }
 
     /// The classical indices of the rows ``part`` (``"full"``, ``"translation"`` = ``Jv``,
@@ -415,55 +402,87 @@ impl PyRobot {
         let dof = self.chain.dof();
         let (data, batch) = self.configurations(&q)?;
         let chain = &self.chain;
-        let per_config: Vec<[f64; 3]>;
-        let singular: Vec<Vec<f64>>;
-        (per_config, singular) = py
-            .detach(|| {
-                data.par_chunks(dof.max(1))
-                    .with_min_len(32)
-                    .map_init(
-                        || Matrix6xX::zeros(dof),
-                        |jacobian, qi| {
-                            chain.pose_and_jacobian_into(qi, jacobian)?;
-                            Ok((
-                                [
-                                    yoshikawa(jacobian, part),
-                                    inverse_condition(jacobian, part),
-                                    inverse_condition_squared(jacobian, part),
-                                ],
-                                singular_values(jacobian, part),
-                            ))
-                        },
-                    )
-                    .collect::<Result<Vec<_>, RobotError>>()
-            })
-            .map_err(error)?
-            .into_iter()
-            .unzip();
-        let dict = PyDict::new(py);
         let names = [
             "yoshikawa",
             "inverse_condition",
             "inverse_condition_squared",
         ];
-        let rows_count = singular.first().map_or(0, Vec::len);
-        match batch {
-            None => {
-                for (k, name) in names.iter().enumerate() {
-                    dict.set_item(name, per_config.first().map_or(f64::NAN, |v| v[k]))?;
-                }
-                let values = singular.into_iter().next().unwrap_or_default();
-                dict.set_item("singular_values", PyArray1::from_vec(py, values))?;
-            }
-            Some(n) => {
-                for (k, name) in names.iter().enumerate() {
-                    let column: Vec<f64> = per_config.iter().map(|v| v[k]).collect();
-                    dict.set_item(name, PyArray1::from_vec(py, column))?;
-                }
-                let flat: Vec<f64> = singular.into_iter().flatten().collect();
-                dict.set_item("singular_values", array(py, flat, &[n, rows_count])?)?;
-            }
+        let dict = PyDict::new(py);
+        let Some(n) = batch else {
+            let mut jacobian = Matrix6xX::zeros(dof);
+            chain
+                .pose_and_jacobian_into(&data, &mut jacobian)
+                .map_err(error)?;
+            let values = singular_values(&jacobian, part);
+            let indices = ClassicalIndices::from_singular_values(&values);
+            dict.set_item(names[0], indices.yoshikawa)?;
+            dict.set_item(names[1], indices.inverse_condition)?;
+            dict.set_item(names[2], indices.inverse_condition_squared)?;
+            dict.set_item("singular_values", PyArray1::from_vec(py, values))?;
+            return Ok(dict);
+        };
+        let rows = if part == JacobianPart::Full { 6 } else { 3 };
+        let columns = [
+            new_float_array(py, &[n])?,
+            new_float_array(py, &[n])?,
+            new_float_array(py, &[n])?,
+        ];
+        let singular = new_float_array(py, &[n, rows])?;
+        let mut guards = columns
+            .iter()
+            .map(|c| c.try_readwrite().map_err(error))
+            .collect::<PyResult<Vec<_>>>()?;
+        let mut singular_guard = singular.try_readwrite().map_err(error)?;
+        let [yoshikawa_out, condition_out, squared_out] = match guards.as_mut_slice() {
+            [a, b, c] => [a, b, c].map(|g| g.as_slice_mut().map_err(error)),
+            _ => return Err(error("three index columns")),
+        };
+        let (yoshikawa_out, condition_out, squared_out) =
+            (yoshikawa_out?, condition_out?, squared_out?);
+        let singular_out = singular_guard.as_slice_mut().map_err(error)?;
+        py.detach(|| {
+            split_rows_ref(&data, dof, n, INDEX_CHUNK)
+                .into_par_iter()
+                .zip(split_rows(yoshikawa_out, 1, n, INDEX_CHUNK))
+                .zip(split_rows(condition_out, 1, n, INDEX_CHUNK))
+                .zip(split_rows(squared_out, 1, n, INDEX_CHUNK))
+                .zip(split_rows(singular_out, rows, n, INDEX_CHUNK))
+                .for_each_init(
+                    || Matrix6xX::zeros(dof),
+                    |jacobian, ((((q, yoshikawa), condition), squared), singular)| {
+                        for (k, (y, (c, s))) in yoshikawa
+                            .iter_mut()
+                            .zip(condition.iter_mut().zip(squared.iter_mut()))
+                            .enumerate()
+                        {
+                            let out = &mut singular[k * rows..(k + 1) * rows];
+                            // The rows were checked (length, finite values): the call cannot
+                            // fail, and NaN would mark it if it did.
+                            let values = match chain
+                                .pose_and_jacobian_into(&q[k * dof..(k + 1) * dof], jacobian)
+                            {
+                                Ok(_) => singular_values(jacobian, part),
+                                Err(_) => vec![f64::NAN; rows],
+                            };
+                            let indices = ClassicalIndices::from_singular_values(&values);
+                            (*y, *c, *s) = (
+                                indices.yoshikawa,
+                                indices.inverse_condition,
+                                indices.inverse_condition_squared,
+                            );
+                            for (o, v) in out.iter_mut().zip(&values) {
+                                *o = *v;
+                            }
+                        }
+                    },
+                );
+        });
+        drop(guards);
+        drop(singular_guard);
+        for (name, column) in names.iter().zip(columns) {
+            dict.set_item(name, column)?;
         }
+        dict.set_item("singular_values", singular)?;
         Ok(dict)
     }
 
@@ -561,6 +580,12 @@ impl PyRobot {
             random_seed,
         )?;
         let dof = self.chain.dof();
+        if dof == 0 {
+            return Err(error(format!(
+                "the chain '{}' has no joints: there is nothing to solve for",
+                self.chain.name()
+            )));
+        }
         let (targets, batch) = poses(&target, "target")?;
         let n = targets.len();
         let starts: Vec<f64> = match &q_start {
@@ -580,76 +605,108 @@ impl PyRobot {
             }
         };
         let chain = &self.chain;
-        let solutions = py
-            .detach(|| {
-                targets
-                    .par_iter()
-                    .zip(starts.par_chunks(dof.max(1)))
-                    .map(|(t, s)| solve_ik(chain, t, s, &options))
-                    .collect::<Result<Vec<_>, _>>()
-            })
-            .map_err(error)?;
         let dict = PyDict::new(py);
-        match batch {
-            None => {
-                let s = &solutions[0];
-                dict.set_item("q", s.q.clone().map(|q| PyArray1::from_vec(py, q)))?;
-                dict.set_item("converged", s.converged())?;
-                dict.set_item("position_error", s.position_error)?;
-                dict.set_item("rotation_error", s.rotation_error)?;
-                dict.set_item("iterations", s.iterations)?;
-                match &s.failure {
-                    None => dict.set_item("failure", py.None())?,
-                    Some(f) => {
-                        let failure = PyDict::new(py);
-                        failure.set_item("reason", failure_reason(s))?;
-                        failure.set_item("best_q", PyArray1::from_vec(py, f.best_q.clone()))?;
-                        failure.set_item("attempts", f.attempts)?;
-                        failure.set_item("message", f.to_string())?;
-                        dict.set_item("failure", failure)?;
-                    }
+        let Some(n) = batch else {
+            let s = py
+                .detach(|| solve_ik(chain, &targets[0], &starts, &options))
+                .map_err(error)?;
+            dict.set_item("q", s.q.clone().map(|q| PyArray1::from_vec(py, q)))?;
+            dict.set_item("converged", s.converged())?;
+            dict.set_item("position_error", s.position_error)?;
+            dict.set_item("rotation_error", s.rotation_error)?;
+            dict.set_item("iterations", s.iterations)?;
+            match &s.failure {
+                None => dict.set_item("failure", py.None())?,
+                Some(f) => {
+                    let failure = PyDict::new(py);
+                    failure.set_item("reason", failure_reason(&s))?;
+                    failure.set_item("best_q", PyArray1::from_vec(py, f.best_q.clone()))?;
+                    failure.set_item("attempts", f.attempts)?;
+                    failure.set_item("message", f.to_string())?;
+                    dict.set_item("failure", failure)?;
                 }
             }
-            Some(n) => {
-                let mut q = Vec::with_capacity(n * dof);
-                let mut best = Vec::with_capacity(n * dof);
-                for s in &solutions {
-                    match (&s.q, &s.failure) {
-                        (Some(v), _) => {
-                            q.extend_from_slice(v);
-                            best.extend_from_slice(v);
+            return Ok(dict);
+        };
+        // Every result is written once, in place, by the task that solves its pose.
+        let q_out = new_float_array(py, &[n, dof])?;
+        let best_out = new_float_array(py, &[n, dof])?;
+        let converged_out = PyArray1::<bool>::zeros(py, n, false);
+        let errors_out = [new_float_array(py, &[n])?, new_float_array(py, &[n])?];
+        let iterations_out = PyArray1::<i64>::zeros(py, n, false);
+        let mut reasons: Vec<Option<&'static str>> = vec![None; n];
+        {
+            let mut q_guard = q_out.try_readwrite().map_err(error)?;
+            let mut best_guard = best_out.try_readwrite().map_err(error)?;
+            let mut converged_guard = converged_out.try_readwrite().map_err(error)?;
+            let mut position_guard = errors_out[0].try_readwrite().map_err(error)?;
+            let mut rotation_guard = errors_out[1].try_readwrite().map_err(error)?;
+            let mut iterations_guard = iterations_out.try_readwrite().map_err(error)?;
+            let q_rows = q_guard.as_slice_mut().map_err(error)?;
+            let best_rows = best_guard.as_slice_mut().map_err(error)?;
+            let converged = converged_guard.as_slice_mut().map_err(error)?;
+            let position = position_guard.as_slice_mut().map_err(error)?;
+            let rotation = rotation_guard.as_slice_mut().map_err(error)?;
+            let iterations = iterations_guard.as_slice_mut().map_err(error)?;
+            let failed = py.detach(|| {
+                q_rows
+                    .par_chunks_mut(dof.max(1))
+                    .zip(best_rows.par_chunks_mut(dof.max(1)))
+                    .zip(converged.par_iter_mut())
+                    .zip(position.par_iter_mut())
+                    .zip(rotation.par_iter_mut())
+                    .zip(iterations.par_iter_mut())
+                    .zip(reasons.par_iter_mut())
+                    .zip(targets.par_iter())
+                    .zip(starts.par_chunks(dof.max(1)))
+                    .enumerate()
+                    .map(|(k, item)| {
+                        let (
+                            (
+                                (
+                                    (((((q, best), converged), position), rotation), iterations),
+                                    reason,
+                                ),
+                                target,
+                            ),
+                            start,
+                        ) = item;
+                        let s = solve_ik(chain, target, start, &options).map_err(|e| (k, e))?;
+                        match (&s.q, &s.failure) {
+                            (Some(v), _) => {
+                                copy_into(q, v);
+                                copy_into(best, v);
+                            }
+                            (None, failure) => {
+                                q.fill(f64::NAN);
+                                match failure {
+                                    Some(f) => copy_into(best, &f.best_q),
+                                    None => best.fill(f64::NAN),
+                                }
+                            }
                         }
-                        (None, Some(f)) => {
-                            q.extend(std::iter::repeat_n(f64::NAN, dof));
-                            best.extend_from_slice(&f.best_q);
-                        }
-                        (None, None) => {
-                            q.extend(std::iter::repeat_n(f64::NAN, dof));
-                            best.extend(std::iter::repeat_n(f64::NAN, dof));
-                        }
-                    }
-                }
-                dict.set_item("q", array(py, q, &[n, dof])?)?;
-                dict.set_item("best_q", array(py, best, &[n, dof])?)?;
-                let converged: Vec<bool> = solutions.iter().map(IkSolution::converged).collect();
-                dict.set_item("converged", PyArray1::from_vec(py, converged))?;
-                let column = |f: &dyn Fn(&IkSolution) -> f64| -> Vec<f64> {
-                    solutions.iter().map(f).collect()
-                };
-                dict.set_item(
-                    "position_error",
-                    PyArray1::from_vec(py, column(&|s| s.position_error)),
-                )?;
-                dict.set_item(
-                    "rotation_error",
-                    PyArray1::from_vec(py, column(&|s| s.rotation_error)),
-                )?;
-                let iterations: Vec<i64> = solutions.iter().map(|s| s.iterations as i64).collect();
-                dict.set_item("iterations", PyArray1::from_vec(py, iterations))?;
-                let reasons: Vec<Option<&str>> = solutions.iter().map(failure_reason).collect();
-                dict.set_item("failure_reason", PyList::new(py, reasons)?)?;
+                        *converged = s.converged();
+                        *position = s.position_error;
+                        *rotation = s.rotation_error;
+                        *iterations = s.iterations as i64;
+                        *reason = failure_reason(&s);
+                        Ok(())
+                    })
+                    .filter_map(Result::err)
+                    .min_by_key(|(k, _)| *k)
+            });
+            if let Some((_, e)) = failed {
+                return Err(error(e));
             }
         }
+        dict.set_item("q", q_out)?;
+        dict.set_item("best_q", best_out)?;
+        dict.set_item("converged", converged_out)?;
+        let [position_error, rotation_error] = errors_out;
+        dict.set_item("position_error", position_error)?;
+        dict.set_item("rotation_error", rotation_error)?;
+        dict.set_item("iterations", iterations_out)?;
+        dict.set_item("failure_reason", PyList::new(py, reasons)?)?;
         Ok(dict)
     }
 
@@ -940,84 +997,59 @@ impl PyRobot {
     }
 }
 
-/// Borrows a caller's output array for writing: float64, C-contiguous, writeable, of `shape`.
-fn output<'py>(
-    array: &Bound<'py, PyAny>,
-    shape: &[usize],
-    what: &str,
-) -> PyResult<PyReadwriteArrayDyn<'py, f64>> {
-    let array = array
-        .cast::<PyArrayDyn<f64>>()
-        .map_err(|_| error(format!("{what} must be a numpy float64 array")))?;
-    if array.shape() != shape {
-        return Err(error(format!(
-            "{what} has shape {} but {} is expected",
-            shape_text(array.shape()),
-            shape_text(shape)
-        )));
-    }
-    if !array.is_c_contiguous() {
-        return Err(error(format!("{what} must be C-contiguous")));
-    }
-    array
-        .try_readwrite()
-        .map_err(|e| error(format!("{what} cannot be written: {e}")))
-}
-
 impl PyRobot {
-    /// Poses (and Jacobians) of `q`, into new arrays or into the caller's `out` arrays.
+    /// Poses and/or Jacobians of `q`: each wanted result (`Some`) goes into a new array
+    /// (`Some(None)`) or into the caller's (`Some(Some(out))`), written in place in parallel
+    /// without the GIL.
     #[allow(clippy::type_complexity)]
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
         q: FloatArray<'py>,
-        out: Option<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)>,
-        want_jacobian: bool,
-    ) -> PyResult<(Py<PyAny>, Option<Py<PyAny>>)> {
+        poses: Option<Option<Bound<'py, PyAny>>>,
+        jacobians: Option<Option<Bound<'py, PyAny>>>,
+    ) -> PyResult<(Option<Py<PyAny>>, Option<Py<PyAny>>)> {
         let dof = self.chain.dof();
-        let (data, batch) = self.configurations(&q)?;
-        let (pose_shape, jacobian_shape) = match batch {
-            None => (vec![4, 4], vec![6, dof]),
-            Some(n) => (vec![n, 4, 4], vec![n, 6, dof]),
-        };
+        let (data, batch) = self.configurations_unchecked(&q)?;
+        let lead: Vec<usize> = batch.into_iter().collect();
+        let shape = |tail: &[usize]| [lead.as_slice(), tail].concat();
+        let poses = poses
+            .map(|out| ResultArray::new(py, out, &shape(&[4, 4]), "out (poses)"))
+            .transpose()?;
+        let jacobians = jacobians
+            .map(|out| ResultArray::new(py, out, &shape(&[6, dof]), "out (jacobians)"))
+            .transpose()?;
+        let mut pose_guard = poses.as_ref().map(ResultArray::writer).transpose()?;
+        let mut jacobian_guard = jacobians.as_ref().map(ResultArray::writer).transpose()?;
+        let fresh =
+            poses.as_ref().is_some_and(|a| a.fresh) || jacobians.as_ref().is_some_and(|a| a.fresh);
+        let pose_slice = pose_guard
+            .as_mut()
+            .map(|g| g.as_slice_mut())
+            .transpose()
+            .map_err(error)?;
+        let jacobian_slice = jacobian_guard
+            .as_mut()
+            .map(|g| g.as_slice_mut())
+            .transpose()
+            .map_err(error)?;
         let chain = &self.chain;
-        // New arrays come from numpy's allocator (huge pages for large arrays) and have their
-        // pages mapped in one go before they are written (see `memory.rs`).
-        let fresh = out.is_none();
-        let (pose_array, jacobian_array) = out.unwrap_or_else(|| {
-            (
-                PyArrayDyn::<f64>::zeros(py, pose_shape.as_slice(), false).into_any(),
-                want_jacobian.then(|| {
-                    PyArrayDyn::<f64>::zeros(py, jacobian_shape.as_slice(), false).into_any()
-                }),
-            )
-        });
-        let mut pose_guard = output(&pose_array, &pose_shape, "out (poses)")?;
-        let mut jacobian_guard = match (&jacobian_array, want_jacobian) {
-            (Some(j), true) => Some(output(j, &jacobian_shape, "out (jacobians)")?),
-            _ => None,
-        };
-        let pose_slice = pose_guard.as_slice_mut().map_err(error)?;
-        let mut jacobian_slice = match jacobian_guard.as_mut() {
-            Some(guard) => Some(guard.as_slice_mut().map_err(error)?),
-            None => None,
-        };
-        py.detach(|| {
-            if fresh {
-                populate(pose_slice);
-                if let Some(j) = jacobian_slice.as_deref_mut() {
-                    populate(j);
+        py.detach(|| kinematics_into(chain, &data, pose_slice, jacobian_slice, fresh))
+            .map_err(|e| match e {
+                RobotError::NonFiniteJoint { index } => {
+                    non_finite_error(index, dof, "q", batch.is_some())
                 }
-            }
-            batch_into(chain, &data, pose_slice, jacobian_slice)
-        })
-        .map_err(error)?;
-        drop(pose_guard);
-        drop(jacobian_guard);
-        Ok((pose_array.unbind(), jacobian_array.map(Bound::unbind)))
+                e => error(e),
+            })?;
+        drop((pose_guard, jacobian_guard));
+        Ok((
+            poses.map(ResultArray::unbind),
+            jacobians.map(ResultArray::unbind),
+        ))
     }
 
-    /// Evaluates a per-configuration directional index in parallel.
+    /// Evaluates a per-configuration directional index in parallel, each value written once
+    /// into the result array.
     fn directional<'py>(
         &self,
         py: Python<'py>,
@@ -1030,7 +1062,7 @@ impl PyRobot {
         let width = if part == JacobianPart::Full { 6 } else { 3 };
         let dof = self.chain.dof();
         let (data, batch) = self.configurations(&q)?;
-        let n = data.len() / dof.max(1);
+        let n = batch.unwrap_or(1);
         let (directions, direction_batch) = rows(&u, width, "u")?;
         if let Some(m) = direction_batch {
             if m != n || batch.is_none() {
@@ -1050,33 +1082,40 @@ impl PyRobot {
         }
         let shared = direction_batch.is_none();
         let chain = &self.chain;
-        let values = py
-            .detach(|| {
-                data.par_chunks(dof.max(1))
-                    .enumerate()
-                    .with_min_len(64)
-                    .map_init(
-                        || Matrix6xX::zeros(dof),
-                        |jacobian, (i, qi)| {
-                            chain.pose_and_jacobian_into(qi, jacobian)?;
-                            let k = if shared { 0 } else { i };
-                            let direction = direction_of(part, &units[k * width..(k + 1) * width]);
-                            Ok(index(jacobian, &direction))
-                        },
-                    )
-                    .collect::<Result<Vec<f64>, RobotError>>()
-            })
-            .map_err(error)?;
-        Ok(match batch {
-            None => values
-                .first()
-                .copied()
-                .unwrap_or(f64::NAN)
-                .into_pyobject(py)?
-                .into_any()
-                .unbind(),
-            Some(_) => PyArray1::from_vec(py, values).into_any().unbind(),
-        })
+        let value = |jacobian: &mut Matrix6xX<f64>, i: usize, qi: &[f64]| -> f64 {
+            let k = if shared { 0 } else { i };
+            let direction = direction_of(part, &units[k * width..(k + 1) * width]);
+            // The rows were checked (length, finite values): the call cannot fail, and NaN
+            // would mark it if it did.
+            match chain.pose_and_jacobian_into(qi, jacobian) {
+                Ok(_) => index(jacobian, &direction),
+                Err(_) => f64::NAN,
+            }
+        };
+        let Some(n) = batch else {
+            let result = value(&mut Matrix6xX::zeros(dof), 0, &data);
+            return Ok(result.into_pyobject(py)?.into_any().unbind());
+        };
+        let values = new_float_array(py, &[n])?;
+        let mut guard = values.try_readwrite().map_err(error)?;
+        let out = guard.as_slice_mut().map_err(error)?;
+        py.detach(|| {
+            split_rows_ref(&data, dof, n, INDEX_CHUNK)
+                .into_par_iter()
+                .zip(split_rows(out, 1, n, INDEX_CHUNK))
+                .enumerate()
+                .for_each_init(
+                    || Matrix6xX::zeros(dof),
+                    |jacobian, (chunk, (q, out))| {
+                        for (k, o) in out.iter_mut().enumerate() {
+                            let i = chunk * INDEX_CHUNK + k;
+                            *o = value(jacobian, i, &q[k * dof..(k + 1) * dof]);
+                        }
+                    },
+                );
+        });
+        drop(guard);
+        Ok(values.into_any().unbind())
     }
 }
 

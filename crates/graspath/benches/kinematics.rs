@@ -1,15 +1,19 @@
 //! FK + geometric Jacobian per call, the tip pose alone and every link frame: Baxter's arm
-//! (built in, dynamic and fixed-size, and in batches), Panda and UR5 from `../shared/robots`
-//! (or `$GRASPATH_SHARED/robots`) when present.
+//! (built in, dynamic and fixed-size, and in batches), the built-in Panda's row-major batch
+//! on one and two threads, Panda and UR5 from `../shared/robots` (or
+//! `$GRASPATH_SHARED/robots`) when present.
 //!
 //! `cargo bench -p graspath --bench kinematics`
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use graspath::robot::builtin::{baxter, Arm};
-use graspath::robot::{load_urdf_chain, Chain};
+use graspath::robot::{load_urdf_chain, Chain, RobotSource};
 use nalgebra::{IsometryMatrix3, Matrix6xX};
 use std::hint::black_box;
 use std::path::PathBuf;
+
+/// Copies of the 64 configurations in the row-major batch benchmark.
+const BATCH_GROUPS: usize = 64;
 
 fn configurations(chain: &Chain) -> Vec<Vec<f64>> {
     // A fixed spread of configurations inside the limits (no RNG needed).
@@ -102,6 +106,37 @@ fn kinematics(c: &mut Criterion) {
             black_box(sum)
         });
     });
+    group.finish();
+    // The row-major batch into existing buffers (`Chain::batch_into`, what Python's
+    // `fk_jacobian(q, out=...)` runs), built-in Panda, 4096 configurations (1.9 MB of results,
+    // within the caches), on pools of one and two threads: the kernel and its writes without
+    // the cost of memory.
+    let panda = RobotSource::builtin("panda")
+        .load()
+        .and_then(|model| model.named_chain("arm", None))
+        .expect("built-in panda");
+    let rows: Vec<f64> = (0..BATCH_GROUPS)
+        .flat_map(|_| configurations(&panda))
+        .flatten()
+        .collect();
+    let n = rows.len() / panda.dof();
+    let (mut poses, mut jacobians) = (vec![0.0; 16 * n], vec![0.0; 6 * panda.dof() * n]);
+    let mut group = c.benchmark_group("batch_into");
+    group.throughput(Throughput::Elements(n as u64));
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        group.bench_function(format!("panda_{n}_threads_{threads}"), |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    panda.batch_into(black_box(&rows), Some(&mut poses), Some(&mut jacobians))
+                })
+                .expect("valid configurations");
+            });
+        });
+    }
     group.finish();
     let shared = std::env::var_os("GRASPATH_SHARED")
         .map(PathBuf::from)

@@ -25,6 +25,8 @@ base frame with Jacobian rows ``[v; ω]``.
   (directories of task files, manifests with candidate files and object poses).
 * :func:`read_grasps` — a grasp generator's file (GraspGen, ACRONYM, Contact-GraspNet / M2T2,
   ``N×4×4`` poses, GraspNet / AnyGrasp) as numpy candidates in the object frame.
+* :func:`result_cache` — the cache of large result arrays' memory: batch calls (``Robot.fk``,
+  ``fk_jacobian``, ...) write into memory that earlier results freed (at most 1 GiB is kept).
 * :class:`GraspathError` — raised on bad input, a subclass of :class:`ValueError`.
 
 Grasp generation from point clouds (the learned grasp model) is not offered by this version:
@@ -42,6 +44,7 @@ from ._graspath import (
     placement_map,
     pose_matrix,
     read_grasps,
+    result_cache,
     select,
     select_batch,
     select_pairs,
@@ -58,6 +61,7 @@ __all__ = [
     "placement_map",
     "pose_matrix",
     "read_grasps",
+    "result_cache",
     "select",
     "select_batch",
     "select_pairs",

@@ -95,13 +95,15 @@ class Robot:
     @overload
     def within_limits(self, q: ArrayLike) -> Union[bool, BoolArray]: ...
     def fk(self, q: ArrayLike, out: Optional[FloatArray] = None) -> FloatArray:
-        """``base_from_tip``: ``(4, 4)`` for ``(dof,)``, ``(n, 4, 4)`` for ``(n, dof)``."""
+        """``base_from_tip``: ``(4, 4)`` for ``(dof,)``, ``(n, 4, 4)`` for ``(n, dof)``; written
+        in place in parallel without the GIL (``q`` in any layout; ``out``: C-contiguous
+        float64 of that shape, written and returned)."""
     def jacobian(self, q: ArrayLike, out: Optional[FloatArray] = None) -> FloatArray:
-        """Geometric Jacobian ``[v; ω]``: ``(6, dof)`` or ``(n, 6, dof)``."""
+        """Geometric Jacobian ``[v; ω]``: ``(6, dof)`` or ``(n, 6, dof)``; ``out`` as for ``fk``."""
     def fk_jacobian(
         self, q: ArrayLike, out: Optional[Tuple[FloatArray, FloatArray]] = None
     ) -> Tuple[FloatArray, FloatArray]:
-        """``(poses, jacobians)`` in one pass."""
+        """``(poses, jacobians)`` in one pass; ``out`` a pair as for ``fk``."""
     def indices(self, q: ArrayLike, part: Part = "full") -> Dict[str, Any]:
         """``yoshikawa``, ``inverse_condition``, ``inverse_condition_squared`` (floats or
         ``(n,)`` arrays) and ``singular_values`` (``(rows,)`` or ``(n, rows)``)."""
@@ -392,6 +394,12 @@ def pose_matrix(spec: Mapping[str, Sequence[Any]]) -> FloatArray:
 GraspFormatName = Literal[
     "graspath", "graspgen", "acronym", "contact_graspnet", "m2t2", "poses", "graspnet", "anygrasp"
 ]
+
+def result_cache(max_bytes: Optional[int] = None) -> Dict[str, int]:
+    """The cache of large result arrays' memory: ``max_bytes`` (the limit, default 1 GiB),
+    ``bytes`` (held now) and ``buffers``; ``max_bytes``, when given, sets the limit first (0
+    frees every cached buffer and turns the cache off). Batch calls write their large results
+    (1 MiB and more) into memory that earlier results freed instead of new memory."""
 
 def read_grasps(
     path: StrPath,

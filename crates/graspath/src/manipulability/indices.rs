@@ -115,12 +115,27 @@ pub fn classical_indices<C: Dim, S: Storage<f64, U6, C>>(
     jacobian: &Matrix<f64, U6, C, S>,
     part: JacobianPart,
 ) -> ClassicalIndices {
-    let values = singular_values(jacobian, part);
-    let inverse_condition = ratio_of(&values);
-    ClassicalIndices {
-        yoshikawa: product_of(&values),
-        inverse_condition,
-        inverse_condition_squared: inverse_condition.powi(2),
+    ClassicalIndices::from_singular_values(&singular_values(jacobian, part))
+}
+
+impl ClassicalIndices {
+    /// The indices from the selected rows' singular values in descending order, as
+    /// [`singular_values`] gives them: bit for bit what [`classical_indices`] computes, without
+    /// a second decomposition when the singular values are wanted too. No values give NaN.
+    pub fn from_singular_values(values: &[f64]) -> Self {
+        if values.is_empty() {
+            return ClassicalIndices {
+                yoshikawa: f64::NAN,
+                inverse_condition: f64::NAN,
+                inverse_condition_squared: f64::NAN,
+            };
+        }
+        let inverse_condition = ratio_of(values);
+        ClassicalIndices {
+            yoshikawa: product_of(values),
+            inverse_condition,
+            inverse_condition_squared: inverse_condition.powi(2),
+        }
     }
 }
 

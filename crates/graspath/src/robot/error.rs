@@ -245,6 +245,16 @@ pub enum RobotError {
         /// Length given.
         got: usize,
     },
+    /// An output buffer of a batch call whose length does not fit the configurations given.
+    #[error("the {what} buffer has {got} values but {expected} are needed")]
+    WrongBufferLength {
+        /// Which buffer (`pose`, `Jacobian`).
+        what: &'static str,
+        /// Values needed.
+        expected: usize,
+        /// Values given.
+        got: usize,
+    },
     /// A joint value is NaN or infinite.
     #[error("q[{index}] is not a finite number")]
     NonFiniteJoint {

@@ -426,3 +426,103 @@ pub(super) unsafe fn forward4(
         origin: tip,
     }
 }
+
+/// The 4 × 4 transpose of rows `a, b, c, d`: element `k` of the result is
+/// `[a[k], b[k], c[k], d[k]]`.
+#[inline(always)]
+unsafe fn transpose4(a: __m256d, b: __m256d, c: __m256d, d: __m256d) -> [__m256d; 4] {
+    let ab_even = _mm256_unpacklo_pd(a, b); // a0 b0 a2 b2
+    let ab_odd = _mm256_unpackhi_pd(a, b); // a1 b1 a3 b3
+    let cd_even = _mm256_unpacklo_pd(c, d); // c0 d0 c2 d2
+    let cd_odd = _mm256_unpackhi_pd(c, d); // c1 d1 c3 d3
+    [
+        _mm256_permute2f128_pd::<0x20>(ab_even, cd_even),
+        _mm256_permute2f128_pd::<0x20>(ab_odd, cd_odd),
+        _mm256_permute2f128_pd::<0x31>(ab_even, cd_even),
+        _mm256_permute2f128_pd::<0x31>(ab_odd, cd_odd),
+    ]
+}
+
+/// Writes the tip poses of the first `count` lanes of a group as row-major homogeneous 4 × 4
+/// matrices, 16 values each, one after the other from `out[0]` (the values of the lanes,
+/// moved, never recomputed). Nothing is written when `out` is shorter than `16 · count`.
+///
+/// # Safety
+/// The processor must support AVX2.
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn store_pose_rows(poses: &Poses4, count: usize, out: &mut [f64]) {
+    let count = count.min(4);
+    if out.len() < 16 * count {
+        return;
+    }
+    let out = out.as_mut_ptr();
+    for r in 0..3 {
+        let rows = transpose4(
+            poses.rotation[0][r],
+            poses.rotation[1][r],
+            poses.rotation[2][r],
+            poses.origin[r],
+        );
+        for (lane, row) in rows.iter().enumerate().take(count) {
+            // SAFETY: `16 · lane + 4 · r + 4 ≤ 16 · count ≤ out.len()`.
+            _mm256_storeu_pd(out.add(16 * lane + 4 * r), *row);
+        }
+    }
+    let last = _mm256_setr_pd(0.0, 0.0, 0.0, 1.0);
+    for lane in 0..count {
+        // SAFETY: as above.
+        _mm256_storeu_pd(out.add(16 * lane + 12), last);
+    }
+}
+
+/// Writes the Jacobians of the first `count` lanes of a group, given in lane layout
+/// (`lanes[6·i + r]` holds row `r` of column `i`, as [`forward4`] writes them), as row-major
+/// 6 × dof matrices one after the other from `out[0]` (moved, never recomputed). Nothing is
+/// written when `lanes` or `out` is too short.
+///
+/// # Safety
+/// The processor must support AVX2.
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn store_jacobian_rows(
+    lanes: &[[f64; 4]],
+    dof: usize,
+    count: usize,
+    out: &mut [f64],
+) {
+    let count = count.min(4);
+    if lanes.len() < 6 * dof || out.len() < 6 * dof * count {
+        return;
+    }
+    let out = out.as_mut_ptr();
+    for r in 0..6 {
+        for i in (0..dof).step_by(4) {
+            let width = (dof - i).min(4);
+            // Written out rather than with closures: a closure would not inherit AVX2.
+            let mut columns = [_mm256_setzero_pd(); 4];
+            for (k, column) in columns.iter_mut().enumerate().take(width) {
+                *column = _mm256_loadu_pd(lanes[6 * (i + k) + r].as_ptr());
+            }
+            let rows = transpose4(columns[0], columns[1], columns[2], columns[3]);
+            for (lane, row) in rows.iter().enumerate().take(count) {
+                // SAFETY: the `width` values written end at
+                // `6·dof·lane + dof·r + i + width ≤ 6 · dof · count ≤ out.len()`.
+                let at = out.add(6 * dof * lane + dof * r + i);
+                // A short block is stored in halves and singles (masked stores are slow on
+                // some processors).
+                let (low, high) = (
+                    _mm256_castpd256_pd128(*row),
+                    _mm256_extractf128_pd::<1>(*row),
+                );
+                match width {
+                    4 => _mm256_storeu_pd(at, *row),
+                    3 => {
+                        _mm_storeu_pd(at, low);
+                        _mm_store_sd(at.add(2), high);
+                    }
+                    2 => _mm_storeu_pd(at, low),
+                    _ => _mm_store_sd(at, low),
+                }
+            }
+        }
+    }
+}

@@ -6,6 +6,7 @@ use super::avx2;
 #[cfg(target_arch = "x86_64")]
 use super::forward::{forward_scalar, link_frames_scalar};
 use super::{Chain, MotionKind};
+use crate::robot::error::RobotError;
 use crate::robot::spec::{ChainSpec, JointKind, JointSpec, Mimic};
 use nalgebra::{Isometry3, IsometryMatrix3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use rand::rngs::Xoshiro256PlusPlus;
@@ -221,6 +222,137 @@ fn batches_refuse_partial_rows_and_non_finite_values() {
         err.to_string().contains(&format!("q[{}]", dof + 1)),
         "{err}"
     );
+}
+
+/// The bits of row-major poses and Jacobians, one configuration after the other, from one
+/// call of `pose_and_jacobian` each.
+fn row_major_bits_one_by_one(chain: &Chain, q: &[f64]) -> (Vec<u64>, Vec<u64>) {
+    let dof = chain.dof();
+    let (mut poses, mut jacobians) = (Vec::new(), Vec::new());
+    for row in q.chunks(dof) {
+        let (pose, jacobian) = chain.pose_and_jacobian(row).unwrap();
+        let matrix = pose.to_homogeneous();
+        poses.extend((0..16).map(|k| matrix[(k / 4, k % 4)].to_bits()));
+        jacobians.extend((0..6 * dof).map(|k| jacobian[(k / dof, k % dof)].to_bits()));
+    }
+    (poses, jacobians)
+}
+
+#[test]
+fn parallel_row_major_batches_equal_one_call_each_at_any_thread_count() {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let mut checked = 0;
+    for seed in 0..40 {
+        let (chain, _) = chain_and_configurations(seed);
+        let dof = chain.dof();
+        if dof == 0 {
+            continue;
+        }
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed + 1000);
+        // Several parallel tasks, the last one short and not a whole lane group.
+        let count = 2 * super::batch::BATCH_CHUNK + 7;
+        let q: Vec<f64> = (0..count * dof)
+            .map(|_| rng.random_range(-3.0..3.0))
+            .collect();
+        let (poses, jacobians) = row_major_bits_one_by_one(&chain, &q);
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let (p, j) = chain.batch_poses_and_jacobians(&q).unwrap();
+                assert_eq!(bits(&p), poses, "seed {seed}, {threads} threads");
+                assert_eq!(bits(&j), jacobians, "seed {seed}, {threads} threads");
+                assert_eq!(bits(&chain.batch_poses(&q).unwrap()), poses);
+                assert_eq!(bits(&chain.batch_jacobians(&q).unwrap()), jacobians);
+                let mut p = vec![f64::NAN; 16 * count];
+                let mut j = vec![f64::NAN; 6 * dof * count];
+                chain.batch_into(&q, Some(&mut p), Some(&mut j)).unwrap();
+                assert_eq!((bits(&p), bits(&j)), (poses.clone(), jacobians.clone()));
+            });
+        }
+        checked += 1;
+    }
+    assert!(checked > 30);
+}
+
+#[test]
+fn parallel_batches_check_their_buffers_and_name_the_first_non_finite_value() {
+    let chain = random_chain(&mut Xoshiro256PlusPlus::seed_from_u64(3), 7);
+    let dof = chain.dof();
+    let count = 3 * super::batch::BATCH_CHUNK;
+    let mut q = vec![0.1; count * dof];
+    let mut poses = vec![0.0; 16 * count];
+    let mut jacobians = vec![0.0; 6 * dof * count];
+    let err = chain
+        .batch_into(&q[..q.len() - 1], Some(&mut poses), None)
+        .unwrap_err();
+    assert!(matches!(err, RobotError::WrongDof { .. }), "{err}");
+    let err = chain
+        .batch_into(&q, Some(&mut poses[..16]), None)
+        .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "the pose buffer has 16 values but {} are needed",
+            16 * count
+        )
+    );
+    let err = chain
+        .batch_into(&q, None, Some(&mut jacobians[1..]))
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            RobotError::WrongBufferLength {
+                what: "Jacobian",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // Non-finite values in two parallel tasks: the first one is named, whichever task
+    // meets its value first.
+    let (first, second) = (
+        super::batch::BATCH_CHUNK * dof + 5,
+        2 * super::batch::BATCH_CHUNK * dof + 1,
+    );
+    q[second] = f64::NAN;
+    q[first] = f64::INFINITY;
+    for threads in [1, 3] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let err = pool
+            .install(|| chain.batch_into(&q, Some(&mut poses), Some(&mut jacobians)))
+            .unwrap_err();
+        assert!(
+            matches!(err, RobotError::NonFiniteJoint { index } if index == first),
+            "{err}"
+        );
+        assert!(chain.batch_poses(&q).is_err() && chain.batch_jacobians(&q).is_err());
+    }
+}
+
+#[test]
+fn a_chain_without_joints_gives_its_fixed_tip_pose_to_every_configuration() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+    let chain = (0..1000)
+        .map(|_| random_chain(&mut rng, 2))
+        .find(|c| c.dof() == 0)
+        .expect("two fixed joints among 1000 random chains");
+    let tip = chain.pose(&[]).unwrap().to_homogeneous();
+    let mut poses = vec![f64::NAN; 16 * 600];
+    chain
+        .batch_into(&[], Some(&mut poses), Some(&mut []))
+        .unwrap();
+    for pose in poses.chunks(16) {
+        assert!((0..16).all(|k| pose[k].to_bits() == tip[(k / 4, k % 4)].to_bits()));
+    }
+    assert!(chain.batch_into(&[0.0], Some(&mut poses), None).is_err());
+    assert!(chain.batch_poses(&[]).unwrap().is_empty());
 }
 
 /// A random chain with every kind of joint, mimic followers among them (each follows an

@@ -245,6 +245,11 @@ fn bad_grasp_files_give_one_clear_error() {
         ("scores_mismatch.npz", "scores", "one per grasp"),
         ("huge_header.npy", "file", "only 128 bytes of data follow"),
         ("huge_header.h5", "grasps/transforms", "more than a"),
+        (
+            "mixed_segments.npz",
+            "scores",
+            "is split by segment or object, but pred_grasps_cam is one array",
+        ),
     ];
     for (name, location, message) in cases {
         let path = dir().join("bad").join(name);

@@ -542,7 +542,15 @@ pub(super) fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
             let located = format!("{name}{index}");
             match find(list, key) {
                 None => Ok(None),
-                Some(None) => Err((name.to_string(), format!("has no entry {index} ({p} has)"))),
+                Some(None) => Err((
+                    name.to_string(),
+                    match key {
+                        Key::Whole => {
+                            format!("is split by segment or object, but {p} is one array")
+                        }
+                        _ => format!("has no entry {index} ({p} has)"),
+                    },
+                )),
                 Some(Some(a)) => {
                     let mut want = vec![Some(n)];
                     want.extend_from_slice(tail);

@@ -187,6 +187,9 @@ with h5py.File(os.path.join(BAD, "no_transforms.h5"), "w") as f:  # ACRONYM with
 with h5py.File(os.path.join(BAD, "transforms_3x3.h5"), "w") as f:  # wrong shape
     f["grasps/transforms"] = np.tile(np.eye(3), (2, 1, 1))
 np.savez(os.path.join(BAD, "wrong_shape.npz"), pred_grasps_cam=np.zeros((3, 4)), scores=np.ones(3))
+# Contact-GraspNet keys with the poses one array but the scores per segment.
+np.savez(os.path.join(BAD, "mixed_segments.npz"), pred_grasps_cam=np.tile(np.eye(4), (2, 1, 1)),
+         scores={1: np.ones(2)})
 skew = random_poses(2)
 skew[1, 0, 1] += 0.5  # not a rotation
 np.save(os.path.join(BAD, "not_rigid.npy"), skew)

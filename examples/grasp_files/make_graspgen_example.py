@@ -11,7 +11,7 @@ import os
 import numpy as np
 import yaml
 
-TCP = 0.1034  # panda_hand -> panda_hand_tcp
+TCP = 0.10527314  # GraspGen config/grippers/franka_panda.yaml depth: hand base -> TCP
 top, depth = 0.05, 0.02
 grasps, confidences = [], []
 for i, y in enumerate(np.linspace(-0.18, 0.18, 11)):

@@ -24,14 +24,15 @@ fn optional_pose(
 
 /// Reads a grasp file as candidates in the object frame.
 ///
-/// ``format``: ``graspath``, ``graspgen``, ``acronym``, ``contact_graspnet`` (``m2t2``),
+/// ``format``: ``graspath``, ``graspgen``, ``acronym``, ``contact_graspnet``, ``m2t2``,
 /// ``poses``, ``graspnet`` (``anygrasp``); ``None`` guesses it from the content. ``frame``:
 /// ``object``, ``world`` or ``camera`` (``None``: the format's, ``camera`` for
-/// Contact-GraspNet and GraspNet, else ``object``). ``world_from_camera`` or
+/// Contact-GraspNet and GraspNet, ``world`` for M2T2, else ``object``). ``world_from_camera`` or
 /// ``camera_from_object`` (4×4, metres) place a camera frame; ``world_from_object`` (4×4,
 /// default identity) places the object in the world for ``world`` frames and
 /// ``world_from_camera``. ``gripper_from_tool`` (4×4) overrides the format's gripper
-/// convention; ``segment`` keeps one Contact-GraspNet segment.
+/// convention; ``segment`` keeps one Contact-GraspNet / M2T2 segment (an id, or an object's
+/// position in a per-object list).
 ///
 /// Returns a dict: ``object_from_wrist`` (k, 4, 4), ``likelihood`` (k,) (the file's score, 1
 /// where the file has none), ``log_likelihood`` (k,), ``width`` (k,) (metres, NaN where

@@ -139,6 +139,35 @@ def test_graspnet_rows_are_camera_grasps_turned_into_the_tool_frame(tmp_path):
     np.testing.assert_array_equal(g["width"], rows[:, 1])
 
 
+def test_m2t2_objects_by_name_are_world_grasps_and_a_camera_pose_needs_frame_camera(tmp_path):
+    # M2T2's demo.py keeps grasps, grasp_confidence, grasp_contacts as one array per object
+    # (m2t2/action_decoder.py ActionDecoder.forward: (n, 4, 4), (n,), (n, 3), float32), in the
+    # world frame (config.yaml eval.world_coord: True); saved here keyed by demo.py's object names.
+    poses = [random_poses(2, 6).astype(np.float32), random_poses(1, 7).astype(np.float32)]
+    confidence = [np.array([0.5, 0.25], np.float32), np.array([0.75], np.float32)]
+    contacts = [np.full((2, 3), 0.01, np.float32), np.full((1, 3), -0.02, np.float32)]
+    names = ["object_00", "object_01"]
+    path = tmp_path / "m2t2.npz"
+    np.savez(
+        path,
+        grasps=dict(zip(names, poses)),
+        grasp_confidence=dict(zip(names, confidence)),
+        grasp_contacts=dict(zip(names, contacts)),
+    )
+    world_from_object = rigid(rotation([0, 0, 1], 0.3), [0.5, -0.1, 0.02])
+    g = graspath.read_grasps(path, world_from_object=world_from_object)
+    assert g["format"] == "m2t2"
+    # The Franka hand frame (fingers along x, approach z) to the tool frame, TCP 0.1034 m along z.
+    hand_from_tool = rigid(rotation([0, 0, 1], -math.pi / 2), [0, 0, 0.1034])
+    world = np.concatenate(poses).astype(float)
+    expected = np.stack([inverse(world_from_object) @ p @ hand_from_tool for p in world])
+    np.testing.assert_allclose(g["object_from_wrist"], expected, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(g["likelihood"], np.concatenate(confidence), rtol=1e-7)
+    assert list(g["label"]) == ["object_00 grasp 0", "object_00 grasp 1", "object_01 grasp 0"]
+    with pytest.raises(graspath.GraspathError, match="frame is world"):
+        graspath.read_grasps(path, world_from_camera=np.eye(4))
+
+
 @pytest.mark.parametrize(
     "make, kwargs, message",
     [

@@ -2,7 +2,9 @@
 //! `make_fixtures.py` the way each generator saves them) read back to the poses that script
 //! computed independently (`expected.json`), to 1e-12; frame changes checked by composition.
 
-use graspath::grasp::{read_grasp_file, GraspFileOptions, GraspFormat, GripperConvention};
+use graspath::grasp::{
+    read_grasp_file, GraspFileOptions, GraspFormat, GraspFrame, GripperConvention,
+};
 use nalgebra::{Isometry3, Matrix4};
 use std::path::{Path, PathBuf};
 
@@ -24,6 +26,11 @@ fn isometry(v: &serde_json::Value) -> Isometry3<f64> {
         std::array::from_fn(|j| v[i][j].as_f64().expect("number"))
     }))
     .expect("rigid")
+}
+
+/// The task's `object_from_world` (`world_from_object⁻¹`) for world-frame fixtures (M2T2).
+fn object_from_world(e: &serde_json::Value) -> Isometry3<f64> {
+    isometry(&e["world_from_object"]).inverse()
 }
 
 /// The task's `object_from_camera` for camera-frame fixtures.
@@ -189,6 +196,25 @@ fn gripper_conventions_map_the_axes_as_documented() {
         (y - nalgebra::Vector3::x()).norm() < 1e-15 && (z - nalgebra::Vector3::z()).norm() < 1e-15
     );
     assert!((f.translation.vector.z - 0.1034).abs() < 1e-15);
+    // GraspGen's franka_panda: the same axes, its own depth (config/grippers/franka_panda.yaml).
+    let g = GripperConvention::GraspGenFranka.gripper_from_tool();
+    assert_eq!(g.rotation, f.rotation);
+    assert!((g.translation.vector.z - 0.10527314).abs() < 1e-15);
+    assert_eq!(
+        GraspFormat::GraspGen.gripper(),
+        GripperConvention::GraspGenFranka
+    );
+    for format in [
+        GraspFormat::Acronym,
+        GraspFormat::ContactGraspnet,
+        GraspFormat::M2T2,
+    ] {
+        assert_eq!(
+            format.gripper(),
+            GripperConvention::FrankaHand,
+            "{format:?}"
+        );
+    }
     let g = GripperConvention::GraspNet.gripper_from_tool();
     let z = g.rotation * nalgebra::Vector3::z();
     let y = g.rotation * nalgebra::Vector3::y();
@@ -219,6 +245,11 @@ fn bad_grasp_files_give_one_clear_error() {
         ("scores_mismatch.npz", "scores", "one per grasp"),
         ("huge_header.npy", "file", "only 128 bytes of data follow"),
         ("huge_header.h5", "grasps/transforms", "more than a"),
+        (
+            "mixed_segments.npz",
+            "scores",
+            "is split by segment or object, but pred_grasps_cam is one array",
+        ),
     ];
     for (name, location, message) in cases {
         let path = dir().join("bad").join(name);
@@ -365,4 +396,204 @@ fn the_graspgen_example_task_runs() {
         .filter(|s| s.failure.is_none())
         .count();
     assert!(feasible >= 6, "{feasible} of 11 feasible");
+}
+
+/// Contact-GraspNet run with `local_regions` (`predict_grasps` per segment) writes a segment
+/// with one grasp with `contact_pts` squeezed to `(3,)`, and a segment emptied by
+/// `filter_segment` with `contact_pts` `(0,)` (make_fixtures.py follows
+/// `contact_grasp_estimator.py`): both read, the lone grasp with its contact.
+#[test]
+fn contact_graspnet_segments_of_one_grasp_and_of_none_are_read() {
+    check(
+        "contact_graspnet_one_grasp.npz",
+        GraspFormat::ContactGraspnet,
+        object_from_camera(&expected()),
+    );
+    let (_, got) = read_grasp_file(
+        &dir().join("contact_graspnet_one_grasp.npz"),
+        &GraspFileOptions {
+            segment: Some(2),
+            ..GraspFileOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(got.len(), 1);
+    assert_eq!(got[0].label, "segment 2 grasp 0");
+    assert!(got[0].contact.is_some());
+}
+
+/// M2T2's per-object outputs (`demo.py`'s lists of `grasps`, `grasp_confidence`,
+/// `grasp_contacts`) saved as object lists, as dictionaries keyed by object name, and as the
+/// stacked arrays numpy makes of equal-length lists: guessed as M2T2, read in the world frame,
+/// each object a segment whose label names it.
+#[test]
+fn m2t2_lists_and_named_objects_read_in_the_world_frame() {
+    let e = expected();
+    for name in ["m2t2_objects.npz", "m2t2_named.npz", "m2t2_equal.npz"] {
+        check(name, GraspFormat::M2T2, object_from_world(&e));
+    }
+    assert_eq!(GraspFormat::M2T2.default_frame(), GraspFrame::World);
+    assert_eq!(
+        GraspFormat::ContactGraspnet.default_frame(),
+        GraspFrame::Camera
+    );
+    assert_eq!(GraspFormat::from_name("m2t2"), Some(GraspFormat::M2T2));
+    let labels = |name: &str, segment: Option<i64>| -> Vec<String> {
+        let options = GraspFileOptions {
+            segment,
+            ..GraspFileOptions::default()
+        };
+        let (_, got) = read_grasp_file(&dir().join(name), &options).expect(name);
+        got.into_iter().map(|c| c.label).collect()
+    };
+    assert_eq!(
+        labels("m2t2_objects.npz", None),
+        [
+            "object 0 grasp 0",
+            "object 0 grasp 1",
+            "object 1 grasp 0",
+            "object 2 grasp 0",
+            "object 2 grasp 1",
+            "object 2 grasp 2"
+        ]
+    );
+    assert_eq!(
+        labels("m2t2_named.npz", None)[2..4],
+        ["object_01 grasp 0", "object_02 grasp 0"]
+    );
+    assert_eq!(
+        labels("m2t2_equal.npz", Some(1)),
+        ["object 1 grasp 0", "object 1 grasp 1"]
+    );
+    let err = read_grasp_file(
+        &dir().join("m2t2_named.npz"),
+        &GraspFileOptions {
+            segment: Some(0),
+            ..GraspFileOptions::default()
+        },
+    )
+    .unwrap_err();
+    assert_eq!(err.location, "grasps", "{err}");
+    assert!(err.message.contains("'object_00', 'object_01'"), "{err}");
+}
+
+/// A task reading an M2T2 file: the default frame is the world, so `object.pose` alone places
+/// the grasps where make_fixtures.py computed them; a camera pose without `frame: camera` is
+/// refused naming `candidates.frame` (it would move the grasps by the camera pose), and with
+/// `frame: camera` it is applied.
+#[test]
+fn an_m2t2_task_reads_world_grasps_and_refuses_a_camera_pose_it_would_misapply() {
+    let e = expected();
+    let task = |extra: &str| {
+        format!(
+            r#"{{
+  "robot": {{ "builtin": "baxter" }},
+  "arms": "left",
+  "object": {{ "pose": {{ "matrix": {} }} }},
+  "candidates": {{ "file": "{}", "format": "m2t2"{extra} }},
+  "trajectory": {{ "samples_per_step": 2, "steps": [ {{ "lift": 0.1 }} ] }}
+}}"#,
+            serde_json::to_string(&e["world_from_object"]).unwrap(),
+            dir().join("m2t2_objects.npz").display(),
+        )
+    };
+    let load = |text: String| {
+        let file = graspath::task::TaskFile::parse(&text, "t.json", "json").unwrap();
+        graspath::task::Task::from_file(&file, "t.json", Path::new("."))
+    };
+    let got = load(task("")).unwrap_or_else(|err| panic!("{err}"));
+    let want = e["files"]["m2t2_objects.npz"].as_array().unwrap();
+    assert_eq!(got.candidates.len(), want.len());
+    for (c, w) in got.candidates.iter().zip(want) {
+        let diff = (c.object_from_wrist.to_homogeneous() - matrix(&w["object_from_tool"]))
+            .abs()
+            .max();
+        assert!(diff < 1e-12, "{diff}");
+    }
+    let camera = format!(
+        r#", "world_from_camera": {{ "matrix": {} }}"#,
+        serde_json::to_string(&e["world_from_camera"]).unwrap()
+    );
+    let Err(err) = load(task(&camera)) else {
+        panic!("a camera pose was applied to M2T2's world-frame grasps");
+    };
+    assert_eq!(err.field, "candidates.frame", "{err}");
+    assert!(err.message.contains("frame is world"), "{err}");
+    let explicit = load(task(&format!(r#"{camera}, "frame": "camera""#))).unwrap();
+    let object_from_camera = object_from_camera(&e);
+    for (c, w) in explicit.candidates.iter().zip(want) {
+        // Read as camera-frame poses: object_from_camera · world_from_object · (expected).
+        let moved = object_from_camera.to_homogeneous()
+            * isometry(&e["world_from_object"]).to_homogeneous()
+            * matrix(&w["object_from_tool"]);
+        let diff = (c.object_from_wrist.to_homogeneous() - moved).abs().max();
+        assert!(diff < 1e-12, "{diff}");
+    }
+}
+
+/// docs/grasp-files.md's optical-frame rule: ROS's `camera_link` → `camera_color_optical_frame`
+/// is `rpy = (−π/2, 0, −π/2)`, which maps the optical `z` (forward) to the link's `x`, the
+/// optical `x` (right) to the link's `−y` and the optical `y` (down) to the link's `−z`; a
+/// GraspNet grasp 0.5 m in front of the camera, read with `world_from_camera` = the link's pose
+/// · that rotation, lands 0.5 m along the link's `x`.
+#[test]
+fn the_documented_optical_frame_relation_points_the_camera_along_the_links_x() {
+    use nalgebra::Vector3;
+    let spec = graspath::geometry::PoseSpec {
+        rpy: Some([
+            -std::f64::consts::FRAC_PI_2,
+            0.0,
+            -std::f64::consts::FRAC_PI_2,
+        ]),
+        ..Default::default()
+    };
+    let link_from_optical = spec.to_isometry().unwrap();
+    let r = link_from_optical.rotation;
+    assert!((r * Vector3::z() - Vector3::x()).norm() < 1e-15);
+    assert!((r * Vector3::x() + Vector3::y()).norm() < 1e-15);
+    assert!((r * Vector3::y() + Vector3::z()).norm() < 1e-15);
+    // A GraspNet-1Billion row (graspnetAPI GraspGroup.save_npy layout) at (0, 0, 0.5) in the
+    // optical frame, identity rotation, written as the fixture script writes graspnet.npy.
+    let mut row = [0.0f32; 17];
+    row[0] = 0.9;
+    row[1] = 0.05;
+    row[4] = 1.0;
+    row[8] = 1.0;
+    row[12] = 1.0;
+    row[15] = 0.5;
+    let header = "{'descr': '<f4', 'fortran_order': False, 'shape': (1, 17), }";
+    let mut h = header.to_string();
+    while !(10 + h.len() + 1).is_multiple_of(64) {
+        h.push(' ');
+    }
+    h.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(h.as_bytes());
+    for v in row {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let dir = std::env::temp_dir().join(format!("graspath-optical-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("one.npy");
+    std::fs::write(&path, bytes).unwrap();
+    let world_from_link = Isometry3::new(Vector3::new(0.2, 0.0, 0.8), Vector3::zeros());
+    let options = GraspFileOptions {
+        object_from_frame: GraspFrame::Camera
+            .object_from_frame(
+                &Isometry3::identity(),
+                Some(&(world_from_link * link_from_optical)),
+                None,
+            )
+            .unwrap(),
+        ..GraspFileOptions::default()
+    };
+    let (format, got) = read_grasp_file(&path, &options).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(format, GraspFormat::GraspNet);
+    let t = got[0].object_from_wrist.translation.vector;
+    assert!((t - Vector3::new(0.7, 0.0, 0.8)).norm() < 1e-12, "{t}");
+    // GraspNet's approach (gripper x = optical x, here) becomes the tool z: the link's −y.
+    let approach = got[0].object_from_wrist.rotation * Vector3::z();
+    assert!((approach + Vector3::y()).norm() < 1e-12, "{approach}");
 }

@@ -414,8 +414,8 @@ def read_grasps(
     """A grasp file (graspath JSON/CSV, GraspGen, ACRONYM, Contact-GraspNet / M2T2, ``N×4×4``
     poses, GraspNet / AnyGrasp) read as a task file's ``candidates: {file, ...}`` reads it.
 
-    ``frame`` defaults to the format's (``camera`` for Contact-GraspNet and GraspNet, else
-    ``object``); ``world_from_object`` (default identity) places the object for ``world`` frames
+    ``frame`` defaults to the format's (``camera`` for Contact-GraspNet and GraspNet, ``world``
+    for M2T2, else ``object``); ``world_from_object`` (default identity) places the object for ``world`` frames
     and ``world_from_camera``. Returns ``object_from_wrist`` ``(k, 4, 4)`` (tool frame in the object
     frame, m), ``likelihood`` ``(k,)`` (the file's score, 1 where absent), ``log_likelihood``
     ``(k,)``, ``width`` ``(k,)`` (m, NaN where absent), ``contact`` ``(k, 3)`` (NaN where

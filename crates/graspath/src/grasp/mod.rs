@@ -16,6 +16,6 @@ pub use families::{
 pub use formats::{
     guess_format, open_grasp_file, read_grasp_file, FramePlacementError, GraspCandidates,
     GraspFileOptions, GraspFormat, GraspFrame, GripperConvention, FRANKA_TCP_DEPTH,
-    MAX_ARRAY_BYTES,
+    GRASPGEN_FRANKA_TCP_DEPTH, MAX_ARRAY_BYTES,
 };
 pub use source::CandidateSource;

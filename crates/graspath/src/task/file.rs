@@ -306,7 +306,7 @@ pub struct CandidatesFile {
     #[serde(default)]
     pub format: Option<String>,
     /// The frame of the file's poses: `object`, `world` or `camera` (default: the format's,
-    /// `camera` for Contact-GraspNet / M2T2 and GraspNet / AnyGrasp, else `object`).
+    /// `camera` for Contact-GraspNet and GraspNet / AnyGrasp, `world` for M2T2, else `object`).
     #[serde(default)]
     pub frame: Option<String>,
     /// With `frame: camera`: the camera in the world, `world_from_camera`.
@@ -319,7 +319,8 @@ pub struct CandidatesFile {
     /// format's documented convention).
     #[serde(default)]
     pub gripper_from_tool: Option<PoseSpec>,
-    /// Contact-GraspNet / M2T2: read only this segment (default: all).
+    /// Contact-GraspNet / M2T2: read only this segment, by id or by an object's position in a
+    /// per-object list (default: all).
     #[serde(default)]
     pub segment: Option<i64>,
     /// A parametric family on the object's shape.

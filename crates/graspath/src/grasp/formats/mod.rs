@@ -8,8 +8,11 @@
 //! * [`GraspFormat::Acronym`]: ACRONYM HDF5 (`grasps/transforms`,
 //!   `grasps/qualities/flex/object_in_gripper`) or its JSON (`transforms`,
 //!   `quality_flex_object_in_gripper`);
-//! * [`GraspFormat::ContactGraspnet`]: Contact-GraspNet / M2T2 `.npz` (`pred_grasps_cam`,
-//!   `scores`, `contact_pts`, per segment as pickled dictionaries, or plain arrays);
+//! * [`GraspFormat::ContactGraspnet`]: Contact-GraspNet `.npz` (`pred_grasps_cam`, `scores`,
+//!   `contact_pts`, per segment as pickled dictionaries, or plain arrays), camera frame;
+//! * [`GraspFormat::M2T2`]: M2T2's per-object `grasps`, `grasp_confidence`, `grasp_contacts`
+//!   (or the Contact-GraspNet keys) saved as `.npz`: lists per object, dictionaries by object
+//!   name or id, or plain arrays; world frame (M2T2's `config.yaml`, `world_coord: True`);
 //! * [`GraspFormat::Poses`]: any `N×4×4` `.npy`, or `.npz` with one `N×4×4` array and
 //!   optionally `scores` (and `widths`);
 //! * [`GraspFormat::GraspNet`]: GraspNet-1Billion / AnyGrasp `N×17` arrays
@@ -38,9 +41,16 @@ use std::path::Path;
 pub const MAX_ARRAY_BYTES: u64 = 1 << 30;
 
 /// The franka hand's tool centre point along its `z` (m): `panda_hand_tcp` in
-/// franka_description, and Contact-GraspNet's `gripper_depth` (`contact_graspnet.py`,
-/// `build_6d_grasp`).
+/// franka_description, Contact-GraspNet's `gripper_depth` (NVlabs/contact_graspnet
+/// `contact_graspnet/contact_graspnet.py`, `build_6d_grasp`) and M2T2's (NVlabs/M2T2
+/// `m2t2/action_decoder.py`, `build_6d_grasp`). ACRONYM's hand is the same Panda hand.
 pub const FRANKA_TCP_DEPTH: f64 = 0.1034;
+
+/// GraspGen's Franka Panda tool centre point along the hand's `z` (m): `depth` of NVlabs/GraspGen
+/// `config/grippers/franka_panda.yaml` ("from base link frame to TCP frame",
+/// `docs/GRIPPER_DESCRIPTION.md`), the distance `grasp_gen/models/action_decoder.py` puts between
+/// a grasp's origin and its contact along the approach axis.
+pub const GRASPGEN_FRANKA_TCP_DEPTH: f64 = 0.10527314;
 
 /// A grasp-file layout.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,8 +61,10 @@ pub enum GraspFormat {
     GraspGen,
     /// ACRONYM HDF5 or JSON; Franka hand frame, object frame.
     Acronym,
-    /// Contact-GraspNet or M2T2 `.npz`; Franka hand frame, camera frame.
+    /// Contact-GraspNet `.npz`; Franka hand frame, camera frame.
     ContactGraspnet,
+    /// M2T2's outputs saved as `.npz`; Franka hand frame, world frame.
+    M2T2,
     /// Generic `N×4×4` `.npy` / `.npz`; tool poses unless `gripper_from_tool` is given.
     Poses,
     /// GraspNet-1Billion / AnyGrasp `N×17` arrays; GraspNet gripper frame, camera frame.
@@ -61,13 +73,14 @@ pub enum GraspFormat {
 
 impl GraspFormat {
     /// The format of a task file's `format:` (`graspath`, `graspgen`, `acronym`,
-    /// `contact_graspnet` or `m2t2`, `poses`, `graspnet` or `anygrasp`).
+    /// `contact_graspnet`, `m2t2`, `poses`, `graspnet` or `anygrasp`).
     pub fn from_name(name: &str) -> Option<Self> {
         Some(match name {
             "graspath" => Self::Graspath,
             "graspgen" => Self::GraspGen,
             "acronym" => Self::Acronym,
-            "contact_graspnet" | "m2t2" => Self::ContactGraspnet,
+            "contact_graspnet" => Self::ContactGraspnet,
+            "m2t2" => Self::M2T2,
             "poses" => Self::Poses,
             "graspnet" | "anygrasp" => Self::GraspNet,
             _ => return None,
@@ -81,6 +94,7 @@ impl GraspFormat {
             Self::GraspGen => "graspgen",
             Self::Acronym => "acronym",
             Self::ContactGraspnet => "contact_graspnet",
+            Self::M2T2 => "m2t2",
             Self::Poses => "poses",
             Self::GraspNet => "graspnet",
         }
@@ -88,22 +102,28 @@ impl GraspFormat {
 
     /// The names [`Self::from_name`] accepts, for messages.
     pub const NAMES: &'static str =
-        "graspath, graspgen, acronym, contact_graspnet (m2t2), poses, graspnet (anygrasp)";
+        "graspath, graspgen, acronym, contact_graspnet, m2t2, poses, graspnet (anygrasp)";
 
     /// The gripper whose frame the format's poses are in.
     pub fn gripper(self) -> GripperConvention {
         match self {
             Self::Graspath | Self::Poses => GripperConvention::Tool,
-            Self::GraspGen | Self::Acronym | Self::ContactGraspnet => GripperConvention::FrankaHand,
+            Self::GraspGen => GripperConvention::GraspGenFranka,
+            Self::Acronym | Self::ContactGraspnet | Self::M2T2 => GripperConvention::FrankaHand,
             Self::GraspNet => GripperConvention::GraspNet,
         }
     }
 
     /// The frame the format's poses are in unless the task says otherwise: `camera` for
-    /// Contact-GraspNet / M2T2 (`pred_grasps_cam`) and GraspNet / AnyGrasp, else `object`.
+    /// Contact-GraspNet (`pred_grasps_cam`) and GraspNet / AnyGrasp, `world` for M2T2 (its
+    /// shipped `config.yaml` sets `world_coord: True`: the cloud, and so the grasps, are moved
+    /// by the scene's camera pose into the frame that pose is given in; an `.npz` records no
+    /// frame, so `frame: camera` is needed for M2T2 run with `world_coord: False`), else
+    /// `object`.
     pub fn default_frame(self) -> GraspFrame {
         match self {
             Self::ContactGraspnet | Self::GraspNet => GraspFrame::Camera,
+            Self::M2T2 => GraspFrame::World,
             _ => GraspFrame::Object,
         }
     }
@@ -160,9 +180,15 @@ impl GraspFrame {
                 "frame",
                 "poses in the camera frame need world_from_camera or camera_from_object",
             )),
-            (_, Some(_)) => Err(fail(
+            (Self::World, Some(_)) => Err(fail(
                 "frame",
-                "a camera pose is given but the frame is not camera",
+                "a camera pose is given but the frame is world (M2T2's default: its grasps are \
+                 in the world frame); say frame: camera if the poses are in the camera frame",
+            )),
+            (Self::Object, Some(_)) => Err(fail(
+                "frame",
+                "a camera pose is given but the frame is object; say frame: camera if the \
+                 poses are in the camera frame",
             )),
             (Self::Object, None) => Ok(Isometry3::identity()),
             (Self::World, None) => Ok(world_from_object.inverse()),
@@ -186,26 +212,35 @@ pub struct FramePlacementError {
 pub enum GripperConvention {
     /// Poses are already tool poses.
     Tool,
-    /// The Franka (Panda) hand frame of ACRONYM, GraspGen, Contact-GraspNet and M2T2: origin
-    /// at the hand's base, `z` approach, fingers closing along `x`; the tool point
+    /// The Franka (Panda) hand frame of ACRONYM, Contact-GraspNet and M2T2: origin at the
+    /// hand's base, `z` approach, fingers closing along `x`; the tool point
     /// [`FRANKA_TCP_DEPTH`] along `z`.
     FrankaHand,
+    /// GraspGen's Franka Panda: the same hand frame, the tool point
+    /// [`GRASPGEN_FRANKA_TCP_DEPTH`] along `z`.
+    GraspGenFranka,
     /// GraspNet-1Billion / AnyGrasp: origin at the grasp centre, approach along `x`, fingers
     /// closing along `y` (graspnetAPI `plot_gripper_pro_max`).
     GraspNet,
 }
 
 impl GripperConvention {
-    /// `gripper_from_tool`: the tool frame in the generator's gripper frame.
-    /// Franka: `Trans(0, 0, 0.1034) · Rz(−90°)` (tool `y` = hand `x`, tool `z` = hand `z`);
-    /// GraspNet: `Ry(90°)` (tool `z` = gripper `x`, tool `y` = gripper `y`).
+    /// `gripper_from_tool`: the tool frame in the generator's gripper frame (translation in m).
+    /// Franka: `Trans(0, 0, d) · Rz(−90°)` (tool `y` = hand `x`, tool `z` = hand `z`) with
+    /// `d` = 0.1034 ([`FRANKA_TCP_DEPTH`]) or, for GraspGen, 0.10527314
+    /// ([`GRASPGEN_FRANKA_TCP_DEPTH`]); GraspNet: `Ry(90°)` (tool `z` = gripper `x`, tool `y` =
+    /// gripper `y`).
     pub fn gripper_from_tool(self) -> Isometry3<f64> {
+        let franka = |depth: f64| {
+            Isometry3::from_parts(
+                Translation3::new(0.0, 0.0, depth),
+                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -std::f64::consts::FRAC_PI_2),
+            )
+        };
         match self {
             Self::Tool => Isometry3::identity(),
-            Self::FrankaHand => Isometry3::from_parts(
-                Translation3::new(0.0, 0.0, FRANKA_TCP_DEPTH),
-                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -std::f64::consts::FRAC_PI_2),
-            ),
+            Self::FrankaHand => franka(FRANKA_TCP_DEPTH),
+            Self::GraspGenFranka => franka(GRASPGEN_FRANKA_TCP_DEPTH),
             Self::GraspNet => Isometry3::from_parts(
                 Translation3::identity(),
                 UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2),
@@ -224,7 +259,8 @@ pub struct GraspFileOptions {
     pub object_from_frame: Isometry3<f64>,
     /// `gripper_from_tool`; `None`: the format's [`GripperConvention::gripper_from_tool`].
     pub gripper_from_tool: Option<Isometry3<f64>>,
-    /// Contact-GraspNet: read only this segment (default: every segment).
+    /// Contact-GraspNet / M2T2: read only this segment (a segment id, or an object's position
+    /// in a per-object list; default: every segment).
     pub segment: Option<i64>,
 }
 
@@ -348,7 +384,9 @@ fn read_whole(
             layouts::text_grasps(format, &bytes)
         }
         GraspFormat::GraspGen | GraspFormat::Acronym => layouts::acronym_h5(bytes),
-        GraspFormat::ContactGraspnet => layouts::contact_graspnet(&bytes, options.segment),
+        GraspFormat::ContactGraspnet | GraspFormat::M2T2 => {
+            layouts::contact_graspnet(&bytes, options.segment)
+        }
         GraspFormat::Poses => layouts::poses(path, &bytes),
         GraspFormat::GraspNet => layouts::graspnet(path, &bytes),
     }
@@ -569,6 +607,14 @@ fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
         let members = read_npz(bytes, npz_limit(bytes))?;
         if members.iter().any(|(k, _)| k == "pred_grasps_cam") {
             return Ok(GraspFormat::ContactGraspnet);
+        }
+        // M2T2's own output names (`ActionDecoder.forward` in NVlabs/M2T2).
+        if members.iter().any(|(k, _)| k == "grasps")
+            && members
+                .iter()
+                .any(|(k, _)| k == "grasp_confidence" || k == "grasp_contacts")
+        {
+            return Ok(GraspFormat::M2T2);
         }
         let mut kinds = Vec::new();
         for (key, data) in &members {

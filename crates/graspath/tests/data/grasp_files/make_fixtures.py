@@ -10,7 +10,16 @@ Writers mirrored (file that defines each layout):
 * GraspGen   grasp_gen/dataset/eval_utils.py save_to_isaac_grasp_format (YAML) and
              docs/GRASP_DATASET_FORMAT.md (JSON grasps.transforms / grasps.object_in_gripper)
 * Contact-GraspNet contact_graspnet/inference.py: np.savez(pred_grasps_cam=dict, scores=dict,
-             contact_pts=dict), float32 arrays per segment
+             contact_pts=dict), float32 arrays per segment; contact_grasp_estimator.py
+             GraspEstimator.predict_grasps returns pred_points[selection_idcs].squeeze(), so a
+             segment with one grasp has contact_pts (3,), and predict_scene_grasps with
+             filter_grasps leaves contact_pts (0,) where filter_segment keeps none
+* M2T2     demo.py load_and_predict: outputs['grasps'], ['grasp_confidence'], ['grasp_contacts']
+             are lists with one array per object (m2t2/action_decoder.py ActionDecoder.forward:
+             (n, 4, 4), (n,), (n, 3), float32), in the world frame (config.yaml
+             eval.world_coord: True); saved with np.savez as lists (an object array, or the
+             (K, n, 4, 4) array numpy makes of equal-length lists) or as dictionaries keyed by
+             demo.py's object names object_{i:02d}
 * GraspNet   graspnetAPI/grasp.py GraspGroup.save_npy: np.save of the (N,17) array
 """
 import json
@@ -75,6 +84,8 @@ def quaternion_wxyz(m):
 
 # Gripper conventions (docs/grasp-files.md): the tool frame in the generator's gripper frame.
 FRANKA = pose(np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]), [0.0, 0.0, 0.1034])
+# GraspGen's Franka Panda: the same frame, TCP at config/grippers/franka_panda.yaml's depth.
+GRASPGEN_FRANKA = pose(FRANKA[:3, :3], [0.0, 0.0, 0.10527314])
 GRASPNET = pose(np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]), [0.0, 0.0, 0.0])
 
 # The task's frames for camera-frame files.
@@ -128,14 +139,14 @@ with open(os.path.join(HERE, "graspgen.yaml"), "w") as f:
     yaml.dump(data, f, default_flow_style=False, sort_keys=False)
 # The oracle is the pose the YAML describes (quaternion re-expanded, as GraspGen's loader does).
 G_back = np.array([pose(rotation(quaternion_wxyz(g)), g[:3, 3]) for g in G])
-record("graspgen.yaml", np.eye(4), G_back, FRANKA, conf)
+record("graspgen.yaml", np.eye(4), G_back, GRASPGEN_FRANKA, conf)
 
 # GraspGen dataset JSON.
 J = random_poses(4)
 mask = [True, False, True, True]
 with open(os.path.join(HERE, "graspgen_dataset.json"), "w") as f:
     json.dump({"object": {"file": "x.obj", "scale": 1.0}, "grasps": {"transforms": J.tolist(), "object_in_gripper": mask}}, f)
-record("graspgen_dataset.json", np.eye(4), J, FRANKA, np.array(mask, dtype=float))
+record("graspgen_dataset.json", np.eye(4), J, GRASPGEN_FRANKA, np.array(mask, dtype=float))
 
 # Contact-GraspNet: dictionaries per segment, float32, camera frame.
 segs = {1: permutation_poses(3), 3: permutation_poses(2)}
@@ -176,6 +187,9 @@ with h5py.File(os.path.join(BAD, "no_transforms.h5"), "w") as f:  # ACRONYM with
 with h5py.File(os.path.join(BAD, "transforms_3x3.h5"), "w") as f:  # wrong shape
     f["grasps/transforms"] = np.tile(np.eye(3), (2, 1, 1))
 np.savez(os.path.join(BAD, "wrong_shape.npz"), pred_grasps_cam=np.zeros((3, 4)), scores=np.ones(3))
+# Contact-GraspNet keys with the poses one array but the scores per segment.
+np.savez(os.path.join(BAD, "mixed_segments.npz"), pred_grasps_cam=np.tile(np.eye(4), (2, 1, 1)),
+         scores={1: np.ones(2)})
 skew = random_poses(2)
 skew[1, 0, 1] += 0.5  # not a rotation
 np.save(os.path.join(BAD, "not_rigid.npy"), skew)
@@ -198,6 +212,58 @@ with open(os.path.join(BAD, "huge_header.h5"), "wb") as f:
     assert at > 0, "dataspace of grasps/transforms not found"
     data[at:at + 8] = (1 << 40).to_bytes(8, "little")
     f.write(bytes(data))
+
+# Contact-GraspNet with local_regions (one predict_grasps per segment): segment 2 has exactly
+# one grasp, so its contact_pts is squeezed to (3,); segment 5 has three; segment 7 was emptied
+# by filter_segment (pred_grasps_cam (0, 4, 4), scores (0,), contact_pts (0,)).
+one = {2: permutation_poses(1), 5: permutation_poses(3)}
+one_scores = {k: (np.round(rng.uniform(0.1, 1.0, len(v)) * 256) / 256).astype(np.float32) for k, v in one.items()}
+one_contacts = {k: (np.round(rng.uniform(-0.1, 0.1, (len(v), 3)) * 1024) / 1024).astype(np.float32) for k, v in one.items()}
+np.savez(os.path.join(HERE, "contact_graspnet_one_grasp.npz"),
+         pred_grasps_cam={2: one[2].astype(np.float32), 5: one[5].astype(np.float32),
+                          7: np.zeros((0, 4, 4), dtype=np.float32)},
+         scores={2: one_scores[2], 5: one_scores[5], 7: np.zeros(0, dtype=np.float32)},
+         contact_pts={2: one_contacts[2].squeeze(), 5: one_contacts[5].squeeze(),
+                      7: np.zeros(0, dtype=np.float32)})
+assert np.load(os.path.join(HERE, "contact_graspnet_one_grasp.npz"), allow_pickle=True)["contact_pts"].item()[2].shape == (3,)
+record("contact_graspnet_one_grasp.npz", OBJECT_FROM_CAMERA, np.concatenate([one[2], one[5]]), FRANKA,
+       np.concatenate([one_scores[2], one_scores[5]]).astype(float),
+       contacts=np.concatenate([one_contacts[2], one_contacts[5]]).astype(float))
+
+# M2T2, world frame: three objects with 2, 1 and 3 grasps.
+WORLD_TO_OBJECT = np.linalg.inv(WORLD_FROM_OBJECT)
+m_grasps = [permutation_poses(n).astype(np.float32) for n in (2, 1, 3)]
+m_conf = [(np.round(rng.uniform(0.1, 1.0, len(g)) * 256) / 256).astype(np.float32) for g in m_grasps]
+m_contacts = [(np.round(rng.uniform(-0.1, 0.1, (len(g), 3)) * 1024) / 1024).astype(np.float32) for g in m_grasps]
+
+
+def object_list(arrays):
+    # What np.array(list, dtype=object) makes of a list of arrays of different lengths.
+    out = np.empty(len(arrays), dtype=object)
+    for i, a in enumerate(arrays):
+        out[i] = a
+    return out
+
+
+np.savez(os.path.join(HERE, "m2t2_objects.npz"), grasps=object_list(m_grasps),
+         grasp_confidence=object_list(m_conf), grasp_contacts=object_list(m_contacts))
+m_all = np.concatenate(m_grasps).astype(float)
+m_all_conf = np.concatenate(m_conf).astype(float)
+m_all_contacts = np.concatenate(m_contacts).astype(float)
+record("m2t2_objects.npz", WORLD_TO_OBJECT, m_all, FRANKA, m_all_conf, contacts=m_all_contacts)
+names = {f"object_{i:02d}": i for i in range(len(m_grasps))}
+np.savez(os.path.join(HERE, "m2t2_named.npz"),
+         grasps={n: m_grasps[i] for n, i in names.items()},
+         grasp_confidence={n: m_conf[i] for n, i in names.items()},
+         grasp_contacts={n: m_contacts[i] for n, i in names.items()})
+record("m2t2_named.npz", WORLD_TO_OBJECT, m_all, FRANKA, m_all_conf, contacts=m_all_contacts)
+# Two objects with two grasps each: np.savez turns the lists into (2, 2, 4, 4), (2, 2), (2, 2, 3).
+np.savez(os.path.join(HERE, "m2t2_equal.npz"), grasps=[m_grasps[0], m_grasps[2][:2]],
+         grasp_confidence=[m_conf[0], m_conf[2][:2]], grasp_contacts=[m_contacts[0], m_contacts[2][:2]])
+assert np.load(os.path.join(HERE, "m2t2_equal.npz"))["grasps"].shape == (2, 2, 4, 4)
+record("m2t2_equal.npz", WORLD_TO_OBJECT, np.concatenate([m_grasps[0], m_grasps[2][:2]]).astype(float), FRANKA,
+       np.concatenate([m_conf[0], m_conf[2][:2]]).astype(float),
+       contacts=np.concatenate([m_contacts[0], m_contacts[2][:2]]).astype(float))
 
 with open(os.path.join(HERE, "expected.json"), "w") as f:
     json.dump(expected, f, indent=1)

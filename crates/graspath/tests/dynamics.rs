@@ -27,32 +27,13 @@ fn reference() -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
 fn vector3(v: &Value) -> Vector3<f64> {
-    Vector3::from_vec(numbers(v))
+    Vector3::from_vec(common::json_numbers(v))
 }
 
 /// `‖ours − reference‖∞ / ‖reference‖∞`, asserted below [`TOL`].
 fn relative_error(ours: &[f64], reference: &[f64], what: &str) -> f64 {
-    assert_eq!(ours.len(), reference.len(), "{what}: length");
-    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let error = ours
-        .iter()
-        .zip(reference)
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    let relative = error / scale.max(f64::MIN_POSITIVE);
-    assert!(
-        relative <= TOL,
-        "{what}: relative error {relative:e}\n ours      {ours:?}\n reference {reference:?}"
-    );
-    relative
+    common::max_relative_error(ours, reference, TOL, what)
 }
 
 fn chain(data: &std::path::Path, robot: &Value, tip_from_tool: Option<Isometry3<f64>>) -> Chain {
@@ -83,7 +64,10 @@ fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
     };
     let reference = reference();
     let tool = &reference["tip_from_tool"];
-    let (xyz, rpy) = (numbers(&tool["xyz"]), numbers(&tool["rpy"]));
+    let (xyz, rpy) = (
+        common::json_numbers(&tool["xyz"]),
+        common::json_numbers(&tool["rpy"]),
+    );
     let tip_from_tool = Isometry3::from_parts(
         Translation3::new(xyz[0], xyz[1], xyz[2]),
         UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
@@ -93,7 +77,7 @@ fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
         .as_array()
         .unwrap()
         .iter()
-        .flat_map(numbers)
+        .flat_map(common::json_numbers)
         .collect();
     let payload = RigidBody::new(
         p["mass"].as_f64().unwrap(),
@@ -133,9 +117,9 @@ fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
         assert!(samples.len() >= 20);
         for sample in samples {
             let (q, qd, qdd) = (
-                numbers(&sample["q"]),
-                numbers(&sample["qd"]),
-                numbers(&sample["qdd"]),
+                common::json_numbers(&sample["q"]),
+                common::json_numbers(&sample["qd"]),
+                common::json_numbers(&sample["qdd"]),
             );
             for (k, (dynamics, workspace, key)) in [
                 (&bare, &mut bare_data, ""),
@@ -148,18 +132,26 @@ fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
                 dynamics
                     .gravity_torques_into(workspace, &q, &mut tau)
                     .unwrap();
-                let e = relative_error(&tau, &numbers(&sample[format!("g{key}")]), &what("g"));
+                let e = relative_error(
+                    &tau,
+                    &common::json_numbers(&sample[format!("g{key}")]),
+                    &what("g"),
+                );
                 worst[3 * k] = worst[3 * k].max(e);
                 dynamics
                     .inverse_dynamics_into(workspace, &q, &qd, &qdd, &mut tau)
                     .unwrap();
-                let e = relative_error(&tau, &numbers(&sample[format!("tau{key}")]), &what("rnea"));
+                let e = relative_error(
+                    &tau,
+                    &common::json_numbers(&sample[format!("tau{key}")]),
+                    &what("rnea"),
+                );
                 worst[3 * k + 1] = worst[3 * k + 1].max(e);
                 dynamics.mass_matrix_into(workspace, &q, &mut mass).unwrap();
                 // Row-major reference; M is symmetric, so compare its transpose's storage.
                 let e = relative_error(
                     mass.transpose().as_slice(),
-                    &numbers(&sample[format!("mass_matrix{key}")]),
+                    &common::json_numbers(&sample[format!("mass_matrix{key}")]),
                     &what("crba"),
                 );
                 worst[3 * k + 2] = worst[3 * k + 2].max(e);

@@ -5,6 +5,8 @@
 //! Also the effort limits read from `actuatorfrcrange` and the actuators, and the errors of
 //! models without inertial data.
 
+mod common;
+
 use graspath::robot::{MjcfRobot, RobotError};
 use nalgebra::Vector3;
 use serde_json::Value;
@@ -14,27 +16,9 @@ fn data_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/mjcf")
 }
 
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
 /// `‖ours − reference‖∞ / ‖reference‖∞`, asserted below 1e-9.
 fn relative_error(ours: &[f64], reference: &[f64], what: &str) -> f64 {
-    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let error = ours
-        .iter()
-        .zip(reference)
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    let relative = error / scale;
-    assert!(
-        relative <= 1e-9,
-        "{what}: relative error {relative:e}\n ours      {ours:?}\n reference {reference:?}"
-    );
-    relative
+    common::max_relative_error(ours, reference, 1e-9, what)
 }
 
 #[test]
@@ -53,7 +37,7 @@ fn mjcf_dynamics_equal_mujoco() {
         .map(|v| v.as_str().unwrap().to_string())
         .collect();
     assert_eq!(chain.joint_names(), names.as_slice());
-    let gravity = Vector3::from_vec(numbers(&reference["gravity_base"]));
+    let gravity = Vector3::from_vec(common::json_numbers(&reference["gravity_base"]));
     let dynamics = chain.dynamics().unwrap().with_gravity(gravity).unwrap();
     let mut data = dynamics.data();
     let n = dynamics.dof();
@@ -62,22 +46,30 @@ fn mjcf_dynamics_equal_mujoco() {
     let mut worst = [0.0f64; 3];
     for sample in reference["samples"].as_array().unwrap() {
         let (q, qd, qdd) = (
-            numbers(&sample["q"]),
-            numbers(&sample["qd"]),
-            numbers(&sample["qdd"]),
+            common::json_numbers(&sample["q"]),
+            common::json_numbers(&sample["qd"]),
+            common::json_numbers(&sample["qdd"]),
         );
         dynamics
             .gravity_torques_into(&mut data, &q, &mut tau)
             .unwrap();
-        worst[0] = worst[0].max(relative_error(&tau, &numbers(&sample["g"]), "g"));
+        worst[0] = worst[0].max(relative_error(
+            &tau,
+            &common::json_numbers(&sample["g"]),
+            "g",
+        ));
         dynamics
             .inverse_dynamics_into(&mut data, &q, &qd, &qdd, &mut tau)
             .unwrap();
-        worst[1] = worst[1].max(relative_error(&tau, &numbers(&sample["tau"]), "rnea"));
+        worst[1] = worst[1].max(relative_error(
+            &tau,
+            &common::json_numbers(&sample["tau"]),
+            "rnea",
+        ));
         dynamics.mass_matrix_into(&mut data, &q, &mut mass).unwrap();
         worst[2] = worst[2].max(relative_error(
             mass.transpose().as_slice(),
-            &numbers(&sample["mass_matrix"]),
+            &common::json_numbers(&sample["mass_matrix"]),
             "mass matrix",
         ));
     }

@@ -173,3 +173,29 @@ pub fn pose_distance(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
         a.rotation.angle_to(&b.rotation),
     )
 }
+
+/// The numbers of a JSON array (reference data written by the oracle scripts).
+pub fn json_numbers(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .expect("an array")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
+
+/// `‖ours − reference‖∞ / ‖reference‖∞`, asserted at most `tolerance`; `what` names the
+/// quantity in the failure.
+pub fn max_relative_error(ours: &[f64], reference: &[f64], tolerance: f64, what: &str) -> f64 {
+    assert_eq!(ours.len(), reference.len(), "{what}: length");
+    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let error = ours
+        .iter()
+        .zip(reference)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let relative = error / scale.max(f64::MIN_POSITIVE);
+    assert!(
+        relative <= tolerance,
+        "{what}: relative error {relative:e}\n ours      {ours:?}\n reference {reference:?}"
+    );
+    relative
+}

@@ -9,12 +9,14 @@
 //! position) gives the whole task's ranking, which is how `graspath.ray` merges its shards.
 
 use crate::convert::error;
+use crate::record::set_numpy_columns;
 use crate::task::PyTask;
+use graspath::select::record::{self, outputs, Trajectories};
 use graspath::select::{ranking_alone, select as run_selection, CandidateScore, Ranking};
 use graspath::task::Task;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 use rayon::prelude::*;
 
 /// One output row: a candidate of one object scored for one arm.
@@ -125,7 +127,7 @@ fn task_slices(
 /// * ``object`` (int64): the position of the task in ``tasks``; ``arm`` (str), ``arm_index``
 ///   (int64, its position in the task's arms); ``candidate`` (int64, the position in the task's
 ///   candidates), ``id`` (int64, the candidate's id), ``label`` (str);
-/// * ``feasible`` (bool); ``failure`` (object: the reason, ``unreachable``, ``joint_limit``,
+/// * ``feasible`` (bool); ``failure_reason`` (object: the reason, ``unreachable``, ``joint_limit``,
 ///   ``discontinuity``, ``collision``, …, or ``None``); ``failure_sample`` (float64, NaN when
 ///   feasible); ``rejected`` (object: why a feasible candidate is not ranked, or ``None``);
 /// * ``log_likelihood`` (float64, the candidate's); ``mu_l2``, ``mu_linf`` (``inf`` on a
@@ -135,6 +137,9 @@ fn task_slices(
 /// * ``score`` (float64, the ranking score: the norm combined with the likelihood relative to
 ///   the task's most likely candidate; NaN when not ranked) and ``rank`` (float64, 1 for the
 ///   best, NaN when not ranked).
+///
+/// Besides ``object``, ``arm_index`` and ``candidate``, the columns are the record columns
+/// marked ``select_batch`` in :func:`record_columns` (``docs/candidate-record.md``).
 ///
 /// ``slices`` (one ``(start, stop)`` per task) scores only those candidate positions; scores
 /// are the whole task's and ranks are within the slice. ``threads`` runs the work on its own
@@ -205,78 +210,21 @@ pub fn select_batch<'py>(
     columns(py, &rows)
 }
 
-/// The rows as a dict of numpy columns.
+/// The rows as a dict of numpy columns: the batch's own (`object`, `arm_index`, `candidate`),
+/// then the record columns marked `select_batch` (see [`set_numpy_columns`]).
 fn columns<'py>(py: Python<'py>, rows: &[Row]) -> PyResult<Bound<'py, PyDict>> {
-    let numpy = py.import("numpy")?;
-    let builtins = py.import("builtins")?;
-    let text_array = |values: Vec<String>| -> PyResult<Bound<'py, PyAny>> {
-        let kwargs = PyDict::new(py);
-        kwargs.set_item("dtype", builtins.getattr("str")?)?;
-        numpy.call_method("array", (PyList::new(py, values)?,), Some(&kwargs))
-    };
-    let optional_text_array = |values: Vec<Option<String>>| -> PyResult<Bound<'py, PyAny>> {
-        let kwargs = PyDict::new(py);
-        kwargs.set_item("dtype", builtins.getattr("object")?)?;
-        numpy.call_method("array", (PyList::new(py, values)?,), Some(&kwargs))
-    };
     let int = |f: fn(&Row) -> usize| -> Bound<'py, PyArray1<i64>> {
         PyArray1::from_vec(py, rows.iter().map(|r| f(r) as i64).collect())
     };
-    let float = |f: fn(&Row) -> Option<f64>| -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_vec(py, rows.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect())
-    };
     let dict = PyDict::new(py);
     dict.set_item("object", int(|r| r.object))?;
-    dict.set_item(
-        "arm",
-        text_array(rows.iter().map(|r| r.arm.clone()).collect())?,
-    )?;
     dict.set_item("arm_index", int(|r| r.arm_index))?;
     dict.set_item("candidate", int(|r| r.candidate))?;
-    dict.set_item("id", int(|r| r.score.candidate.id))?;
-    dict.set_item(
-        "label",
-        text_array(
-            rows.iter()
-                .map(|r| r.score.candidate.label.clone())
-                .collect(),
-        )?,
-    )?;
-    dict.set_item(
-        "feasible",
-        PyArray1::from_vec(py, rows.iter().map(|r| r.score.feasible()).collect()),
-    )?;
-    dict.set_item(
-        "failure",
-        optional_text_array(
-            rows.iter()
-                .map(|r| {
-                    r.score
-                        .failure
-                        .as_ref()
-                        .map(|f| f.reason.as_str().to_string())
-                })
-                .collect(),
-        )?,
-    )?;
-    dict.set_item(
-        "failure_sample",
-        float(|r| r.score.failure.as_ref().map(|f| f.sample as f64)),
-    )?;
-    dict.set_item(
-        "rejected",
-        optional_text_array(rows.iter().map(|r| r.ranking.rejected.clone()).collect())?,
-    )?;
-    dict.set_item(
-        "log_likelihood",
-        float(|r| Some(r.score.candidate.log_likelihood)),
-    )?;
-    dict.set_item("mu_l2", float(|r| r.score.norms.map(|n| n.l2)))?;
-    dict.set_item("mu_linf", float(|r| r.score.norms.map(|n| n.linf)))?;
-    dict.set_item("mu_l1", float(|r| r.score.norms.map(|n| n.l1)))?;
-    dict.set_item("yoshikawa_at_grasp", float(|r| r.score.yoshikawa_at_grasp))?;
-    dict.set_item("clearance", float(|r| r.score.clearance))?;
-    dict.set_item("score", float(|r| r.ranking.score))?;
-    dict.set_item("rank", float(|r| r.ranking.rank.map(|v| v as f64)))?;
+    let records: Vec<record::Row<'_>> = rows
+        .iter()
+        .map(|r| record::Row::new(&r.arm, &r.score, &r.ranking, Trajectories::None))
+        .collect();
+    // No batch column is a per-sample series (the tasks' paths differ in length).
+    set_numpy_columns(py, &dict, &records, outputs::BATCH, 0)?;
     Ok(dict)
 }

@@ -35,6 +35,7 @@ mod model;
 mod pairs;
 mod placement;
 mod pose;
+mod record;
 mod robot;
 mod selection;
 mod task;
@@ -60,6 +61,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<selection::PySelection>()?;
     module.add_function(wrap_pyfunction!(selection::select, module)?)?;
     module.add_function(wrap_pyfunction!(batch::select_batch, module)?)?;
+    module.add_function(wrap_pyfunction!(record::record_columns, module)?)?;
     module.add_function(wrap_pyfunction!(pairs::select_pairs, module)?)?;
     module.add_function(wrap_pyfunction!(pose::pose_matrix, module)?)?;
     module.add_function(wrap_pyfunction!(placement::placement_map, module)?)?;

@@ -2,12 +2,13 @@
 //! with the same records the CLI writes (`candidates.json`, `pairs.json`, `summary.json`).
 
 use crate::convert::{array, error, json_to_py};
+use crate::record::set_numpy_columns;
 use crate::task::PyTask;
 use graspath::fsutil::{write_files, Existing};
+use graspath::select::record::{outputs, Row, Trajectories};
 use graspath::select::{select as run_selection, Selection};
 use graspath::task::{Norm, Task};
 use graspath_report::{candidates_json, pairs_json, summary_json};
-use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -73,137 +74,36 @@ impl PySelection {
     }
 
     /// One arm's results as numpy arrays over the candidates (in candidate order), for
-    /// plotting and analysis: ``id`` (int64), ``feasible`` (bool), ``rank`` (float64, 1 for
-    /// the best, NaN when not ranked), ``score``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``,
-    /// ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
-    /// ``inverse_condition_squared_at_grasp``, ``clearance`` (m, the smallest distance to the
-    /// scene along the motion), ``yoshikawa_penalized_at_grasp`` (with a joint-limit penalty),
-    /// ``limit_distance_min`` (rad or m, the path's closest approach to a joint limit) (float64,
-    /// NaN where absent), ``hugs_limit`` (bool), ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)`` and
+    /// plotting and analysis: the record columns marked ``arrays`` in
+    /// :func:`record_columns` (``docs/candidate-record.md``) — ``id`` (int64), ``label`` (str),
+    /// ``feasible`` (bool), ``failure_reason`` (object, ``None`` when feasible),
+    /// ``failure_sample`` (float64, NaN when feasible), ``rejected`` (object), ``rank``
+    /// (float64, 1 for the best, NaN when not ranked), ``score``, ``log_likelihood``,
+    /// ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``, ``yoshikawa_at_grasp``,
+    /// ``yoshikawa_penalized_at_grasp`` (with a joint-limit penalty),
+    /// ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
+    /// ``limit_distance_min`` (rad or m, the path's closest approach to a joint limit),
+    /// ``clearance`` (m, the smallest distance to the scene along the motion) (float64, NaN
+    /// where absent), ``hugs_limit`` (bool), ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)`` and
     /// ``ranked_index`` ``(k, n)`` (the ranked per-sample index: ``m_t`` unless the task sets
-    /// ``measure`` or ``joint_limit_penalty``) (NaN where absent: infeasible, or the object still),
-    /// and ``failure_sample`` (float64, the first failing sample, NaN when feasible). No value
-    /// is a sentinel: whatever is absent is NaN.
+    /// ``measure`` or ``joint_limit_penalty``) (NaN where absent: infeasible, or the object
+    /// still). No value is a sentinel: whatever is absent is NaN (or ``None``).
     fn arrays<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Bound<'py, PyDict>> {
         let result = self.arm_result(arm)?;
-        let samples = self.task.path.samples.len();
-        let k = result.scores.len();
-        let nan = f64::NAN;
+        let rows: Vec<Row<'_>> = result
+            .scores
+            .iter()
+            .zip(&result.rankings)
+            .map(|(score, ranking)| Row::new(&result.arm, score, ranking, Trajectories::None))
+            .collect();
         let dict = PyDict::new(py);
-        let ids: Vec<i64> = result
-            .scores
-            .iter()
-            .map(|s| s.candidate.id as i64)
-            .collect();
-        dict.set_item("id", PyArray1::from_vec(py, ids))?;
-        let feasible: Vec<bool> = result
-            .scores
-            .iter()
-            .map(graspath::select::CandidateScore::feasible)
-            .collect();
-        dict.set_item("feasible", PyArray1::from_vec(py, feasible))?;
-        let ranks: Vec<f64> = result
-            .rankings
-            .iter()
-            .map(|r| r.rank.map_or(nan, |v| v as f64))
-            .collect();
-        dict.set_item("rank", PyArray1::from_vec(py, ranks))?;
-        let scores: Vec<f64> = result
-            .rankings
-            .iter()
-            .map(|r| r.score.unwrap_or(nan))
-            .collect();
-        dict.set_item("score", PyArray1::from_vec(py, scores))?;
-        let norm = |f: fn(&graspath::manipulability::PathNorms) -> f64| -> Vec<f64> {
-            result
-                .scores
-                .iter()
-                .map(|s| s.norms.as_ref().map_or(nan, f))
-                .collect()
-        };
-        dict.set_item("mu_l2", PyArray1::from_vec(py, norm(|n| n.l2)))?;
-        dict.set_item("mu_linf", PyArray1::from_vec(py, norm(|n| n.linf)))?;
-        dict.set_item("mu_l1", PyArray1::from_vec(py, norm(|n| n.l1)))?;
-        let at_grasp = |f: fn(&graspath::select::CandidateScore) -> Option<f64>| -> Vec<f64> {
-            result.scores.iter().map(|s| f(s).unwrap_or(nan)).collect()
-        };
-        dict.set_item(
-            "yoshikawa_at_grasp",
-            PyArray1::from_vec(py, at_grasp(|s| s.yoshikawa_at_grasp)),
+        set_numpy_columns(
+            py,
+            &dict,
+            &rows,
+            outputs::ARRAYS,
+            self.task.path.samples.len(),
         )?;
-        dict.set_item(
-            "inverse_condition_at_grasp",
-            PyArray1::from_vec(py, at_grasp(|s| s.inverse_condition_at_grasp)),
-        )?;
-        dict.set_item(
-            "inverse_condition_squared_at_grasp",
-            PyArray1::from_vec(py, at_grasp(|s| s.inverse_condition_squared_at_grasp)),
-        )?;
-        dict.set_item(
-            "clearance",
-            PyArray1::from_vec(py, at_grasp(|s| s.clearance)),
-        )?;
-        dict.set_item(
-            "yoshikawa_penalized_at_grasp",
-            PyArray1::from_vec(py, at_grasp(|s| s.yoshikawa_penalized_at_grasp)),
-        )?;
-        let limit_distance_min: Vec<f64> = result
-            .scores
-            .iter()
-            .map(|s| {
-                let d = s
-                    .limit_distance
-                    .iter()
-                    .copied()
-                    .fold(f64::INFINITY, f64::min);
-                if d.is_finite() {
-                    d
-                } else {
-                    nan
-                }
-            })
-            .collect();
-        dict.set_item(
-            "limit_distance_min",
-            PyArray1::from_vec(py, limit_distance_min),
-        )?;
-        let hugs: Vec<bool> = result
-            .scores
-            .iter()
-            .map(graspath::select::CandidateScore::hugs_limit)
-            .collect();
-        dict.set_item("hugs_limit", PyArray1::from_vec(py, hugs))?;
-        let contact: Vec<f64> = result
-            .scores
-            .iter()
-            .flat_map(|s| s.candidate.contact.map_or([nan; 3], |p| [p.x, p.y, p.z]))
-            .collect();
-        dict.set_item("contact", array(py, contact, &[k, 3])?)?;
-        let mut m_t = vec![nan; k * samples];
-        for (row, s) in result.scores.iter().enumerate() {
-            for (i, v) in s.m_t.iter().enumerate().take(samples) {
-                if let Some(v) = v {
-                    m_t[row * samples + i] = *v;
-                }
-            }
-        }
-        dict.set_item("m_t", array(py, m_t, &[k, samples])?)?;
-        let mut ranked = vec![nan; k * samples];
-        for (row, s) in result.scores.iter().enumerate() {
-            let values = s.ranked_values.as_ref().unwrap_or(&s.m_t);
-            for (i, v) in values.iter().enumerate().take(samples) {
-                if let Some(v) = v {
-                    ranked[row * samples + i] = *v;
-                }
-            }
-        }
-        dict.set_item("ranked_index", array(py, ranked, &[k, samples])?)?;
-        let failure_sample: Vec<f64> = result
-            .scores
-            .iter()
-            .map(|s| s.failure.as_ref().map_or(nan, |f| f.sample as f64))
-            .collect();
-        dict.set_item("failure_sample", PyArray1::from_vec(py, failure_sample))?;
         Ok(dict)
     }
 

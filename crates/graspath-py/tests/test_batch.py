@@ -71,7 +71,7 @@ def test_every_row_equals_select_task_by_task(tasks, batch, one_by_one):
             for name in FLOAT_COLUMNS:
                 np.testing.assert_array_equal(rows[name], arrays[name], err_msg=f"{task.name} {arm} {name}")
             assert list(rows["label"]) == [r["label"] for r in records]
-            assert list(rows["failure"]) == [r["failure"]["reason"] if r["failure"] else None for r in records]
+            assert list(rows["failure_reason"]) == [r["failure"]["reason"] if r["failure"] else None for r in records]
             assert list(rows["rejected"]) == [r.get("rejected") for r in records]
             np.testing.assert_allclose(
                 rows["log_likelihood"], [c["log_likelihood"] for c in task.candidates], rtol=0, atol=0

@@ -5,7 +5,7 @@
 
 use crate::pretty::write_pretty_at;
 use crate::world::has_world;
-use graspath::geometry::pose_to_rows;
+use graspath::select::record::{outputs, JsonRecord, Row, Trajectories};
 use graspath::select::{
     values_tied, ArmPair, ArmResult, CandidateScore, Ranking, Scored, Selection, Streamed,
 };
@@ -16,170 +16,27 @@ use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
 use std::io::Write;
 
-// The records' fields are declared in the byte order of their names: serialised directly, they
-// come out in the order of a `serde_json::Value` object (a sorted map), which is how
-// `candidates.json` has always been written, and a `candidates.jsonl` line has the same order.
-
-#[derive(Serialize)]
-struct FailureRecord<'a> {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    bodies: Option<&'a [String; 2]>,
-    detail: &'a str,
-    phase: &'a str,
-    reason: &'a str,
-    sample: usize,
-}
-
-#[derive(Serialize)]
-struct CandidateRecord<'a> {
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    approach_trajectory: &'a [Vec<f64>],
-    arm: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    clearance: Option<f64>,
-    contact: Option<[f64; 3]>,
-    failure: Option<FailureRecord<'a>>,
-    feasible: bool,
-    feasible_branches: usize,
-    hugs_limit: Option<bool>,
-    id: usize,
-    inverse_condition_at_grasp: Option<f64>,
-    inverse_condition_squared_at_grasp: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    joint_trajectory: Option<&'a [Vec<f64>]>,
-    label: &'a str,
-    likelihood: f64,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    limit_distance: Vec<Option<f64>>,
-    limit_distance_min: Option<f64>,
-    log_likelihood: f64,
-    m_t: &'a [Option<f64>],
-    mu_l1: Option<f64>,
-    mu_l2: Option<f64>,
-    mu_linf: Option<f64>,
-    mu_linf_infinite: bool,
-    object_from_wrist: [[f64; 4]; 4],
-    /// Left out of a streamed record, like `rank`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pareto: Option<bool>,
-    /// `Some(rank)` in `candidates.json`; left out of a streamed record (the rank needs every
-    /// candidate).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    rank: Option<Option<usize>>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    ranked_index: Option<&'a [Option<f64>]>,
-    rejected: Option<&'a str>,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    retreat_trajectory: &'a [Vec<f64>],
-    score: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    self_motion: Option<SelfMotionRecord>,
-    skipped_samples: Option<usize>,
-    yoshikawa_at_grasp: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    yoshikawa_penalized_at_grasp: Option<f64>,
-}
-
-/// With `ik.redundancy: optimize`: `μ_l2` of the first IK branch and the range over the
-/// self-motion found (the candidate's `mu_l2` is the optimised one).
-#[derive(Serialize)]
-struct SelfMotionRecord {
-    mu_l2_first_branch: f64,
-    mu_l2_max: f64,
-    mu_l2_min: f64,
-}
-
 fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
-/// Which candidates' joint trajectories (`joint_trajectory`, `approach_trajectory`,
-/// `retreat_trajectory`; rad or m per joint and sample) a candidate record carries.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Trajectories {
-    /// None: the three fields are left out of every record.
-    None,
-    /// Only feasible candidates' (the fields are left out of an infeasible candidate's record).
-    Feasible,
-    /// Every candidate's (an infeasible candidate has no motion: `joint_trajectory: []`, and
-    /// the approach and retreat are left out). `candidates.json` has always been written so.
-    #[default]
-    All,
-}
-
-impl Trajectories {
-    /// Whether a candidate's motions are kept, `feasible` or not.
-    pub fn keeps(self, feasible: bool) -> bool {
-        match self {
-            Self::None => false,
-            Self::Feasible => feasible,
-            Self::All => true,
-        }
-    }
-}
-
-/// One candidate's record: `ranking` complete (`candidates.json`) or, when `streamed`, without
-/// `rank` and `pareto`, which need every candidate.
+/// One candidate's record (the columns of [`graspath::select::record`]): `ranking` complete
+/// (`candidates.json`) or, when `streamed`, without `rank` and `pareto`, which need every
+/// candidate.
 fn candidate_record<'a>(
     arm: &'a str,
     score: &'a CandidateScore,
     ranking: &'a Ranking,
     trajectories: Trajectories,
     streamed: bool,
-) -> CandidateRecord<'a> {
-    let c = &score.candidate;
-    let motion = trajectories.keeps(score.feasible());
-    let motion_part = |q: &'a [Vec<f64>]| if motion { q } else { &[] };
-    CandidateRecord {
-        id: c.id,
-        arm,
-        label: &c.label,
-        object_from_wrist: pose_to_rows(&c.object_from_wrist),
-        contact: c.contact.map(|p| [p.x, p.y, p.z]),
-        likelihood: c.log_likelihood.exp(),
-        log_likelihood: c.log_likelihood,
-        feasible: score.feasible(),
-        failure: score.failure.as_ref().map(|f| FailureRecord {
-            reason: f.reason.as_str(),
-            phase: f.phase.as_str(),
-            sample: f.sample,
-            detail: &f.detail,
-            bodies: f.bodies.as_ref(),
-        }),
-        rejected: ranking.rejected.as_deref(),
-        rank: (!streamed).then_some(ranking.rank),
-        score: ranking.score.and_then(finite),
-        pareto: (!streamed).then_some(ranking.pareto),
-        mu_l2: score.norms.map(|n| n.l2),
-        mu_linf: score.norms.and_then(|n| finite(n.linf)),
-        mu_linf_infinite: score.norms.is_some_and(|n| n.linf.is_infinite()),
-        mu_l1: score.norms.map(|n| n.l1),
-        skipped_samples: score.norms.map(|n| n.skipped),
-        m_t: &score.m_t,
-        ranked_index: score.ranked_values.as_deref(),
-        yoshikawa_at_grasp: score.yoshikawa_at_grasp,
-        yoshikawa_penalized_at_grasp: score.yoshikawa_penalized_at_grasp,
-        inverse_condition_at_grasp: score.inverse_condition_at_grasp,
-        inverse_condition_squared_at_grasp: score.inverse_condition_squared_at_grasp,
-        feasible_branches: score.feasible_branches,
-        limit_distance_min: finite(
-            score
-                .limit_distance
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min),
-        ),
-        limit_distance: score.limit_distance.iter().map(|d| finite(*d)).collect(),
-        hugs_limit: score.feasible().then(|| score.hugs_limit()),
-        joint_trajectory: motion.then_some(&score.joint_trajectory[..]),
-        clearance: score.clearance,
-        approach_trajectory: motion_part(&score.approach),
-        retreat_trajectory: motion_part(&score.retreat),
-        self_motion: score.self_motion.map(|s| SelfMotionRecord {
-            mu_l2_first_branch: s.first_branch_l2,
-            mu_l2_min: s.l2_range.0,
-            mu_l2_max: s.l2_range.1,
-        }),
+) -> JsonRecord<'a> {
+    JsonRecord {
+        row: Row::new(arm, score, ranking, trajectories),
+        output: if streamed {
+            outputs::JSON_LINES
+        } else {
+            outputs::JSON
+        },
     }
 }
 

@@ -23,7 +23,6 @@ pub use html::{render_report, report_html, Inline, INLINE_SVG_MAX_CELLS};
 pub use json::{
     candidates_json, candidates_json_bytes, candidates_json_with, nothing_selected, pairs_json,
     summary_json, tied_pairs, write_candidate_line, write_candidates_json, write_ranking_jsonl,
-    Trajectories,
 };
 pub use lines::{Axes, LegendEntry, Line, LinePlot, LineStyle, SecondaryLabels, MARK_STYLE};
 pub use map::{placement_figures, placement_map_json};

@@ -9,12 +9,13 @@
 //! joint values in rad (m for prismatic joints). A JSON `null` is a Parquet null. The bytes
 //! depend only on the records (no timestamps), so a run is reproducible byte for byte.
 
-use crate::json::{ranked_order, Trajectories};
+use crate::json::ranked_order;
 use arrow_array::builder::{
     BooleanBuilder, FixedSizeListBuilder, Float64Builder, ListBuilder, StringBuilder, UInt64Builder,
 };
 use arrow_array::{ArrayRef, RecordBatch};
 use arrow_schema::{ArrowError, DataType, Field, Schema};
+use graspath::select::record::{outputs, Cell, Column, Kind, Row, Trajectories, COLUMNS};
 use graspath::select::{Scored, Selection, Streamed};
 use parquet::arrow::ArrowWriter;
 use parquet::basic::Compression;
@@ -49,99 +50,161 @@ fn properties() -> WriterProperties {
         .build()
 }
 
-fn list_of_lists() -> DataType {
-    let inner = DataType::List(Arc::new(Field::new("item", DataType::Float64, true)));
-    DataType::List(Arc::new(Field::new("item", inner, true)))
+/// A list of float64 (nullable items named `item`, as the list builders write them).
+fn list_of(item: DataType) -> DataType {
+    DataType::List(Arc::new(Field::new("item", item, true)))
+}
+
+/// `width` float64 values.
+fn fixed_floats(width: i32) -> DataType {
+    DataType::FixedSizeList(Arc::new(Field::new("item", DataType::Float64, true)), width)
+}
+
+/// The Parquet type of a record column's kind.
+fn data_type(kind: Kind) -> DataType {
+    match kind {
+        Kind::Float => DataType::Float64,
+        Kind::Count => DataType::UInt64,
+        Kind::Flag => DataType::Boolean,
+        Kind::Text => DataType::Utf8,
+        Kind::Point => fixed_floats(3),
+        Kind::Pose => fixed_floats(16),
+        Kind::Bodies => list_of(DataType::Utf8),
+        Kind::Series => list_of(DataType::Float64),
+        Kind::Motion => list_of(list_of(DataType::Float64)),
+    }
+}
+
+/// The record's columns that `candidates.parquet` carries, in order.
+fn parquet_columns() -> impl Iterator<Item = &'static Column> {
+    COLUMNS.iter().filter(|c| c.in_output(outputs::PARQUET))
 }
 
 fn candidates_schema() -> Schema {
-    let f64_field = |name: &str| Field::new(name, DataType::Float64, true);
-    Schema::new(vec![
-        Field::new("arm", DataType::Utf8, false),
-        Field::new("id", DataType::UInt64, false),
-        Field::new("label", DataType::Utf8, false),
-        Field::new(
-            "object_from_wrist",
-            DataType::FixedSizeList(Arc::new(Field::new("item", DataType::Float64, true)), 16),
-            false,
-        ),
-        Field::new(
-            "contact",
-            DataType::FixedSizeList(Arc::new(Field::new("item", DataType::Float64, true)), 3),
-            true,
-        ),
-        f64_field("likelihood"),
-        f64_field("log_likelihood"),
-        Field::new("feasible", DataType::Boolean, false),
-        Field::new("failure_reason", DataType::Utf8, true),
-        Field::new("failure_phase", DataType::Utf8, true),
-        Field::new("failure_sample", DataType::UInt64, true),
-        Field::new("failure_detail", DataType::Utf8, true),
-        Field::new("rejected", DataType::Utf8, true),
-        f64_field("score"),
-        f64_field("mu_l2"),
-        f64_field("mu_linf"),
-        Field::new("mu_linf_infinite", DataType::Boolean, false),
-        f64_field("mu_l1"),
-        Field::new("skipped_samples", DataType::UInt64, true),
-        f64_field("yoshikawa_at_grasp"),
-        f64_field("yoshikawa_penalized_at_grasp"),
-        f64_field("inverse_condition_at_grasp"),
-        f64_field("inverse_condition_squared_at_grasp"),
-        Field::new("feasible_branches", DataType::UInt64, false),
-        f64_field("limit_distance_min"),
-        Field::new("hugs_limit", DataType::Boolean, true),
-        f64_field("clearance"),
-        f64_field("self_motion_mu_l2_first_branch"),
-        f64_field("self_motion_mu_l2_min"),
-        f64_field("self_motion_mu_l2_max"),
-        Field::new("joint_trajectory", list_of_lists(), true),
-        Field::new("approach_trajectory", list_of_lists(), true),
-        Field::new("retreat_trajectory", list_of_lists(), true),
-    ])
+    Schema::new(
+        parquet_columns()
+            .map(|c| Field::new(c.name, data_type(c.kind), c.nullable))
+            .collect::<Vec<_>>(),
+    )
 }
 
-/// The column builders of `candidates.parquet`, in schema order.
-struct CandidateColumns {
-    arm: StringBuilder,
-    id: UInt64Builder,
-    label: StringBuilder,
-    object_from_wrist: FixedSizeListBuilder<Float64Builder>,
-    contact: FixedSizeListBuilder<Float64Builder>,
-    likelihood: Float64Builder,
-    log_likelihood: Float64Builder,
-    feasible: BooleanBuilder,
-    failure_reason: StringBuilder,
-    failure_phase: StringBuilder,
-    failure_sample: UInt64Builder,
-    failure_detail: StringBuilder,
-    rejected: StringBuilder,
-    score: Float64Builder,
-    mu_l2: Float64Builder,
-    mu_linf: Float64Builder,
-    mu_linf_infinite: BooleanBuilder,
-    mu_l1: Float64Builder,
-    skipped_samples: UInt64Builder,
-    yoshikawa_at_grasp: Float64Builder,
-    yoshikawa_penalized_at_grasp: Float64Builder,
-    inverse_condition_at_grasp: Float64Builder,
-    inverse_condition_squared_at_grasp: Float64Builder,
-    feasible_branches: UInt64Builder,
-    limit_distance_min: Float64Builder,
-    hugs_limit: BooleanBuilder,
-    clearance: Float64Builder,
-    self_motion_first: Float64Builder,
-    self_motion_min: Float64Builder,
-    self_motion_max: Float64Builder,
-    joint_trajectory: ListBuilder<ListBuilder<Float64Builder>>,
-    approach_trajectory: ListBuilder<ListBuilder<Float64Builder>>,
-    retreat_trajectory: ListBuilder<ListBuilder<Float64Builder>>,
-    rows: usize,
+/// The builder of one column of `candidates.parquet`.
+enum ColumnBuilder {
+    Float(Float64Builder),
+    Count(UInt64Builder),
+    Flag(BooleanBuilder),
+    Text(StringBuilder),
+    Fixed(FixedSizeListBuilder<Float64Builder>, usize),
+    Texts(ListBuilder<StringBuilder>),
+    Floats(ListBuilder<Float64Builder>),
+    Motion(ListBuilder<ListBuilder<Float64Builder>>),
+}
+
+impl ColumnBuilder {
+    fn new(kind: Kind) -> Self {
+        match kind {
+            Kind::Float => Self::Float(Float64Builder::new()),
+            Kind::Count => Self::Count(UInt64Builder::new()),
+            Kind::Flag => Self::Flag(BooleanBuilder::new()),
+            Kind::Text => Self::Text(StringBuilder::new()),
+            Kind::Point => Self::Fixed(FixedSizeListBuilder::new(Float64Builder::new(), 3), 3),
+            Kind::Pose => Self::Fixed(FixedSizeListBuilder::new(Float64Builder::new(), 16), 16),
+            Kind::Bodies => Self::Texts(ListBuilder::new(StringBuilder::new())),
+            Kind::Series => Self::Floats(ListBuilder::new(Float64Builder::new())),
+            Kind::Motion => Self::Motion(ListBuilder::new(ListBuilder::new(Float64Builder::new()))),
+        }
+    }
+
+    /// Appends `cell` (of this builder's kind); a value that is not finite as null.
+    fn append(&mut self, cell: Cell<'_>) {
+        match (self, cell) {
+            (Self::Float(b), Cell::Float(v)) => b.append_option(v.and_then(finite)),
+            (Self::Count(b), Cell::Count(v)) => b.append_option(v),
+            (Self::Flag(b), Cell::Flag(v)) => b.append_option(v),
+            (Self::Text(b), Cell::Text(v)) => b.append_option(v),
+            (Self::Fixed(b, width), Cell::Point(p)) => {
+                append_fixed(b, *width, p.as_ref().map(|p| &p[..]));
+            }
+            (Self::Fixed(b, width), Cell::Pose(m)) => {
+                append_fixed(b, *width, Some(m.as_flattened()));
+            }
+            (Self::Texts(b), Cell::Bodies(v)) => match v {
+                Some(names) => {
+                    names.iter().for_each(|n| b.values().append_value(n));
+                    b.append(true);
+                }
+                None => b.append_null(),
+            },
+            (Self::Floats(b), Cell::Samples(v)) => match v {
+                Some(values) => {
+                    values
+                        .iter()
+                        .for_each(|x| b.values().append_option(x.and_then(finite)));
+                    b.append(true);
+                }
+                None => b.append_null(),
+            },
+            (Self::Floats(b), Cell::Floats(values)) => {
+                values
+                    .iter()
+                    .for_each(|x| b.values().append_option(finite(*x)));
+                b.append(true);
+            }
+            (Self::Motion(b), Cell::Motion(v)) => append_motion(b, v),
+            (builder, cell) => unreachable!(
+                "a record column's cells are of its kind ({cell:?} in a {} column)",
+                builder.kind_name()
+            ),
+        }
+    }
+
+    fn kind_name(&self) -> &'static str {
+        match self {
+            Self::Float(_) => "float",
+            Self::Count(_) => "count",
+            Self::Flag(_) => "flag",
+            Self::Text(_) => "text",
+            Self::Fixed(..) => "fixed-size list",
+            Self::Texts(_) => "list of texts",
+            Self::Floats(_) => "list of floats",
+            Self::Motion(_) => "motion",
+        }
+    }
+
+    fn finish(&mut self) -> ArrayRef {
+        match self {
+            Self::Float(b) => Arc::new(b.finish()),
+            Self::Count(b) => Arc::new(b.finish()),
+            Self::Flag(b) => Arc::new(b.finish()),
+            Self::Text(b) => Arc::new(b.finish()),
+            Self::Fixed(b, _) => Arc::new(b.finish()),
+            Self::Texts(b) => Arc::new(b.finish()),
+            Self::Floats(b) => Arc::new(b.finish()),
+            Self::Motion(b) => Arc::new(b.finish()),
+        }
+    }
 }
 
 /// `Some(v)` for a finite value (JSON has no infinities; the records write `null`).
 fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)
+}
+
+fn append_fixed(
+    builder: &mut FixedSizeListBuilder<Float64Builder>,
+    width: usize,
+    values: Option<&[f64]>,
+) {
+    match values {
+        Some(values) => {
+            builder.values().append_slice(values);
+            builder.append(true);
+        }
+        None => {
+            builder.values().append_nulls(width);
+            builder.append(false);
+        }
+    }
 }
 
 fn append_motion(
@@ -160,177 +223,34 @@ fn append_motion(
     }
 }
 
+/// The column builders of `candidates.parquet`, in schema order.
+struct CandidateColumns {
+    columns: Vec<(&'static Column, ColumnBuilder)>,
+    rows: usize,
+}
+
 impl CandidateColumns {
     fn new() -> Self {
-        let motion = || ListBuilder::new(ListBuilder::new(Float64Builder::new()));
         Self {
-            arm: StringBuilder::new(),
-            id: UInt64Builder::new(),
-            label: StringBuilder::new(),
-            object_from_wrist: FixedSizeListBuilder::new(Float64Builder::new(), 16),
-            contact: FixedSizeListBuilder::new(Float64Builder::new(), 3),
-            likelihood: Float64Builder::new(),
-            log_likelihood: Float64Builder::new(),
-            feasible: BooleanBuilder::new(),
-            failure_reason: StringBuilder::new(),
-            failure_phase: StringBuilder::new(),
-            failure_sample: UInt64Builder::new(),
-            failure_detail: StringBuilder::new(),
-            rejected: StringBuilder::new(),
-            score: Float64Builder::new(),
-            mu_l2: Float64Builder::new(),
-            mu_linf: Float64Builder::new(),
-            mu_linf_infinite: BooleanBuilder::new(),
-            mu_l1: Float64Builder::new(),
-            skipped_samples: UInt64Builder::new(),
-            yoshikawa_at_grasp: Float64Builder::new(),
-            yoshikawa_penalized_at_grasp: Float64Builder::new(),
-            inverse_condition_at_grasp: Float64Builder::new(),
-            inverse_condition_squared_at_grasp: Float64Builder::new(),
-            feasible_branches: UInt64Builder::new(),
-            limit_distance_min: Float64Builder::new(),
-            hugs_limit: BooleanBuilder::new(),
-            clearance: Float64Builder::new(),
-            self_motion_first: Float64Builder::new(),
-            self_motion_min: Float64Builder::new(),
-            self_motion_max: Float64Builder::new(),
-            joint_trajectory: motion(),
-            approach_trajectory: motion(),
-            retreat_trajectory: motion(),
+            columns: parquet_columns()
+                .map(|c| (c, ColumnBuilder::new(c.kind)))
+                .collect(),
             rows: 0,
         }
     }
 
     fn push(&mut self, streamed: &Streamed<'_>, trajectories: Trajectories) {
-        let score = streamed.score;
-        let c = &score.candidate;
-        let feasible = score.feasible();
-        self.arm.append_value(streamed.arm);
-        self.id.append_value(c.id as u64);
-        self.label.append_value(&c.label);
-        let m = c.object_from_wrist.to_homogeneous();
-        for row in 0..4 {
-            for col in 0..4 {
-                self.object_from_wrist.values().append_value(m[(row, col)]);
-            }
+        let row = Row::new(streamed.arm, streamed.score, streamed.ranking, trajectories);
+        for (column, builder) in &mut self.columns {
+            builder.append((column.value)(&row));
         }
-        self.object_from_wrist.append(true);
-        match c.contact {
-            Some(p) => {
-                self.contact.values().append_slice(&[p.x, p.y, p.z]);
-                self.contact.append(true);
-            }
-            None => {
-                self.contact.values().append_nulls(3);
-                self.contact.append(false);
-            }
-        }
-        self.likelihood.append_value(c.log_likelihood.exp());
-        self.log_likelihood.append_value(c.log_likelihood);
-        self.feasible.append_value(feasible);
-        let failure = score.failure.as_ref();
-        self.failure_reason
-            .append_option(failure.map(|f| f.reason.as_str()));
-        self.failure_phase
-            .append_option(failure.map(|f| f.phase.as_str()));
-        self.failure_sample
-            .append_option(failure.map(|f| f.sample as u64));
-        self.failure_detail
-            .append_option(failure.map(|f| f.detail.as_str()));
-        self.rejected
-            .append_option(streamed.ranking.rejected.as_deref());
-        self.score
-            .append_option(streamed.ranking.score.and_then(finite));
-        let norms = score.norms;
-        self.mu_l2.append_option(norms.map(|n| n.l2));
-        self.mu_linf
-            .append_option(norms.and_then(|n| finite(n.linf)));
-        self.mu_linf_infinite
-            .append_value(norms.is_some_and(|n| n.linf.is_infinite()));
-        self.mu_l1.append_option(norms.map(|n| n.l1));
-        self.skipped_samples
-            .append_option(norms.map(|n| n.skipped as u64));
-        self.yoshikawa_at_grasp
-            .append_option(score.yoshikawa_at_grasp);
-        self.yoshikawa_penalized_at_grasp
-            .append_option(score.yoshikawa_penalized_at_grasp);
-        self.inverse_condition_at_grasp
-            .append_option(score.inverse_condition_at_grasp);
-        self.inverse_condition_squared_at_grasp
-            .append_option(score.inverse_condition_squared_at_grasp);
-        self.feasible_branches
-            .append_value(score.feasible_branches as u64);
-        self.limit_distance_min.append_option(finite(
-            score
-                .limit_distance
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min),
-        ));
-        self.hugs_limit
-            .append_option(feasible.then(|| score.hugs_limit()));
-        self.clearance.append_option(score.clearance);
-        let motion = score.self_motion;
-        self.self_motion_first
-            .append_option(motion.map(|s| s.first_branch_l2));
-        self.self_motion_min
-            .append_option(motion.map(|s| s.l2_range.0));
-        self.self_motion_max
-            .append_option(motion.map(|s| s.l2_range.1));
-        let keep = trajectories.keeps(feasible);
-        append_motion(
-            &mut self.joint_trajectory,
-            keep.then_some(&score.joint_trajectory[..]),
-        );
-        append_motion(
-            &mut self.approach_trajectory,
-            keep.then_some(&score.approach[..]),
-        );
-        append_motion(
-            &mut self.retreat_trajectory,
-            keep.then_some(&score.retreat[..]),
-        );
         self.rows += 1;
     }
 
     /// The buffered rows as a batch; the builders start empty again.
     fn batch(&mut self, schema: &Arc<Schema>) -> Result<RecordBatch, ArrowError> {
         self.rows = 0;
-        let columns: Vec<ArrayRef> = vec![
-            Arc::new(self.arm.finish()),
-            Arc::new(self.id.finish()),
-            Arc::new(self.label.finish()),
-            Arc::new(self.object_from_wrist.finish()),
-            Arc::new(self.contact.finish()),
-            Arc::new(self.likelihood.finish()),
-            Arc::new(self.log_likelihood.finish()),
-            Arc::new(self.feasible.finish()),
-            Arc::new(self.failure_reason.finish()),
-            Arc::new(self.failure_phase.finish()),
-            Arc::new(self.failure_sample.finish()),
-            Arc::new(self.failure_detail.finish()),
-            Arc::new(self.rejected.finish()),
-            Arc::new(self.score.finish()),
-            Arc::new(self.mu_l2.finish()),
-            Arc::new(self.mu_linf.finish()),
-            Arc::new(self.mu_linf_infinite.finish()),
-            Arc::new(self.mu_l1.finish()),
-            Arc::new(self.skipped_samples.finish()),
-            Arc::new(self.yoshikawa_at_grasp.finish()),
-            Arc::new(self.yoshikawa_penalized_at_grasp.finish()),
-            Arc::new(self.inverse_condition_at_grasp.finish()),
-            Arc::new(self.inverse_condition_squared_at_grasp.finish()),
-            Arc::new(self.feasible_branches.finish()),
-            Arc::new(self.limit_distance_min.finish()),
-            Arc::new(self.hugs_limit.finish()),
-            Arc::new(self.clearance.finish()),
-            Arc::new(self.self_motion_first.finish()),
-            Arc::new(self.self_motion_min.finish()),
-            Arc::new(self.self_motion_max.finish()),
-            Arc::new(self.joint_trajectory.finish()),
-            Arc::new(self.approach_trajectory.finish()),
-            Arc::new(self.retreat_trajectory.finish()),
-        ];
+        let columns: Vec<ArrayRef> = self.columns.iter_mut().map(|(_, b)| b.finish()).collect();
         RecordBatch::try_new(schema.clone(), columns)
     }
 }

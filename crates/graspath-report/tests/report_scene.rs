@@ -10,11 +10,12 @@
 
 use graspath::collision::{distance, Body};
 use graspath::robot::RobotSource;
+use graspath::select::record::Trajectories;
 use graspath::select::select;
 use graspath::task::{robot_link_shapes, Gripper, Task};
 use graspath_report::{
     candidates_json, candidates_json_bytes, candidates_json_with, render_report, scene_json,
-    summary_json, Trajectories,
+    summary_json,
 };
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use serde_json::Value;

@@ -7,11 +7,12 @@
 //! with `GRASPATH_WRITE_FIXTURES=1 cargo test -p graspath-report --test report_without_scene`
 //! from a checkout of the report code known to be right, and say so in the commit.
 
+use graspath::select::record::Trajectories;
 use graspath::select::{select, CandidateScore};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json, candidates_json_bytes, candidates_json_with, pairs_json, scene_json,
-    summary_json, Trajectories,
+    summary_json,
 };
 use std::path::{Path, PathBuf};
 

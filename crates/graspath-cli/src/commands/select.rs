@@ -12,12 +12,13 @@ use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
+use graspath::select::record::Trajectories;
 use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
     write_candidate_line, write_candidates_json, write_ranking_jsonl, write_ranking_parquet,
-    CandidatesParquet, Trajectories,
+    CandidatesParquet,
 };
 use std::fs::File;
 use std::io::BufWriter;

@@ -17,6 +17,8 @@ base frame with Jacobian rows ``[v; ω]``.
   with one row per object, arm and candidate (or each object's and arm's top ``k``).
 * :func:`select_pairs` — a two-arm task's best arm pairs from its candidates' scores found
   apart (``select_batch`` rows, for instance of candidate slices): :func:`select`'s pairs.
+* :func:`record_columns` — the per-candidate columns (name, type, unit, meaning, which outputs
+  carry them) that every output above is read off (``docs/candidate-record.md``).
 * :func:`pose_matrix` — a pose in the task file's syntax (``xyz``, ``rpy_deg``, …) as a 4×4
   matrix; ``Task.load(path, object_pose=...)`` moves a task's object to such a pose.
 * :mod:`graspath.ray` — a dataset of task files sharded over a Ray cluster, each object's top
@@ -44,6 +46,7 @@ from ._graspath import (
     placement_map,
     pose_matrix,
     read_grasps,
+    record_columns,
     result_cache,
     select,
     select_batch,
@@ -61,6 +64,7 @@ __all__ = [
     "placement_map",
     "pose_matrix",
     "read_grasps",
+    "record_columns",
     "result_cache",
     "select",
     "select_batch",

@@ -6,7 +6,7 @@ every robot pose and Jacobian is in the chain base frame, Jacobian rows ``[v; ω
 
 from os import PathLike
 from pathlib import Path
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -297,13 +297,15 @@ class Selection:
     def best(self, arm: str) -> Optional[int]:
         """The id of the best-ranked candidate of ``arm``."""
     def arrays(self, arm: str) -> Dict[str, npt.NDArray[Any]]:
-        """Per-candidate numpy arrays: ``id``, ``feasible``, ``rank``, ``score``, ``mu_l2``,
-        ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``inverse_condition_at_grasp``,
-        ``inverse_condition_squared_at_grasp``, ``clearance``,
-        ``yoshikawa_penalized_at_grasp``, ``limit_distance_min``, ``hugs_limit``, ``contact``
-        ``(k, 3)``, ``m_t`` ``(k, n)``, ``ranked_index`` ``(k, n)``, ``failure_sample``.
-        Everything absent is NaN, never a sentinel: ``rank`` (float64, 1 for the best) is NaN
-        when not ranked, ``failure_sample`` (float64) NaN when feasible."""
+        """Per-candidate numpy arrays, the record columns marked ``arrays`` in
+        :func:`record_columns`: ``id``, ``label``, ``feasible``, ``failure_reason``,
+        ``failure_sample``, ``rejected``, ``rank``, ``score``, ``log_likelihood``, ``mu_l2``,
+        ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
+        ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
+        ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``contact`` ``(k, 3)``, ``m_t``
+        ``(k, n)``, ``ranked_index`` ``(k, n)``. Everything absent is NaN (``None`` for a
+        text), never a sentinel: ``rank`` (float64, 1 for the best) is NaN when not ranked,
+        ``failure_sample`` (float64) NaN when feasible."""
     def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
     def write(self, out_dir: StrPath) -> List[Path]:
@@ -359,15 +361,32 @@ def select_batch(
     or with ``top_k`` (>= 1) only each object's and arm's ``top_k`` ranked rows in the order
     (object, arm, rank): ``object`` (int64, position in ``tasks``), ``arm`` (str), ``arm_index``
     (int64), ``candidate`` (int64, position in the task's candidates), ``id`` (int64), ``label``
-    (str), ``feasible`` (bool), ``failure`` (object: reason or ``None``), ``failure_sample``
+    (str), ``feasible`` (bool), ``failure_reason`` (object: reason or ``None``), ``failure_sample``
     (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
     or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
     ``mu_l1``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``score`` and ``rank`` (float64, 1 for
-    the best; NaN wherever absent: infeasible, not ranked, no scene).
+    the best; NaN wherever absent: infeasible, not ranked, no scene): besides ``object``,
+    ``arm_index`` and ``candidate``, the record columns marked ``select_batch`` in
+    :func:`record_columns`.
 
     ``slices`` (one ``(start, stop)`` per task) scores only those candidate positions: the
     scores are the whole task's (the likelihood is taken relative to the whole task's most
     likely candidate), the ranks are within the slice."""
+
+class RecordColumn(TypedDict):
+    """One per-candidate output column (see ``docs/candidate-record.md``)."""
+
+    name: str
+    type: str
+    nullable: bool
+    unit: str
+    doc: str
+    outputs: List[Literal["json", "jsonl", "parquet", "arrays", "select_batch"]]
+
+def record_columns() -> List[RecordColumn]:
+    """The candidate record's columns, in order: every per-candidate output (``candidates.json``,
+    ``candidates.jsonl``, ``candidates.parquet``, :meth:`Selection.arrays`,
+    :func:`select_batch`) is read off this list."""
 
 def select_pairs(task: Task, rows: Mapping[str, ArrayLike], *, top_k: Optional[int] = None) -> Dict[str, npt.NDArray[Any]]:
     """The best arm pairs of a two-arm ``task`` from its candidates' scores found apart.

@@ -2,6 +2,7 @@
 //! (single arm) and pair them (two arms).
 
 mod rank;
+pub mod record;
 mod run;
 mod scalars;
 mod score;

@@ -17,6 +17,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use graspath::fsutil::{check_folder_target, write_files, Existing};
 use graspath::placement::FamilyParameter;
+use graspath::select::record::Trajectories;
 use graspath::select::{select, Selection};
 use graspath::task::Task;
 use graspath::task::TaskFile;
@@ -202,7 +203,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             &per_run,
             &title,
             true,
-            graspath_report::Trajectories::All,
+            Trajectories::All,
         )
         .with_context(|| format!("experiment {}", experiment.name))?;
         if !per_run.quiet {

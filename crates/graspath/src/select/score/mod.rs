@@ -2,28 +2,31 @@
 //! trajectory IK, `M_T` at every sample, the norms over the path, and the classical indices at
 //! the grasp for comparison.
 
-use crate::collision::{
-    signed_distance, ArmInScene, Body, CollisionHit, CollisionOptions, ObjectAlong, ToolMotion,
-    WholeMotion,
-};
+mod branch_checks;
+mod grasp_checks;
+mod path;
+mod self_motion;
+
+pub use path::wrist_trajectory;
+
+use crate::collision::{ArmInScene, Body, ObjectAlong};
 pub use crate::failure::Failure;
 use crate::failure::{FailureReason, Phase};
-use crate::geometry::se3_log;
 use crate::grasp::Candidate;
 use crate::manipulability::{
-    classical_indices, joint_limit_penalty, limit_distance, Direction, JacobianPart, PathNorms,
-    SampleIndex,
+    classical_indices, joint_limit_penalty, limit_distance, JacobianPart, PathNorms,
 };
-use crate::robot::{
-    optimize_self_motion, solve_trajectories, solve_trajectory, Chain, KeptRows, SelfMotionOptions,
-    TrajectoryIkOptions, TrajectoryIkResult,
-};
+use crate::robot::{solve_trajectories, solve_trajectory, TrajectoryIkOptions, TrajectoryIkResult};
 use crate::task::{
-    defaults, ArmSetup, Collisions, Gripper, JacobianRows, NormSamples, ObjectPath, RankedIndex,
-    Redundancy, Stroke, WholeMotionPlan,
+    defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
+    Stroke, WholeMotionPlan,
 };
-use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
+use branch_checks::{branch_checks, check_branch, BranchFindings};
+use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
+use nalgebra::{Isometry3, Matrix6xX};
+use path::{counted_samples, index_along, IndexSeries, ObjectMotion};
 use rayon::prelude::*;
+use self_motion::SelfMotionSearch;
 use std::sync::Arc;
 
 /// How many candidates are scored in parallel before their results are handed on in order.
@@ -131,144 +134,6 @@ impl CandidateScore {
     }
 }
 
-/// The object's body twists between consecutive samples, `log(O_i⁻¹ O_{i+1})`, shared by every
-/// candidate: a wrist rigidly attached at `object_from_wrist = (R, p)` moves with the twist
-/// `Ad_{W⁻¹} ξ`, so its base-frame tangent is `R_base_object · (v + ω × p, ω)`.
-struct ObjectMotion {
-    /// Per sample: the object's body twist of the interval that defines its tangent.
-    twists: Vec<Vector6<f64>>,
-    /// Per sample: `base_from_object` rotation.
-    rotations: Vec<Rotation3<f64>>,
-}
-
-impl ObjectMotion {
-    fn new(path: &ObjectPath, base_from_world: &Isometry3<f64>) -> Self {
-        let poses: Vec<Isometry3<f64>> = path.poses().copied().collect();
-        let n = poses.len();
-        let twists = (0..n)
-            .map(|i| {
-                // Forward difference; the last sample takes the backward difference.
-                let (a, b) = if i + 1 < n {
-                    (i, i + 1)
-                } else {
-                    (i.saturating_sub(1), i)
-                };
-                if a == b {
-                    Vector6::zeros()
-                } else {
-                    se3_log(&(poses[a].inverse() * poses[b]))
-                }
-            })
-            .collect();
-        let rotations = poses
-            .iter()
-            .map(|p| (base_from_world * p).rotation.to_rotation_matrix())
-            .collect();
-        Self { twists, rotations }
-    }
-
-    /// The unit tangent direction at sample `i` for a wrist at `object_from_wrist`.
-    fn tangent(
-        &self,
-        i: usize,
-        object_from_wrist: &Isometry3<f64>,
-        mode: JacobianRows,
-    ) -> Option<Direction> {
-        let xi = &self.twists[i];
-        let v = Vector3::new(xi[0], xi[1], xi[2]);
-        let w = Vector3::new(xi[3], xi[4], xi[5]);
-        let p = object_from_wrist.translation.vector;
-        let r = &self.rotations[i];
-        let linear = r * (v + w.cross(&p));
-        let angular = r * w;
-        mode.direction(&linear, &angular)
-    }
-}
-
-/// The wrist poses `base_from_wrist` along the path for one candidate and arm.
-pub fn wrist_trajectory(
-    path: &ObjectPath,
-    world_from_base: &Isometry3<f64>,
-    object_from_wrist: &Isometry3<f64>,
-) -> Vec<Isometry3<f64>> {
-    let base_from_world = world_from_base.inverse();
-    path.poses()
-        .map(|world_from_object| base_from_world * world_from_object * object_from_wrist)
-        .collect()
-}
-
-/// The per-sample indices along one joint path (`None` where the object is still).
-#[derive(Debug, Clone, PartialEq)]
-struct IndexSeries {
-    /// `M_T` (eq. 13).
-    m_t: Vec<Option<f64>>,
-    /// The ranked index, when it is not `M_T` itself.
-    ranked: Option<Vec<Option<f64>>>,
-}
-
-impl IndexSeries {
-    /// The values the norms are taken of.
-    fn ranked(&self) -> &[Option<f64>] {
-        self.ranked.as_deref().unwrap_or(&self.m_t)
-    }
-
-    /// The norms of the ranked values at the path samples marked in `counted` (`times`: the
-    /// samples' times, s).
-    fn norms(&self, times: &[f64], counted: &[bool]) -> PathNorms {
-        let samples: Vec<SampleIndex> = self
-            .ranked()
-            .iter()
-            .zip(times)
-            .zip(counted)
-            .filter(|(_, counted)| **counted)
-            .map(|((&value, &time), _)| SampleIndex { time, value })
-            .collect();
-        PathNorms::of(&samples)
-    }
-}
-
-/// Which path samples the norms are taken over ([`NormSamples`]): all of them, or the
-/// initial pose and the last sample of each step.
-fn counted_samples(path: &ObjectPath, over: NormSamples) -> Vec<bool> {
-    let samples = &path.samples;
-    (0..samples.len())
-        .map(|i| match over {
-            NormSamples::All => true,
-            NormSamples::Waypoints => {
-                i == 0 || i + 1 == samples.len() || samples[i + 1].step != samples[i].step
-            }
-        })
-        .collect()
-}
-
-/// `M_T` and the ranked index at every sample along one joint path.
-fn index_along(
-    chain: &Chain,
-    motion: &ObjectMotion,
-    object_from_wrist: &Isometry3<f64>,
-    joints: &[Vec<f64>],
-    (mode, ranked): (JacobianRows, RankedIndex),
-    jacobian: &mut Matrix6xX<f64>,
-) -> IndexSeries {
-    let mut m_t = Vec::with_capacity(joints.len());
-    let mut values = Vec::with_capacity(joints.len());
-    for (i, q) in joints.iter().enumerate() {
-        let at = motion
-            .tangent(i, object_from_wrist, mode)
-            .filter(|_| chain.pose_and_jacobian_into(q, jacobian).is_ok());
-        m_t.push(at.map(|d| mode.task_relevant(jacobian, &d)));
-        if !ranked.is_task_relevant() {
-            values.push(
-                at.map(|d| ranked.value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])),
-            );
-        }
-    }
-    IndexSeries {
-        m_t,
-        ranked: (!ranked.is_task_relevant()).then_some(values),
-    }
-}
-
 /// What scoring needs besides the candidate: the arm, the object path, which rows of `J` enter
 /// `M_T`, the IK settings, and what the task knows of its world.
 #[derive(Debug, Clone, Copy)]
@@ -346,13 +211,14 @@ pub fn for_each_score(
     let motion = ObjectMotion::new(setup.path, &base_from_world);
     let times = setup.path.times();
     let fingers = FingerCheck::new(&setup.world);
+    let checks = grasp_checks(fingers.as_ref());
     // Groups small enough to give every thread several.
     let group = (STREAM_CHUNK / (4 * rayon::current_num_threads())).clamp(1, SOLVE_GROUP);
     for chunk in candidates.chunks(STREAM_CHUNK) {
         let scores: Vec<Vec<CandidateScore>> = chunk
             .par_chunks(group)
             .map(|group| {
-                let scores = score_group(setup, group, &motion, &times, fingers.as_ref());
+                let scores = score_group(setup, group, &motion, &times, &checks);
                 scores.iter().for_each(|_| progress());
                 scores
             })
@@ -372,79 +238,6 @@ pub fn score_candidates(
     scores
 }
 
-/// The gripper-width check of a task: a width given by the candidate's file must fit the
-/// opening, and the open fingers at the grasp must not press into the object (when its shape
-/// is known). Built once per arm; the finger bodies are shared by every candidate.
-struct FingerCheck<'a> {
-    /// `(name, wrist_from_finger, body)` of each finger, open at the gripper's opening.
-    fingers: Vec<(String, Isometry3<f64>, Body)>,
-    opening: f64,
-    tolerance: f64,
-    object: Option<&'a Body>,
-}
-
-impl<'a> FingerCheck<'a> {
-    fn new(world: &WorldSetup<'a>) -> Option<Self> {
-        let (gripper, object) = (world.gripper?, world.object);
-        Some(Self {
-            fingers: gripper
-                .finger_shapes()
-                .into_iter()
-                .map(|(name, wrist_from_finger, shape)| {
-                    let body = Body::from_shape(format!("hand {name}"), &shape);
-                    (name, wrist_from_finger, body)
-                })
-                .collect(),
-            opening: gripper.opening,
-            tolerance: world
-                .collisions
-                .map_or(CollisionOptions::default().touch_tolerance, |c| {
-                    c.options.touch_tolerance
-                }),
-            object,
-        })
-    }
-
-    fn failure(&self, candidate: &Candidate) -> Option<Failure> {
-        if let Some(width) = candidate
-            .width
-            .filter(|w| *w > self.opening + self.tolerance)
-        {
-            return Some(Failure {
-                reason: FailureReason::GripperWidth,
-                phase: Phase::Path,
-                sample: 0,
-                detail: format!(
-                    "the grasp's width from its file, {width:.4} m, is more than the {:.3} m \
-                     opening",
-                    self.opening
-                ),
-                bodies: None,
-            });
-        }
-        let object = self.object?;
-        for (name, wrist_from_finger, finger) in &self.fingers {
-            let object_from_finger = candidate.object_from_wrist * wrist_from_finger;
-            let depth =
-                signed_distance(finger, &object_from_finger, object, &Isometry3::identity());
-            if depth < -self.tolerance {
-                return Some(Failure {
-                    reason: FailureReason::GripperWidth,
-                    phase: Phase::Path,
-                    sample: 0,
-                    detail: format!(
-                        "the object is wider across the fingers than the {:.3} m opening: the \
-                         {name} would press {:.4} m into it",
-                        self.opening, -depth
-                    ),
-                    bodies: Some([format!("hand {name}"), "object".into()]),
-                });
-            }
-        }
-        None
-    }
-}
-
 /// A candidate on its way through scoring: its motion's tool poses and what checks them.
 struct Scoring<'s> {
     setup: &'s ScoringSetup<'s>,
@@ -452,6 +245,7 @@ struct Scoring<'s> {
     plan: WholeMotionPlan<'s>,
     /// The tool poses of the whole motion (approach, path, retreat), chain base frame.
     targets: Vec<Isometry3<f64>>,
+    /// The arm in the scene, with a scene and the arm's bodies.
     checker: Option<ArmInScene<'s>>,
     /// The object's first and last poses on the path, world frame.
     first_pose: Isometry3<f64>,
@@ -529,19 +323,6 @@ impl<'s> Scoring<'s> {
             object_from_wrist: &self.candidate.object_from_wrist,
         }
     }
-
-    /// What fails whatever the arm does, found before any IK: the gripper's width, and the
-    /// hand and what rides with it colliding at the tool poses.
-    fn fails_before_ik(&self, fingers: Option<&FingerCheck<'_>>) -> Option<Failure> {
-        if let Some(failure) = fingers.and_then(|f| f.failure(self.candidate)) {
-            return Some(failure);
-        }
-        let hit = self.checker.as_ref()?.check_tool_poses(&ToolMotion {
-            base_from_tool: &self.targets,
-            object: self.object_along(),
-        })?;
-        Some(self.located(collision_failure(&hit)))
-    }
 }
 
 /// Scores the candidates of `group` (see [`for_each_score`]), in order. The first IK solve of
@@ -551,13 +332,13 @@ fn score_group(
     group: &[Arc<Candidate>],
     motion: &ObjectMotion,
     times: &[f64],
-    fingers: Option<&FingerCheck<'_>>,
+    checks: &[&dyn GraspCheck],
 ) -> Vec<CandidateScore> {
     let chain = &setup.arm.chain;
     let scorings: Vec<Scoring<'_>> = group.iter().map(|c| Scoring::new(setup, c)).collect();
     let early: Vec<Option<Failure>> = scorings
         .iter()
-        .map(|s| s.fails_before_ik(fingers))
+        .map(|s| checks.iter().find_map(|check| check.failure(s)))
         .collect();
     let trajectories: Vec<&[Isometry3<f64>]> = scorings
         .iter()
@@ -592,6 +373,28 @@ fn score_group(
         .collect()
 }
 
+/// The branch kept so far: the index along its path, its norms, the whole motion's joints and
+/// what the branch checks measured on it.
+struct ChosenBranch {
+    series: IndexSeries,
+    norms: PathNorms,
+    /// Joint configurations of the whole motion (approach, path, retreat), rad or m.
+    q: Vec<Vec<f64>>,
+    findings: BranchFindings,
+}
+
+impl ChosenBranch {
+    /// Whether `norms` rank above this branch's: a finite `μ_l∞` first, then a larger `μ_l2`.
+    fn norms_better(&self, norms: &PathNorms) -> bool {
+        (norms.linf.is_finite(), norms.l2) > (self.norms.linf.is_finite(), self.norms.l2)
+    }
+
+    /// Whether this branch ranks above `other` ([`ChosenBranch::norms_better`]).
+    fn better_than(&self, other: &ChosenBranch) -> bool {
+        other.norms_better(&self.norms)
+    }
+}
+
 /// The rest of a candidate's scoring, from its first IK solve (`first`, with
 /// [`Scoring::first_try`]'s options; `Err` when its input was refused).
 fn score_solved(
@@ -619,8 +422,7 @@ fn score_solved(
     let mut jacobian = Matrix6xX::zeros(chain.dof());
     let mut score = CandidateScore::unscored(Arc::clone(candidate));
     let located = |failure: Failure| scoring.located(failure);
-    let checker = scoring.checker.as_ref();
-    let object_along = scoring.object_along();
+    let checks = branch_checks(&scoring);
     // One branch tracked first; more are searched only when it fails or collides, or when
     // every branch is to be compared.
     let mut tries = vec![Scoring::first_try(scoring.setup)];
@@ -628,10 +430,11 @@ fn score_solved(
         tries.push(ik.clone());
     }
     let mut first = Some(first);
-    let mut collision: Option<Failure> = None;
-    // Branches found colliding, with their failure: the search with more branches finds the
+    // The first failure of a branch check (e.g. a collision) in this attempt.
+    let mut refusal: Option<Failure> = None;
+    // Branches the checks refused, with their failure: the search with more branches finds the
     // first one again, and it need not be checked twice.
-    let mut collided: Vec<(Vec<Vec<f64>>, Failure)> = Vec::new();
+    let mut refused: Vec<(Vec<Vec<f64>>, Failure)> = Vec::new();
     let mut best: Option<ChosenBranch> = None;
     let mut last_failure: Option<Failure> = None;
     // The first branch's whole motion and `μ_l2`, for the self-motion search.
@@ -669,50 +472,37 @@ fn score_solved(
             if redundancy == Redundancy::Optimize && first_branch.is_none() && attempt == 0 {
                 first_branch = Some((branch.q.clone(), norms.l2));
             }
-            let better = match &best {
-                None => true,
-                Some((_, b, _, _)) => {
-                    (norms.linf.is_finite(), norms.l2) > (b.linf.is_finite(), b.l2)
-                }
-            };
-            if !better {
+            if best.as_ref().is_some_and(|b| !b.norms_better(&norms)) {
                 continue;
             }
-            if let Some((_, failure)) = collided.iter().find(|(q, _)| *q == branch.q) {
-                if collision.is_none() {
-                    collision = Some(failure.clone());
-                }
+            if let Some((_, failure)) = refused.iter().find(|(q, _)| *q == branch.q) {
+                refusal.get_or_insert_with(|| failure.clone());
                 continue;
             }
-            let clearance = match &checker {
-                None => None,
-                Some(checker) => {
-                    let check = checker.check(&WholeMotion {
-                        q: &branch.q,
-                        object: object_along.clone(),
+            match check_branch(&checks, &branch.q) {
+                Ok(findings) => {
+                    best = Some(ChosenBranch {
+                        series,
+                        norms,
+                        q: branch.q.clone(),
+                        findings,
                     });
-                    if let Some(hit) = check.hit {
-                        let failure = located(collision_failure(&hit));
-                        if collision.is_none() {
-                            collision = Some(failure.clone());
-                        }
-                        collided.push((branch.q.clone(), failure));
-                        continue;
-                    }
-                    check.clearance
                 }
-            };
-            best = Some((series, norms, branch.q.clone(), clearance));
+                Err(failure) => {
+                    refusal.get_or_insert_with(|| failure.clone());
+                    refused.push((branch.q.clone(), failure));
+                }
+            }
         }
         last_failure = result.failure;
         // Another attempt with more branches only helps when the first pose was solved.
         let first_pose_solved = best.is_some()
-            || collision.is_some()
+            || refusal.is_some()
             || last_failure.as_ref().is_some_and(|f| f.sample > 0);
         if best.is_some() || !first_pose_solved || attempt + 1 == tries.len() {
             break;
         }
-        collision = None;
+        refusal = None;
     }
     if let (Redundancy::Optimize, Some(chosen)) = (redundancy, best.as_mut()) {
         let search = SelfMotionSearch {
@@ -723,17 +513,21 @@ fn score_solved(
             counted: &counted,
             targets,
             path: before..before + n,
-            checker,
-            object_along: &object_along,
+            checks: &checks,
         };
         score.self_motion = search.improve(chosen, first_branch.as_ref());
     }
     let grasp_reached = match best {
-        Some((series, norms, q, clearance)) => {
+        Some(ChosenBranch {
+            series,
+            norms,
+            q,
+            findings,
+        }) => {
             score.m_t = series.m_t;
             score.ranked_values = series.ranked;
             score.norms = Some(norms);
-            score.clearance = clearance;
+            score.clearance = findings.clearance;
             score.approach = q[..before].to_vec();
             score.retreat = q[before + n..].to_vec();
             score.joint_trajectory = q[before..before + n].to_vec();
@@ -745,16 +539,19 @@ fn score_solved(
             true
         }
         None => {
-            let failure = collision.or(last_failure.map(located)).unwrap_or_else(|| {
+            // A branch the checks refused was solved along the whole motion.
+            let solved_whole = refusal.is_some();
+            let failure = refusal.or(last_failure.map(located)).unwrap_or_else(|| {
                 Failure::new(FailureReason::Unreachable, 0, "no IK branch was found")
             });
             // The classical indices at the grasp need the grasp pose to have been reached: a
-            // failure after it on the path, in the retreat, or a collision. An approach that
-            // fails is not followed by a separate solve at the grasp (the candidate cannot be
-            // executed, and an unreachable pre-grasp usually means an unreachable grasp).
+            // failure after it on the path, in the retreat, or a branch refused by a check. An
+            // approach that fails is not followed by a separate solve at the grasp (the
+            // candidate cannot be executed, and an unreachable pre-grasp usually means an
+            // unreachable grasp).
             let grasp_reached = (failure.phase == Phase::Path && failure.sample > 0)
                 || failure.phase == Phase::Retreat
-                || failure.reason == FailureReason::Collision;
+                || solved_whole;
             score.failure = Some(failure);
             grasp_reached
         }
@@ -786,202 +583,4 @@ fn score_solved(
         }
     }
     score
-}
-
-/// The branch kept so far: `M_T` per path sample, its norms, the whole motion's joints and
-/// its clearance.
-type ChosenBranch = (IndexSeries, PathNorms, Vec<Vec<f64>>, Option<f64>);
-
-/// The self-motion search of one candidate ([`Redundancy::Optimize`]).
-struct SelfMotionSearch<'a> {
-    setup: &'a ScoringSetup<'a>,
-    candidate: &'a Candidate,
-    motion: &'a ObjectMotion,
-    times: &'a [f64],
-    /// Which path samples the norms count.
-    counted: &'a [bool],
-    /// The whole motion's tool poses, chain base frame.
-    targets: &'a [Isometry3<f64>],
-    /// The object's path within the whole motion.
-    path: std::ops::Range<usize>,
-    checker: Option<&'a ArmInScene<'a>>,
-    object_along: &'a ObjectAlong<'a>,
-}
-
-impl SelfMotionSearch<'_> {
-    /// Searches the self-motion around the chosen branch and the first branch for the whole
-    /// motion with the largest `Σ v²` of the ranked index `v` on the path; replaces `chosen` when that motion is
-    /// better and collision-free. Returns what was found.
-    fn improve(
-        &self,
-        chosen: &mut ChosenBranch,
-        first_branch: Option<&(Vec<Vec<f64>>, f64)>,
-    ) -> Option<SelfMotionScores> {
-        let ScoringSetup {
-            arm,
-            rows: mode,
-            ranked,
-            ik,
-            ..
-        } = *self.setup;
-        let chain = &arm.chain;
-        let mut seeds: Vec<&[Vec<f64>]> = vec![&chosen.2];
-        if let Some((q, _)) = first_branch.filter(|(q, _)| *q != chosen.2) {
-            seeds.push(q);
-        }
-        let path = self.path.clone();
-        let value = |i: usize, q: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
-            if !path.contains(&i) {
-                return 0.0;
-            }
-            self.motion
-                .tangent(i - path.start, &self.candidate.object_from_wrist, mode)
-                .map_or(0.0, |d| {
-                    ranked
-                        .value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])
-                        .powi(2)
-                })
-        };
-        let options = SelfMotionOptions {
-            max_joint_step: ik.max_joint_step,
-            position_tolerance: ik.ik.position_tolerance,
-            rotation_tolerance: ik.ik.rotation_tolerance,
-            ..SelfMotionOptions::default()
-        };
-        let found = optimize_self_motion(
-            chain,
-            self.targets,
-            &seeds,
-            KeptRows::Pose,
-            &value,
-            &options,
-        )?;
-        let mut jacobian = Matrix6xX::zeros(chain.dof());
-        let series = index_along(
-            chain,
-            self.motion,
-            &self.candidate.object_from_wrist,
-            &found.q[self.path.clone()],
-            (mode, ranked),
-            &mut jacobian,
-        );
-        let norms = series.norms(self.times, self.counted);
-        let scores = SelfMotionScores {
-            first_branch_l2: first_branch.map_or(chosen.1.l2, |(_, l2)| *l2),
-            l2_range: (found.worst_total.sqrt(), found.total.sqrt()),
-        };
-        if (norms.linf.is_finite(), norms.l2) <= (chosen.1.linf.is_finite(), chosen.1.l2) {
-            return Some(scores);
-        }
-        let clearance = match self.checker {
-            None => None,
-            Some(checker) => {
-                let check = checker.check(&WholeMotion {
-                    q: &found.q,
-                    object: self.object_along.clone(),
-                });
-                if check.hit.is_some() {
-                    return Some(scores);
-                }
-                check.clearance
-            }
-        };
-        *chosen = (series, norms, found.q, clearance);
-        Some(scores)
-    }
-}
-
-/// A collision hit as a failure (whole-motion sample; the caller locates its phase).
-fn collision_failure(hit: &CollisionHit) -> Failure {
-    let [a, b] = &hit.bodies;
-    let at = if hit.between {
-        format!("between samples {} and {}", hit.sample, hit.sample + 1)
-    } else {
-        format!("at sample {}", hit.sample)
-    };
-    Failure {
-        reason: FailureReason::Collision,
-        phase: Phase::Path,
-        sample: hit.sample,
-        detail: format!(
-            "{a} and {b} are {:.4} m apart {at} of the motion; they must keep {:.4} m",
-            hit.distance, hit.required
-        ),
-        bodies: Some(hit.bodies.clone()),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::manipulability::wrist_tangent;
-    use crate::task::{Sampling, Step, TimedStep};
-    use nalgebra::{Translation3, UnitQuaternion};
-
-    #[test]
-    fn shared_object_twists_give_the_wrist_tangent_by_definition() {
-        // Oracle: `wrist_tangent` on the explicit wrist poses (log of wrist_i⁻¹ wrist_{i+1}).
-        let steps = vec![
-            TimedStep {
-                label: "lift+rotate".into(),
-                step: Step::Relative {
-                    translation: Vector3::new(0.0, 0.1, 0.2),
-                    axis: nalgebra::Unit::new_normalize(Vector3::new(0.2, 0.3, 1.0)),
-                    angle: 1.2,
-                },
-                duration: 1.0,
-            },
-            TimedStep {
-                label: "move".into(),
-                step: Step::Relative {
-                    translation: Vector3::new(0.0, 0.3, 0.0),
-                    axis: Vector3::z_axis(),
-                    angle: 0.0,
-                },
-                duration: 1.0,
-            },
-        ];
-        let start = Isometry3::from_parts(
-            Translation3::new(0.7, 0.2, -0.05),
-            UnitQuaternion::from_euler_angles(0.1, -0.2, 0.7),
-        );
-        let path = ObjectPath::sample(start, &steps, Sampling::PerStep(5), 1000).unwrap();
-        let world_from_base = Isometry3::from_parts(
-            Translation3::new(0.1, -0.3, 0.9),
-            UnitQuaternion::from_euler_angles(0.0, 0.1, -0.4),
-        );
-        let object_from_wrist = Isometry3::from_parts(
-            Translation3::new(0.03, -0.08, 0.05),
-            UnitQuaternion::from_euler_angles(3.0, 0.2, 1.0),
-        );
-        let motion = ObjectMotion::new(&path, &world_from_base.inverse());
-        let wrists = wrist_trajectory(&path, &world_from_base, &object_from_wrist);
-        for mode in [
-            JacobianRows::Twist { length_scale: 0.3 },
-            JacobianRows::Translation,
-            JacobianRows::Rotation,
-        ] {
-            for i in 0..wrists.len() {
-                let (a, b) = if i + 1 < wrists.len() {
-                    (i, i + 1)
-                } else {
-                    (i - 1, i)
-                };
-                let expected = wrist_tangent(&wrists[a], &wrists[b], mode).map(|d| d.as_full());
-                let got = motion
-                    .tangent(i, &object_from_wrist, mode)
-                    .map(|d| d.as_full());
-                match (expected, got) {
-                    (Some(e), Some(g)) => {
-                        assert!((e - g).norm() < 1e-9, "{mode:?} sample {i}: {e} vs {g}");
-                    }
-                    (None, None) => assert!(
-                        matches!(mode, JacobianRows::Rotation),
-                        "only a rotation-free interval is still"
-                    ),
-                    other => panic!("{mode:?} sample {i}: only one side is still: {other:?}"),
-                }
-            }
-        }
-    }
 }

@@ -1,0 +1,98 @@
+//! Checks of one IK branch's whole motion (approach, path, retreat), after IK: each refuses
+//! the branch with a failure or records what it measured ([`BranchFindings`]), which the
+//! candidate's score keeps for the branch chosen. [`branch_checks`] lists them in the order
+//! they run; a new check is a type here (or in its own file) and one line there.
+
+use super::Scoring;
+use crate::collision::{ArmInScene, CollisionHit, ObjectAlong, WholeMotion};
+use crate::failure::{Failure, FailureReason, Phase};
+
+/// What the branch checks measured on a branch that passed them all.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct BranchFindings {
+    /// The smallest distance between the robot (hand and carried object included) and the
+    /// scene at any sample of the motion (m), with a scene.
+    pub(super) clearance: Option<f64>,
+}
+
+/// A check of one branch's whole motion.
+pub(super) trait BranchCheck {
+    /// Checks the joint configurations `q` of the whole motion (one per sample); `Err` with
+    /// the failure (its sample in the whole motion's numbering, located in its phase) refuses
+    /// the branch, otherwise what was measured goes into `findings`.
+    fn check(&self, q: &[Vec<f64>], findings: &mut BranchFindings) -> Result<(), Failure>;
+}
+
+/// The branch checks of one candidate, in the order they run: the arm in the scene (with a
+/// scene and the arm's bodies).
+pub(super) fn branch_checks<'a>(scoring: &'a Scoring<'a>) -> Vec<Box<dyn BranchCheck + 'a>> {
+    let mut checks: Vec<Box<dyn BranchCheck + 'a>> = Vec::new();
+    if let Some(scene) = SceneCheck::of(scoring) {
+        checks.push(Box::new(scene));
+    }
+    checks
+}
+
+/// Runs `checks` on the whole motion `q`: what they measured, or the first failure.
+pub(super) fn check_branch(
+    checks: &[Box<dyn BranchCheck + '_>],
+    q: &[Vec<f64>],
+) -> Result<BranchFindings, Failure> {
+    let mut findings = BranchFindings::default();
+    for check in checks {
+        check.check(q, &mut findings)?;
+    }
+    Ok(findings)
+}
+
+/// The arm, its hand and the carried object against the scene, the arm itself and the object,
+/// at every sample of the motion and between samples; measures the clearance.
+struct SceneCheck<'a> {
+    scoring: &'a Scoring<'a>,
+    checker: &'a ArmInScene<'a>,
+    object: ObjectAlong<'a>,
+}
+
+impl<'a> SceneCheck<'a> {
+    fn of(scoring: &'a Scoring<'a>) -> Option<Self> {
+        Some(Self {
+            scoring,
+            checker: scoring.checker.as_ref()?,
+            object: scoring.object_along(),
+        })
+    }
+}
+
+impl BranchCheck for SceneCheck<'_> {
+    fn check(&self, q: &[Vec<f64>], findings: &mut BranchFindings) -> Result<(), Failure> {
+        let check = self.checker.check(&WholeMotion {
+            q,
+            object: self.object.clone(),
+        });
+        if let Some(hit) = check.hit {
+            return Err(self.scoring.located(collision_failure(&hit)));
+        }
+        findings.clearance = check.clearance;
+        Ok(())
+    }
+}
+
+/// A collision hit as a failure (whole-motion sample; the caller locates its phase).
+pub(super) fn collision_failure(hit: &CollisionHit) -> Failure {
+    let [a, b] = &hit.bodies;
+    let at = if hit.between {
+        format!("between samples {} and {}", hit.sample, hit.sample + 1)
+    } else {
+        format!("at sample {}", hit.sample)
+    };
+    Failure {
+        reason: FailureReason::Collision,
+        phase: Phase::Path,
+        sample: hit.sample,
+        detail: format!(
+            "{a} and {b} are {:.4} m apart {at} of the motion; they must keep {:.4} m",
+            hit.distance, hit.required
+        ),
+        bodies: Some(hit.bodies.clone()),
+    }
+}

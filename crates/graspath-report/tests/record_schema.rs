@@ -18,7 +18,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 /// Baxter's left arm on a table, with an approach and a retreat, the self-motion optimised and
-/// a joint-limit penalty: every column has a value in some record, and some candidates fail
+/// a joint-limit penalty and the object's weight: every column has a value in some record, and some candidates fail
 /// with a collision (bodies named) or out of reach.
 const TASK: &str = r#"
 robot: { builtin: baxter }
@@ -26,6 +26,7 @@ arms: left
 object:
   pose: { xyz: [0.75, 0.0, -0.10] }
   shape: { box: { size: [0.06, 0.40, 0.10] } }
+  mass: 0.05
 candidates:
   family: { edge: { count: 12, depth: 0.02, margin: 0.02 } }
 trajectory:

@@ -25,11 +25,14 @@ pub enum FailureReason {
     Collision,
     /// The object is wider across the fingers than the gripper opens.
     GripperWidth,
+    /// Holding the arm and the carried object still needs more torque at a joint than its
+    /// effort limit allows.
+    TorqueLimit,
 }
 
 impl FailureReason {
     /// The one spelling: `unreachable`, `joint_limit`, `discontinuity`, `iteration_limit`,
-    /// `time_limit`, `collision`, `gripper_width`.
+    /// `time_limit`, `collision`, `gripper_width`, `torque_limit`.
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Unreachable => "unreachable",
@@ -39,6 +42,7 @@ impl FailureReason {
             Self::TimeLimit => "time_limit",
             Self::Collision => "collision",
             Self::GripperWidth => "gripper_width",
+            Self::TorqueLimit => "torque_limit",
         }
     }
 }
@@ -139,6 +143,7 @@ mod tests {
             FailureReason::TimeLimit,
             FailureReason::Collision,
             FailureReason::GripperWidth,
+            FailureReason::TorqueLimit,
         ] {
             let json = serde_json::to_string(&reason).unwrap();
             assert_eq!(json, format!("\"{}\"", reason.as_str()));

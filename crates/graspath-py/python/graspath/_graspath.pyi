@@ -302,7 +302,8 @@ class Selection:
         ``failure_sample``, ``rejected``, ``rank``, ``score``, ``log_likelihood``, ``mu_l2``,
         ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
         ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
-        ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``contact`` ``(k, 3)``, ``m_t``
+        ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``torque_margin`` and
+        ``payload_capacity`` (kg; with the object's mass), ``contact`` ``(k, 3)``, ``m_t``
         ``(k, n)``, ``ranked_index`` ``(k, n)``. Everything absent is NaN (``None`` for a
         text), never a sentinel: ``rank`` (float64, 1 for the best) is NaN when not ranked,
         ``failure_sample`` (float64) NaN when feasible."""
@@ -364,7 +365,8 @@ def select_batch(
     (str), ``feasible`` (bool), ``failure_reason`` (object: reason or ``None``), ``failure_sample``
     (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
     or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
-    ``mu_l1``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``score`` and ``rank`` (float64, 1 for
+    ``mu_l1``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``torque_margin`` and
+    ``payload_capacity`` (kg; with the object's mass), ``score`` and ``rank`` (float64, 1 for
     the best; NaN wherever absent: infeasible, not ranked, no scene): besides ``object``,
     ``arm_index`` and ``candidate``, the record columns marked ``select_batch`` in
     :func:`record_columns`.

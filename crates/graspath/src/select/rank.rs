@@ -45,6 +45,13 @@ fn constraint_violation(score: &impl Scored, options: &SelectionOptions) -> Opti
             ));
         }
     }
+    if let (Some(min), Some(margin)) = (options.min_torque_margin, score.torque_margin()) {
+        if margin < min {
+            return Some(format!(
+                "torque margin {margin:.4} is below min_torque_margin = {min}"
+            ));
+        }
+    }
     match options.mu0 {
         Some(mu0) if norms.linf > mu0 => {
             Some(format!("mu_linf = {:.4} exceeds mu0 = {mu0}", norms.linf))

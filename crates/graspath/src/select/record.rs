@@ -586,6 +586,25 @@ pub static COLUMNS: &[Column] = &[
     )
     .omitted_when_absent(),
     column(
+        "torque_margin",
+        Kind::Float,
+        "",
+        "with the object's mass: the worst 1 − |τ|/τ_max over the motion's samples and joints",
+        FILES | ARRAYS | BATCH,
+        |r| Cell::Float(r.score.torque_margin),
+    )
+    .omitted_when_absent(),
+    column(
+        "payload_capacity",
+        Kind::Float,
+        "kg",
+        "with the object's mass: the largest object mass the chosen motion carries within the \
+         effort limits",
+        FILES | ARRAYS | BATCH,
+        |r| Cell::Float(r.score.payload_capacity),
+    )
+    .omitted_when_absent(),
+    column(
         "self_motion_mu_l2_first_branch",
         Kind::Float,
         "index",

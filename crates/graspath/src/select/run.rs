@@ -253,6 +253,7 @@ pub(super) fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSet
             gripper: task.gripper.as_ref(),
             collisions: task.collisions.as_ref(),
             object: task.object_body.as_deref(),
+            payload: task.payload.as_ref(),
         },
     }
 }

@@ -27,6 +27,8 @@ pub trait Scored {
     fn clearance(&self) -> Option<f64>;
     /// Yoshikawa's index of the full `J` at the grasp.
     fn yoshikawa_at_grasp(&self) -> Option<f64>;
+    /// The torque margin along the motion, with a payload.
+    fn torque_margin(&self) -> Option<f64>;
     /// The candidate itself, when it is held: always by a [`CandidateScore`]; by
     /// [`CandidateScalars`] only for the candidates a summary names.
     fn candidate(&self) -> Option<&Arc<Candidate>>;
@@ -57,6 +59,9 @@ impl Scored for CandidateScore {
     }
     fn yoshikawa_at_grasp(&self) -> Option<f64> {
         self.yoshikawa_at_grasp
+    }
+    fn torque_margin(&self) -> Option<f64> {
+        self.torque_margin
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         Some(&self.candidate)
@@ -104,6 +109,10 @@ pub struct CandidateScalars {
     pub feasible_branches: usize,
     /// See [`CandidateScore::self_motion`].
     pub self_motion: Option<SelfMotionScores>,
+    /// See [`CandidateScore::torque_margin`].
+    pub torque_margin: Option<f64>,
+    /// See [`CandidateScore::payload_capacity`] (kg).
+    pub payload_capacity: Option<f64>,
     /// The candidate, for those a summary names (the best ranked of each arm and the kept
     /// pairs' members; see [`select_streaming`](super::select_streaming)); `None` otherwise.
     pub candidate: Option<Arc<Candidate>>,
@@ -129,6 +138,8 @@ impl CandidateScalars {
             clearance: score.clearance,
             feasible_branches: score.feasible_branches,
             self_motion: score.self_motion,
+            torque_margin: score.torque_margin,
+            payload_capacity: score.payload_capacity,
             candidate: None,
         }
     }
@@ -155,6 +166,9 @@ impl Scored for CandidateScalars {
     }
     fn yoshikawa_at_grasp(&self) -> Option<f64> {
         self.yoshikawa_at_grasp
+    }
+    fn torque_margin(&self) -> Option<f64> {
+        self.torque_margin
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         self.candidate.as_ref()

@@ -12,7 +12,7 @@ use super::settings::{
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
 use crate::grasp::{Candidate, CandidateError, CandidateSource};
-use crate::robot::{Chain, IkOptions, TrajectoryIkOptions};
+use crate::robot::{Chain, Dynamics, IkOptions, RigidBody, TrajectoryIkOptions};
 use nalgebra::Isometry3;
 use std::sync::Arc;
 
@@ -27,6 +27,8 @@ pub struct ArmSetup {
     pub world_from_base: Isometry3<f64>,
     /// The arm's bodies (links and hand) when the task checks collisions.
     pub bodies: Option<Arc<ArmBodies>>,
+    /// The arm's dynamics model, gravity in its base frame, when the task carries a payload.
+    pub dynamics: Option<Arc<Dynamics>>,
 }
 
 /// A task ready to score: who, what, where to grasp, and how the object must move. Built by
@@ -101,6 +103,10 @@ pub struct Task {
     /// The object's body (object frame) for the gripper and collision checks, when its shape
     /// is known and either is asked for.
     pub object_body: Option<Arc<Body>>,
+    /// The object's mass properties (object frame: kg, m, kg·m² about its centre of mass),
+    /// when the task gives its mass: the arm carries it from the grasp to the place, and the
+    /// joint torques along the motion are checked against the arm's effort limits.
+    pub payload: Option<RigidBody>,
 }
 
 impl Task {
@@ -220,6 +226,7 @@ pub struct TaskBuilder {
     pairs: usize,
     min_separation: f64,
     min_clearance: Option<f64>,
+    min_torque_margin: Option<f64>,
     tie_tolerance: f64,
     max_joint_step: f64,
     ik_branches: usize,
@@ -232,6 +239,7 @@ pub struct TaskBuilder {
     retreat: Option<Stroke>,
     gripper: Option<Gripper>,
     scene: Option<SceneSettings>,
+    payload: Option<RigidBody>,
 }
 
 impl TaskBuilder {
@@ -253,6 +261,7 @@ impl TaskBuilder {
             pairs: defaults::PAIRS,
             min_separation: defaults::MIN_SEPARATION,
             min_clearance: None,
+            min_torque_margin: None,
             tie_tolerance: defaults::TIE_TOLERANCE,
             max_joint_step: defaults::MAX_JOINT_STEP,
             ik_branches: defaults::IK_BRANCHES,
@@ -265,6 +274,7 @@ impl TaskBuilder {
             retreat: None,
             gripper: None,
             scene: None,
+            payload: None,
         }
     }
 
@@ -287,7 +297,16 @@ impl TaskBuilder {
             chain,
             world_from_base,
             bodies: None,
+            dynamics: None,
         });
+        self
+    }
+
+    /// The object's mass properties (object frame: kg, m, kg·m² about the centre of mass): the
+    /// arm carries it from the grasp to the place, and the joint torques along the motion are
+    /// checked against each arm's effort limits (every arm then needs inertial data).
+    pub fn payload(mut self, body: RigidBody) -> Self {
+        self.payload = Some(body);
         self
     }
 
@@ -405,6 +424,13 @@ impl TaskBuilder {
     /// Two grasps closer than this overlap (m, object frame).
     pub fn min_separation(mut self, metres: f64) -> Self {
         self.min_separation = metres;
+        self
+    }
+
+    /// With a payload: reject candidates whose torque margin along the motion is below
+    /// `margin` (in [0, 1]; default: none).
+    pub fn min_torque_margin(mut self, margin: Option<f64>) -> Self {
+        self.min_torque_margin = margin;
         self
     }
 
@@ -571,6 +597,22 @@ impl TaskBuilder {
                 ));
             }
         }
+        if let Some(min) = self.min_torque_margin {
+            if !(0.0..=1.0).contains(&min) {
+                return Err(err(
+                    "selection.min_torque_margin",
+                    format!("must be a fraction of the effort limits in [0, 1], got {min}"),
+                ));
+            }
+            if self.payload.is_none() {
+                return Err(err(
+                    "selection.min_torque_margin",
+                    "needs the object's mass (object.mass or object.density): without it no \
+                     torque is computed"
+                        .into(),
+                ));
+            }
+        }
         if !(self.tie_tolerance.is_finite() && (0.0..1.0).contains(&self.tie_tolerance)) {
             return Err(err(
                 "selection.tie_tolerance",
@@ -675,6 +717,13 @@ impl TaskBuilder {
         for (arm, bodies) in arms.iter_mut().zip(bodies) {
             arm.bodies = bodies;
         }
+        if let Some(payload) = &self.payload {
+            super::payload::check_payload(payload).map_err(|m| err("object.mass", m))?;
+            for arm in &mut arms {
+                let model = super::payload::arm_dynamics(arm).map_err(|m| err("object.mass", m))?;
+                arm.dynamics = Some(Arc::new(model));
+            }
+        }
         let object_body = (collisions.is_some() || self.gripper.is_some())
             .then_some(self.shape.as_ref())
             .flatten()
@@ -696,6 +745,7 @@ impl TaskBuilder {
                 pairs: self.pairs,
                 min_separation: self.min_separation,
                 min_clearance: self.min_clearance,
+                min_torque_margin: self.min_torque_margin,
                 tie_tolerance: self.tie_tolerance,
             },
             ik,
@@ -706,6 +756,7 @@ impl TaskBuilder {
             gripper: self.gripper,
             collisions,
             object_body,
+            payload: self.payload,
         };
         let work = task.work();
         if work > limits.max_work {

@@ -291,6 +291,17 @@ pub struct ObjectFile {
     /// A primitive shape (for candidate families, views and demos).
     #[serde(default)]
     pub shape: Option<Shape>,
+    /// The object's mass (kg): the arm then carries it, and the joint torques along the task
+    /// are checked against the arm's effort limits (`docs/dynamics.md`). Not with `density`.
+    #[serde(default)]
+    pub mass: Option<f64>,
+    /// The object's density (kg/m³): its mass is the density times the shape's volume.
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// The object's centre of mass, object frame (m); default: the shape's centroid. Needed
+    /// with `mass` when the object has no shape.
+    #[serde(default)]
+    pub center_of_mass: Option<[f64; 3]>,
 }
 
 /// Where candidates come from: exactly one of `file`, `family` or `generate`.
@@ -554,6 +565,10 @@ pub struct SelectionFile {
     /// Reject candidates whose clearance from the scene is below this (m; default none).
     #[serde(default)]
     pub min_clearance: Option<f64>,
+    /// With the object's mass: reject candidates whose torque margin along the motion is below
+    /// this (the worst `1 − |τ|/τ_max` over samples and joints; default none).
+    #[serde(default)]
+    pub min_torque_margin: Option<f64>,
     /// Scores within this relative difference are reported as tied (default 1e-4).
     #[serde(default)]
     pub tie_tolerance: Option<f64>,

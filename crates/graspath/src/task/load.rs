@@ -87,6 +87,11 @@ fn builder_with(
     if let Some(shape) = &file.object.shape {
         builder = builder.shape(shape.clone());
     }
+    if let Some(payload) =
+        super::payload::object_payload(&file.object).map_err(|(field, m)| err(&field, m))?
+    {
+        builder = builder.payload(payload);
+    }
     let scene = super::load_scene::scene_from_file(file, source_name, base_dir)?;
     let candidates = setup_candidates(
         file,
@@ -224,6 +229,9 @@ fn builder_with(
     }
     if let Some(min) = s.min_clearance {
         builder = builder.min_clearance(Some(min));
+    }
+    if let Some(min) = s.min_torque_margin {
+        builder = builder.min_torque_margin(Some(min));
     }
     super::load_scene::add_world(builder, file, source_name, base_dir, scene, &model)
 }

@@ -15,6 +15,7 @@ mod file;
 mod load;
 mod load_scene;
 mod path;
+mod payload;
 mod scene;
 mod settings;
 
@@ -28,6 +29,7 @@ pub use file::{
 pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
 pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
+pub use payload::{MAX_CENTER_OF_MASS_DISTANCE, MAX_PAYLOAD_MASS};
 pub use scene::{
     Collisions, Gripper, GripperBodies, GripperLink, SceneSettings, Stroke, WholeMotionPlan,
     DEFAULT_FINGER, MIN_RESOLUTION,

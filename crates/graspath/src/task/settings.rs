@@ -195,6 +195,9 @@ pub struct SelectionOptions {
     /// Reject candidates whose clearance from the scene along the motion is below this (m;
     /// `None`: only collisions reject).
     pub min_clearance: Option<f64>,
+    /// Reject candidates whose torque margin along the motion (with a payload) is below this
+    /// (`None`: only the effort limits reject).
+    pub min_torque_margin: Option<f64>,
     /// Two eligible candidates whose scores differ by at most this, relative to the larger
     /// (absolute for [`LikelihoodRule::Weighted`], whose score is a logarithm), are reported as
     /// tied (see [`crate::select::scores_tied`]); ranks are not changed by it.
@@ -210,6 +213,7 @@ impl Default for SelectionOptions {
             pairs: defaults::PAIRS,
             min_separation: defaults::MIN_SEPARATION,
             min_clearance: None,
+            min_torque_margin: None,
             tie_tolerance: defaults::TIE_TOLERANCE,
         }
     }

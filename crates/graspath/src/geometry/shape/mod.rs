@@ -42,9 +42,11 @@
 //! ```
 
 mod hull;
+mod mass;
 mod mesh;
 mod primitive;
 
+pub use mass::SolidMass;
 pub use mesh::{ConvexMesh, TriMesh};
 pub use primitive::{Capsule, Cuboid, Cylinder, Sphere, Stem, TShape};
 

@@ -3,6 +3,7 @@
 //! candidate's score keeps for the branch chosen. [`branch_checks`] lists them in the order
 //! they run; a new check is a type here (or in its own file) and one line there.
 
+use super::torque_check::TorqueCheck;
 use super::Scoring;
 use crate::collision::{ArmInScene, CollisionHit, ObjectAlong, WholeMotion};
 use crate::failure::{Failure, FailureReason, Phase};
@@ -13,6 +14,12 @@ pub(super) struct BranchFindings {
     /// The smallest distance between the robot (hand and carried object included) and the
     /// scene at any sample of the motion (m), with a scene.
     pub(super) clearance: Option<f64>,
+    /// With a payload: the worst `1 − |τ_j| / τ_max,j` over the samples and the joints with an
+    /// effort limit.
+    pub(super) torque_margin: Option<f64>,
+    /// With a payload: the largest object mass (kg) this motion can carry within the effort
+    /// limits (`None` when no limited joint bears the object).
+    pub(super) payload_capacity: Option<f64>,
 }
 
 /// A check of one branch's whole motion.
@@ -24,11 +31,14 @@ pub(super) trait BranchCheck {
 }
 
 /// The branch checks of one candidate, in the order they run: the arm in the scene (with a
-/// scene and the arm's bodies).
+/// scene and the arm's bodies), then the joint torques (with a payload).
 pub(super) fn branch_checks<'a>(scoring: &'a Scoring<'a>) -> Vec<Box<dyn BranchCheck + 'a>> {
     let mut checks: Vec<Box<dyn BranchCheck + 'a>> = Vec::new();
     if let Some(scene) = SceneCheck::of(scoring) {
         checks.push(Box::new(scene));
+    }
+    if let Some(torques) = TorqueCheck::of(scoring) {
+        checks.push(Box::new(torques));
     }
     checks
 }

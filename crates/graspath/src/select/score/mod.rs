@@ -6,6 +6,7 @@ mod branch_checks;
 mod grasp_checks;
 mod path;
 mod self_motion;
+mod torque_check;
 
 pub use path::wrist_trajectory;
 
@@ -16,7 +17,9 @@ use crate::grasp::Candidate;
 use crate::manipulability::{
     classical_indices, joint_limit_penalty, limit_distance, JacobianPart, PathNorms,
 };
-use crate::robot::{solve_trajectories, solve_trajectory, TrajectoryIkOptions, TrajectoryIkResult};
+use crate::robot::{
+    solve_trajectories, solve_trajectory, RigidBody, TrajectoryIkOptions, TrajectoryIkResult,
+};
 use crate::task::{
     defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
     Stroke, WholeMotionPlan,
@@ -80,6 +83,13 @@ pub struct CandidateScore {
     /// With `ik.redundancy: optimize`: what the self-motion search found (for a feasible
     /// candidate whose first branch is feasible).
     pub self_motion: Option<SelfMotionScores>,
+    /// With the object's mass: the worst `1 − |τ_j| / τ_max,j` along the chosen motion (joints
+    /// with an effort limit; gravity torques of the arm and, from the grasp to the place, the
+    /// object).
+    pub torque_margin: Option<f64>,
+    /// With the object's mass: the largest object mass (kg) the chosen motion can carry within
+    /// the effort limits (`None` when no limited joint bears the object).
+    pub payload_capacity: Option<f64>,
 }
 
 /// How much of a candidate's `μ_l2` is the grasp and how much the arm's self-motion.
@@ -112,6 +122,8 @@ impl CandidateScore {
             clearance: None,
             feasible_branches: 0,
             self_motion: None,
+            torque_margin: None,
+            payload_capacity: None,
         }
     }
 
@@ -169,6 +181,8 @@ pub struct WorldSetup<'a> {
     pub collisions: Option<&'a Collisions>,
     /// The object's body, object frame.
     pub object: Option<&'a Body>,
+    /// The object's mass properties, object frame, when the arm carries its weight.
+    pub payload: Option<&'a RigidBody>,
 }
 
 impl WorldSetup<'_> {
@@ -528,6 +542,8 @@ fn score_solved(
             score.ranked_values = series.ranked;
             score.norms = Some(norms);
             score.clearance = findings.clearance;
+            score.torque_margin = findings.torque_margin;
+            score.payload_capacity = findings.payload_capacity;
             score.approach = q[..before].to_vec();
             score.retreat = q[before + n..].to_vec();
             score.joint_trajectory = q[before..before + n].to_vec();

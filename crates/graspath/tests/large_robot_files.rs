@@ -1,9 +1,9 @@
 //! Large generated MJCF and SRDF files parse, in time linear in their size: lines are counted
 //! in one pass and names and attributes are checked for repeats through hash sets. Each check
 //! reads a file of N elements and one of 4N (a few MB) and asserts that the larger takes less
-//! than 10 times as long (linear work gives about 4, the quadratic reading this replaces 16);
-//! each time is the best of three runs, so a busy machine does not fail the test. Absolute
-//! times are printed, never asserted.
+//! than 10 times as long (linear work gives about 4, the quadratic reading this replaces 16),
+//! counting the smaller as at least 50 ms; each time is the best of three runs, so a busy
+//! machine does not fail the test. Times are printed.
 
 use graspath::robot::{MjcfRobot, Srdf};
 use std::fmt::Write as _;
@@ -34,9 +34,10 @@ fn assert_linear(what: &str, n: usize, make: impl Fn(usize) -> String, parse: im
         small.len(),
         large.len()
     );
-    // A floor of 20 ms for the small file keeps timer noise out of the ratio.
+    // A floor of 50 ms for the small file keeps timer noise and a busy machine out of the
+    // ratio (the quadratic reading took seconds on these sizes).
     assert!(
-        t4.as_secs_f64() < 10.0 * t1.as_secs_f64().max(0.02),
+        t4.as_secs_f64() < 10.0 * t1.as_secs_f64().max(0.05),
         "{what}: 4x the input took {ratio:.1}x the time ({t1:?} -> {t4:?})"
     );
 }

@@ -38,6 +38,7 @@ fn check_reference(reference: &Value, what: &str) {
     assert!(cases.len() >= 3, "{what}: {} cases", cases.len());
     let mut checked = (0, 0);
     for (file, configurations) in cases {
+        let mut largest = 0.0f64;
         let path = folder().join(file);
         let model = RobotSource::mjcf(&path)
             .load()
@@ -81,6 +82,7 @@ fn check_reference(reference: &Value, what: &str) {
                     error <= TOL,
                     "{what}: {file}, body '{body}' at {qpos:?}: differs from MuJoCo by {error:e}"
                 );
+                largest = largest.max(error);
                 checked.0 += 1;
             }
             for (geom, expected) in configuration["geoms"].as_object().unwrap() {
@@ -106,9 +108,11 @@ fn check_reference(reference: &Value, what: &str) {
                     error <= TOL,
                     "{what}: {file}, geom '{geom}' at {qpos:?}: differs from MuJoCo by {error:e}"
                 );
+                largest = largest.max(error);
                 checked.1 += 1;
             }
         }
+        eprintln!("{what}: {file}: largest difference from MuJoCo {largest:e}");
     }
     assert!(
         checked.0 > 20 && checked.1 > 40,

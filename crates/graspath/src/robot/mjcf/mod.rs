@@ -76,6 +76,10 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parse::{GeomKind, JointType, Model};
 use std::path::{Path, PathBuf};
 
+/// Where a chain joint comes from: the index of the body it carries, and the index of its
+/// `<joint>` in that body (`None` for the fixed joint that places the body).
+type JointOrigin = (usize, Option<usize>);
+
 /// A geom that did not become a collision shape, and why.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SkippedGeom {
@@ -259,7 +263,7 @@ impl MjcfRobot {
         base: &str,
         tip: &str,
         tip_from_tool: Option<Isometry3<f64>>,
-    ) -> Result<(ChainSpec, Vec<(usize, Option<usize>)>), RobotError> {
+    ) -> Result<(ChainSpec, Vec<JointOrigin>), RobotError> {
         let base_index = self.body_index(base, "base")?;
         let tip_index = self.body_index(tip, "tip")?;
         let mut path = Vec::new();
@@ -325,7 +329,7 @@ impl MjcfRobot {
         &self,
         error: RobotError,
         spec: &ChainSpec,
-        origins: &[(usize, Option<usize>)],
+        origins: &[JointOrigin],
     ) -> RobotError {
         let RobotError::BadJoint {
             joint: name,

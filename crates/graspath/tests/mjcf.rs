@@ -381,12 +381,19 @@ fn geoms_become_collision_shapes() {
     };
     let (at, shape) = shape_of(&model, "base", "base_column");
     assert_eq!(shape, Shape::cylinder(0.076, 0.0535).unwrap());
-    assert!(close(&at, &Isometry3::translation(0.0, 0.0, 0.0535 / 2.0)));
-    // fromto along −x of the upper-arm frame, radius from the class default.
+    // fromto along +z: MuJoCo turns the geom half a turn about x (its z axis points from the
+    // second point to the first).
+    let flipped = Isometry3::from_parts(
+        Translation3::new(0.0, 0.0, 0.0535 / 2.0),
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI),
+    );
+    assert!(close(&at, &flipped), "{at}");
+    // fromto along −x of the upper-arm frame, radius from the class default; the geom's z
+    // axis points from the second point to the first, as MuJoCo's compiler places it.
     let (at, shape) = shape_of(&model, "upper_arm_link", "upper_arm");
     assert_eq!(shape, Shape::capsule(0.062, 0.425).unwrap());
     let z = at.rotation * Vector3::z();
-    assert!((z + Vector3::x()).norm() < 1e-12, "{z}");
+    assert!((z - Vector3::x()).norm() < 1e-12, "{z}");
     assert!((at.translation.vector - Vector3::new(-0.2125, 0.0, 0.13585)).norm() < 1e-12);
     let (_, shape) = shape_of(&model, "forearm_link", "forearm");
     assert_eq!(shape, Shape::cuboid([0.39225, 0.094, 0.094]).unwrap());
@@ -596,4 +603,141 @@ fn task_files_take_mjcf_robots() {
         err.contains("robot") && err.contains("not several"),
         "{err}"
     );
+}
+
+/// Names MuJoCo's compiler refuses to repeat (bodies, joints — `freejoint` included —, geoms,
+/// meshes, default classes) are refused, naming the file, the line, the name and the first use.
+#[test]
+fn repeated_names_are_refused_as_mujoco_refuses_them() {
+    for (file, text, fragments) in [
+        (
+            "joints.xml",
+            "<mujoco><worldbody>\n<body name=\"a\"><joint name=\"j\"/><geom size=\"0.1\"/>\n<body name=\"b\"><joint name=\"j\"/><geom size=\"0.1\"/></body></body>\n</worldbody></mujoco>",
+            &["joints.xml:3:", "<joint name=\"j\">", "a second joint named 'j' (first used on line 2)"][..],
+        ),
+        (
+            "freejoint.xml",
+            "<mujoco><worldbody>\n<body name=\"a\"><freejoint name=\"j\"/><geom size=\"0.1\"/>\n<body name=\"b\"><joint name=\"j\"/><geom size=\"0.1\"/></body></body>\n</worldbody></mujoco>",
+            &["freejoint.xml:3:", "a second joint named 'j'"],
+        ),
+        (
+            "bodies.xml",
+            "<mujoco><worldbody>\n<body name=\"a\"/>\n<body name=\"a\"/>\n</worldbody></mujoco>",
+            &["bodies.xml:3:", "a second body named 'a' (first used on line 2)"],
+        ),
+        (
+            "world.xml",
+            "<mujoco><worldbody>\n<body name=\"world\"/>\n</worldbody></mujoco>",
+            &["world.xml:2:", "a second body named 'world' (the world body's name)"],
+        ),
+        (
+            "geoms.xml",
+            "<mujoco><worldbody>\n<geom name=\"g\" size=\"0.1\"/>\n<body name=\"a\"><geom name=\"g\" size=\"0.1\" contype=\"0\" conaffinity=\"0\"/></body>\n</worldbody></mujoco>",
+            &["geoms.xml:3:", "a second geom named 'g'"],
+        ),
+        (
+            "meshes.xml",
+            "<mujoco><asset>\n<mesh file=\"a.stl\"/>\n<mesh file=\"parts/a.stl\"/>\n</asset><worldbody/></mujoco>",
+            &["meshes.xml:3:", "a second mesh named 'a'"],
+        ),
+        (
+            "classes.xml",
+            "<mujoco><default>\n<default class=\"c\"/>\n<default class=\"c\"/>\n</default><worldbody/></mujoco>",
+            &["classes.xml:3:", "default class 'c' is defined twice"],
+        ),
+    ] {
+        let m = error_of(file, text);
+        for fragment in fragments {
+            assert!(m.contains(fragment), "{file}: {m}");
+        }
+    }
+}
+
+/// An element's own orientation replaces its class's whatever their kinds (MuJoCo's
+/// compiler; Menagerie's ANYmal B): a geom's `quat` over its class's `euler`, a nested class's
+/// `quat` over its parent's `euler`. Two on one element, or on one default, are refused.
+#[test]
+fn an_elements_orientation_replaces_its_class_orientation() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "precedence.xml",
+        r#"<mujoco><default><geom type="sphere" size="0.1" euler="0 0 90"/>
+<default class="inner"><geom quat="0 1 0 0"/></default></default>
+<worldbody><body name="b">
+<geom name="own" quat="0 0 1 0"/><geom name="class"/><geom name="inner" class="inner"/>
+<geom name="inner_own" class="inner" axisangle="1 0 0 90"/>
+</body></worldbody></mujoco>"#,
+    );
+    let robot = MjcfRobot::from_file(&path).unwrap();
+    let shapes = &robot.collisions(&robot.mesh_resolver()).unwrap()[0].shapes;
+    let rotation = |k: usize| UnitQuaternion::from(shapes[k].link_from_collision.rotation);
+    let expected = [
+        UnitQuaternion::from_axis_angle(&Vector3::y_axis(), PI),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI / 2.0),
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI),
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI / 2.0),
+    ];
+    for (k, expected) in expected.iter().enumerate() {
+        assert!(
+            rotation(k).angle_to(expected) < 1e-12,
+            "geom {:?}: {:?}",
+            shapes[k].name,
+            rotation(k)
+        );
+    }
+    let m = error_of(
+        "two_in_class.xml",
+        "<mujoco><default>\n<geom quat=\"1 0 0 0\" euler=\"0 0 0\"/></default><worldbody/></mujoco>",
+    );
+    assert!(
+        m.contains("two_in_class.xml:2:") && m.contains("give one orientation, not quat and euler"),
+        "{m}"
+    );
+    let m = error_of(
+        "two_on_geom.xml",
+        "<mujoco><default><geom euler=\"0 0 1\"/></default><worldbody>\n<geom size=\"1\" zaxis=\"0 0 1\" xyaxes=\"1 0 0 0 1 0\"/></worldbody></mujoco>",
+    );
+    assert!(
+        m.contains("two_on_geom.xml:2:") && m.contains("give one orientation"),
+        "{m}"
+    );
+}
+
+/// Chain checks on MJCF models speak MJCF: a body `pos` too far away or a joint `range` beyond
+/// the largest limit name the element, its line and the attribute, not URDF fields.
+#[test]
+fn chain_errors_name_mjcf_elements_and_attributes() {
+    let m = error_of(
+        "far.xml",
+        "<mujoco><worldbody>\n<body name=\"b\" pos=\"0 0 5000\"><joint name=\"j\" range=\"-1 1\"/><geom size=\"0.1\"/></body>\n</worldbody></mujoco>",
+    );
+    assert!(
+        m.contains("far.xml:2:") && m.contains("<body name=\"b\">, attribute 'pos'"),
+        "{m}"
+    );
+    assert!(!m.contains("origin") && !m.contains("URDF"), "{m}");
+    let m = error_of(
+        "range.xml",
+        "<mujoco><compiler angle=\"radian\"/><worldbody>\n<body name=\"b\">\n<joint name=\"j\" range=\"-1e20 1\"/><geom size=\"0.1\"/></body>\n</worldbody></mujoco>",
+    );
+    assert!(
+        m.contains("range.xml:3:") && m.contains("<joint name=\"j\">, attribute 'range'"),
+        "{m}"
+    );
+    assert!(!m.contains("continuous") && !m.contains("limit'"), "{m}");
+    // An unknown class among many: the message stays short and suggests the close ones.
+    let mut text = String::from("<mujoco><default>");
+    for k in 0..2000 {
+        text.push_str(&format!("<default class=\"class{k}\"/>"));
+    }
+    text.push_str(
+        "</default><worldbody><body name=\"b\" childclass=\"clas7\"/></worldbody></mujoco>",
+    );
+    let m = error_of("classes.xml", &text);
+    assert!(
+        m.contains("no default class 'clas7' (2001 classes defined; did you mean: class7"),
+        "{m}"
+    );
+    assert!(m.len() < 400, "{m}");
 }

@@ -1,13 +1,16 @@
 //! SRDF, the semantic description beside a URDF (MoveIt's format): planning groups given as
 //! chains, end effectors, and the link pairs never checked for collision
 //! (`<disable_collisions>`). Malformed XML is reported with its line and column; a link the
-//! robot does not have is an error naming the element ([`Srdf::check_links`]).
+//! robot does not have is an error naming the element ([`Srdf::check_links`]). Reading and
+//! checking are linear in the file's size (MoveIt's setup assistant writes SRDFs of tens of
+//! thousands of `<disable_collisions>` pairs): lines are counted in one pass, attribute and
+//! link names are looked up in hash sets.
 
 use super::error::RobotError;
 use super::urdf_scan::{xml_error, LineCounter};
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
 
 /// A planning group: its chains (`base_link → tip_link`), links and joints as listed.
@@ -183,6 +186,7 @@ impl Srdf {
     /// Checks that every link the SRDF names (disabled pairs, chains, end-effector parents)
     /// is one of `links`; the error names the element and its line.
     pub fn check_links(&self, links: &[String]) -> Result<(), RobotError> {
+        let known: HashSet<&str> = links.iter().map(String::as_str).collect();
         let unknown = |link: &str, role: &'static str| RobotError::UnknownLink {
             source_name: self.source_name.clone(),
             link: link.to_string(),
@@ -194,23 +198,23 @@ impl Srdf {
         };
         for pair in &self.disabled {
             for link in [&pair.link1, &pair.link2] {
-                if !links.contains(link) {
+                if !known.contains(link.as_str()) {
                     return Err(unknown(link, "disable_collisions"));
                 }
             }
         }
         for group in &self.groups {
             for (base, tip) in &group.chains {
-                if !links.contains(base) {
+                if !known.contains(base.as_str()) {
                     return Err(unknown(base, "group chain base"));
                 }
-                if !links.contains(tip) {
+                if !known.contains(tip.as_str()) {
                     return Err(unknown(tip, "group chain tip"));
                 }
             }
         }
         for ee in &self.end_effectors {
-            if !links.contains(&ee.parent_link) {
+            if !known.contains(ee.parent_link.as_str()) {
                 return Err(unknown(&ee.parent_link, "end effector parent"));
             }
         }
@@ -220,14 +224,18 @@ impl Srdf {
 
 fn attributes_of(e: &BytesStart<'_>) -> Result<BTreeMap<String, String>, String> {
     let mut out = BTreeMap::new();
-    for attribute in e.attributes().with_checks(true) {
+    // quick-xml's own duplicate check compares every pair (quadratic in the count); the map
+    // finds a repeated name as it is inserted.
+    for attribute in e.attributes().with_checks(false) {
         let attribute = attribute.map_err(|err| err.to_string())?;
         let key = String::from_utf8_lossy(attribute.key.as_ref()).into_owned();
         let value = attribute
             .unescape_value()
             .map_err(|err| err.to_string())?
             .into_owned();
-        out.insert(key, value);
+        if let Some(key) = out.insert(key.clone(), value).map(|_| key) {
+            return Err(format!("attribute `{key}` is given twice"));
+        }
     }
     Ok(out)
 }

@@ -67,7 +67,9 @@ impl Reader<'_> {
         };
         let bad_size =
             |e: crate::geometry::shape::ShapeError| self.error(element, "size", e.to_string());
-        // `fromto`: the geom's z axis runs from the first point to the second, centred between them.
+        // `fromto`: the geom is centred between the two points, its z axis along the segment
+        // and pointing from the second point to the first (MuJoCo's compiler: the smallest
+        // rotation taking z onto `from − to`).
         let mut half_length = None;
         if let Some(ft) = &fromto {
             if !matches!(kind_name, "capsule" | "cylinder" | "box") {
@@ -81,7 +83,7 @@ impl Reader<'_> {
                 Vector3::new(ft[0], ft[1], ft[2]),
                 Vector3::new(ft[3], ft[4], ft[5]),
             );
-            let along = to - from;
+            let along = from - to;
             let z = unit_axis(&along).ok_or_else(|| {
                 self.error(element, "fromto", "the two points are the same".into())
             })?;

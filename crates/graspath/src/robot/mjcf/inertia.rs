@@ -4,6 +4,7 @@
 //! a joint (times their first `gear` entry). Defaults classes supply actuator attributes by
 //! the actuator's element name (`motor`, `position`, `general`, ...).
 
+use super::defaults::ORIENTATIONS;
 use super::dom::Element;
 use super::parse::Reader;
 use crate::robot::error::RobotError;
@@ -50,9 +51,7 @@ impl Reader<'_> {
                 Matrix3::from_diagonal(&Vector3::new(d[0], d[1], d[2]))
             }
             (None, Some(text)) => {
-                let has_orientation = ["quat", "axisangle", "euler", "xyaxes", "zaxis"]
-                    .iter()
-                    .any(|k| element.get(k).is_some());
+                let has_orientation = ORIENTATIONS.iter().any(|k| element.get(k).is_some());
                 if has_orientation {
                     return Err(self.error(
                         element,
@@ -139,12 +138,8 @@ impl Reader<'_> {
             let Some(effort) = self.force_range(element, "forcerange", &text, gear)? else {
                 continue;
             };
-            let target = self
-                .bodies
-                .iter_mut()
-                .flat_map(|b| b.joints.iter_mut())
-                .find(|j| j.name == joint);
-            if let Some(target) = target {
+            if let Some(&(body, k, _)) = self.joint_index.get(&joint) {
+                let target = &mut self.bodies[body].joints[k];
                 target.effort = Some(target.effort.map_or(effort, |e| e.min(effort)));
             }
         }

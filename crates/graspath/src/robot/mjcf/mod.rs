@@ -22,7 +22,13 @@
 //! body with several joints gets one link per joint in the chain (`BODY@JOINT`) before its own.
 //!
 //! **Defaults**: `<default>` classes (nested ones inherit), chosen by an element's `class` or
-//! the nearest enclosing `childclass`, supply `joint`, `geom` and `mesh` attributes.
+//! the nearest enclosing `childclass`, supply `joint`, `geom`, `mesh` and actuator attributes.
+//! An orientation is one setting, as in MuJoCo's compiler: a geom's own `quat`, `axisangle`,
+//! `euler`, `xyaxes` or `zaxis` replaces the one its class gives, whatever the kinds (and a
+//! nested class's replaces its parent's); two on one element are an error.
+//!
+//! **Names**: as MuJoCo's compiler, a body, joint (`freejoint` included), geom, mesh or
+//! default class name used twice is an error naming the line of both uses.
 //! `limited="auto"` (the default) with `<compiler autolimits="true">` (the default) limits a
 //! joint that has a `range`; `limited="true"` without a range is an error.
 //!
@@ -50,10 +56,11 @@
 //! ignored.
 //!
 //! Files: `dom.rs` (the element tree, via quick-xml), `parse.rs` (compiler, defaults, bodies,
-//! joints), `values.rs` (numbers, angles, orientations), `geom.rs` (collision shapes),
+//! joints), `defaults.rs` (default classes' storage), `values.rs` (numbers, angles, orientations), `geom.rs` (collision shapes),
 //! `inertia.rs` (inertials, actuator force ranges), this file
 //! (the model's chains and collisions).
 
+mod defaults;
 mod dom;
 mod geom;
 mod inertia;
@@ -68,6 +75,10 @@ use super::spec::{ChainSpec, JointKind, JointSpec, MotionLimits, RigidBody};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parse::{GeomKind, JointType, Model};
 use std::path::{Path, PathBuf};
+
+/// Where a chain joint comes from: the index of the body it carries, and the index of its
+/// `<joint>` in that body (`None` for the fixed joint that places the body).
+type JointOrigin = (usize, Option<usize>);
 
 /// A geom that did not become a collision shape, and why.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -223,9 +234,9 @@ impl MjcfRobot {
 
     fn body_index(&self, name: &str, role: &'static str) -> Result<usize, RobotError> {
         self.model
-            .bodies
-            .iter()
-            .position(|b| b.name == name)
+            .body_index
+            .get(name)
+            .copied()
             .ok_or_else(|| RobotError::UnknownLink {
                 source_name: self.source_name.clone(),
                 link: name.to_string(),
@@ -242,6 +253,17 @@ impl MjcfRobot {
         tip: &str,
         tip_from_tool: Option<Isometry3<f64>>,
     ) -> Result<ChainSpec, RobotError> {
+        Ok(self.chain_spec_and_origins(base, tip, tip_from_tool)?.0)
+    }
+
+    /// [`MjcfRobot::chain_spec`], with the MJCF origin of each chain joint: the body it
+    /// carries and the index of its `<joint>` in that body (`None` for a fixed joint).
+    fn chain_spec_and_origins(
+        &self,
+        base: &str,
+        tip: &str,
+        tip_from_tool: Option<Isometry3<f64>>,
+    ) -> Result<(ChainSpec, Vec<JointOrigin>), RobotError> {
         let base_index = self.body_index(base, "base")?;
         let tip_index = self.body_index(tip, "tip")?;
         let mut path = Vec::new();
@@ -261,24 +283,33 @@ impl MjcfRobot {
             }
         }
         path.reverse();
-        let on_path: Vec<usize> = std::iter::once(base_index)
-            .chain(path.iter().copied())
-            .collect();
-        let mut joints = Vec::new();
+        let mut on_path = vec![false; self.model.bodies.len()];
+        on_path[base_index] = true;
         for &index in &path {
+            on_path[index] = true;
+        }
+        let mut joints = Vec::new();
+        let mut origins = Vec::new();
+        for &index in &path {
+            let before = joints.len();
             self.body_joints(index, &mut joints)?;
+            let body = &self.model.bodies[index];
+            for k in 0..joints.len() - before {
+                origins.push((index, (k < body.joints.len()).then_some(k)));
+            }
             if let Some(last) = joints.last_mut() {
                 // The last joint of a body carries the body frame (see `body_joints`).
                 last.child_inertial = self.attached_body(index, &on_path);
             }
         }
-        Ok(ChainSpec {
+        let spec = ChainSpec {
             source_name: self.source_name.clone(),
             base_link: base.to_string(),
             tip_link: tip.to_string(),
             joints,
             tip_from_tool,
-        })
+        };
+        Ok((spec, origins))
     }
 
     /// The flattened chain from body `base` to body `tip` (see [`MjcfRobot::chain_spec`]).
@@ -288,14 +319,79 @@ impl MjcfRobot {
         tip: &str,
         tip_from_tool: Option<Isometry3<f64>>,
     ) -> Result<Chain, RobotError> {
-        Chain::from_spec(&self.chain_spec(base, tip, tip_from_tool)?)
+        let (spec, origins) = self.chain_spec_and_origins(base, tip, tip_from_tool)?;
+        Chain::from_spec(&spec).map_err(|e| self.in_mjcf_terms(e, &spec, &origins))
+    }
+
+    /// A chain joint's error (worded for URDF: `origin/@xyz`, `limit`) restated for the MJCF
+    /// element it comes from: the body's or joint's `pos`, the joint's `range`.
+    fn in_mjcf_terms(
+        &self,
+        error: RobotError,
+        spec: &ChainSpec,
+        origins: &[JointOrigin],
+    ) -> RobotError {
+        let RobotError::BadJoint {
+            joint: name,
+            field,
+            message,
+            ..
+        } = &error
+        else {
+            return error;
+        };
+        let Some(at) = spec.joints.iter().position(|j| j.name == *name) else {
+            return error;
+        };
+        let (body_index, joint_index) = origins[at];
+        let body = &self.model.bodies[body_index];
+        let joint = joint_index.map(|k| &body.joints[k]);
+        let body_element = if body.name.starts_with("unnamed_body_") {
+            format!("<body> ({})", body.name)
+        } else {
+            format!("<body name=\"{}\">", body.name)
+        };
+        let (line, element, attribute, message) = match (*field, joint) {
+            ("limit", Some(joint)) => {
+                let js = &spec.joints[at];
+                (
+                    joint.line,
+                    if joint.name.starts_with('#') {
+                        format!("<joint> {} in body '{}'", joint.name, body.name)
+                    } else {
+                        format!("<joint name=\"{}\">", joint.name)
+                    },
+                    "range",
+                    format!(
+                        "[{}, {}] (rad or m) is beyond ±{} (a joint without limits takes no range, or limited=\"false\")",
+                        js.lower,
+                        js.upper,
+                        crate::robot::chain::MAX_JOINT_LIMIT
+                    ),
+                )
+            }
+            ("origin" | "origin/@xyz", _) => (
+                body.line,
+                body_element,
+                "pos",
+                format!("the body frame, with its joints' pos, in its parent's frame: {message}"),
+            ),
+            _ => (body.line, body_element, "-", message.clone()),
+        };
+        RobotError::Mjcf {
+            source_name: self.source_name.clone(),
+            line,
+            element,
+            attribute: attribute.to_string(),
+            message,
+        }
     }
 
     /// The mass properties of body `index` and of every body below it that is not in
     /// `on_path` (their joints held at `qpos0`, the written pose), in `index`'s frame; `None`
     /// when none of them has an `<inertial>` or when `<compiler inertiafromgeom="true">` tells
     /// MuJoCo to ignore them all.
-    fn attached_body(&self, index: usize, on_path: &[usize]) -> Option<RigidBody> {
+    fn attached_body(&self, index: usize, on_path: &[bool]) -> Option<RigidBody> {
         if self.model.compiler.inertia_from_geom_only {
             return None;
         }
@@ -306,8 +402,9 @@ impl MjcfRobot {
                 let body = body.transformed(&top_from_body);
                 total = Some(total.map_or(body, |t| t.combined(&body)));
             }
-            for (child, b) in self.model.bodies.iter().enumerate() {
-                if b.parent == Some(at) && !on_path.contains(&child) {
+            for &child in &self.model.children[at] {
+                if !on_path[child] {
+                    let b = &self.model.bodies[child];
                     stack.push((child, top_from_body * b.parent_from_body));
                 }
             }

@@ -1,9 +1,12 @@
 //! From the element tree to bodies, joints and geoms: the `<compiler>` settings (angle unit,
 //! Euler sequence, mesh folder), `<default>` classes (nested, inherited, chosen by `class` or
 //! an enclosing `childclass`), mesh assets, the body tree and its joints. Attribute values and
-//! poses are read in `values.rs`, geoms in `geom.rs`; errors name the line, the element and the
-//! attribute.
+//! poses are read in `values.rs`, geoms in `geom.rs`, the classes' storage in `defaults.rs`;
+//! errors name the line, the element and the attribute. Names are checked for repeats as
+//! MuJoCo's compiler checks them (bodies, joints, geoms, meshes), through hash maps: reading is
+//! linear in the number of elements.
 
+use super::defaults::ClassDefaults;
 use super::dom::Element;
 use crate::geometry::shape::Shape;
 use crate::robot::chain::unit_axis;
@@ -56,6 +59,8 @@ impl JointType {
 pub(crate) struct Joint {
     /// The `name` attribute, or `#k` (its index in the body) when unnamed.
     pub name: String,
+    /// 1-based line of the `<joint>` element.
+    pub line: usize,
     pub kind: JointType,
     /// The anchor point in the body frame (m).
     pub pos: Vector3<f64>,
@@ -97,6 +102,8 @@ pub(crate) struct Geom {
 #[derive(Debug, Clone)]
 pub(crate) struct Body {
     pub name: String,
+    /// 1-based line of the `<body>` element (0 for the world body).
+    pub line: usize,
     pub parent: Option<usize>,
     pub parent_from_body: Isometry3<f64>,
     pub joints: Vec<Joint>,
@@ -119,10 +126,11 @@ pub(crate) struct Model {
     pub compiler: Compiler,
     /// Body 0 is the world body.
     pub bodies: Vec<Body>,
+    /// Each body's index by name.
+    pub body_index: HashMap<String, usize>,
+    /// Each body's children, in file order.
+    pub children: Vec<Vec<usize>>,
 }
-
-/// Attribute values by element kind (`joint`, `geom`, `mesh`, ...), for one default class.
-type ClassDefaults = HashMap<String, HashMap<String, String>>;
 
 pub(super) struct Reader<'a> {
     pub(super) source_name: &'a str,
@@ -130,6 +138,14 @@ pub(super) struct Reader<'a> {
     pub(super) classes: HashMap<String, ClassDefaults>,
     pub(super) meshes: HashMap<String, MeshAsset>,
     pub(super) bodies: Vec<Body>,
+    /// Each body's index by name.
+    pub(super) body_index: HashMap<String, usize>,
+    /// Each named joint: its body, its index in the body, its line.
+    pub(super) joint_index: HashMap<String, (usize, usize, usize)>,
+    /// Each named geom's line.
+    pub(super) geom_lines: HashMap<String, usize>,
+    /// The mesh assets' lines, by name.
+    pub(super) mesh_lines: HashMap<String, usize>,
 }
 
 /// Reads the model under the root `<mujoco>` element.
@@ -147,12 +163,17 @@ pub(crate) fn read(root: &Element, source_name: &str) -> Result<Model, RobotErro
         meshes: HashMap::new(),
         bodies: vec![Body {
             name: "world".into(),
+            line: 0,
             parent: None,
             parent_from_body: Isometry3::identity(),
             joints: Vec::new(),
             geoms: Vec::new(),
             inertial: None,
         }],
+        body_index: HashMap::from([("world".to_string(), 0)]),
+        joint_index: HashMap::new(),
+        geom_lines: HashMap::new(),
+        mesh_lines: HashMap::new(),
     };
     if root.name != "mujoco" {
         return Err(reader.error(
@@ -168,7 +189,7 @@ pub(crate) fn read(root: &Element, source_name: &str) -> Result<Model, RobotErro
             _ => {}
         }
     }
-    reader.classes.insert(MAIN.into(), ClassDefaults::new());
+    reader.classes.insert(MAIN.into(), ClassDefaults::default());
     for child in root.children.iter().filter(|c| c.name == "default") {
         reader.defaults(child, None)?;
     }
@@ -183,10 +204,18 @@ pub(crate) fn read(root: &Element, source_name: &str) -> Result<Model, RobotErro
     for actuators in root.children.iter().filter(|c| c.name == "actuator") {
         reader.actuators(actuators)?;
     }
+    let mut children = vec![Vec::new(); reader.bodies.len()];
+    for (index, body) in reader.bodies.iter().enumerate() {
+        if let Some(parent) = body.parent {
+            children[parent].push(index);
+        }
+    }
     Ok(Model {
         name: root.get("model").unwrap_or("MuJoCo Model").to_string(),
         compiler: reader.compiler,
         bodies: reader.bodies,
+        body_index: reader.body_index,
+        children,
     })
 }
 
@@ -207,6 +236,27 @@ impl Reader<'_> {
             attribute: attribute.to_string(),
             message,
         }
+    }
+
+    /// The error for a name that element kind `what` already used (MuJoCo refuses repeated
+    /// names within one kind).
+    pub(super) fn repeated(
+        &self,
+        element: &Element,
+        what: &str,
+        name: &str,
+        first_line: usize,
+    ) -> RobotError {
+        let first = if first_line == 0 {
+            "the world body's name".to_string()
+        } else {
+            format!("first used on line {first_line}")
+        };
+        self.error(
+            element,
+            "name",
+            format!("a second {what} named '{name}' ({first}); MuJoCo requires {what} names to be unique"),
+        )
     }
 
     fn unsupported(&self, element: &Element, hint: &str) -> RobotError {
@@ -279,10 +329,8 @@ impl Reader<'_> {
             ));
         }
         for child in element.children.iter().filter(|c| c.name != "default") {
-            let slot = values.entry(child.name.clone()).or_default();
-            for (key, value) in &child.attributes {
-                slot.insert(key.clone(), value.clone());
-            }
+            self.orientation_attribute(child)?;
+            values.apply(&child.name, &child.attributes);
         }
         self.classes.insert(class.clone(), values);
         for child in element.children.iter().filter(|c| c.name == "default") {
@@ -313,12 +361,18 @@ impl Reader<'_> {
         if self.classes.contains_key(class) {
             Ok(class)
         } else {
-            let mut known: Vec<&str> = self.classes.keys().map(String::as_str).collect();
-            known.sort_unstable();
+            let known: Vec<&str> = self.classes.keys().map(String::as_str).collect();
+            let count = known.len();
+            let close = crate::robot::error::closest_names(class, known);
+            let hint = if close.is_empty() {
+                String::new()
+            } else {
+                format!("; did you mean: {}?", close.join(", "))
+            };
             Err(self.error(
                 element,
                 attribute,
-                format!("no default class '{class}' (classes: {})", known.join(", ")),
+                format!("no default class '{class}' ({count} classes defined{hint})"),
             ))
         }
     }
@@ -333,9 +387,7 @@ impl Reader<'_> {
         element.get(key).or_else(|| {
             self.classes
                 .get(class)
-                .and_then(|c| c.get(&element.name))
-                .and_then(|attrs| attrs.get(key))
-                .map(String::as_str)
+                .and_then(|c| c.get(&element.name, key))
         })
     }
 
@@ -367,6 +419,10 @@ impl Reader<'_> {
                 return Err(self.error(element, "name", "a mesh needs a name or a file".into()))
             }
         };
+        if let Some(&first) = self.mesh_lines.get(&name) {
+            return Err(self.repeated(element, "mesh", &name, first));
+        }
+        self.mesh_lines.insert(name.clone(), element.line);
         self.meshes.insert(name, MeshAsset { file, scale });
         Ok(())
     }
@@ -393,16 +449,15 @@ impl Reader<'_> {
                         Some(name) => name.to_string(),
                         None => format!("unnamed_body_{index}"),
                     };
-                    if self.bodies.iter().any(|b| b.name == name) {
-                        return Err(self.error(
-                            child,
-                            "name",
-                            format!("a second body named '{name}'"),
-                        ));
+                    if let Some(&first) = self.body_index.get(&name) {
+                        let line = self.bodies[first].line;
+                        return Err(self.repeated(child, "body", &name, line));
                     }
                     let parent_from_body = body_from_frame * self.pose(child, None)?;
+                    self.body_index.insert(name.clone(), index);
                     self.bodies.push(Body {
                         name,
+                        line: child.line,
                         parent: Some(body),
                         parent_from_body,
                         joints: Vec::new(),
@@ -427,7 +482,15 @@ impl Reader<'_> {
                             "a joint inside a <frame>: move it into the body",
                         ));
                     }
-                    let joint = self.joint(child, childclass, self.bodies[body].joints.len())?;
+                    let k = self.bodies[body].joints.len();
+                    let joint = self.joint(child, childclass, k)?;
+                    if let Some(name) = child.get("name") {
+                        if let Some(&(_, _, first)) = self.joint_index.get(name) {
+                            return Err(self.repeated(child, "joint", name, first));
+                        }
+                        self.joint_index
+                            .insert(name.to_string(), (body, k, child.line));
+                    }
                     self.bodies[body].joints.push(joint);
                 }
                 "inertial" => {
@@ -435,6 +498,12 @@ impl Reader<'_> {
                     self.bodies[body].inertial = Some(inertial.transformed(&body_from_frame));
                 }
                 "geom" => {
+                    if let Some(name) = child.get("name") {
+                        if let Some(&first) = self.geom_lines.get(name) {
+                            return Err(self.repeated(child, "geom", name, first));
+                        }
+                        self.geom_lines.insert(name.to_string(), child.line);
+                    }
                     if let Some(geom) = self.geom(child, childclass)? {
                         let geom = Geom {
                             body_from_geom: body_from_frame * geom.body_from_geom,
@@ -464,6 +533,7 @@ impl Reader<'_> {
         if element.name == "freejoint" {
             return Ok(Joint {
                 name,
+                line: element.line,
                 kind: JointType::Free,
                 pos: Vector3::zeros(),
                 axis: Vector3::z_axis(),
@@ -538,6 +608,7 @@ impl Reader<'_> {
         };
         Ok(Joint {
             name,
+            line: element.line,
             kind,
             pos,
             axis: Unit::new_unchecked(axis),

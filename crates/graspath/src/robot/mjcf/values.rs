@@ -1,6 +1,7 @@
 //! Attribute values: numbers (finite, counted), booleans, angles in the compiler's unit, and
 //! poses (`pos` with one of `quat`, `axisangle`, `euler`, `xyaxes`, `zaxis`).
 
+use super::defaults::ORIENTATIONS;
 use super::dom::Element;
 use super::parse::Reader;
 use crate::robot::chain::unit_axis;
@@ -87,8 +88,30 @@ impl Reader<'_> {
         }
     }
 
-    /// `pos` and the one orientation attribute of a body, geom or frame (looked up through
-    /// `class` when given).
+    /// The one orientation attribute an element gives itself (`quat`, `axisangle`, `euler`,
+    /// `xyaxes` or `zaxis`), if any; two are an error, as in MuJoCo.
+    pub(super) fn orientation_attribute(
+        &self,
+        element: &Element,
+    ) -> Result<Option<&'static str>, RobotError> {
+        let mut given = ORIENTATIONS
+            .into_iter()
+            .filter(|k| element.get(k).is_some());
+        let first = given.next();
+        if let (Some(first), Some(second)) = (first, given.next()) {
+            return Err(self.error(
+                element,
+                second,
+                format!("give one orientation, not {first} and {second}"),
+            ));
+        }
+        Ok(first)
+    }
+
+    /// `pos` and the orientation of a body, geom or frame, each as written on the element or
+    /// else (when `class` is given) from its default class. As in MuJoCo's compiler, the
+    /// element's own orientation replaces the class's, whatever kind each is (a `quat` on a
+    /// geom wins over its class's `euler`).
     pub(super) fn pose(
         &self,
         element: &Element,
@@ -102,20 +125,14 @@ impl Reader<'_> {
             Some(text) => self.vector(element, "pos", text)?,
             None => Vector3::zeros(),
         };
-        let given: Vec<&str> = ["quat", "axisangle", "euler", "xyaxes", "zaxis"]
-            .into_iter()
-            .filter(|k| get(k).is_some())
-            .collect();
-        if given.len() > 1 {
-            return Err(self.error(
-                element,
-                given[1],
-                format!("give one orientation, not {}", given.join(" and ")),
-            ));
-        }
-        let rotation = match given.first() {
+        // The class gives at most one orientation (checked where the class is read).
+        let key = match self.orientation_attribute(element)? {
+            Some(key) => Some(key),
+            None => class.and_then(|_| ORIENTATIONS.into_iter().find(|k| get(k).is_some())),
+        };
+        let rotation = match key {
             None => UnitQuaternion::identity(),
-            Some(&key) => self.orientation(element, key, get(key).unwrap_or_default())?,
+            Some(key) => self.orientation(element, key, get(key).unwrap_or_default())?,
         };
         Ok(Isometry3::from_parts(Translation3::from(pos), rotation))
     }

@@ -48,7 +48,7 @@ fn read_as(ctx: &Ctx, name: &str, bytes: &[u8], formats: &[Option<GraspFormat>])
 /// An `.npy` image: version-1 preamble, `header` padded to 64 bytes, `data`.
 pub fn npy_image(header: &str, data: &[u8]) -> Vec<u8> {
     let mut h = header.to_string();
-    while (10 + h.len() + 1) % 64 != 0 {
+    while !(10 + h.len() + 1).is_multiple_of(64) {
         h.push(' ');
     }
     h.push('\n');
@@ -317,7 +317,9 @@ const MEMBER_NAMES: &[&str] = &[
 /// or not) or a generated `.npy`.
 fn npz_document(rng: &mut Rng) -> Vec<u8> {
     let fixture_members: Vec<(String, Vec<u8>)> =
-        stored_members(NPZ_FIXTURES[rng.below(NPZ_FIXTURES.len())]).into_iter().collect();
+        stored_members(NPZ_FIXTURES[rng.below(NPZ_FIXTURES.len())])
+            .into_iter()
+            .collect();
     let count = 1 + rng.below(4);
     let members: Vec<(String, Vec<u8>)> = (0..count)
         .map(|_| {

@@ -145,7 +145,10 @@ pub fn row_major<'a>(array: &'a FloatArray<'_>, what: &str) -> PyResult<Cow<'a, 
             return Ok(Cow::Borrowed(slice));
         }
     }
-    let values = array.shape().iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+    let values = array
+        .shape()
+        .iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d));
     if values.is_none_or(|n| n > MAX_COPY_BYTES / size_of::<f64>()) {
         let strides = array.strides();
         return Err(error(format!(

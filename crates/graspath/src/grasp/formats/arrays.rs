@@ -231,6 +231,12 @@ fn ints<T: Into<i128>>(values: Vec<T>) -> Vec<f64> {
 /// (without `.npy`) and its parsed header. An error refuses the archive.
 pub(crate) type MemberCheck<'a> = &'a dyn Fn(&str, &npyz::NpyHeader) -> Result<(), String>;
 
+/// Named members of an archive: `(name without .npy, bytes)`.
+pub(crate) type Members = Vec<(String, Vec<u8>)>;
+
+/// Members of an archive by name with their declared shapes.
+pub(crate) type MemberShapes = Vec<(String, Option<Vec<u64>>)>;
+
 /// The members of an `.npz` archive that `wanted` names, `(name without .npy, bytes)`, in
 /// archive order; the others are not decompressed. Each member's `.npy` header is read first
 /// and its declared data checked against what the archive may still expand to and by `check`
@@ -241,7 +247,7 @@ pub(crate) fn read_npz(
     limit: u64,
     wanted: &dyn Fn(&str) -> bool,
     check: MemberCheck<'_>,
-) -> Result<Vec<(String, Vec<u8>)>, (String, String)> {
+) -> Result<Members, (String, String)> {
     let file = |m: String| ("file".to_string(), m);
     let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes))
         .map_err(|e| file(format!("not an .npz (zip) archive: {e}")))?;
@@ -316,7 +322,7 @@ pub(crate) fn read_npz(
 /// The members of an `.npz` archive by name (without `.npy`) with the shape their `.npy`
 /// header declares (`None` for a pickle or a member that is not an `.npy`). Only the headers
 /// are decompressed.
-pub(crate) fn npz_shapes(bytes: &[u8]) -> Result<Vec<(String, Option<Vec<u64>>)>, String> {
+pub(crate) fn npz_shapes(bytes: &[u8]) -> Result<MemberShapes, String> {
     let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes))
         .map_err(|e| format!("not an .npz (zip) archive: {e}"))?;
     let mut shapes = Vec::new();

@@ -9,13 +9,17 @@ use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 /// The HDF5 signature at the start of a file.
 pub(crate) const SIGNATURE: &[u8] = b"\x89HDF\r\n\x1a\n";
 
+/// What a reader is told about each dataset before its values are read: its name and declared
+/// shape; an error is `(dataset, message)`.
+pub(crate) type DatasetCheck<'a> = &'a dyn Fn(&str, &[u64]) -> Result<(), (String, String)>;
+
 /// Reads the named numeric datasets of an HDF5 image; errors are `(dataset, message)`. Each
 /// dataset's declared shape is checked, before its values are read, against what the file can
 /// hold and by `check` (e.g. a grasp count against a limit).
 pub(crate) fn read_datasets(
     bytes: Vec<u8>,
     names: &[&str],
-    check: &dyn Fn(&str, &[u64]) -> Result<(), (String, String)>,
+    check: DatasetCheck<'_>,
 ) -> Result<Vec<Option<Array>>, (String, String)> {
     let file_len = bytes.len() as u64;
     // No dataset can hold more than the file's bytes expanded by deflate's largest ratio.

@@ -19,6 +19,7 @@ pub mod exec;
 pub mod known;
 pub mod minimise;
 pub mod mutate;
+pub mod readers;
 pub mod rng;
 pub mod structured;
 pub mod targets;

@@ -9,9 +9,11 @@
 //! directory ([`Ctx::dir`]), which also holds the small files a document may name
 //! (`robot.urdf`, `candidates.json`, `mesh.obj`, `cloud.pcd`, `three_finger_hand.urdf`, ...).
 //!
-//! One file on purpose (about 900 lines): the 16 targets are a table, each a short seed corpus
-//! and a feed function; splitting them would scatter one list.
+//! One file on purpose (about 950 lines): the targets are a table, each a short seed corpus
+//! and a feed function; splitting them would scatter one list. The grasp-file and MJCF/SRDF
+//! targets' seeds, generators and feeds are in [`crate::readers`].
 
+use crate::readers;
 use crate::rng::Rng;
 use crate::structured::{draw, pcd_file, task_yaml, urdf_document};
 use graspath::cloud::{
@@ -387,6 +389,69 @@ static TARGETS: &[Target] = &[
         structured: None,
         run: run_ik_trajectory,
         ci_execs: 300,
+    },
+    Target {
+        name: "npy",
+        description: "read_grasp_file on a .npy (guessed, poses, graspnet): header checks, every dtype and order, object arrays (pickles)",
+        extension: "npy",
+        seeds: readers::npy_seeds,
+        structured: Some(readers::npy_structured),
+        run: readers::run_npy,
+        ci_execs: 3000,
+    },
+    Target {
+        name: "npz",
+        description: "read_grasp_file on an .npz (guessed, contact_graspnet, m2t2): archives of generated or fixture members under the layouts' names",
+        extension: "npz",
+        seeds: readers::npz_seeds,
+        structured: Some(readers::npz_structured),
+        run: readers::run_npz,
+        ci_execs: 2000,
+    },
+    Target {
+        name: "pickle",
+        description: "the restricted pickle reader: each input the object member of a Contact-GraspNet and an M2T2 .npz",
+        extension: "pkl",
+        seeds: readers::pickle_seeds,
+        structured: Some(readers::pickle_structured),
+        run: readers::run_pickle,
+        ci_execs: 3000,
+    },
+    Target {
+        name: "hdf5",
+        description: "read_grasp_file on an ACRONYM .h5 (hdf5-reader, dataset shapes checked before reading)",
+        extension: "h5",
+        seeds: readers::hdf5_seeds,
+        structured: None,
+        run: readers::run_hdf5,
+        ci_execs: 1000,
+    },
+    Target {
+        name: "grasp_text",
+        description: "read_grasp_file on GraspGen YAML/JSON and ACRONYM JSON (as .json and .yaml, guessed and forced)",
+        extension: "json",
+        seeds: readers::grasp_text_seeds,
+        structured: None,
+        run: readers::run_grasp_text,
+        ci_execs: 2000,
+    },
+    Target {
+        name: "mjcf",
+        description: "MjcfRobot::from_xml_in, collisions, chains from the first body (FK + Jacobian)",
+        extension: "xml",
+        seeds: readers::mjcf_seeds,
+        structured: None,
+        run: readers::run_mjcf,
+        ci_execs: 1000,
+    },
+    Target {
+        name: "srdf",
+        description: "Srdf::parse, then check_links",
+        extension: "srdf",
+        seeds: readers::srdf_seeds,
+        structured: None,
+        run: readers::run_srdf,
+        ci_execs: 3000,
     },
 ];
 

@@ -4,21 +4,63 @@
 //! Arrays come in as anything numpy can turn into `float64` (lists, int arrays, views). A
 //! C-contiguous float64 array is read where it lies; any other layout (Fortran order, strided
 //! views) is read through its strides into a row-major copy, so that the heavy work can run on
-//! row-major values without the GIL.
+//! row-major values without the GIL. A copy larger than [`MAX_COPY_BYTES`] (1 GiB) is refused
+//! before it is made: a broadcast view (zero strides, `np.broadcast_to`) of a billion rows takes
+//! no memory itself but would be copied whole. Complex arrays are refused, never converted
+//! (numpy's cast would drop their imaginary part).
 
 use crate::GraspathError;
 use graspath::geometry::{pose_from_rows, pose_to_rows};
 use graspath::task::JacobianRows;
 use nalgebra::Isometry3;
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
+use numpy::{
+    AllowTypeChange, IntoPyArray, PyArrayDescrMethods, PyArrayDyn, PyArrayLikeDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use std::borrow::Cow;
 use std::fmt::Display;
 
-/// Any array-like that numpy can convert to `float64`.
-pub type FloatArray<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+/// The largest row-major copy made of an array that is not C-contiguous `float64` (bytes).
+pub const MAX_COPY_BYTES: usize = 1 << 30;
+
+/// Any array-like that numpy can convert to `float64` without losing values: complex arrays
+/// (and lists of complex numbers) are refused with a `GraspathError`.
+pub struct FloatArray<'py>(PyArrayLikeDyn<'py, f64, AllowTypeChange>);
+
+impl<'py> std::ops::Deref for FloatArray<'py> {
+    type Target = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+    fn deref(&self) -> &Self::Target {
+        &self.0
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for FloatArray<'py> {
+    type Error = PyErr;
+
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let complex = match ob.cast::<PyUntypedArray>() {
+            Ok(array) => array.dtype().kind() == b'c',
+            // Lists and scalars: what numpy would make of them.
+            Err(_) => ob
+                .py()
+                .import("numpy")?
+                .call_method1("result_type", (ob.to_owned(),))
+                .and_then(|t| t.getattr("kind")?.extract::<String>())
+                .is_ok_and(|kind| kind == "c"),
+        };
+        if complex {
+            return Err(error(
+                "complex values are refused (their imaginary part would be lost); pass the real \
+                 part (np.real) if that is what is meant",
+            ));
+        }
+        PyArrayLikeDyn::<f64, AllowTypeChange>::extract(ob).map(Self)
+    }
+}
 
 /// Parses an index mode (`mode`, `length_scale` of `Task.from_arrays` and
 /// `Robot.optimize_self_motion`), as a task file's `index`.
@@ -77,12 +119,12 @@ pub struct Buffer {
 }
 
 impl Buffer {
-    /// Copies `array` (any layout) into a row-major buffer.
-    pub fn from_array(array: &FloatArray<'_>) -> Self {
-        Self {
+    /// Copies `array` (any layout) into a row-major buffer; `what` names it in errors.
+    pub fn from_array(array: &FloatArray<'_>, what: &str) -> PyResult<Self> {
+        Ok(Self {
             shape: array.shape().to_vec(),
-            data: row_major(array).into_owned(),
-        }
+            data: row_major(array, what)?.into_owned(),
+        })
     }
 
     /// The shape as Python prints it, e.g. `(3, 7)`.
@@ -94,15 +136,29 @@ impl Buffer {
 /// The values of `array` in row-major (C) order: the array's own memory when it is
 /// C-contiguous, else a copy read through its strides in index order (Fortran-ordered and
 /// strided arrays give the same values as their C-ordered copies).
-pub fn row_major<'a>(array: &'a FloatArray<'_>) -> Cow<'a, [f64]> {
+/// A copy larger than [`MAX_COPY_BYTES`] is refused before it is made; `what` names the array.
+pub fn row_major<'a>(array: &'a FloatArray<'_>, what: &str) -> PyResult<Cow<'a, [f64]>> {
     // `as_slice` also accepts Fortran-contiguous arrays, whose memory order is not row-major:
     // only C order is borrowed as it lies.
     if array.is_c_contiguous() {
         if let Ok(slice) = array.as_slice() {
-            return Cow::Borrowed(slice);
+            return Ok(Cow::Borrowed(slice));
         }
     }
-    Cow::Owned(array.as_array().iter().copied().collect())
+    let values = array
+        .shape()
+        .iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d));
+    if values.is_none_or(|n| n > MAX_COPY_BYTES / size_of::<f64>()) {
+        let strides = array.strides();
+        return Err(error(format!(
+            "{what} has shape {} with strides {strides:?} (bytes): a row-major copy would take more \
+             than {MAX_COPY_BYTES} bytes (a broadcast view is copied whole); pass a smaller batch \
+             or a C-contiguous float64 array",
+            shape_text(array.shape())
+        )));
+    }
+    Ok(Cow::Owned(array.as_array().iter().copied().collect()))
 }
 
 /// A shape as Python prints it.
@@ -127,7 +183,7 @@ pub fn rows(
     width: usize,
     what: &str,
 ) -> PyResult<(Vec<f64>, Option<usize>)> {
-    let buffer = Buffer::from_array(array);
+    let buffer = Buffer::from_array(array, what)?;
     match buffer.shape.as_slice() {
         [w] if *w == width => Ok((buffer.data, None)),
         [n, w] if *w == width => Ok((buffer.data, Some(*n))),
@@ -166,7 +222,7 @@ pub fn pose_from_slice(values: &[f64], what: &str) -> PyResult<Isometry3<f64>> {
 
 /// Poses from shape `(4, 4)` (`None` batch) or `(n, 4, 4)` (`Some(n)`).
 pub fn poses(array: &FloatArray<'_>, what: &str) -> PyResult<(Vec<Isometry3<f64>>, Option<usize>)> {
-    let buffer = Buffer::from_array(array);
+    let buffer = Buffer::from_array(array, what)?;
     match buffer.shape.as_slice() {
         [4, 4] => Ok((vec![pose_from_slice(&buffer.data, what)?], None)),
         [n, 4, 4] => {
@@ -194,7 +250,7 @@ pub fn trajectories(
     array: &FloatArray<'_>,
     what: &str,
 ) -> PyResult<(Vec<Trajectory>, Option<usize>)> {
-    let buffer = Buffer::from_array(array);
+    let buffer = Buffer::from_array(array, what)?;
     let (batch, n) = match buffer.shape.as_slice() {
         [4, 4] => (None, 1),
         [n, 4, 4] => (None, *n),

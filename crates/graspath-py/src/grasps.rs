@@ -108,6 +108,7 @@ pub fn read_grasps<'py>(
                 object_from_frame,
                 gripper_from_tool,
                 segment,
+                max_candidates: None,
             };
             read_grasp_file(&path, &options)
         })

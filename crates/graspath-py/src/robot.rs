@@ -74,7 +74,7 @@ impl PyRobot {
                 )))
             }
         };
-        Ok((row_major(q), batch))
+        Ok((row_major(q, "q")?, batch))
     }
 }
 

@@ -296,7 +296,7 @@ impl PyTask {
             None => (0..n).map(|i| i as f64).collect(),
             Some(t) => {
                 check_shape(t, &[Some(n)], "times")?;
-                Buffer::from_array(t).data
+                Buffer::from_array(t, "times")?.data
             }
         };
         if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|w| w[1] < w[0]) {
@@ -309,7 +309,7 @@ impl PyTask {
             None => vec![0.0; k],
             Some(l) => {
                 check_shape(l, &[Some(k)], "likelihoods")?;
-                let values = Buffer::from_array(l).data;
+                let values = Buffer::from_array(l, "likelihoods")?.data;
                 if let Some(i) = values.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
                     return Err(error(format!(
                         "likelihoods[{i}] must be a positive finite number"
@@ -330,7 +330,7 @@ impl PyTask {
             None => vec![None; k],
             Some(c) => {
                 check_shape(c, &[Some(k), Some(3)], "contacts")?;
-                Buffer::from_array(c)
+                Buffer::from_array(c, "contacts")?
                     .data
                     .chunks_exact(3)
                     .map(|p| {

@@ -250,6 +250,47 @@ fn bad_grasp_files_give_one_clear_error() {
             "scores",
             "is split by segment or object, but pred_grasps_cam is one array",
         ),
+        // Issue 34: refused, never converted (complex values would lose their imaginary part).
+        (
+            "complex.npz",
+            "grasps",
+            "dtype '<c16' holds complex numbers",
+        ),
+        (
+            "complex_segments.npz",
+            "pred_grasps_cam",
+            "dtype 'c8' holds complex numbers",
+        ),
+        ("longdouble.npy", "file", "holds long doubles"),
+        // Pickled dtypes NumPy never writes: no panic.
+        (
+            "pickled_f0.npz",
+            "pred_grasps_cam",
+            "dtype 'f0' is not a number type",
+        ),
+        (
+            "pickled_empty_dtype.npz",
+            "pred_grasps_cam",
+            "dtype '' is not a number type",
+        ),
+        // Memory bounded before it is used: a 590-byte memo bomb (2^40 copies), lists nested
+        // 1000 deep, a 13-byte header claiming 4 GiB.
+        (
+            "memo_bomb.npz",
+            "pred_grasps_cam",
+            "the pickle decodes to more than",
+        ),
+        (
+            "deep_pickle.npz",
+            "pred_grasps_cam",
+            "nests containers more than 64 deep",
+        ),
+        (
+            "header_4gib.npy",
+            "file",
+            "the .npy header declares 4294967295 bytes; more than 65536 is refused",
+        ),
+        ("ragged.json", "transforms", "not rectangular"),
     ];
     for (name, location, message) in cases {
         let path = dir().join("bad").join(name);
@@ -259,6 +300,49 @@ fn bad_grasp_files_give_one_clear_error() {
         assert!(err.file.ends_with(name), "{name}: {err}");
         assert_eq!(err.location, *location, "{name}: {err}");
         assert!(err.message.contains(message), "{name}: {err}");
+    }
+}
+
+/// A grasp file holding more grasps than the task's candidate limit is refused from the arrays'
+/// declared shapes, before their values are read: in each binary layout and the text ones.
+#[test]
+fn a_grasp_count_over_the_limit_is_refused_before_reading() {
+    let cases: &[(&str, Option<GraspFormat>, &str)] = &[
+        ("poses.npy", None, "poses"),
+        ("poses.npz", None, "grasps"),
+        ("graspnet.npy", None, "graspnet"),
+        ("acronym.h5", None, "grasps/transforms"),
+        ("contact_graspnet.npz", None, "pred_grasps_cam"),
+        ("m2t2_equal.npz", None, "grasps"),
+        ("graspgen.yaml", None, "grasps"),
+        ("graspgen_dataset.json", None, "grasps.transforms"),
+    ];
+    for (name, format, location) in cases {
+        let path = dir().join(name);
+        let (_, all) = read_grasp_file(&path, &GraspFileOptions::default()).expect(name);
+        assert!(all.len() > 1, "{name}");
+        let options = GraspFileOptions {
+            format: *format,
+            max_candidates: Some(1),
+            ..GraspFileOptions::default()
+        };
+        let err = read_grasp_file(&path, &options)
+            .err()
+            .unwrap_or_else(|| panic!("{name}: over the limit, accepted"));
+        assert_eq!(err.location, *location, "{name}: {err}");
+        assert!(
+            err.message
+                .contains("more than the limit 1; raise limits.max_candidates"),
+            "{name}: {err}"
+        );
+        let options = GraspFileOptions {
+            max_candidates: Some(100_000),
+            ..GraspFileOptions::default()
+        };
+        assert_eq!(
+            read_grasp_file(&path, &options).expect(name).1.len(),
+            all.len()
+        );
     }
 }
 

@@ -439,6 +439,7 @@ fn setup_candidates(
             &base_dir.join(path),
             world_from_object,
             index_file,
+            limits.max_candidates,
         ),
         (None, Some(family)) => {
             let shape = shape.ok_or_else(|| {
@@ -536,6 +537,7 @@ fn grasp_file_candidates(
     path: &Path,
     world_from_object: Isometry3<f64>,
     index: bool,
+    max_candidates: usize,
 ) -> Result<SetUp, TaskError> {
     let c = &file.candidates;
     let err = |field: &str, message: String| TaskError::new(source, field, message);
@@ -590,6 +592,7 @@ fn grasp_file_candidates(
         object_from_frame,
         gripper_from_tool,
         segment: c.segment,
+        max_candidates: Some(max_candidates),
     };
     let opened = if index {
         open_grasp_file(path, &options).map(|(_, opened)| match opened {

@@ -17,7 +17,7 @@ impl Array {
 }
 
 /// `(a, b, …)` as NumPy prints a shape.
-pub(crate) fn shape_text(shape: &[usize]) -> String {
+pub(crate) fn shape_text<T: ToString>(shape: &[T]) -> String {
     let parts: Vec<String> = shape.iter().map(ToString::to_string).collect();
     if parts.len() == 1 {
         format!("({},)", parts[0])

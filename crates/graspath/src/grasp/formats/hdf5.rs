@@ -9,10 +9,17 @@ use hdf5_reader::{Datatype, Hdf5File, OpenOptions};
 /// The HDF5 signature at the start of a file.
 pub(crate) const SIGNATURE: &[u8] = b"\x89HDF\r\n\x1a\n";
 
-/// Reads the named numeric datasets of an HDF5 image; errors are `(dataset, message)`.
+/// What a reader is told about each dataset before its values are read: its name and declared
+/// shape; an error is `(dataset, message)`.
+pub(crate) type DatasetCheck<'a> = &'a dyn Fn(&str, &[u64]) -> Result<(), (String, String)>;
+
+/// Reads the named numeric datasets of an HDF5 image; errors are `(dataset, message)`. Each
+/// dataset's declared shape is checked, before its values are read, against what the file can
+/// hold and by `check` (e.g. a grasp count against a limit).
 pub(crate) fn read_datasets(
     bytes: Vec<u8>,
     names: &[&str],
+    check: DatasetCheck<'_>,
 ) -> Result<Vec<Option<Array>>, (String, String)> {
     let file_len = bytes.len() as u64;
     // No dataset can hold more than the file's bytes expanded by deflate's largest ratio.
@@ -55,6 +62,8 @@ pub(crate) fn read_datasets(
                         shape_text(&shape)
                     ))
                 })?;
+            let dims: Vec<u64> = shape.iter().map(|&d| d as u64).collect();
+            check(name, &dims)?;
             let read_err = |e: hdf5_reader::error::Error| err(format!("cannot be read: {e}"));
             let data: Vec<f64> = match dataset.dtype() {
                 Datatype::FloatingPoint { size: 8, .. } => dataset
@@ -110,6 +119,13 @@ pub(crate) fn read_datasets(
                     .collect(),
                 other => return Err(err(format!("holds {other:?}, not f32/f64/int numbers"))),
             };
+            if shape.iter().try_fold(1usize, |n, &d| n.checked_mul(d)) != Some(data.len()) {
+                return Err(err(format!(
+                    "declares shape {} but holds {} values",
+                    shape_text(&shape),
+                    data.len()
+                )));
+            }
             Ok(Some(Array { shape, data }))
         })
         .collect()

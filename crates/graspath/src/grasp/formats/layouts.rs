@@ -2,13 +2,53 @@
 //! the file's frame and the generator's gripper frame, with where it is in the file.
 
 use super::array::Array;
-use super::arrays::{parse_npy, read_npz, Member};
+use super::arrays::{npy_header, parse_npy, read_npz, Member};
 use super::{hdf5, npz_limit, pickle, Grasp, GraspFormat};
 use crate::geometry::pose_from_rows;
 use nalgebra::{Isometry3, Point3};
 use std::path::Path;
 
 type Grasps = Result<Vec<Grasp>, (String, String)>;
+
+/// Refuses `count` grasps in `field` beyond `max` (the task's `limits.max_candidates`).
+fn check_count(field: &str, count: u64, max: Option<usize>) -> Result<(), (String, String)> {
+    match max {
+        Some(max) if count > max as u64 => Err((
+            field.to_string(),
+            format!(
+                "holds {count} grasps, more than the limit {max}; raise limits.max_candidates \
+                 if this is intended"
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The grasps an array of `shape` holds when it is one of `layouts` (`[None, 4, 4]`: poses;
+/// a leading `None` is a count), `None` when it is none of them.
+fn grasp_rows(shape: &[u64], layouts: &[&[Option<u64>]]) -> Option<u64> {
+    layouts.iter().find_map(|want| {
+        (shape.len() == want.len()
+            && shape
+                .iter()
+                .zip(want.iter())
+                .all(|(d, w)| w.is_none_or(|w| *d == w)))
+        .then(|| {
+            shape
+                .iter()
+                .zip(want.iter())
+                .filter(|(_, w)| w.is_none())
+                .fold(1u64, |n, (d, _)| n.saturating_mul(*d))
+        })
+    })
+}
+
+/// N×4×4 poses.
+const POSES: &[Option<u64>] = &[None, Some(4), Some(4)];
+/// K×N×4×4 poses (M2T2's list of objects of equal grasp counts).
+const STACKED_POSES: &[Option<u64>] = &[None, None, Some(4), Some(4)];
+/// N×17 GraspNet grasps.
+const GRASPNET: &[Option<u64>] = &[None, Some(17)];
 
 /// Arrays by segment or object (Contact-GraspNet, M2T2).
 type Segments = Vec<(Key, Array)>;
@@ -34,7 +74,7 @@ impl Key {
             Self::Whole => String::new(),
             Self::Segment(s) => format!("[{s}]"),
             Self::Object(k) => format!("[{k}]"),
-            Self::Named(n) => format!("['{n}']"),
+            Self::Named(n) => format!("['{}']", super::excerpt(n.as_bytes(), 40)),
         }
     }
 
@@ -44,7 +84,7 @@ impl Key {
             Self::Whole => format!("grasp {i}"),
             Self::Segment(s) => format!("segment {s} grasp {i}"),
             Self::Object(k) => format!("object {k} grasp {i}"),
-            Self::Named(n) => format!("{n} grasp {i}"),
+            Self::Named(n) => format!("{} grasp {i}", super::excerpt(n.as_bytes(), 40)),
         }
     }
 
@@ -96,6 +136,12 @@ fn pose_grasps(
 ) -> Grasps {
     expect_shape(transforms, &[None, Some(4), Some(4)], field, "(N, 4, 4)")?;
     let n = transforms.shape[0];
+    if transforms.data.len() != 16 * n {
+        return Err((
+            field.to_string(),
+            "holds fewer values than its shape declares".into(),
+        ));
+    }
     for (a, name) in scores.iter().chain(widths.iter()) {
         expect_shape(
             a,
@@ -120,10 +166,13 @@ fn pose_grasps(
         .collect()
 }
 
-pub(super) fn acronym_h5(bytes: Vec<u8>) -> Grasps {
+pub(super) fn acronym_h5(bytes: Vec<u8>, max: Option<usize>) -> Grasps {
     const T: &str = "grasps/transforms";
     const Q: &str = "grasps/qualities/flex/object_in_gripper";
-    let mut found = hdf5::read_datasets(bytes, &[T, Q])?.into_iter();
+    // Both datasets hold one entry per grasp: their first dimension is the count.
+    let check =
+        |name: &str, shape: &[u64]| check_count(name, shape.first().copied().unwrap_or(1), max);
+    let mut found = hdf5::read_datasets(bytes, &[T, Q], &check)?.into_iter();
     let transforms = found.next().flatten().ok_or_else(|| {
         (
             T.to_string(),
@@ -135,42 +184,71 @@ pub(super) fn acronym_h5(bytes: Vec<u8>) -> Grasps {
 }
 
 fn array_from_json(value: &serde_json::Value, field: &str) -> Result<Array, (String, String)> {
-    // Nested lists of numbers (booleans as 0/1), rectangular.
+    // Nested lists of numbers (booleans as 0/1), rectangular: every number at the same depth,
+    // every list at one depth as long as the others.
     fn walk(
         v: &serde_json::Value,
         depth: usize,
         shape: &mut Vec<usize>,
+        leaf_depth: &mut Option<usize>,
         out: &mut Vec<f64>,
     ) -> Result<(), String> {
+        let ragged = || "the nested lists are not rectangular".to_string();
+        let mut leaf = |x: f64, leaf_depth: &mut Option<usize>| {
+            if *leaf_depth.get_or_insert(depth) != depth || shape.len() != depth {
+                return Err(ragged());
+            }
+            out.push(x);
+            Ok(())
+        };
         match v {
             serde_json::Value::Array(items) => {
+                if leaf_depth.is_some_and(|d| depth >= d) {
+                    return Err(ragged());
+                }
                 if shape.len() == depth {
                     shape.push(items.len());
                 } else if shape.get(depth) != Some(&items.len()) {
-                    return Err("the nested lists are not rectangular".into());
+                    return Err(ragged());
                 }
                 items
                     .iter()
-                    .try_for_each(|x| walk(x, depth + 1, shape, out))
+                    .try_for_each(|x| walk(x, depth + 1, shape, leaf_depth, out))
             }
-            serde_json::Value::Number(n) if shape.len() == depth => {
-                out.push(n.as_f64().unwrap_or(f64::NAN));
-                Ok(())
-            }
-            serde_json::Value::Bool(b) if shape.len() == depth => {
-                out.push(if *b { 1.0 } else { 0.0 });
-                Ok(())
-            }
+            serde_json::Value::Number(n) => leaf(n.as_f64().unwrap_or(f64::NAN), leaf_depth),
+            serde_json::Value::Bool(b) => leaf(if *b { 1.0 } else { 0.0 }, leaf_depth),
             _ => Err("expected nested lists of numbers".into()),
         }
     }
     let mut shape = Vec::new();
     let mut data = Vec::new();
-    walk(value, 0, &mut shape, &mut data).map_err(|m| (field.to_string(), m))?;
+    walk(value, 0, &mut shape, &mut None, &mut data).map_err(|m| (field.to_string(), m))?;
+    // Lists that end empty before any number leave the shape shorter than it looks: what
+    // was read is all there is.
+    if shape.iter().product::<usize>() != data.len() {
+        return Err((
+            field.to_string(),
+            "the nested lists are not rectangular".into(),
+        ));
+    }
     Ok(Array { shape, data })
 }
 
-pub(super) fn text_grasps(format: GraspFormat, bytes: &[u8]) -> Grasps {
+/// The largest grasp file read as JSON or YAML text (bytes): its parsed value takes up to
+/// about 30 times its size.
+pub(crate) const MAX_TEXT_BYTES: usize = 32 << 20;
+
+pub(super) fn text_grasps(format: GraspFormat, bytes: &[u8], max: Option<usize>) -> Grasps {
+    if bytes.len() > MAX_TEXT_BYTES {
+        return Err((
+            "file".into(),
+            format!(
+                "is {} bytes of JSON or YAML text; more than {MAX_TEXT_BYTES} is refused (save \
+                 large grasp sets as .npy or .h5)",
+                bytes.len()
+            ),
+        ));
+    }
     let text = std::str::from_utf8(bytes)
         .map_err(|_| ("file".to_string(), "not UTF-8 text".to_string()))?;
     let value: serde_json::Value = serde_json::from_str(text)
@@ -194,6 +272,7 @@ pub(super) fn text_grasps(format: GraspFormat, bytes: &[u8]) -> Grasps {
             .as_object()
             .map(|m| m.iter().collect::<Vec<_>>())
             .unwrap_or_default();
+        check_count("grasps", map.len() as u64, max)?;
         let number = |name: &str| {
             name.rsplit('_')
                 .next()
@@ -292,6 +371,7 @@ pub(super) fn text_grasps(format: GraspFormat, bytes: &[u8]) -> Grasps {
         };
         return Err((want.into(), "missing (no grasp poses in this file)".into()));
     };
+    check_count(t_field, t.as_array().map_or(0, |a| a.len() as u64), max)?;
     let transforms = array_from_json(t, t_field)?;
     let quality = q.map(|q| array_from_json(q, q_field)).transpose()?;
     pose_grasps(
@@ -302,26 +382,42 @@ pub(super) fn text_grasps(format: GraspFormat, bytes: &[u8]) -> Grasps {
     )
 }
 
-/// The numeric members of an `.npz`, or the one array of a `.npy`, by name.
-fn numeric_members(path: &Path, bytes: &[u8]) -> Result<Vec<(String, Member)>, (String, String)> {
+/// The numeric members of an `.npz`, or the one array of a `.npy`, by name. Before the values
+/// of an array shaped as one of `layouts` are read, its grasp count is checked against `max`.
+fn numeric_members(
+    path: &Path,
+    bytes: &[u8],
+    layouts: &[&[Option<u64>]],
+    max: Option<usize>,
+) -> Result<Vec<(String, Member)>, (String, String)> {
+    let check = |key: &str, header: &npyz::NpyHeader| match grasp_rows(header.shape(), layouts) {
+        Some(rows) => check_count(key, rows, max).map_err(|(_, m)| m),
+        None => Ok(()),
+    };
     if bytes.starts_with(b"\x93NUMPY") {
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
+        let (header, _) = npy_header(bytes).map_err(|m| ("file".to_string(), m))?;
+        check(&name, &header).map_err(|m| (name.clone(), m))?;
         return Ok(vec![(
             name,
             parse_npy(bytes).map_err(|m| ("file".to_string(), m))?,
         )]);
     }
-    read_npz(bytes, npz_limit(bytes))
-        .map_err(|m| ("file".to_string(), m))?
-        .into_iter()
-        .map(|(k, data)| {
-            let member = parse_npy(&data).map_err(|m| (k.clone(), m))?;
-            Ok((k, member))
-        })
-        .collect()
+    read_npz(
+        bytes,
+        npz_limit(bytes),
+        &super::arrays::every_member,
+        &check,
+    )?
+    .into_iter()
+    .map(|(k, data)| {
+        let member = parse_npy(&data).map_err(|m| (k.clone(), m))?;
+        Ok((k, member))
+    })
+    .collect()
 }
 
 fn numeric<'a>(
@@ -337,8 +433,8 @@ fn numeric<'a>(
     }
 }
 
-pub(super) fn poses(path: &Path, bytes: &[u8]) -> Grasps {
-    let members = numeric_members(path, bytes)?;
+pub(super) fn poses(path: &Path, bytes: &[u8], max: Option<usize>) -> Grasps {
+    let members = numeric_members(path, bytes, &[POSES], max)?;
     let candidates: Vec<&(String, Member)> = members
         .iter()
         .filter(|(_, m)| matches!(m, Member::Numeric(a) if a.shape.len() == 3 && a.shape[1..] == [4, 4]))
@@ -378,8 +474,8 @@ pub(super) fn poses(path: &Path, bytes: &[u8]) -> Grasps {
     )
 }
 
-pub(super) fn graspnet(path: &Path, bytes: &[u8]) -> Grasps {
-    let members = numeric_members(path, bytes)?;
+pub(super) fn graspnet(path: &Path, bytes: &[u8], max: Option<usize>) -> Grasps {
+    let members = numeric_members(path, bytes, &[GRASPNET], max)?;
     let (key, a) = match members.as_slice() {
         [(k, Member::Numeric(a))] => (k.clone(), a),
         _ => {
@@ -404,6 +500,9 @@ pub(super) fn graspnet(path: &Path, bytes: &[u8]) -> Grasps {
         &key,
         "(N, 17): score, width, height, depth, rotation (9), translation (3), object id",
     )?;
+    if a.data.len() != 17 * a.shape[0] {
+        return Err((key, "holds fewer values than its shape declares".into()));
+    }
     (0..a.shape[0])
         .map(|i| {
             let r = &a.data[17 * i..17 * i + 17];
@@ -471,16 +570,22 @@ const M2T2: Names = Names {
 /// (Contact-GraspNet's `GraspEstimator.predict_grasps` returns
 /// `pred_points[selection_idcs].squeeze()`); a segment with no grasps adds none, whatever the
 /// shape of its companions (its contacts may be `(0,)` after `filter_segment`).
-pub(super) fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
-    let members: Vec<(String, Member)> = read_npz(bytes, npz_limit(bytes))
-        .map_err(|m| ("file".to_string(), m))?
+pub(super) fn contact_graspnet(bytes: &[u8], segment: Option<i64>, max: Option<usize>) -> Grasps {
+    let known = |k: &str| {
+        [&CONTACT_GRASPNET, &M2T2]
+            .iter()
+            .any(|n| [n.poses, n.scores, n.contacts].contains(&k) || n.openings == Some(k))
+    };
+    // The pose arrays' grasp counts are checked on their headers, before they are read.
+    let check = |key: &str, header: &npyz::NpyHeader| {
+        let poses = [CONTACT_GRASPNET.poses, M2T2.poses].contains(&key);
+        match grasp_rows(header.shape(), &[POSES, STACKED_POSES]) {
+            Some(rows) if poses => check_count(key, rows, max).map_err(|(_, m)| m),
+            _ => Ok(()),
+        }
+    };
+    let members: Vec<(String, Member)> = read_npz(bytes, npz_limit(bytes), &known, &check)?
         .into_iter()
-        .filter(|(k, _)| {
-            [&CONTACT_GRASPNET, &M2T2].iter().any(|n| {
-                [n.poses, n.scores, n.contacts].contains(&k.as_str())
-                    || n.openings == Some(k.as_str())
-            })
-        })
         .map(|(k, data)| {
             let member = parse_npy(&data).map_err(|m| (k.clone(), m))?;
             Ok((k, member))
@@ -516,6 +621,14 @@ pub(super) fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
                 .to_string(),
         )
     })?;
+    check_count(
+        p,
+        poses
+            .iter()
+            .map(|(_, a)| a.shape.first().copied().unwrap_or(0) as u64)
+            .fold(0, u64::saturating_add),
+        max,
+    )?;
     let scores = segments(names.scores)?;
     let contacts = segments(names.contacts)?;
     let openings = names.openings.map(segments).transpose()?.flatten();
@@ -609,7 +722,7 @@ pub(super) fn contact_graspnet(bytes: &[u8], segment: Option<i64>) -> Grasps {
         let have: Vec<String> = poses
             .iter()
             .map(|(k, _)| match k {
-                Key::Named(n) => format!("'{n}'"),
+                Key::Named(n) => format!("'{}'", super::excerpt(n.as_bytes(), 40)),
                 other => other.number().unwrap_or(-1).to_string(),
             })
             .collect();

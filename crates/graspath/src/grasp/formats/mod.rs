@@ -32,7 +32,6 @@ mod layouts;
 mod pickle;
 
 use super::candidates::{check_offset, Candidate, CandidateError, CandidateFile, MAX_FILE_BYTES};
-use arrays::{parse_npy, read_npz, Member};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::io::Read;
 use std::path::Path;
@@ -262,6 +261,10 @@ pub struct GraspFileOptions {
     /// Contact-GraspNet / M2T2: read only this segment (a segment id, or an object's position
     /// in a per-object list; default: every segment).
     pub segment: Option<i64>,
+    /// The most grasps the file may hold (a task's `limits.max_candidates`), checked on the
+    /// arrays' declared shapes before their values are read; `None`: no limit beyond
+    /// [`MAX_ARRAY_BYTES`] per array.
+    pub max_candidates: Option<usize>,
 }
 
 impl Default for GraspFileOptions {
@@ -271,6 +274,7 @@ impl Default for GraspFileOptions {
             object_from_frame: Isometry3::identity(),
             gripper_from_tool: None,
             segment: None,
+            max_candidates: None,
         }
     }
 }
@@ -378,17 +382,18 @@ fn read_whole(
         return super::read_candidates(path);
     }
     let bytes = read_bytes(path).map_err(|m| error("file", m))?;
+    let max = options.max_candidates;
     let grasps = match format {
         GraspFormat::Graspath => unreachable!("handled above"),
         GraspFormat::GraspGen | GraspFormat::Acronym if !bytes.starts_with(hdf5::SIGNATURE) => {
-            layouts::text_grasps(format, &bytes)
+            layouts::text_grasps(format, &bytes, max)
         }
-        GraspFormat::GraspGen | GraspFormat::Acronym => layouts::acronym_h5(bytes),
+        GraspFormat::GraspGen | GraspFormat::Acronym => layouts::acronym_h5(bytes, max),
         GraspFormat::ContactGraspnet | GraspFormat::M2T2 => {
-            layouts::contact_graspnet(&bytes, options.segment)
+            layouts::contact_graspnet(&bytes, options.segment, max)
         }
-        GraspFormat::Poses => layouts::poses(path, &bytes),
-        GraspFormat::GraspNet => layouts::graspnet(path, &bytes),
+        GraspFormat::Poses => layouts::poses(path, &bytes, max),
+        GraspFormat::GraspNet => layouts::graspnet(path, &bytes, max),
     }
     .map_err(|(l, m)| error(&l, m))?;
     let gripper_from_tool = options
@@ -457,6 +462,27 @@ fn npz_limit(bytes: &[u8]) -> u64 {
     (bytes.len() as u64)
         .saturating_mul(arrays::DEFLATE_MAX_RATIO)
         .min(MAX_ARRAY_BYTES)
+}
+
+/// A short, printable excerpt of file content for messages: at most `max` characters, each
+/// control or non-UTF-8 byte shown as `?`, `…` where it is cut.
+pub(crate) fn excerpt(bytes: &[u8], max: usize) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    let mut out: String = text
+        .chars()
+        .take(max)
+        .map(|c| {
+            if c.is_control() || c == char::REPLACEMENT_CHARACTER {
+                '?'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if text.chars().nth(max).is_some() {
+        out.push('…');
+    }
+    out
 }
 
 /// The file's bytes, at most [`MAX_FILE_BYTES`].
@@ -591,20 +617,21 @@ fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
         return Ok(GraspFormat::Acronym);
     }
     if bytes.starts_with(b"\x93NUMPY") {
-        let Member::Numeric(a) = parse_npy(bytes)? else {
+        let (header, _) = arrays::npy_header(bytes)?;
+        if header.uses_pickled_array() {
             return Err(ask("a .npy of Python objects"));
-        };
-        return match a.shape.as_slice() {
+        }
+        return match header.shape() {
             [_, 4, 4] => Ok(GraspFormat::Poses),
             [_, 17] => Ok(GraspFormat::GraspNet),
-            _ => Err(ask(&format!(
+            shape => Err(ask(&format!(
                 "a .npy of shape {} is neither N×4×4 poses nor N×17 GraspNet grasps",
-                a.shape_text()
+                array::shape_text(shape)
             ))),
         };
     }
     if bytes.starts_with(b"PK") {
-        let members = read_npz(bytes, npz_limit(bytes))?;
+        let members = arrays::npz_shapes(bytes)?;
         if members.iter().any(|(k, _)| k == "pred_grasps_cam") {
             return Ok(GraspFormat::ContactGraspnet);
         }
@@ -617,13 +644,11 @@ fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
             return Ok(GraspFormat::M2T2);
         }
         let mut kinds = Vec::new();
-        for (key, data) in &members {
-            if let Ok(Member::Numeric(a)) = parse_npy(data) {
-                match a.shape.as_slice() {
-                    [_, 4, 4] => kinds.push((key.clone(), GraspFormat::Poses)),
-                    [_, 17] => kinds.push((key.clone(), GraspFormat::GraspNet)),
-                    _ => {}
-                }
+        for (key, shape) in &members {
+            match shape.as_deref() {
+                Some([_, 4, 4]) => kinds.push((key.clone(), GraspFormat::Poses)),
+                Some([_, 17]) => kinds.push((key.clone(), GraspFormat::GraspNet)),
+                _ => {}
             }
         }
         return match kinds.as_slice() {

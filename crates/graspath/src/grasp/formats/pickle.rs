@@ -40,13 +40,110 @@ pub(crate) enum Value {
     ArrayStub,
 }
 
-const MAX_DEPTH: usize = 100_000;
+/// The deepest nesting of containers (lists, tuples, dictionaries) a pickle may build. NumPy's
+/// object arrays of dictionaries of arrays nest 3 deep; a limit keeps every walk over a decoded
+/// value (cloning, comparing, dropping) far from the end of the stack.
+pub(crate) const MAX_NESTING: u32 = 64;
 
-/// Decodes a pickle; errors say which opcode or object is not accepted.
+/// The fewest bytes every pickle may decode to (the budget grows with its length).
+const MIN_DECODED_BYTES: u64 = 64 << 20;
+
+/// The most bytes one pickle may decode to, whatever its length.
+pub(crate) const MAX_DECODED_BYTES: u64 = 2 << 30;
+
+/// What a pickle may decode to: `MIN_DECODED_BYTES` plus 16 bytes per byte of pickle (a
+/// 2-byte opcode makes a value of about 40 bytes), at most `MAX_DECODED_BYTES`. The memo
+/// copies values: without a budget, a few hundred bytes that put a list twice into the next
+/// one, again and again, decode to tens of gigabytes.
+fn decoded_budget(len: usize) -> u64 {
+    MIN_DECODED_BYTES
+        .saturating_add((len as u64).saturating_mul(16))
+        .min(MAX_DECODED_BYTES)
+}
+
+/// A value on the pickle machine's stack or in its memo, with what it costs: `weight`, the
+/// bytes it takes (nodes and their contents), and `depth`, how deep its containers nest.
+#[derive(Debug, Clone)]
+struct Item {
+    value: Value,
+    weight: u64,
+    depth: u32,
+}
+
+const NODE_BYTES: u64 = size_of::<Value>() as u64;
+
+impl Item {
+    /// A value that holds no other value (a number, a string, an array).
+    fn leaf(value: Value) -> Self {
+        let heap = match &value {
+            Value::Str(s) | Value::Global(s) => s.len() as u64,
+            Value::Bytes(b) => b.len() as u64,
+            Value::Array(a) => 8 * (a.data.len() + a.shape.len()) as u64,
+            Value::Dtype(t, o) => (t.len() + o.len()) as u64,
+            _ => 0,
+        };
+        Self {
+            value,
+            weight: NODE_BYTES + heap,
+            depth: 0,
+        }
+    }
+
+    /// A list or tuple of `items`.
+    fn seq(items: Vec<Item>) -> Self {
+        let weight = NODE_BYTES + items.iter().map(|i| i.weight).sum::<u64>();
+        let depth = 1 + items.iter().map(|i| i.depth).max().unwrap_or(0);
+        Self {
+            value: Value::Seq(items.into_iter().map(|i| i.value).collect()),
+            weight,
+            depth,
+        }
+    }
+}
+
+/// The decoding state: the bytes decoded so far against the budget.
+struct Budget {
+    spent: u64,
+    limit: u64,
+}
+
+impl Budget {
+    /// Counts `bytes` more of decoded values; an error past the budget.
+    fn charge(&mut self, bytes: u64) -> Result<(), String> {
+        self.spent = self.spent.saturating_add(bytes);
+        if self.spent > self.limit {
+            return Err(format!(
+                "the pickle decodes to more than {} bytes (its memo repeats values): refused \
+                 before it is built",
+                self.limit
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Refuses an item nested deeper than [`MAX_NESTING`].
+fn check_depth(item: &Item) -> Result<(), String> {
+    if item.depth > MAX_NESTING {
+        return Err(format!(
+            "the pickle nests containers more than {MAX_NESTING} deep"
+        ));
+    }
+    Ok(())
+}
+
+/// Decodes a pickle; errors say which opcode or object is not accepted. Memory is bounded
+/// before it is used: every length is checked against the bytes that remain, the values built
+/// (memo copies included) against a budget that grows with the pickle's length, and nesting
+/// against [`MAX_NESTING`].
 pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
-    let mut stack: Vec<Value> = Vec::new();
+    let mut stack: Vec<Item> = Vec::new();
     let mut marks: Vec<usize> = Vec::new();
-    let mut memo: std::collections::HashMap<u32, Value> = std::collections::HashMap::new();
+    let mut memo: std::collections::HashMap<u32, Item> = std::collections::HashMap::new();
+    let mut budget = Budget {
+        spent: 0,
+        limit: decoded_budget(bytes.len()),
+    };
     let mut at = 0usize;
     let take = |at: &mut usize, n: usize| -> Result<&[u8], String> {
         if n > bytes.len() - *at {
@@ -61,15 +158,19 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
         Ok(s)
     };
     let u32_at = |s: &[u8]| u32::from_le_bytes([s[0], s[1], s[2], s[3]]);
+    let pop = |stack: &mut Vec<Item>| {
+        stack
+            .pop()
+            .ok_or_else(|| "the pickle pops an empty stack".to_string())
+    };
     loop {
         let op = *take(&mut at, 1)?.first().unwrap_or(&b'.');
-        if stack.len() > MAX_DEPTH {
-            return Err("the pickle is too deeply nested".into());
-        }
-        let pop = |stack: &mut Vec<Value>| {
-            stack
-                .pop()
-                .ok_or_else(|| "the pickle pops an empty stack".to_string())
+        // Values that hold no other value, pushed as they are.
+        let mut push_leaf = |stack: &mut Vec<Item>, value: Value| -> Result<(), String> {
+            let item = Item::leaf(value);
+            budget.charge(item.weight)?;
+            stack.push(item);
+            Ok(())
         };
         match op {
             0x80 => {
@@ -78,20 +179,25 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
             0x95 => {
                 take(&mut at, 8)?; // FRAME
             }
-            b'.' => return pop(&mut stack),
-            b'N' => stack.push(Value::None),
-            0x88 => stack.push(Value::Bool(true)),
-            0x89 => stack.push(Value::Bool(false)),
+            b'.' => return pop(&mut stack).map(|i| i.value),
+            b'N' => push_leaf(&mut stack, Value::None)?,
+            0x88 => push_leaf(&mut stack, Value::Bool(true))?,
+            0x89 => push_leaf(&mut stack, Value::Bool(false))?,
             b'J' => {
                 let s = take(&mut at, 4)?;
-                stack.push(Value::Int(i64::from(i32::from_le_bytes([
-                    s[0], s[1], s[2], s[3],
-                ]))));
+                let v = i64::from(i32::from_le_bytes([s[0], s[1], s[2], s[3]]));
+                push_leaf(&mut stack, Value::Int(v))?;
             }
-            b'K' => stack.push(Value::Int(i64::from(take(&mut at, 1)?[0]))),
+            b'K' => {
+                let v = i64::from(take(&mut at, 1)?[0]);
+                push_leaf(&mut stack, Value::Int(v))?;
+            }
             b'M' => {
                 let s = take(&mut at, 2)?;
-                stack.push(Value::Int(i64::from(u16::from_le_bytes([s[0], s[1]]))));
+                push_leaf(
+                    &mut stack,
+                    Value::Int(i64::from(u16::from_le_bytes([s[0], s[1]]))),
+                )?;
             }
             0x8a => {
                 // LONG1: little-endian two's complement of n bytes.
@@ -106,13 +212,13 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
                     [0; 8]
                 };
                 buf[..n].copy_from_slice(s);
-                stack.push(Value::Int(i64::from_le_bytes(buf)));
+                push_leaf(&mut stack, Value::Int(i64::from_le_bytes(buf)))?;
             }
             b'G' => {
                 let s = take(&mut at, 8)?;
                 let mut b = [0u8; 8];
                 b.copy_from_slice(s);
-                stack.push(Value::Float(f64::from_be_bytes(b)));
+                push_leaf(&mut stack, Value::Float(f64::from_be_bytes(b)))?;
             }
             b'X' | 0x8c | b'T' | b'U' | b'C' | b'B' | 0x8e | 0x8d => {
                 let n = match op {
@@ -126,7 +232,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
                     _ => u32_at(take(&mut at, 4)?) as usize,
                 };
                 let s = take(&mut at, n)?;
-                stack.push(match op {
+                let value = match op {
                     b'X' | 0x8c | 0x8d => Value::Str(
                         std::str::from_utf8(s)
                             .map_err(|_| "a string in the pickle is not UTF-8".to_string())?
@@ -134,41 +240,44 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
                     ),
                     // Protocol-2 byte strings (`T`, `U`) are latin-1 text in Python 3.
                     _ => Value::Bytes(Rc::from(s)),
-                });
+                };
+                push_leaf(&mut stack, value)?;
             }
             b'c' => {
                 let mut line = || -> Result<String, String> {
                     let rest = &bytes[at..];
                     let end = rest
                         .iter()
+                        .take(256)
                         .position(|&b| b == b'\n')
-                        .ok_or("a GLOBAL opcode has no end of line")?;
+                        .ok_or("a GLOBAL opcode has no end of line within 256 bytes")?;
                     at += end + 1;
                     Ok(String::from_utf8_lossy(&rest[..end]).into_owned())
                 };
                 let module = line()?;
                 let name = line()?;
-                stack.push(global(&module, &name)?);
+                push_leaf(&mut stack, global(&module, &name)?)?;
             }
             0x93 => {
                 let name = pop(&mut stack)?;
                 let module = pop(&mut stack)?;
-                match (module, name) {
-                    (Value::Str(m), Value::Str(n)) => stack.push(global(&m, &n)?),
+                match (module.value, name.value) {
+                    (Value::Str(m), Value::Str(n)) => push_leaf(&mut stack, global(&m, &n)?)?,
                     _ => return Err("STACK_GLOBAL needs two strings".into()),
                 }
             }
-            b'q' => {
-                let key = u32::from(take(&mut at, 1)?[0]);
-                memo.insert(key, stack.last().cloned().unwrap_or(Value::None));
-            }
-            b'r' => {
-                let key = u32_at(take(&mut at, 4)?);
-                memo.insert(key, stack.last().cloned().unwrap_or(Value::None));
-            }
-            0x94 => {
-                let key = memo.len() as u32;
-                memo.insert(key, stack.last().cloned().unwrap_or(Value::None));
+            b'q' | b'r' | 0x94 => {
+                let key = match op {
+                    b'q' => u32::from(take(&mut at, 1)?[0]),
+                    b'r' => u32_at(take(&mut at, 4)?),
+                    _ => memo.len() as u32,
+                };
+                let item = stack
+                    .last()
+                    .cloned()
+                    .unwrap_or_else(|| Item::leaf(Value::None));
+                budget.charge(item.weight)?;
+                memo.insert(key, item);
             }
             b'h' | b'j' => {
                 let key = if op == b'h' {
@@ -176,74 +285,119 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
                 } else {
                     u32_at(take(&mut at, 4)?)
                 };
-                stack.push(
-                    memo.get(&key)
-                        .cloned()
-                        .ok_or_else(|| format!("the pickle refers to memo {key}, never stored"))?,
-                );
+                let item = memo
+                    .get(&key)
+                    .ok_or_else(|| format!("the pickle refers to memo {key}, never stored"))?;
+                // Charged before the copy is made.
+                budget.charge(item.weight)?;
+                stack.push(item.clone());
             }
             b'(' => marks.push(stack.len()),
-            b')' => stack.push(Value::Seq(Vec::new())),
-            b']' => stack.push(Value::Seq(Vec::new())),
-            b'}' => stack.push(Value::Dict(Vec::new())),
+            b')' | b']' => stack.push(Item::seq(Vec::new())),
+            b'}' => stack.push(Item {
+                value: Value::Dict(Vec::new()),
+                weight: NODE_BYTES,
+                depth: 1,
+            }),
             0x85..=0x87 => {
                 let n = (op - 0x84) as usize;
                 if stack.len() < n {
                     return Err("the pickle pops an empty stack".into());
                 }
                 let items = stack.split_off(stack.len() - n);
-                stack.push(Value::Seq(items));
+                let item = Item::seq(items);
+                check_depth(&item)?;
+                stack.push(item);
             }
             b't' | b'l' | b'd' => {
                 let mark = marks.pop().ok_or("the pickle has no MARK")?;
                 let items = stack.split_off(mark.min(stack.len()));
-                stack.push(if op == b'd' {
-                    Value::Dict(pairs(items)?)
+                let item = if op == b'd' {
+                    dict(items)?
                 } else {
-                    Value::Seq(items)
-                });
+                    Item::seq(items)
+                };
+                check_depth(&item)?;
+                stack.push(item);
             }
-            b'a' => {
-                let item = pop(&mut stack)?;
-                match stack.last_mut() {
-                    Some(Value::Seq(list)) => list.push(item),
-                    _ => return Err("APPEND to something that is not a list".into()),
+            b'a' | b'e' => {
+                let items = if op == b'a' {
+                    vec![pop(&mut stack)?]
+                } else {
+                    let mark = marks.pop().ok_or("the pickle has no MARK")?;
+                    stack.split_off(mark.min(stack.len()))
+                };
+                let Some(Item {
+                    value: Value::Seq(list),
+                    weight,
+                    depth,
+                }) = stack.last_mut()
+                else {
+                    return Err("APPEND to something that is not a list".into());
+                };
+                for item in items {
+                    *weight += item.weight;
+                    *depth = (*depth).max(item.depth + 1);
+                    list.push(item.value);
+                }
+                if *depth > MAX_NESTING {
+                    return Err(format!(
+                        "the pickle nests containers more than {MAX_NESTING} deep"
+                    ));
                 }
             }
-            b'e' => {
-                let mark = marks.pop().ok_or("the pickle has no MARK")?;
-                let items = stack.split_off(mark.min(stack.len()));
-                match stack.last_mut() {
-                    Some(Value::Seq(list)) => list.extend(items),
-                    _ => return Err("APPENDS to something that is not a list".into()),
-                }
-            }
-            b's' => {
-                let value = pop(&mut stack)?;
-                let key = pop(&mut stack)?;
-                match stack.last_mut() {
-                    Some(Value::Dict(d)) => d.push((key, value)),
-                    _ => return Err("SETITEM on something that is not a dictionary".into()),
-                }
-            }
-            b'u' => {
-                let mark = marks.pop().ok_or("the pickle has no MARK")?;
-                let items = stack.split_off(mark.min(stack.len()));
-                let new = pairs(items)?;
-                match stack.last_mut() {
-                    Some(Value::Dict(d)) => d.extend(new),
-                    _ => return Err("SETITEMS on something that is not a dictionary".into()),
+            b's' | b'u' => {
+                let items = if op == b's' {
+                    let value = pop(&mut stack)?;
+                    let key = pop(&mut stack)?;
+                    vec![key, value]
+                } else {
+                    let mark = marks.pop().ok_or("the pickle has no MARK")?;
+                    stack.split_off(mark.min(stack.len()))
+                };
+                let new = dict(items)?;
+                let Some(Item {
+                    value: Value::Dict(d),
+                    weight,
+                    depth,
+                }) = stack.last_mut()
+                else {
+                    return Err("SETITEM on something that is not a dictionary".into());
+                };
+                let Value::Dict(pairs) = new.value else {
+                    unreachable!("dict() builds a dictionary")
+                };
+                d.extend(pairs);
+                *weight += new.weight - NODE_BYTES;
+                *depth = (*depth).max(new.depth);
+                if *depth > MAX_NESTING {
+                    return Err(format!(
+                        "the pickle nests containers more than {MAX_NESTING} deep"
+                    ));
                 }
             }
             b'R' => {
                 let args = pop(&mut stack)?;
                 let callable = pop(&mut stack)?;
-                stack.push(reduce(callable, args)?);
+                push_leaf(&mut stack, reduce(callable.value, args.value)?)?;
             }
             b'b' => {
                 let state = pop(&mut stack)?;
                 let target = pop(&mut stack)?;
-                stack.push(build(target, state)?);
+                let built = build(target.value, state.value)?;
+                // An object array's items are containers: its weight and depth are the
+                // state's.
+                let item = match built {
+                    Value::Seq(_) | Value::Dict(_) => Item {
+                        value: built,
+                        weight: state.weight,
+                        depth: state.depth,
+                    },
+                    other => Item::leaf(other),
+                };
+                budget.charge(item.weight)?;
+                check_depth(&item)?;
+                stack.push(item);
             }
             other => {
                 return Err(format!(
@@ -254,6 +408,18 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Value, String> {
             }
         }
     }
+}
+
+/// A dictionary of alternating keys and values.
+fn dict(items: Vec<Item>) -> Result<Item, String> {
+    let weight = NODE_BYTES + items.iter().map(|i| i.weight).sum::<u64>();
+    let depth = 1 + items.iter().map(|i| i.depth).max().unwrap_or(0);
+    let values = items.into_iter().map(|i| i.value).collect();
+    Ok(Item {
+        value: Value::Dict(pairs(values)?),
+        weight,
+        depth,
+    })
 }
 
 fn pairs(items: Vec<Value>) -> Result<Vec<(Value, Value)>, String> {
@@ -358,6 +524,36 @@ fn build(target: Value, state: Value) -> Result<Value, String> {
     }
 }
 
+/// The kind (`f`, `i`, `u`, `b`) and size in bytes of a NumPy type string such as `<f8`, `f4`,
+/// `|u1`; any other type (complex, long double, half, strings, an empty or malformed name) is
+/// refused with what it is, before any byte is read as it.
+pub(crate) fn number_type(type_str: &str) -> Result<(char, usize), String> {
+    let t = type_str.trim_start_matches(['<', '>', '|', '=']);
+    let mut chars = t.chars();
+    let kind = chars.next();
+    let size = chars.as_str().parse::<usize>().ok();
+    let shown = super::excerpt(type_str.as_bytes(), 16);
+    match (kind, size) {
+        (Some('f'), Some(4 | 8))
+        | (Some('i' | 'u'), Some(1 | 2 | 4 | 8))
+        | (Some('b'), Some(1)) => Ok((kind.unwrap_or('f'), size.unwrap_or(8))),
+        (Some('c'), _) => Err(format!(
+            "dtype '{shown}' holds complex numbers, which are refused (their imaginary part \
+             would be lost); save the real part (np.real) if that is what is meant"
+        )),
+        (Some('f' | 'g'), Some(10 | 12 | 16)) | (Some('g'), _) => Err(format!(
+            "dtype '{shown}' holds long doubles, which are not read; save the array as float64"
+        )),
+        (Some('f'), Some(2)) => Err(format!(
+            "dtype '{shown}' holds half floats, which are not read; save the array as float32 \
+             or float64"
+        )),
+        _ => Err(format!(
+            "dtype '{shown}' is not a number type this reads (float32/64, integers, booleans)"
+        )),
+    }
+}
+
 /// An array from raw bytes of a dtype such as `f4` / `<f8` / `i8`, checked against the shape.
 fn array_from_bytes(
     shape: Vec<usize>,
@@ -366,12 +562,8 @@ fn array_from_bytes(
     bytes: &[u8],
     fortran: bool,
 ) -> Result<Array, String> {
-    let t = type_str.trim_start_matches(['<', '>', '|', '=']);
+    let (kind, size) = number_type(type_str)?;
     let big = order == ">" || type_str.starts_with('>');
-    let (kind, size) = t.split_at(1);
-    let size: usize = size
-        .parse()
-        .map_err(|_| format!("dtype '{type_str}' is not a number type this reads"))?;
     let count = shape
         .iter()
         .try_fold(1usize, |n, &d| n.checked_mul(d))
@@ -392,20 +584,17 @@ fn array_from_bytes(
             } else {
                 b[..size].copy_from_slice(c);
             }
-            match (kind, size) {
-                ("f", 8) => Ok(f64::from_le_bytes(b)),
-                ("f", 4) => Ok(f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
-                ("i", 1 | 2 | 4 | 8) => {
+            match kind {
+                'f' if size == 8 => f64::from_le_bytes(b),
+                'f' => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+                'i' => {
                     let shift = 64 - 8 * size as u32;
-                    Ok(((i64::from_le_bytes(b) << shift) >> shift) as f64)
+                    ((i64::from_le_bytes(b) << shift) >> shift) as f64
                 }
-                ("u", 1 | 2 | 4 | 8) | ("b", 1) => Ok(u64::from_le_bytes(b) as f64),
-                _ => Err(format!(
-                    "dtype '{type_str}' is not a number type this reads"
-                )),
+                _ => u64::from_le_bytes(b) as f64,
             }
         })
-        .collect::<Result<_, _>>()?;
+        .collect();
     let data = if fortran {
         fortran_to_c(&shape, &values)
     } else {

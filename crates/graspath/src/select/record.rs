@@ -695,11 +695,15 @@ impl JsonField {
 
 /// The fields of a JSON record in the byte order of their names (how `candidates.json` has
 /// always listed them, and `candidates.jsonl` too), with the columns of `output`
-/// ([`outputs::JSON`] or [`outputs::JSON_LINES`]).
+/// ([`outputs::JSON`]; any other output is taken as [`outputs::JSON_LINES`]).
 pub fn json_fields(output: u8) -> &'static [JsonField] {
     static DOCUMENT: OnceLock<Vec<JsonField>> = OnceLock::new();
     static LINES: OnceLock<Vec<JsonField>> = OnceLock::new();
-    let cell = if output == JSON { &DOCUMENT } else { &LINES };
+    let (cell, output) = if output == JSON {
+        (&DOCUMENT, JSON)
+    } else {
+        (&LINES, outputs::JSON_LINES)
+    };
     cell.get_or_init(|| {
         let columns = || COLUMNS.iter().filter(|c| c.in_output(output));
         let mut fields: Vec<JsonField> = columns()

@@ -16,7 +16,7 @@ fn check_count(field: &str, count: u64, max: Option<usize>) -> Result<(), (Strin
         Some(max) if count > max as u64 => Err((
             field.to_string(),
             format!(
-                "holds {count} grasps, more than the limit {max}; raise limits.max_candidates \
+                "declares {count} grasps, more than the limit {max}; raise limits.max_candidates \
                  if this is intended"
             ),
         )),

@@ -96,6 +96,8 @@ fn expected_row(record: &Value) -> Map<String, Value> {
         "limit_distance_min",
         "hugs_limit",
         "clearance",
+        "torque_margin",
+        "payload_capacity",
     ] {
         row.insert(name.into(), field(name));
     }

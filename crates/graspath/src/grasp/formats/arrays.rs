@@ -101,7 +101,7 @@ pub(crate) fn npy_header(bytes: &[u8]) -> Result<(npyz::NpyHeader, usize), Strin
         {
             return Err(format!(
                 "the .npy header declares shape {}, more elements than can be counted",
-                super::excerpt(text_shape(text).unwrap_or_default().as_bytes(), 60)
+                shape_text(&dims)
             ));
         }
     }
@@ -111,25 +111,28 @@ pub(crate) fn npy_header(bytes: &[u8]) -> Result<(npyz::NpyHeader, usize), Strin
     Ok((header, end))
 }
 
-/// The text of the `shape` entry of an `.npy` header (`(3, 4, 4)`), if it can be found.
-fn text_shape(text: &[u8]) -> Option<String> {
-    let text = std::str::from_utf8(text).ok()?;
-    let at = text.find("'shape'").or_else(|| text.find("\"shape\""))?;
-    let rest = &text[at + 7..];
-    let open = rest.find(['(', '['])?;
-    let close = rest[open..].find([')', ']'])? + open;
-    Some(rest[open..=close].to_string())
-}
-
-/// The dimensions of the `shape` entry of an `.npy` header, when each is a plain whole number
-/// (else npyz's own parser decides).
+/// The dimensions of the `shape` entry of an `.npy` header, read as npyz reads it (the header
+/// is a Python dict literal; of a repeated key, the last), when every dimension is a whole
+/// number that fits 64 bits; `None` otherwise (npyz then refuses the header itself).
 fn declared_shape(text: &[u8]) -> Option<Vec<u64>> {
-    let shape = text_shape(text)?;
-    shape[1..shape.len() - 1]
-        .split(',')
-        .map(str::trim)
-        .filter(|d| !d.is_empty())
-        .map(|d| d.trim_end_matches('L').parse::<u64>().ok())
+    let text = std::str::from_utf8(text).ok()?;
+    let text = text.strip_suffix('\n').unwrap_or(text);
+    let py_literal::Value::Dict(entries) = text.parse::<py_literal::Value>().ok()? else {
+        return None;
+    };
+    let shape = entries
+        .iter()
+        .rev()
+        .find(|(key, _)| key.as_string().is_some_and(|k| k == "shape"))?;
+    let dims = match &shape.1 {
+        py_literal::Value::Tuple(dims) | py_literal::Value::List(dims) => dims,
+        _ => return None,
+    };
+    dims.iter()
+        .map(|d| match d {
+            py_literal::Value::Integer(n) => u64::try_from(n).ok(),
+            _ => None,
+        })
         .collect()
 }
 

@@ -233,6 +233,22 @@ fn npy_headers_are_checked_before_they_are_read() {
         "{'descr': '<f8', 'fortran_order': False, 'shape': (4294967296, 4294967296, 16), }";
     let err = parse_npy(&npy_preamble(overflow)).unwrap_err();
     assert!(err.contains("more elements than can be counted"), "{err}");
+    // The shape npyz reads, however it is spelled: a repeated key (the last counts), dimensions
+    // in hexadecimal or with underscores (a fuzz finding: npyz's element count overflowed).
+    for shape in [
+        "'shape': (1,), 'shape': (4294967296, 4294967296, 16)",
+        "'shape': (0x100000000, 0x100000000, 16)",
+        "\"shape\": [4_294_967_296, 4_294_967_296, 16]",
+    ] {
+        let header = format!("{{'descr': '<f8', 'fortran_order': False, {shape}, }}");
+        match parse_npy(&npy_preamble(&header)) {
+            Err(err) => assert!(
+                err.contains("more elements than can be counted") || err.contains("not a NumPy"),
+                "{shape}: {err}"
+            ),
+            Ok(_) => panic!("{shape}: read"),
+        }
+    }
     let complex = "{'descr': '<c16', 'fortran_order': False, 'shape': (1,), }";
     let mut bytes = npy_preamble(complex);
     bytes.extend_from_slice(&[0; 16]);

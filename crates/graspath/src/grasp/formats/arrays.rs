@@ -124,9 +124,8 @@ fn declared_shape(text: &[u8]) -> Option<Vec<u64>> {
         .iter()
         .rev()
         .find(|(key, _)| key.as_string().is_some_and(|k| k == "shape"))?;
-    let dims = match &shape.1 {
-        py_literal::Value::Tuple(dims) | py_literal::Value::List(dims) => dims,
-        _ => return None,
+    let (py_literal::Value::Tuple(dims) | py_literal::Value::List(dims)) = &shape.1 else {
+        return None;
     };
     dims.iter()
         .map(|d| match d {

@@ -44,12 +44,12 @@ impl<'a, 'py> FromPyObject<'a, 'py> for FloatArray<'py> {
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
         let complex = match ob.cast::<PyUntypedArray>() {
             Ok(array) => array.dtype().kind() == b'c',
-            // Lists and scalars: what numpy would make of them.
+            // Lists and scalars: what numpy makes of them.
             Err(_) => ob
                 .py()
                 .import("numpy")?
-                .call_method1("result_type", (ob.to_owned(),))
-                .and_then(|t| t.getattr("kind")?.extract::<String>())
+                .call_method1("asarray", (ob.to_owned(),))
+                .and_then(|a| a.getattr("dtype")?.getattr("kind")?.extract::<String>())
                 .is_ok_and(|kind| kind == "c"),
         };
         if complex {

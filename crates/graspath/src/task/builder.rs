@@ -720,7 +720,9 @@ impl TaskBuilder {
         if let Some(payload) = &self.payload {
             super::payload::check_payload(payload).map_err(|m| err("object.mass", m))?;
             for arm in &mut arms {
-                let model = super::payload::arm_dynamics(arm).map_err(|m| err("object.mass", m))?;
+                let model =
+                    super::payload::arm_dynamics(&arm.name, &arm.chain, &arm.world_from_base)
+                        .map_err(|m| err("object.mass", m))?;
                 arm.dynamics = Some(Arc::new(model));
             }
         }

@@ -2,10 +2,9 @@
 //! density, the shape's centroid and inertia, or a given centre of mass), and each arm's
 //! dynamics model with the world's gravity in the arm's base frame.
 
-use super::builder::ArmSetup;
 use super::file::ObjectFile;
-use crate::robot::{Dynamics, RigidBody, STANDARD_GRAVITY};
-use nalgebra::{Matrix3, Vector3};
+use crate::robot::{Chain, Dynamics, RigidBody, STANDARD_GRAVITY};
+use nalgebra::{Isometry3, Matrix3, Vector3};
 
 /// The largest object mass accepted (kg): more is a unit mistake (grams given as kilograms),
 /// not a payload for a manipulator.
@@ -134,18 +133,20 @@ pub(super) fn check_payload(body: &RigidBody) -> Result<(), String> {
     Ok(())
 }
 
-/// The arm's dynamics model with the world's gravity (9.81 m/s² along the world's −z) in the
-/// arm's base frame.
-pub(super) fn arm_dynamics(arm: &ArmSetup) -> Result<Dynamics, String> {
-    let gravity =
-        arm.world_from_base.inverse().rotation * Vector3::new(0.0, 0.0, -STANDARD_GRAVITY);
-    arm.chain
+/// The dynamics model of arm `name` (`chain`, its base at `world_from_base`) with the world's
+/// gravity (9.81 m/s² along the world's −z) in the arm's base frame.
+pub(super) fn arm_dynamics(
+    name: &str,
+    chain: &Chain,
+    world_from_base: &Isometry3<f64>,
+) -> Result<Dynamics, String> {
+    let gravity = world_from_base.inverse().rotation * Vector3::new(0.0, 0.0, -STANDARD_GRAVITY);
+    chain
         .dynamics()
         .and_then(|d| d.with_gravity(gravity))
         .map_err(|e| {
             format!(
-                "arm '{}': {e}; the object's mass asks for the joint torques along the task",
-                arm.name
+                "arm '{name}': {e}; the object's mass asks for the joint torques along the task"
             )
         })
 }

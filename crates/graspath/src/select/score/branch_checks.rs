@@ -1,9 +1,8 @@
 //! Checks of one IK branch's whole motion (approach, path, retreat), after IK: each refuses
 //! the branch with a failure or records what it measured ([`BranchFindings`]), which the
-//! candidate's score keeps for the branch chosen. [`branch_checks`] lists them in the order
-//! they run; a new check is a type here (or in its own file) and one line there.
+//! candidate's score keeps for the branch chosen. `branch_checks` (in the parent module) lists
+//! them in the order they run; a new check is a type in its own file and one line there.
 
-use super::torque_check::TorqueCheck;
 use super::Scoring;
 use crate::collision::{ArmInScene, CollisionHit, ObjectAlong, WholeMotion};
 use crate::failure::{Failure, FailureReason, Phase};
@@ -30,19 +29,6 @@ pub(super) trait BranchCheck {
     fn check(&self, q: &[Vec<f64>], findings: &mut BranchFindings) -> Result<(), Failure>;
 }
 
-/// The branch checks of one candidate, in the order they run: the arm in the scene (with a
-/// scene and the arm's bodies), then the joint torques (with a payload).
-pub(super) fn branch_checks<'a>(scoring: &'a Scoring<'a>) -> Vec<Box<dyn BranchCheck + 'a>> {
-    let mut checks: Vec<Box<dyn BranchCheck + 'a>> = Vec::new();
-    if let Some(scene) = SceneCheck::of(scoring) {
-        checks.push(Box::new(scene));
-    }
-    if let Some(torques) = TorqueCheck::of(scoring) {
-        checks.push(Box::new(torques));
-    }
-    checks
-}
-
 /// Runs `checks` on the whole motion `q`: what they measured, or the first failure.
 pub(super) fn check_branch(
     checks: &[Box<dyn BranchCheck + '_>],
@@ -57,14 +43,14 @@ pub(super) fn check_branch(
 
 /// The arm, its hand and the carried object against the scene, the arm itself and the object,
 /// at every sample of the motion and between samples; measures the clearance.
-struct SceneCheck<'a> {
+pub(super) struct SceneCheck<'a> {
     scoring: &'a Scoring<'a>,
     checker: &'a ArmInScene<'a>,
     object: ObjectAlong<'a>,
 }
 
 impl<'a> SceneCheck<'a> {
-    fn of(scoring: &'a Scoring<'a>) -> Option<Self> {
+    pub(super) fn of(scoring: &'a Scoring<'a>) -> Option<Self> {
         Some(Self {
             scoring,
             checker: scoring.checker.as_ref()?,

@@ -24,13 +24,14 @@ use crate::task::{
     defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
     Stroke, WholeMotionPlan,
 };
-use branch_checks::{branch_checks, check_branch, BranchFindings};
+use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
 use nalgebra::{Isometry3, Matrix6xX};
 use path::{counted_samples, index_along, IndexSeries, ObjectMotion};
 use rayon::prelude::*;
 use self_motion::SelfMotionSearch;
 use std::sync::Arc;
+use torque_check::TorqueCheck;
 
 /// How many candidates are scored in parallel before their results are handed on in order.
 pub const STREAM_CHUNK: usize = 256;
@@ -385,6 +386,19 @@ fn score_group(
             }
         })
         .collect()
+}
+
+/// The branch checks of one candidate, in the order they run: the arm in the scene (with a
+/// scene and the arm's bodies), then the joint torques (with a payload).
+fn branch_checks<'a>(scoring: &'a Scoring<'a>) -> Vec<Box<dyn BranchCheck + 'a>> {
+    let mut checks: Vec<Box<dyn BranchCheck + 'a>> = Vec::new();
+    if let Some(scene) = SceneCheck::of(scoring) {
+        checks.push(Box::new(scene));
+    }
+    if let Some(torques) = TorqueCheck::of(scoring) {
+        checks.push(Box::new(torques));
+    }
+    checks
 }
 
 /// The branch kept so far: the index along its path, its norms, the whole motion's joints and

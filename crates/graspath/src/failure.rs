@@ -28,11 +28,14 @@ pub enum FailureReason {
     /// Holding the arm and the carried object still needs more torque at a joint than its
     /// effort limit allows.
     TorqueLimit,
+    /// No timing of the motion stays within the joints' velocity, acceleration and torque
+    /// limits (e.g. a torque needed at rest beyond its limit, or a limit of zero).
+    TimingInfeasible,
 }
 
 impl FailureReason {
     /// The one spelling: `unreachable`, `joint_limit`, `discontinuity`, `iteration_limit`,
-    /// `time_limit`, `collision`, `gripper_width`, `torque_limit`.
+    /// `time_limit`, `collision`, `gripper_width`, `torque_limit`, `timing_infeasible`.
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Unreachable => "unreachable",
@@ -43,6 +46,7 @@ impl FailureReason {
             Self::Collision => "collision",
             Self::GripperWidth => "gripper_width",
             Self::TorqueLimit => "torque_limit",
+            Self::TimingInfeasible => "timing_infeasible",
         }
     }
 }
@@ -144,6 +148,7 @@ mod tests {
             FailureReason::Collision,
             FailureReason::GripperWidth,
             FailureReason::TorqueLimit,
+            FailureReason::TimingInfeasible,
         ] {
             let json = serde_json::to_string(&reason).unwrap();
             assert_eq!(json, format!("\"{}\"", reason.as_str()));

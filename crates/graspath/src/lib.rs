@@ -25,12 +25,15 @@
 //!    and every setting, built and checked by [`task::TaskBuilder`] or read from a task file;
 //! 7. [`manipulability`] — the classical indices, the task-relevant index
 //!    `M_T = uᵀ J Jᵀ u` and its norms along the path;
-//! 8. [`select`] — every candidate scored along its whole motion for each arm (approach, the
+//! 8. [`timing`] — how long a motion takes: a branch's joint samples as a cubic spline, its
+//!    time-optimal parameterisation under joint velocity, acceleration and torque limits
+//!    (TOPP-RA), and the timed trajectory a controller executes;
+//! 9. [`select`] — every candidate scored along its whole motion for each arm (approach, the
 //!    object's path, retreat: trajectory IK, collisions in a scene, `M_T` per path sample,
 //!    norms), ranked, and paired for two arms (best first, refusing pairs whose arms touch).
 //!    Each result carries its candidate;
-//! 9. [`placement`] — placement maps: the selection run with the object started at every
-//!    placement of a grid (x, y, optionally z and yaw), in parallel, one record per placement.
+//! 10. [`placement`] — placement maps: the selection run with the object started at every
+//!     placement of a grid (x, y, optionally z and yaw), in parallel, one record per placement.
 //!
 //! Every module has its own error type naming the file and field at fault; [`Error`] gathers
 //! them for applications that handle errors once.
@@ -80,5 +83,6 @@ pub mod random;
 pub mod robot;
 pub mod select;
 pub mod task;
+pub mod timing;
 
 pub use error::{Error, Result};

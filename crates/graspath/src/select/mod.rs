@@ -15,7 +15,7 @@ pub use rank::{
 pub use run::{pairs_of_eligible, select, ArmResult, PairInputError, Selection};
 pub use scalars::{CandidateScalars, FailurePoint, Scored};
 pub use score::{
-    for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, ScoringSetup,
-    SelfMotionScores, STREAM_CHUNK,
+    for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, MotionDurations,
+    ScoringSetup, SelfMotionScores, SPLINE_LIMIT_TOLERANCE, STREAM_CHUNK,
 };
 pub use stream::{select_streaming, Streamed, NAMED_BEST};

@@ -52,6 +52,13 @@ fn constraint_violation(score: &impl Scored, options: &SelectionOptions) -> Opti
             ));
         }
     }
+    if let (Some(max), Some(duration)) = (options.max_duration, score.duration()) {
+        if duration > max {
+            return Some(format!(
+                "the motion takes {duration:.3} s, more than max_duration = {max} s"
+            ));
+        }
+    }
     match options.mu0 {
         Some(mu0) if norms.linf > mu0 => {
             Some(format!("mu_linf = {:.4} exceeds mu0 = {mu0}", norms.linf))

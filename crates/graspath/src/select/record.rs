@@ -605,6 +605,53 @@ pub static COLUMNS: &[Column] = &[
     )
     .omitted_when_absent(),
     column(
+        "duration",
+        Kind::Float,
+        "s",
+        "when motions are timed: the chosen motion's time-optimal duration (approach, carry and \
+         retreat) within the joints' velocity, acceleration and torque limits",
+        FILES | ARRAYS | BATCH,
+        |r| Cell::Float(r.score.durations.map(|d| d.total())),
+    )
+    .omitted_when_absent(),
+    column(
+        "approach_duration",
+        Kind::Float,
+        "s",
+        "when motions are timed: the approach's part of the duration",
+        FILES | ARRAYS,
+        |r| Cell::Float(r.score.durations.map(|d| d.approach)),
+    )
+    .omitted_when_absent(),
+    column(
+        "carry_duration",
+        Kind::Float,
+        "s",
+        "when motions are timed: the carry's part of the duration (grasp to place)",
+        FILES | ARRAYS,
+        |r| Cell::Float(r.score.durations.map(|d| d.carry)),
+    )
+    .omitted_when_absent(),
+    column(
+        "retreat_duration",
+        Kind::Float,
+        "s",
+        "when motions are timed: the retreat's part of the duration",
+        FILES | ARRAYS,
+        |r| Cell::Float(r.score.durations.map(|d| d.retreat)),
+    )
+    .omitted_when_absent(),
+    column(
+        "spline_deviation",
+        Kind::Float,
+        "rad or m",
+        "when motions are timed: the largest distance between the smoothed motion and the \
+         straight joint-space segments between its IK samples",
+        FILES | ARRAYS,
+        |r| Cell::Float(r.score.durations.map(|d| d.spline_deviation)),
+    )
+    .omitted_when_absent(),
+    column(
         "self_motion_mu_l2_first_branch",
         Kind::Float,
         "index",

@@ -255,6 +255,7 @@ pub(super) fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSet
             object: task.object_body.as_deref(),
             payload: task.payload.as_ref(),
         },
+        timing: task.timing.as_ref(),
     }
 }
 

@@ -2,7 +2,7 @@
 //! summaries read ([`Scored`]), and the compact record a streamed selection keeps per
 //! candidate and arm ([`CandidateScalars`]) instead of the whole [`CandidateScore`].
 
-use super::score::{CandidateScore, SelfMotionScores};
+use super::score::{CandidateScore, MotionDurations, SelfMotionScores};
 use crate::failure::{FailureReason, Phase};
 use crate::grasp::Candidate;
 use crate::manipulability::PathNorms;
@@ -29,6 +29,8 @@ pub trait Scored {
     fn yoshikawa_at_grasp(&self) -> Option<f64>;
     /// The torque margin along the motion, with a payload.
     fn torque_margin(&self) -> Option<f64>;
+    /// How long the timed motion takes (s), when the task times motions.
+    fn duration(&self) -> Option<f64>;
     /// The candidate itself, when it is held: always by a [`CandidateScore`]; by
     /// [`CandidateScalars`] only for the candidates a summary names.
     fn candidate(&self) -> Option<&Arc<Candidate>>;
@@ -62,6 +64,9 @@ impl Scored for CandidateScore {
     }
     fn torque_margin(&self) -> Option<f64> {
         self.torque_margin
+    }
+    fn duration(&self) -> Option<f64> {
+        self.durations.map(|d| d.total())
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         Some(&self.candidate)
@@ -113,6 +118,8 @@ pub struct CandidateScalars {
     pub torque_margin: Option<f64>,
     /// See [`CandidateScore::payload_capacity`] (kg).
     pub payload_capacity: Option<f64>,
+    /// See [`CandidateScore::durations`].
+    pub durations: Option<MotionDurations>,
     /// The candidate, for those a summary names (the best ranked of each arm and the kept
     /// pairs' members; see [`select_streaming`](super::select_streaming)); `None` otherwise.
     pub candidate: Option<Arc<Candidate>>,
@@ -140,6 +147,7 @@ impl CandidateScalars {
             self_motion: score.self_motion,
             torque_margin: score.torque_margin,
             payload_capacity: score.payload_capacity,
+            durations: score.durations,
             candidate: None,
         }
     }
@@ -169,6 +177,9 @@ impl Scored for CandidateScalars {
     }
     fn torque_margin(&self) -> Option<f64> {
         self.torque_margin
+    }
+    fn duration(&self) -> Option<f64> {
+        self.durations.map(|d| d.total())
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         self.candidate.as_ref()

@@ -9,6 +9,7 @@ pub(crate) use super::settings::check_count;
 use super::settings::{
     defaults, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy, SelectionOptions,
 };
+use super::timing::{TimingRequest, TimingSettings};
 use crate::collision::{ArmBodies, Body};
 use crate::geometry::shape::Shape;
 use crate::grasp::{Candidate, CandidateError, CandidateSource};
@@ -107,6 +108,8 @@ pub struct Task {
     /// when the task gives its mass: the arm carries it from the grasp to the place, and the
     /// joint torques along the motion are checked against the arm's effort limits.
     pub payload: Option<RigidBody>,
+    /// How each feasible candidate's motion is timed (`None`: not timed).
+    pub timing: Option<TimingSettings>,
 }
 
 impl Task {
@@ -240,6 +243,8 @@ pub struct TaskBuilder {
     gripper: Option<Gripper>,
     scene: Option<SceneSettings>,
     payload: Option<RigidBody>,
+    timing: TimingRequest,
+    max_duration: Option<f64>,
 }
 
 impl TaskBuilder {
@@ -275,6 +280,8 @@ impl TaskBuilder {
             gripper: None,
             scene: None,
             payload: None,
+            timing: TimingRequest::Auto,
+            max_duration: None,
         }
     }
 
@@ -307,6 +314,20 @@ impl TaskBuilder {
     /// checked against each arm's effort limits (every arm then needs inertial data).
     pub fn payload(mut self, body: RigidBody) -> Self {
         self.payload = Some(body);
+        self
+    }
+
+    /// Whether and how each feasible candidate's motion is timed (default:
+    /// [`TimingRequest::Auto`]).
+    pub fn timing(mut self, timing: TimingRequest) -> Self {
+        self.timing = timing;
+        self
+    }
+
+    /// Reject candidates whose timed motion takes longer than `seconds` (default: none; needs
+    /// timing).
+    pub fn max_duration(mut self, seconds: Option<f64>) -> Self {
+        self.max_duration = seconds;
         self
     }
 
@@ -613,6 +634,21 @@ impl TaskBuilder {
                 ));
             }
         }
+        let timing = resolve_timing(self.timing, &self.arms).map_err(|(f, m)| err(f, m))?;
+        if let Some(max) = self.max_duration {
+            if !(max > 0.0 && max.is_finite()) {
+                return Err(err(
+                    "selection.max_duration",
+                    format!("must be a positive duration in seconds, got {max}"),
+                ));
+            }
+            if timing.is_none() {
+                return Err(err(
+                    "selection.max_duration",
+                    "needs the motions timed (timing), which is off for this task".into(),
+                ));
+            }
+        }
         if !(self.tie_tolerance.is_finite() && (0.0..1.0).contains(&self.tie_tolerance)) {
             return Err(err(
                 "selection.tie_tolerance",
@@ -748,6 +784,7 @@ impl TaskBuilder {
                 min_separation: self.min_separation,
                 min_clearance: self.min_clearance,
                 min_torque_margin: self.min_torque_margin,
+                max_duration: self.max_duration,
                 tie_tolerance: self.tie_tolerance,
             },
             ik,
@@ -759,6 +796,7 @@ impl TaskBuilder {
             collisions,
             object_body,
             payload: self.payload,
+            timing,
         };
         let work = task.work();
         if work > limits.max_work {
@@ -782,5 +820,39 @@ impl TaskBuilder {
             ));
         }
         Ok(task)
+    }
+}
+
+/// The timing settings a request resolves to for `arms`: `Auto` is on with the defaults when
+/// every joint has a velocity limit; `On` requires one; the settings are checked.
+fn resolve_timing(
+    request: TimingRequest,
+    arms: &[ArmSetup],
+) -> Result<Option<TimingSettings>, (&'static str, String)> {
+    let unlimited = arms.iter().find_map(|arm| {
+        let chain = &arm.chain;
+        chain
+            .motion_limits()
+            .iter()
+            .zip(chain.joint_names())
+            .find(|(l, _)| l.velocity.is_none())
+            .map(|(_, joint)| format!("arm '{}' joint '{joint}'", arm.name))
+    });
+    match request {
+        TimingRequest::Off => Ok(None),
+        TimingRequest::Auto => Ok(unlimited.is_none().then(TimingSettings::default)),
+        TimingRequest::On(settings) => {
+            settings.check()?;
+            match unlimited {
+                Some(joint) => Err((
+                    "timing",
+                    format!(
+                        "{joint} has no velocity limit (the robot file gives none): a motion \
+                         cannot be timed without one"
+                    ),
+                )),
+                None => Ok(Some(settings)),
+            }
+        }
     }
 }

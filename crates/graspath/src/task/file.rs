@@ -55,6 +55,9 @@ pub struct TaskFile {
     /// The gripper's opening and fingers.
     #[serde(default)]
     pub gripper: Option<GripperFile>,
+    /// How each feasible candidate's motion is timed.
+    #[serde(default)]
+    pub timing: Option<TimingFile>,
 }
 
 /// The scene: `table` and `obstacles`, world frame.
@@ -569,9 +572,48 @@ pub struct SelectionFile {
     /// this (the worst `1 − |τ|/τ_max` over samples and joints; default none).
     #[serde(default)]
     pub min_torque_margin: Option<f64>,
+    /// Reject candidates whose timed motion takes longer than this (s; default none).
+    #[serde(default)]
+    pub max_duration: Option<f64>,
     /// Scores within this relative difference are reported as tied (default 1e-4).
     #[serde(default)]
     pub tie_tolerance: Option<f64>,
+}
+
+/// How each feasible candidate's motion is timed (`timing:`); `timing: false` turns timing
+/// off, `timing: true` or a map turns it on (an error for an arm without velocity limits).
+/// Without the key, motions are timed when every joint has a velocity limit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum TimingFile {
+    /// `true` (on, defaults) or `false` (off).
+    Switch(bool),
+    /// On, with these settings.
+    Settings(TimingSettingsFile),
+}
+
+/// The `timing:` settings; each absent one takes its default.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimingSettingsFile {
+    /// Stop at the grasp and the place (default true) or time one motion through.
+    #[serde(default)]
+    pub stops: Option<bool>,
+    /// Grid intervals per interval between IK samples (default 2).
+    #[serde(default)]
+    pub subdivisions: Option<usize>,
+    /// Fraction of the velocity limits used (default 1).
+    #[serde(default)]
+    pub velocity_scale: Option<f64>,
+    /// Fraction of the acceleration limits used (default 1).
+    #[serde(default)]
+    pub acceleration_scale: Option<f64>,
+    /// Acceleration limit of joints whose robot gives none (rad/s² or m/s²; default none).
+    #[serde(default)]
+    pub max_acceleration: Option<f64>,
+    /// Whether the torque limits bind with the object's mass (default true).
+    #[serde(default)]
+    pub torque_limits: Option<bool>,
 }
 
 /// Trajectory IK settings.

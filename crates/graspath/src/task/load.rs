@@ -6,13 +6,14 @@ use super::builder::{check_count, Task, TaskBuilder};
 use super::error::TaskError;
 use super::file::{
     pose, ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, PenaltyFile, StepFile,
-    TaskFile,
+    TaskFile, TimingFile,
 };
 use super::path::{Sampling, Step, TimedStep};
 use super::settings::{
     defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
     Redundancy,
 };
+use super::timing::{TimingRequest, TimingSettings};
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
 use crate::grasp::hand::Hand;
@@ -233,6 +234,9 @@ fn builder_with(
     if let Some(min) = s.min_torque_margin {
         builder = builder.min_torque_margin(Some(min));
     }
+    builder = builder
+        .max_duration(s.max_duration)
+        .timing(timing_request(file.timing.as_ref()));
     super::load_scene::add_world(builder, file, source_name, base_dir, scene, &model)
 }
 
@@ -834,4 +838,22 @@ fn setup_steps(file: &TaskFile, source: &str) -> Result<(Vec<TimedStep>, Samplin
         }
     };
     Ok((steps, sampling))
+}
+
+/// The task file's `timing:` as a request (absent: [`TimingRequest::Auto`]).
+fn timing_request(timing: Option<&TimingFile>) -> TimingRequest {
+    let defaults = TimingSettings::default();
+    match timing {
+        None => TimingRequest::Auto,
+        Some(TimingFile::Switch(false)) => TimingRequest::Off,
+        Some(TimingFile::Switch(true)) => TimingRequest::On(defaults),
+        Some(TimingFile::Settings(t)) => TimingRequest::On(TimingSettings {
+            stops: t.stops.unwrap_or(defaults.stops),
+            subdivisions: t.subdivisions.unwrap_or(defaults.subdivisions),
+            velocity_scale: t.velocity_scale.unwrap_or(defaults.velocity_scale),
+            acceleration_scale: t.acceleration_scale.unwrap_or(defaults.acceleration_scale),
+            max_acceleration: t.max_acceleration.or(defaults.max_acceleration),
+            torque_limits: t.torque_limits.unwrap_or(defaults.torque_limits),
+        }),
+    }
 }

@@ -18,13 +18,14 @@ mod path;
 mod payload;
 mod scene;
 mod settings;
+mod timing;
 
 pub use builder::{ArmSetup, Task, TaskBuilder};
 pub use error::TaskError;
 pub use file::{
     pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,
     LikelihoodFile, NormFile, ObjectFile, PenaltyFile, RobotFile, RotateFile, SelectionFile,
-    SpacingFile, StepFile, TaskFile, TrajectoryFile, XacroArgument,
+    SpacingFile, StepFile, TaskFile, TimingFile, TimingSettingsFile, TrajectoryFile, XacroArgument,
 };
 pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
@@ -38,3 +39,4 @@ pub use settings::{
     defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
     Redundancy, SelectionOptions,
 };
+pub use timing::{TimingRequest, TimingSettings};

@@ -198,6 +198,8 @@ pub struct SelectionOptions {
     /// Reject candidates whose torque margin along the motion (with a payload) is below this
     /// (`None`: only the effort limits reject).
     pub min_torque_margin: Option<f64>,
+    /// Reject candidates whose timed motion takes longer than this (s; `None`: no bound).
+    pub max_duration: Option<f64>,
     /// Two eligible candidates whose scores differ by at most this, relative to the larger
     /// (absolute for [`LikelihoodRule::Weighted`], whose score is a logarithm), are reported as
     /// tied (see [`crate::select::scores_tied`]); ranks are not changed by it.
@@ -214,6 +216,7 @@ impl Default for SelectionOptions {
             min_separation: defaults::MIN_SEPARATION,
             min_clearance: None,
             min_torque_margin: None,
+            max_duration: None,
             tie_tolerance: defaults::TIE_TOLERANCE,
         }
     }

@@ -19,6 +19,8 @@ pub(super) struct BranchFindings {
     /// With a payload: the largest object mass (kg) this motion can carry within the effort
     /// limits (`None` when no limited joint bears the object).
     pub(super) payload_capacity: Option<f64>,
+    /// When the task times motions: how long the motion takes.
+    pub(super) durations: Option<super::MotionDurations>,
 }
 
 /// A check of one branch's whole motion.

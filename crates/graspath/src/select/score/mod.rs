@@ -6,9 +6,11 @@ mod branch_checks;
 mod grasp_checks;
 mod path;
 mod self_motion;
+mod timing_check;
 mod torque_check;
 
 pub use path::wrist_trajectory;
+pub use timing_check::{MotionDurations, SPLINE_LIMIT_TOLERANCE};
 
 use crate::collision::{ArmInScene, Body, ObjectAlong};
 pub use crate::failure::Failure;
@@ -22,7 +24,7 @@ use crate::robot::{
 };
 use crate::task::{
     defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
-    Stroke, WholeMotionPlan,
+    Stroke, TimingSettings, WholeMotionPlan,
 };
 use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
@@ -31,6 +33,7 @@ use path::{counted_samples, index_along, IndexSeries, ObjectMotion};
 use rayon::prelude::*;
 use self_motion::SelfMotionSearch;
 use std::sync::Arc;
+use timing_check::TimingCheck;
 use torque_check::TorqueCheck;
 
 /// How many candidates are scored in parallel before their results are handed on in order.
@@ -91,6 +94,9 @@ pub struct CandidateScore {
     /// With the object's mass: the largest object mass (kg) the chosen motion can carry within
     /// the effort limits (`None` when no limited joint bears the object).
     pub payload_capacity: Option<f64>,
+    /// When the task times motions: how long the chosen motion takes (its approach, carry and
+    /// retreat), fastest within the joints' limits.
+    pub durations: Option<MotionDurations>,
 }
 
 /// How much of a candidate's `μ_l2` is the grasp and how much the arm's self-motion.
@@ -125,6 +131,7 @@ impl CandidateScore {
             self_motion: None,
             torque_margin: None,
             payload_capacity: None,
+            durations: None,
         }
     }
 
@@ -166,6 +173,8 @@ pub struct ScoringSetup<'a> {
     /// The tool's approach to the grasp and retreat after the place, the gripper, and the
     /// collision checks (all `None`: the motion is the object's path in empty space).
     pub world: WorldSetup<'a>,
+    /// How the chosen motion is timed (`None`: not timed).
+    pub timing: Option<&'a TimingSettings>,
 }
 
 /// What a task knows of its world ([`Task`](crate::task::Task)'s `approach`, `retreat`,
@@ -389,7 +398,8 @@ fn score_group(
 }
 
 /// The branch checks of one candidate, in the order they run: the arm in the scene (with a
-/// scene and the arm's bodies), then the joint torques (with a payload).
+/// scene and the arm's bodies), then the joint torques (with a payload), then the timing (when
+/// the task times motions).
 fn branch_checks<'a>(scoring: &'a Scoring<'a>) -> Vec<Box<dyn BranchCheck + 'a>> {
     let mut checks: Vec<Box<dyn BranchCheck + 'a>> = Vec::new();
     if let Some(scene) = SceneCheck::of(scoring) {
@@ -397,6 +407,9 @@ fn branch_checks<'a>(scoring: &'a Scoring<'a>) -> Vec<Box<dyn BranchCheck + 'a>>
     }
     if let Some(torques) = TorqueCheck::of(scoring) {
         checks.push(Box::new(torques));
+    }
+    if let Some(timing) = TimingCheck::of(scoring) {
+        checks.push(Box::new(timing));
     }
     checks
 }
@@ -558,6 +571,7 @@ fn score_solved(
             score.clearance = findings.clearance;
             score.torque_margin = findings.torque_margin;
             score.payload_capacity = findings.payload_capacity;
+            score.durations = findings.durations;
             score.approach = q[..before].to_vec();
             score.retreat = q[before + n..].to_vec();
             score.joint_trajectory = q[before..before + n].to_vec();

@@ -1,0 +1,79 @@
+//! How a task times each feasible candidate's motion (`timing:` in a task file): the settings
+//! the [`crate::timing`] module is run with, and when timing is on.
+
+/// How each feasible candidate's whole motion (approach, the object's path, retreat) is timed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimingSettings {
+    /// Stop at the grasp and at the place (the gripper closes and opens there): the approach,
+    /// the carry and the retreat are timed as three rest-to-rest motions. `false`: one motion
+    /// through the whole.
+    pub stops: bool,
+    /// Grid intervals per interval between IK samples (the grid the limits are imposed on).
+    pub subdivisions: usize,
+    /// The fraction of the robot's velocity limits used, in `(0, 1]`.
+    pub velocity_scale: f64,
+    /// The fraction of the acceleration limits used, in `(0, 1]`.
+    pub acceleration_scale: f64,
+    /// The acceleration limit (rad/s² or m/s²) of joints whose robot gives none; `None`
+    /// leaves them unlimited (their torque limits still bound them, with dynamics).
+    pub max_acceleration: Option<f64>,
+    /// Whether the joint torque limits bind (through the arm's dynamics and the carried
+    /// object, where the robot gives inertias and effort limits).
+    pub torque_limits: bool,
+}
+
+impl Default for TimingSettings {
+    fn default() -> Self {
+        Self {
+            stops: true,
+            subdivisions: 2,
+            velocity_scale: 1.0,
+            acceleration_scale: 1.0,
+            max_acceleration: None,
+            torque_limits: true,
+        }
+    }
+}
+
+/// Whether a task times its candidates' motions.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum TimingRequest {
+    /// When every joint of every arm has a velocity limit (every built-in arm does), with the
+    /// default settings; otherwise not.
+    #[default]
+    Auto,
+    /// Never.
+    Off,
+    /// Always, with these settings: an arm with a joint whose velocity limit is unknown is an
+    /// error.
+    On(TimingSettings),
+}
+
+impl TimingSettings {
+    /// The problems with these settings, as `(field, message)`.
+    pub(crate) fn check(&self) -> Result<(), (&'static str, String)> {
+        if self.subdivisions == 0 || self.subdivisions > 64 {
+            return Err((
+                "timing.subdivisions",
+                format!("must be between 1 and 64, got {}", self.subdivisions),
+            ));
+        }
+        for (field, scale) in [
+            ("timing.velocity_scale", self.velocity_scale),
+            ("timing.acceleration_scale", self.acceleration_scale),
+        ] {
+            if !(scale > 0.0 && scale <= 1.0) {
+                return Err((field, format!("must be a fraction in (0, 1], got {scale}")));
+            }
+        }
+        if let Some(a) = self.max_acceleration {
+            if !(a > 0.0 && a.is_finite()) {
+                return Err((
+                    "timing.max_acceleration",
+                    format!("must be a positive acceleration in rad/s², got {a}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,178 @@
+//! The constraints of a robot's joint path on a grid, and its time-optimal motion.
+//!
+//! At a grid point with `q(s)`, `q'(s)`, `q''(s)` from the spline:
+//! * a joint velocity limit `|q'_j ṡ| ≤ v_j` bounds `x = ṡ²` by `(v_j / |q'_j|)²`;
+//! * a joint acceleration limit is the row `−a_j ≤ q'_j u + q''_j x ≤ a_j`;
+//! * a torque limit is the row `−τ_j ≤ a_j u + b_j x + c_j ≤ τ_j`, from the inverse dynamics
+//!   `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` with `q̇ = q' ṡ` and `q̈ = q' u + q'' x`:
+//!   `c = g(q) = rnea(q, 0, 0)`, `a = M(q) q' = rnea(q, 0, q') − c`,
+//!   `b = M(q) q'' + C(q, q') q' = rnea(q, q', q'') − c` (payload included).
+
+use super::spline::{JointSpline, PathPoint};
+use super::topp::{time_optimal, Constraints, Limit, Row, TimedPath};
+use super::TimingError;
+use crate::robot::{Dynamics, RigidBody};
+
+/// The limits a joint path is timed under. Slices hold one entry per joint of the chain;
+/// `None` is unlimited.
+#[derive(Debug, Clone, Copy)]
+pub struct PathLimits<'a> {
+    /// Joint velocity limits (rad/s or m/s).
+    pub velocity: &'a [Option<f64>],
+    /// Joint acceleration limits (rad/s² or m/s²).
+    pub acceleration: &'a [Option<f64>],
+    /// Joint torque limits through the arm's dynamics, when they apply.
+    pub torque: Option<TorqueLimits<'a>>,
+    /// Grid intervals per spline interval (at least 1): the grid is the spline's knots with
+    /// every interval split into this many equal parts.
+    pub subdivisions: usize,
+}
+
+/// Joint torque limits and the dynamics that turn a motion into torques.
+#[derive(Debug, Clone, Copy)]
+pub struct TorqueLimits<'a> {
+    /// The arm's dynamics (gravity included).
+    pub dynamics: &'a Dynamics,
+    /// Joint torque (force) limits (N·m or N).
+    pub effort: &'a [Option<f64>],
+    /// The body the tool carries, in the tool frame (kg, m, kg·m²), when it carries one.
+    pub payload: Option<RigidBody>,
+}
+
+impl PathLimits<'_> {
+    /// The fastest motion along `spline` from rest to rest within these limits.
+    pub fn time(&self, spline: &JointSpline) -> Result<TimedPath, TimingError> {
+        time_optimal(&self.constraints(spline)?)
+    }
+
+    /// The grid of `spline` (see [`PathLimits::subdivisions`]) and the constraints at each of
+    /// its points.
+    pub fn constraints(&self, spline: &JointSpline) -> Result<Constraints, TimingError> {
+        let dof = spline.dof();
+        self.check(dof)?;
+        let grid = grid(spline.knots(), self.subdivisions.max(1));
+        let accelerated: Vec<(usize, f64)> = limited(self.acceleration);
+        let torqued: Vec<(usize, f64)> = self.torque.map_or(Vec::new(), |t| limited(t.effort));
+        let rows_per_point = accelerated.len() + torqued.len();
+        let mut rows = Vec::with_capacity(grid.len() * rows_per_point);
+        let mut x_max = Vec::with_capacity(grid.len());
+        let mut dynamics = match &self.torque {
+            Some(t) => {
+                let mut data = t.dynamics.data();
+                data.set_payload(t.payload)?;
+                Some((t.dynamics, data))
+            }
+            None => None,
+        };
+        let [mut q, mut dq, mut ddq, mut g, mut tau_a, mut tau_b, zero] =
+            std::array::from_fn(|_| vec![0.0; dof]);
+        for &s in &grid {
+            spline.evaluate_into(
+                s,
+                PathPoint {
+                    q: &mut q,
+                    dq: &mut dq,
+                    ddq: &mut ddq,
+                },
+            );
+            x_max.push(velocity_bound(self.velocity, &dq));
+            for &(j, limit) in &accelerated {
+                rows.push(Row {
+                    a: dq[j],
+                    b: ddq[j],
+                    lo: -limit,
+                    hi: limit,
+                    limit: Limit::Acceleration(j),
+                });
+            }
+            if let Some((model, data)) = dynamics.as_mut() {
+                model.inverse_dynamics_into(data, &q, &zero, &zero, &mut g)?;
+                model.inverse_dynamics_into(data, &q, &zero, &dq, &mut tau_a)?;
+                model.inverse_dynamics_into(data, &q, &dq, &ddq, &mut tau_b)?;
+                for &(j, limit) in &torqued {
+                    rows.push(Row {
+                        a: tau_a[j] - g[j],
+                        b: tau_b[j] - g[j],
+                        lo: -limit - g[j],
+                        hi: limit - g[j],
+                        limit: Limit::Torque(j),
+                    });
+                }
+            }
+        }
+        Ok(Constraints {
+            grid,
+            x_max,
+            rows_per_point,
+            rows,
+        })
+    }
+
+    /// Every slice one entry per joint, every limit a positive number.
+    fn check(&self, dof: usize) -> Result<(), TimingError> {
+        let mut lists = vec![
+            ("velocity", self.velocity),
+            ("acceleration", self.acceleration),
+        ];
+        if let Some(t) = &self.torque {
+            lists.push(("torque", t.effort));
+            if t.dynamics.dof() != dof {
+                return Err(TimingError::BadPath(format!(
+                    "the path has {dof} joints, the dynamics {}",
+                    t.dynamics.dof()
+                )));
+            }
+        }
+        for (what, list) in lists {
+            if list.len() != dof {
+                return Err(TimingError::BadPath(format!(
+                    "{} {what} limits for a path of {dof} joints",
+                    list.len()
+                )));
+            }
+            if let Some((joint, value)) = list
+                .iter()
+                .enumerate()
+                .find_map(|(j, v)| v.filter(|v| !(*v > 0.0 && v.is_finite())).map(|v| (j, v)))
+            {
+                return Err(TimingError::BadLimit { joint, what, value });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The knots with every interval split into `parts` equal parts.
+fn grid(knots: &[f64], parts: usize) -> Vec<f64> {
+    let mut grid = Vec::with_capacity((knots.len().saturating_sub(1)) * parts + 1);
+    for pair in knots.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        grid.extend((0..parts).map(|k| a + (b - a) * k as f64 / parts as f64));
+    }
+    grid.extend(knots.last());
+    grid
+}
+
+/// The joints with a limit, and the limit.
+fn limited(limits: &[Option<f64>]) -> Vec<(usize, f64)> {
+    limits
+        .iter()
+        .enumerate()
+        .filter_map(|(j, l)| l.map(|l| (j, l)))
+        .collect()
+}
+
+/// The largest `x = ṡ²` the velocity limits allow where the path's derivative is `dq`, and
+/// the joint that sets it.
+fn velocity_bound(limits: &[Option<f64>], dq: &[f64]) -> (f64, Option<Limit>) {
+    let mut bound = (f64::INFINITY, None);
+    for (j, (limit, d)) in limits.iter().zip(dq).enumerate() {
+        if let Some(v) = limit {
+            let x = (v / d.abs()).powi(2);
+            if x < bound.0 {
+                bound = (x, Some(Limit::Velocity(j)));
+            }
+        }
+    }
+    bound
+}

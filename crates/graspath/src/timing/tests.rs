@@ -1,0 +1,128 @@
+//! Closed forms: one joint moving alone under velocity and acceleration limits has the
+//! trapezoidal (or, when it never reaches its top speed, triangular) velocity profile.
+
+use super::*;
+
+/// The duration of a rest-to-rest move of `distance` under `|v| ≤ v_max`, `|a| ≤ a_max`.
+fn bang_bang(distance: f64, v_max: f64, a_max: f64) -> f64 {
+    if distance >= v_max * v_max / a_max {
+        distance / v_max + v_max / a_max
+    } else {
+        2.0 * (distance / a_max).sqrt()
+    }
+}
+
+/// One joint from 0 to `distance` in `samples` equal steps, timed on the spline's grid.
+fn one_joint(distance: f64, samples: usize, v: f64, a: f64, parts: usize) -> TimedPath {
+    let q: Vec<Vec<f64>> = (0..samples)
+        .map(|k| vec![distance * k as f64 / (samples - 1) as f64])
+        .collect();
+    let spline = JointSpline::through(&q).unwrap();
+    PathLimits {
+        velocity: &[Some(v)],
+        acceleration: &[Some(a)],
+        torque: None,
+        subdivisions: parts,
+    }
+    .time(&spline)
+    .unwrap()
+}
+
+#[test]
+fn one_joint_takes_the_trapezoidal_and_the_triangular_profiles_time() {
+    // Trapezoid: 2 rad at 1 rad/s, 2 rad/s² (0.25 rad to accelerate); triangle: 0.2 rad.
+    for (distance, v, a) in [(2.0, 1.0, 2.0), (0.2, 1.0, 2.0), (1.5, 2.61, 15.0)] {
+        let exact = bang_bang(distance, v, a);
+        let timed = one_joint(distance, 401, v, a, 2);
+        let error = (timed.duration() - exact).abs() / exact;
+        // Collocation misses at most one grid interval at each switch of the profile.
+        assert!(
+            error < 2e-3,
+            "{distance} rad: {} s vs {exact} s",
+            timed.duration()
+        );
+        // Refining the grid converges to the closed form.
+        let finer = one_joint(distance, 1601, v, a, 2);
+        assert!((finer.duration() - exact).abs() < (timed.duration() - exact).abs() + 1e-12);
+        // The speed limit holds at every grid point, and the motion is at rest at both ends.
+        assert!(timed.sd_squared.iter().all(|x| *x <= v * v * (1.0 + 1e-9)));
+        assert_eq!(timed.sd_squared[0], 0.0);
+        assert_eq!(*timed.sd_squared.last().unwrap(), 0.0);
+    }
+}
+
+#[test]
+fn the_sampled_trajectory_respects_the_limits_and_ends_at_rest() {
+    let q: Vec<Vec<f64>> = (0..30)
+        .map(|k| {
+            let t = k as f64 / 29.0;
+            vec![t.sin(), 0.5 * t * t, -t]
+        })
+        .collect();
+    let spline = JointSpline::through(&q).unwrap();
+    let (v, a) = (
+        [Some(1.0), Some(0.5), Some(0.8)],
+        [Some(3.0), Some(2.0), Some(4.0)],
+    );
+    let limits = PathLimits {
+        velocity: &v,
+        acceleration: &a,
+        torque: None,
+        subdivisions: 3,
+    };
+    let timed = limits.time(&spline).unwrap();
+    let names: Vec<String> = ["a", "b", "c"].map(String::from).to_vec();
+    let trajectory = TimedTrajectory::sample(&names, &spline, &timed, Some(0.01), None).unwrap();
+    assert!((trajectory.duration() - timed.duration()).abs() < 1e-12);
+    let first = &trajectory.points[0];
+    let last = trajectory.points.last().unwrap();
+    assert_eq!(first.positions, q[0]);
+    for (j, end) in q[29].iter().enumerate() {
+        assert!((last.positions[j] - end).abs() < 1e-9);
+        assert!(first.velocities[j].abs() < 1e-12 && last.velocities[j].abs() < 1e-6);
+    }
+    for p in &trajectory.points {
+        for j in 0..3 {
+            assert!(
+                p.velocities[j].abs() <= v[j].unwrap() * (1.0 + 1e-3),
+                "{p:?}"
+            );
+            // Between grid points the constraints are not imposed (collocation): allow the
+            // discretisation's excess.
+            assert!(p.accelerations[j].abs() <= a[j].unwrap() * 1.1, "{p:?}");
+        }
+    }
+}
+
+#[test]
+fn an_unreachable_limit_is_infeasible_and_names_it() {
+    let spline = JointSpline::through(&[vec![0.0], vec![1.0]]).unwrap();
+    // A zero acceleration limit is refused as a limit, not as an infeasible path.
+    let err = PathLimits {
+        velocity: &[Some(1.0)],
+        acceleration: &[Some(0.0)],
+        torque: None,
+        subdivisions: 1,
+    }
+    .time(&spline)
+    .unwrap_err();
+    assert!(
+        matches!(err, TimingError::BadLimit { joint: 0, .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_repeated_sample_adds_no_path_and_a_single_one_takes_no_time() {
+    let spline = JointSpline::through(&[vec![0.3, 0.1], vec![0.3, 0.1]]).unwrap();
+    assert_eq!(spline.knots(), &[0.0]);
+    let timed = PathLimits {
+        velocity: &[Some(1.0), Some(1.0)],
+        acceleration: &[None, None],
+        torque: None,
+        subdivisions: 2,
+    }
+    .time(&spline)
+    .unwrap();
+    assert_eq!(timed.duration(), 0.0);
+}

@@ -1,0 +1,362 @@
+//! Time-optimal path parameterisation by reachability analysis (TOPP-RA: Pham & Pham, IEEE
+//! T-RO 34(3), 2018).
+//!
+//! Along a path `q(s)`, `s ∈ [s_0, s_N]`, the motion is set by `ṡ(t)`. With `x = ṡ²` and
+//! `u = s̈`, every constraint this crate uses is linear in `(u, x)` at a grid point `s_i`:
+//! joint velocities `q'(s) ṡ` bound `x` alone; joint accelerations `q' u + q'' x` and joint
+//! torques `a(s) u + b(s) x + c(s)` are rows `lo ≤ a u + b x ≤ hi`. Between grid points `u` is
+//! constant, so `x_{i+1} = x_i + 2 Δ_i u_i`. The constraints are imposed at the grid points
+//! (toppra's *collocation* discretisation).
+//!
+//! The backward pass computes each grid point's *controllable set* `K_i`: the `x_i` from
+//! which some admissible `u_i` reaches `K_{i+1}` (`K_N = {x_end}`), the projection on `x` of a
+//! two-variable polygon. The forward pass starts at `x_0` and takes at each point the largest
+//! admissible `u_i` that stays controllable. Both are exact for the discretised problem; the
+//! projection is found by Newton steps on the concave piecewise-linear slack
+//! `min_upper(x) − max_lower(x)` (each step lands on a vertex of the polygon), which needs
+//! no general LP solver. The time of interval `i` at constant `u_i` is
+//! `2 Δ_i / (ṡ_i + ṡ_{i+1})`.
+
+use super::TimingError;
+
+/// One linear constraint `lo ≤ a u + b x ≤ hi` at a grid point, with what it limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// The coefficient of `u = s̈`.
+    pub a: f64,
+    /// The coefficient of `x = ṡ²`.
+    pub b: f64,
+    /// The lower bound.
+    pub lo: f64,
+    /// The upper bound.
+    pub hi: f64,
+    /// What the row limits (for the failure message).
+    pub limit: Limit,
+}
+
+/// The quantity a constraint limits: a joint's velocity, acceleration or torque.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Limit {
+    /// Joint `j`'s velocity.
+    Velocity(usize),
+    /// Joint `j`'s acceleration.
+    Acceleration(usize),
+    /// Joint `j`'s torque (or force).
+    Torque(usize),
+}
+
+/// The constraints of a path on a grid: at each grid point an upper bound on `x` and the
+/// same number of rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constraints {
+    /// The grid, strictly increasing.
+    pub grid: Vec<f64>,
+    /// The largest `x = ṡ²` at each grid point (`+∞` when unbounded), with what bounds it.
+    pub x_max: Vec<(f64, Option<Limit>)>,
+    /// Rows per grid point.
+    pub rows_per_point: usize,
+    /// The rows of grid point `i` at `[i * rows_per_point..(i + 1) * rows_per_point]`.
+    pub rows: Vec<Row>,
+}
+
+/// A time-optimal parameterisation: `ṡ²` at every grid point and the times.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimedPath {
+    /// The grid (path parameter).
+    pub grid: Vec<f64>,
+    /// `x_i = ṡ²` at each grid point.
+    pub sd_squared: Vec<f64>,
+    /// The time at each grid point (s), from `0`.
+    pub times: Vec<f64>,
+}
+
+impl TimedPath {
+    /// The motion's duration (s).
+    pub fn duration(&self) -> f64 {
+        self.times.last().copied().unwrap_or(0.0)
+    }
+
+    /// The path parameter, `ṡ` and `s̈` at time `t` (clamped to `[0, duration]`).
+    pub fn state_at(&self, t: f64) -> (f64, f64, f64) {
+        let t = t.clamp(0.0, self.duration());
+        let n = self.grid.len();
+        if n < 2 {
+            return (self.grid.first().copied().unwrap_or(0.0), 0.0, 0.0);
+        }
+        let i = self.times.partition_point(|&ti| ti <= t).clamp(1, n - 1) - 1;
+        let delta = self.grid[i + 1] - self.grid[i];
+        let u = (self.sd_squared[i + 1] - self.sd_squared[i]) / (2.0 * delta);
+        let tau = t - self.times[i];
+        let sd0 = self.sd_squared[i].sqrt();
+        let s = (self.grid[i] + sd0 * tau + 0.5 * u * tau * tau).min(self.grid[i + 1]);
+        (s, (sd0 + u * tau).max(0.0), u)
+    }
+}
+
+/// Relative slack accepted on a constraint (rounding in the rows and in the Newton steps).
+const TOLERANCE: f64 = 1e-9;
+
+/// Where the search for the largest `x = ṡ²` starts when nothing bounds `x` alone (no
+/// velocity limit binds at a grid point): `ṡ = 10⁶` per unit of path, far beyond any arm.
+const UNBOUNDED_X: f64 = 1e12;
+
+/// The time-optimal parameterisation of the path under `constraints`, from rest to rest.
+///
+/// Fails with [`TimingError::Infeasible`] at the first grid point (from the end) whose
+/// controllable set is empty, naming the constraint that binds there.
+pub fn time_optimal(constraints: &Constraints) -> Result<TimedPath, TimingError> {
+    let n = constraints.grid.len();
+    if n < 2 {
+        return Ok(TimedPath {
+            grid: constraints.grid.clone(),
+            sd_squared: vec![0.0; n],
+            times: vec![0.0; n],
+        });
+    }
+    let controllable = controllable_sets(constraints)?;
+    if controllable[0].0 > TOLERANCE {
+        return Err(infeasible(constraints, 0));
+    }
+    // Forward pass: the largest admissible u that stays controllable.
+    let mut x = vec![0.0; n];
+    let mut times = vec![0.0; n];
+    for i in 0..n - 1 {
+        let delta = constraints.grid[i + 1] - constraints.grid[i];
+        let (k_lo, k_hi) = controllable[i + 1];
+        let lines = Lines::at(constraints.rows_of(i), reach_row(delta, k_lo, k_hi));
+        let u = lines.upper(x[i]);
+        x[i + 1] = (x[i] + 2.0 * delta * u).clamp(k_lo, k_hi).max(0.0);
+        let speeds = x[i].sqrt() + x[i + 1].sqrt();
+        if speeds <= 0.0 {
+            return Err(infeasible(constraints, i + 1));
+        }
+        times[i + 1] = times[i] + 2.0 * delta / speeds;
+    }
+    Ok(TimedPath {
+        grid: constraints.grid.clone(),
+        sd_squared: x,
+        times,
+    })
+}
+
+impl Constraints {
+    /// The rows of grid point `i`.
+    fn rows_of(&self, i: usize) -> &[Row] {
+        &self.rows[i * self.rows_per_point..(i + 1) * self.rows_per_point]
+    }
+}
+
+/// `K_i` for every grid point, from the end (at rest) backwards.
+fn controllable_sets(constraints: &Constraints) -> Result<Vec<(f64, f64)>, TimingError> {
+    let n = constraints.grid.len();
+    let mut sets = vec![(0.0, 0.0); n];
+    for i in (0..n - 1).rev() {
+        let delta = constraints.grid[i + 1] - constraints.grid[i];
+        let (k_lo, k_hi) = sets[i + 1];
+        let lines = Lines::at(constraints.rows_of(i), reach_row(delta, k_lo, k_hi));
+        let x_max = constraints.x_max[i].0;
+        sets[i] = lines
+            .x_range(x_max)
+            .ok_or_else(|| infeasible(constraints, i))?;
+    }
+    Ok(sets)
+}
+
+/// The row `k_lo ≤ x + 2 Δ u ≤ k_hi` as `(a, b, lo, hi)`: the next grid point's
+/// controllable set.
+fn reach_row(delta: f64, k_lo: f64, k_hi: f64) -> [f64; 4] {
+    [2.0 * delta, 1.0, k_lo, k_hi]
+}
+
+/// The infeasibility at grid point `i`: the constraint most violated at rest (`u = x = 0`,
+/// relative to its bound), or else what bounds `x` there.
+fn infeasible(constraints: &Constraints, i: usize) -> TimingError {
+    let worst = constraints
+        .rows_of(i)
+        .iter()
+        .map(|r| {
+            let scale = r.lo.abs().max(r.hi.abs()).max(f64::MIN_POSITIVE);
+            ((r.lo.max(0.0) + (-r.hi).max(0.0)) / scale, r.limit)
+        })
+        .filter(|(violation, _)| *violation > 0.0)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, limit)| limit)
+        .or(constraints.x_max[i].1);
+    TimingError::Infeasible {
+        grid_point: i,
+        s: constraints.grid[i],
+        limit: worst,
+    }
+}
+
+/// The rows of one grid point as lines in `x`: for fixed `x`, each row with `a ≠ 0` bounds
+/// `u` above or below by an affine function of `x`; rows with `a = 0` bound `x` alone.
+struct Lines {
+    /// `u ≤ α + β x`.
+    upper: Vec<(f64, f64)>,
+    /// `u ≥ α + β x`.
+    lower: Vec<(f64, f64)>,
+    /// The range of `x` the rows with `a = 0` allow (`None` when one of them allows none).
+    x_bounds: Option<(f64, f64)>,
+}
+
+impl Lines {
+    /// The lines of `rows` and of the reach row `[a, b, lo, hi]`.
+    fn at(rows: &[Row], reach: [f64; 4]) -> Self {
+        let mut lines = Lines {
+            upper: Vec::with_capacity(rows.len() + 1),
+            lower: Vec::with_capacity(rows.len() + 1),
+            x_bounds: Some((0.0, f64::INFINITY)),
+        };
+        for row in rows {
+            lines.add(row.a, row.b, row.lo, row.hi);
+        }
+        let [a, b, lo, hi] = reach;
+        lines.add(a, b, lo, hi);
+        lines
+    }
+
+    /// Adds the row `lo ≤ a u + b x ≤ hi`.
+    fn add(&mut self, a: f64, b: f64, lo: f64, hi: f64) {
+        let scale = a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+        if a.abs() > 1e-12 * scale {
+            let upper = (hi / a, -b / a);
+            let lower = (lo / a, -b / a);
+            let (up, down) = if a > 0.0 {
+                (upper, lower)
+            } else {
+                (lower, upper)
+            };
+            if up.0.is_finite() {
+                self.upper.push(up);
+            }
+            if down.0.is_finite() {
+                self.lower.push(down);
+            }
+        } else if let Some((x_lo, x_hi)) = self.x_bounds {
+            // lo ≤ b x ≤ hi (a row with b = 0 too only needs lo ≤ 0 ≤ hi).
+            let slack = TOLERANCE * (lo.abs().max(hi.abs()) + 1.0);
+            self.x_bounds = if b.abs() <= f64::MIN_POSITIVE {
+                (lo <= slack && hi >= -slack).then_some((x_lo, x_hi))
+            } else {
+                let (first, second) = (lo / b, hi / b);
+                let (below, above) = if b > 0.0 {
+                    (first, second)
+                } else {
+                    (second, first)
+                };
+                Some((x_lo.max(below), x_hi.min(above)))
+            };
+        }
+    }
+
+    /// The smallest upper bound on `u` at `x`.
+    fn upper(&self, x: f64) -> f64 {
+        self.upper
+            .iter()
+            .map(|(alpha, beta)| alpha + beta * x)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The range of `x ∈ [0, x_max]` for which some `u` satisfies every row, or `None`.
+    fn x_range(&self, x_max: f64) -> Option<(f64, f64)> {
+        let (lo, hi) = self.x_bounds?;
+        // Without a bound on x alone, the search starts far beyond any physical speed.
+        let hi = hi.min(x_max).min(UNBOUNDED_X);
+        let slack = TOLERANCE * (1.0 + hi.abs().min(1e12));
+        if lo > hi + slack {
+            return None;
+        }
+        let hi = hi.max(lo);
+        let right = self.feasible_end(hi, lo, Side::Left)?;
+        let left = self.feasible_end(lo, right, Side::Right)?;
+        Some((left.min(right), right))
+    }
+
+    /// From `start`, Newton steps towards `limit` on the slack `g(x) = min upper − max
+    /// lower` (concave, piecewise linear) until `g(x) ≥ 0`: the feasible end of the interval
+    /// on the side of `start`, or `None` when there is none before `limit`.
+    fn feasible_end(&self, start: f64, limit: f64, side: Side) -> Option<f64> {
+        let mut x = start;
+        let steps = 2 * (self.upper.len() + self.lower.len()) + 4;
+        for _ in 0..steps {
+            let (up, up_slope) = active(&self.upper, x, side, Bound::Upper);
+            let (down, down_slope) = active(&self.lower, x, side, Bound::Lower);
+            let gap = up - down;
+            let scale = 1.0 + up.abs().min(1e300) + down.abs().min(1e300);
+            if gap >= -TOLERANCE * scale || gap.is_nan() {
+                return (!gap.is_nan()).then_some(x);
+            }
+            // g grows towards `limit` only when it falls (Left) or rises (Right) at x.
+            let slope = up_slope - down_slope;
+            let next = match side {
+                Side::Left if slope < 0.0 => x - gap / slope,
+                Side::Right if slope > 0.0 => x - gap / slope,
+                _ => return None,
+            };
+            let past = match side {
+                Side::Left => next < limit - TOLERANCE * (1.0 + limit.abs()),
+                Side::Right => next > limit + TOLERANCE * (1.0 + limit.abs()),
+            };
+            if past {
+                return None;
+            }
+            x = match side {
+                Side::Left => next.max(limit),
+                Side::Right => next.min(limit),
+            };
+        }
+        None
+    }
+}
+
+/// Which way a Newton step moves.
+#[derive(Clone, Copy)]
+enum Side {
+    /// Towards smaller `x` (looking for the largest feasible `x`).
+    Left,
+    /// Towards larger `x`.
+    Right,
+}
+
+/// Whether lines are upper bounds (their minimum binds) or lower bounds (their maximum).
+#[derive(Clone, Copy, PartialEq)]
+enum Bound {
+    Upper,
+    Lower,
+}
+
+/// The binding value of `lines` at `x` and the slope of the line that binds just beyond `x`
+/// on `side` (ties broken by the slope, so that a step follows the right piece).
+fn active(lines: &[(f64, f64)], x: f64, side: Side, bound: Bound) -> (f64, f64) {
+    let mut best: Option<(f64, f64)> = None;
+    for &(alpha, beta) in lines {
+        let value = alpha + beta * x;
+        best = match best {
+            None => Some((value, beta)),
+            Some((v, s)) => {
+                let tie = (value - v).abs() <= 1e-14 * (value.abs() + v.abs() + 1.0);
+                let wins = if tie {
+                    // Just left of x, the upper line with the largest slope is the smallest
+                    // and the lower line with the smallest slope the largest; mirrored to
+                    // the right.
+                    match (side, bound) {
+                        (Side::Left, Bound::Upper) | (Side::Right, Bound::Lower) => beta > s,
+                        (Side::Left, Bound::Lower) | (Side::Right, Bound::Upper) => beta < s,
+                    }
+                } else {
+                    match bound {
+                        Bound::Upper => value < v,
+                        Bound::Lower => value > v,
+                    }
+                };
+                Some(if wins { (value, beta) } else { (v, s) })
+            }
+        };
+    }
+    match (best, bound) {
+        (Some(b), _) => b,
+        (None, Bound::Upper) => (f64::INFINITY, 0.0),
+        (None, Bound::Lower) => (f64::NEG_INFINITY, 0.0),
+    }
+}

@@ -1,5 +1,5 @@
-//! Time-optimal timing against toppra 0.6 (`toppra.algorithm.TOPPRA`, collocation, seidel
-//! solver) on random paths of example-robot-data's Panda, UR5 and Baxter arm chains with
+//! Time-optimal timing against toppra 0.6 (`toppra.algorithm.TOPPRA`, seidel solver; both
+//! the collocation and the interpolation discretisation) on random paths of example-robot-data's Panda, UR5 and Baxter arm chains with
 //! velocity, acceleration and torque limits (torques by Pinocchio's `rnea` on the reduced
 //! model, one case with a payload at the tool).
 //!
@@ -16,7 +16,7 @@
 mod common;
 
 use graspath::robot::{Chain, RigidBody, RobotSource};
-use graspath::timing::{JointSpline, PathLimits, PathPoint, TorqueLimits};
+use graspath::timing::{Discretization, JointSpline, PathLimits, PathPoint, TorqueLimits};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
 
@@ -126,39 +126,48 @@ fn durations_equal_toppra_on_panda_ur5_and_baxter() {
         );
         let effort = (!case["torque_limits"].is_null()).then(|| limits(&case["torque_limits"]));
         with_torque += usize::from(effort.is_some());
-        let path_limits = PathLimits {
-            velocity: &velocity,
-            acceleration: &acceleration,
-            torque: effort.as_deref().map(|effort| TorqueLimits {
-                dynamics: &dynamics,
-                effort,
-                payload,
-            }),
-            subdivisions: 2,
-        };
-        let constraints = path_limits.constraints(&spline).unwrap();
-        common::max_relative_error(
-            &constraints.grid,
-            &common::json_numbers(&case["grid"]),
-            1e-12,
-            &format!("{name}: grid"),
-        );
-        let timed = graspath::timing::time_optimal(&constraints).unwrap();
-        let toppra = case["duration"].as_f64().unwrap();
-        let error = (timed.duration() - toppra).abs() / toppra;
-        assert!(
-            error <= DURATION_TOLERANCE,
-            "{name}: {} s vs toppra's {toppra} s (relative {error:.2e})",
-            timed.duration()
-        );
-        let sd = common::json_numbers(&case["sd_squared"]);
-        common::max_relative_error(
-            &timed.sd_squared,
-            &sd,
-            SD_TOLERANCE,
-            &format!("{name}: sd²"),
-        );
-        eprintln!("{name}: {:.9} s, toppra {toppra:.9} s", timed.duration());
+        for (discretization, duration_key, sd_key) in [
+            (Discretization::Collocation, "duration", "sd_squared"),
+            (
+                Discretization::Interpolation,
+                "duration_interpolation",
+                "sd_squared_interpolation",
+            ),
+        ] {
+            let path_limits = PathLimits {
+                velocity: &velocity,
+                acceleration: &acceleration,
+                torque: effort.as_deref().map(|effort| TorqueLimits {
+                    dynamics: &dynamics,
+                    effort,
+                    payload,
+                }),
+                subdivisions: 2,
+                discretization,
+            };
+            let constraints = path_limits.constraints(&spline).unwrap();
+            common::max_relative_error(
+                &constraints.grid,
+                &common::json_numbers(&case["grid"]),
+                1e-12,
+                &format!("{name}: grid"),
+            );
+            let timed = graspath::timing::time_optimal(&constraints).unwrap();
+            let toppra = case[duration_key].as_f64().unwrap();
+            let error = (timed.duration() - toppra).abs() / toppra;
+            assert!(
+                error <= DURATION_TOLERANCE,
+                "{name} ({discretization:?}): {} s vs toppra's {toppra} s (relative {error:.2e})",
+                timed.duration()
+            );
+            let sd = common::json_numbers(&case[sd_key]);
+            common::max_relative_error(
+                &timed.sd_squared,
+                &sd,
+                SD_TOLERANCE,
+                &format!("{name} ({discretization:?}): sd²"),
+            );
+        }
     }
     assert!(with_torque >= 6, "the torque limits are exercised");
 }

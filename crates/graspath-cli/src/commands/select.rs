@@ -13,12 +13,14 @@ use clap::Args;
 use graspath::fsutil::{check_folder_target, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
 use graspath::select::record::Trajectories;
-use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};
+use graspath::select::{
+    select, select_streaming, selected_motions, CandidateScalars, Scored, Selection,
+};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
-    write_candidate_line, write_candidates_json, write_ranking_jsonl, write_ranking_parquet,
-    CandidatesParquet,
+    trajectory_csvs, trajectory_json, write_candidate_line, write_candidates_json,
+    write_ranking_jsonl, write_ranking_parquet, CandidatesParquet,
 };
 use std::fs::File;
 use std::io::BufWriter;
@@ -58,8 +60,47 @@ pub struct SelectArgs {
     /// `all` with `--format json`, `feasible` with `jsonl` and `parquet`).
     #[arg(long, value_enum, value_name = "WHICH")]
     trajectories: Option<TrajectoriesArg>,
+    /// When the task times motions: the sampling period of the selected motions written to
+    /// `trajectory.json` and `trajectory-<arm>.csv` (seconds, default 0.01; `0`: at the
+    /// timing grid's points).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.01, value_parser = sampling_period)]
+    trajectory_period: f64,
     #[command(flatten)]
     output: OutputArgs,
+}
+
+/// `--trajectory-period`: 0 (the grid's points) or from 0.1 ms to 10 s.
+fn sampling_period(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v == 0.0 || (1e-4..=10.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{text}` is not a sampling period: 0 (the timing grid's points) or 0.0001 to 10 seconds"
+        )),
+    }
+}
+
+/// `trajectory.json` and `trajectory-<arm>.csv` of the selected motions, when the task times
+/// motions and something is selected (see [`selected_motions`]); none otherwise.
+fn trajectory_files<S: Scored>(
+    task: &Task,
+    selection: &Selection<S>,
+    period: f64,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    let period = (period > 0.0).then_some(period);
+    let Some(motions) = selected_motions(task, selection, period) else {
+        return Ok(Vec::new());
+    };
+    let motions =
+        motions.map_err(|f| anyhow::anyhow!("the selected motion cannot be timed: {f}"))?;
+    let mut json = serde_json::to_vec_pretty(&trajectory_json(&motions, period))?;
+    json.push(b'\n');
+    let mut files = vec![("trajectory.json".to_string(), json)];
+    files.extend(
+        trajectory_csvs(&motions)
+            .into_iter()
+            .map(|(name, csv)| (name, csv.into_bytes())),
+    );
+    Ok(files)
 }
 
 /// The candidate records' format (`--format`).
@@ -241,6 +282,9 @@ fn stream_task(
     if task.arms.len() == 2 {
         folder.write("pairs.json", &pretty(pairs_json(&selection))?)?;
     }
+    for (name, bytes) in trajectory_files(task, &selection, args.trajectory_period)? {
+        folder.write(&name, &bytes)?;
+    }
     folder.finish()?;
     Ok((selection, elapsed))
 }
@@ -269,6 +313,9 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
             .with_context(|| format!("cannot write {}", args.out.join(name).display()))?;
         for (name, bytes) in &run.files {
             folder.write(name, bytes)?;
+        }
+        for (name, bytes) in trajectory_files(&task, &run.selection, args.trajectory_period)? {
+            folder.write(&name, &bytes)?;
         }
         folder.finish()?;
         return finish(args, &task, &run.selection, &title, run.elapsed);

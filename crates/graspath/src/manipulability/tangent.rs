@@ -123,7 +123,9 @@ impl RankedIndex {
         [q, lower, upper]: [&[f64]; 3],
     ) -> f64 {
         let measure = match self.measure {
-            IndexMeasure::TaskRelevant => rows.task_relevant(jacobian, direction),
+            IndexMeasure::TaskRelevant | IndexMeasure::Duration => {
+                rows.task_relevant(jacobian, direction)
+            }
             IndexMeasure::VelocityRatio => rows.velocity_ratio(jacobian, direction),
         };
         match self.joint_limit_penalty {

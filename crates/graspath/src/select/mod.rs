@@ -1,5 +1,5 @@
 //! Task-relevant grasp selection: score every candidate along the task for each arm, rank them
-//! (single arm) and pair them (two arms).
+//! (single arm) and pair them (two arms); the selected motions timed as trajectories.
 
 mod rank;
 pub mod record;
@@ -7,15 +7,17 @@ mod run;
 mod scalars;
 mod score;
 mod stream;
+mod timed;
 
 pub use rank::{
     assign_ranks, best_pairs, best_pairs_of, rank_candidates, rank_pairs, ranking_alone,
     scores_tied, tied_with, values_tied, ArmPair, PairArm, PositionPair, Ranking,
 };
-pub use run::{pairs_of_eligible, select, ArmResult, PairInputError, Selection};
+pub use run::{pairs_of_eligible, scoring_setup, select, ArmResult, PairInputError, Selection};
 pub use scalars::{CandidateScalars, FailurePoint, Scored};
 pub use score::{
-    for_each_score, score_candidates, wrist_trajectory, CandidateScore, Failure, MotionDurations,
-    ScoringSetup, SelfMotionScores, SPLINE_LIMIT_TOLERANCE, STREAM_CHUNK,
+    for_each_score, score_candidates, timed_together, wrist_trajectory, CandidateScore, Failure,
+    MotionDurations, ScoringSetup, SelfMotionScores, SPLINE_LIMIT_TOLERANCE, STREAM_CHUNK,
 };
 pub use stream::{select_streaming, Streamed, NAMED_BEST};
+pub use timed::{selected_motions, SelectedMotion};

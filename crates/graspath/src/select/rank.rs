@@ -22,8 +22,13 @@ pub struct Ranking {
     pub pareto: bool,
 }
 
-fn norm_value(score: &impl Scored, norm: Norm) -> Option<f64> {
-    score.norms().map(|n| match norm {
+/// The value ranked: the chosen norm, or with `by_duration` the task's rate (1 / duration,
+/// 1/s).
+fn norm_value(score: &impl Scored, options: &SelectionOptions) -> Option<f64> {
+    if options.by_duration {
+        return score.duration().filter(|d| *d > 0.0).map(|d| 1.0 / d);
+    }
+    score.norms().map(|n| match options.norm {
         Norm::L2 => n.l2,
         Norm::L1 => n.l1,
     })
@@ -82,7 +87,7 @@ pub fn ranking_alone(
         None
     };
     let score = (s.feasible() && rejected.is_none())
-        .then(|| norm_value(s, options.norm))
+        .then(|| norm_value(s, options))
         .flatten()
         .map(|norm| {
             let relative_log = s.log_likelihood() - max_log_likelihood;
@@ -136,7 +141,7 @@ pub fn assign_ranks<S: Scored>(scores: &[S], rankings: &mut [Ranking], options: 
     for i in pareto_front(&order, |i| {
         (
             scores[i].log_likelihood(),
-            norm_value(&scores[i], options.norm).unwrap_or(0.0),
+            norm_value(&scores[i], options).unwrap_or(0.0),
         )
     }) {
         rankings[i].pareto = true;
@@ -274,7 +279,7 @@ pub fn best_pairs<S: Scored>(
             .zip(ranks)
             .enumerate()
             .filter(|(_, (_, r))| r.score.is_some())
-            .filter_map(|(i, (s, _))| norm_value(s, options.norm).map(|n| (i, n)))
+            .filter_map(|(i, (s, _))| norm_value(s, options).map(|n| (i, n)))
             .collect()
     };
     best_pairs_of(

@@ -239,7 +239,7 @@ pub fn pairs_of_eligible(
 }
 
 /// What scoring one of the task's arms needs.
-pub(super) fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSetup<'a> {
+pub fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSetup<'a> {
     ScoringSetup {
         arm,
         path: &task.path,

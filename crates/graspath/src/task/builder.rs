@@ -7,7 +7,8 @@ use super::path::{ObjectPath, Sampling, TimedStep};
 use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
 pub(crate) use super::settings::check_count;
 use super::settings::{
-    defaults, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy, SelectionOptions,
+    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy,
+    SelectionOptions,
 };
 use super::timing::{TimingRequest, TimingSettings};
 use crate::collision::{ArmBodies, Body};
@@ -649,6 +650,21 @@ impl TaskBuilder {
                 ));
             }
         }
+        let by_duration = self.ranked.measure == IndexMeasure::Duration;
+        if by_duration {
+            if timing.is_none() {
+                return Err(err(
+                    "index.measure",
+                    "duration needs the motions timed (timing), which is off for this task".into(),
+                ));
+            }
+            if self.ranked.joint_limit_penalty.is_some() {
+                return Err(err(
+                    "index.joint_limit_penalty",
+                    "multiplies a per-sample index; it does not apply to measure duration".into(),
+                ));
+            }
+        }
         if !(self.tie_tolerance.is_finite() && (0.0..1.0).contains(&self.tie_tolerance)) {
             return Err(err(
                 "selection.tie_tolerance",
@@ -785,6 +801,7 @@ impl TaskBuilder {
                 min_clearance: self.min_clearance,
                 min_torque_margin: self.min_torque_margin,
                 max_duration: self.max_duration,
+                by_duration,
                 tie_tolerance: self.tie_tolerance,
             },
             ik,

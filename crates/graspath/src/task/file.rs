@@ -611,6 +611,10 @@ pub struct TimingSettingsFile {
     /// Acceleration limit of joints whose robot gives none (rad/s² or m/s²; default none).
     #[serde(default)]
     pub max_acceleration: Option<f64>,
+    /// Otherwise their limit is the velocity limit over this time to full speed (s; default
+    /// 0.5).
+    #[serde(default)]
+    pub acceleration_time: Option<f64>,
     /// Whether the torque limits bind with the object's mass (default true).
     #[serde(default)]
     pub torque_limits: Option<bool>,

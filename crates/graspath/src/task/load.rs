@@ -137,7 +137,7 @@ fn builder_with(
         Some(name) => IndexMeasure::from_name(name).ok_or_else(|| {
             err(
                 "index.measure",
-                format!("'{name}' is not one of task_relevant, velocity_ratio"),
+                format!("'{name}' is not one of task_relevant, velocity_ratio, duration"),
             )
         })?,
     };
@@ -853,6 +853,7 @@ fn timing_request(timing: Option<&TimingFile>) -> TimingRequest {
             velocity_scale: t.velocity_scale.unwrap_or(defaults.velocity_scale),
             acceleration_scale: t.acceleration_scale.unwrap_or(defaults.acceleration_scale),
             max_acceleration: t.max_acceleration.or(defaults.max_acceleration),
+            acceleration_time: t.acceleration_time.unwrap_or(defaults.acceleration_time),
             torque_limits: t.torque_limits.unwrap_or(defaults.torque_limits),
         }),
     }

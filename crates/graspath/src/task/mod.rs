@@ -39,4 +39,4 @@ pub use settings::{
     defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
     Redundancy, SelectionOptions,
 };
-pub use timing::{TimingRequest, TimingSettings};
+pub use timing::{TimingRequest, TimingSettings, DEFAULT_ACCELERATION_TIME};

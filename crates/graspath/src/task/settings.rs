@@ -50,20 +50,25 @@ pub enum IndexMeasure {
     /// along `u` a unit joint velocity reaches (0 where `u` is a singular direction). Not the
     /// paper's index: it weighs the directions the arm is slow in, not the fast ones.
     VelocityRatio,
+    /// The time the whole motion takes, fastest within the joints' limits (smaller is better:
+    /// candidates are ranked by its inverse, the task's rate); needs timing. The per-sample
+    /// series is `M_T`, as with [`IndexMeasure::TaskRelevant`].
+    Duration,
 }
 
 impl IndexMeasure {
-    /// The task-file spelling: `task_relevant`, `velocity_ratio`.
+    /// The task-file spelling: `task_relevant`, `velocity_ratio`, `duration`.
     pub fn as_str(self) -> &'static str {
         match self {
             IndexMeasure::TaskRelevant => "task_relevant",
             IndexMeasure::VelocityRatio => "velocity_ratio",
+            IndexMeasure::Duration => "duration",
         }
     }
 
     /// The variant spelled `name`, if any.
     pub fn from_name(name: &str) -> Option<Self> {
-        [Self::TaskRelevant, Self::VelocityRatio]
+        [Self::TaskRelevant, Self::VelocityRatio, Self::Duration]
             .into_iter()
             .find(|m| m.as_str() == name)
     }
@@ -118,6 +123,15 @@ impl RankedIndex {
     /// Whether the ranked value is the paper's `M_T` itself.
     pub fn is_task_relevant(&self) -> bool {
         self.measure == IndexMeasure::TaskRelevant && self.joint_limit_penalty.is_none()
+    }
+
+    /// Whether the per-sample series is `M_T` itself (the paper's index, or the duration,
+    /// which is ranked on the whole motion and keeps `M_T` per sample).
+    pub fn series_is_m_t(&self) -> bool {
+        matches!(
+            self.measure,
+            IndexMeasure::TaskRelevant | IndexMeasure::Duration
+        ) && self.joint_limit_penalty.is_none()
     }
 }
 
@@ -200,6 +214,9 @@ pub struct SelectionOptions {
     pub min_torque_margin: Option<f64>,
     /// Reject candidates whose timed motion takes longer than this (s; `None`: no bound).
     pub max_duration: Option<f64>,
+    /// Rank by the inverse of the motion's duration instead of the norm (`index.measure:
+    /// duration`).
+    pub by_duration: bool,
     /// Two eligible candidates whose scores differ by at most this, relative to the larger
     /// (absolute for [`LikelihoodRule::Weighted`], whose score is a logarithm), are reported as
     /// tied (see [`crate::select::scores_tied`]); ranks are not changed by it.
@@ -217,6 +234,7 @@ impl Default for SelectionOptions {
             min_clearance: None,
             min_torque_margin: None,
             max_duration: None,
+            by_duration: false,
             tie_tolerance: defaults::TIE_TOLERANCE,
         }
     }

@@ -14,9 +14,15 @@ pub struct TimingSettings {
     pub velocity_scale: f64,
     /// The fraction of the acceleration limits used, in `(0, 1]`.
     pub acceleration_scale: f64,
-    /// The acceleration limit (rad/s² or m/s²) of joints whose robot gives none; `None`
-    /// leaves them unlimited (their torque limits still bound them, with dynamics).
+    /// The acceleration limit (rad/s² or m/s²) of joints whose robot gives none.
     pub max_acceleration: Option<f64>,
+    /// For joints with no acceleration limit from the robot or `max_acceleration`: the time
+    /// (s) to reach full speed, so that the limit is the velocity limit divided by it. Makers
+    /// rarely publish acceleration limits (of the built-in arms only the Panda's are), and a
+    /// motion timed without one would jump to full speed; 0.5 s gives 6.3 rad/s² for a UR
+    /// joint (Universal Robots' own ROS 2 driver sets 5 rad/s² for MoveIt) and 3 rad/s² for
+    /// Baxter's shoulder.
+    pub acceleration_time: f64,
     /// Whether the joint torque limits bind (through the arm's dynamics and the carried
     /// object, where the robot gives inertias and effort limits).
     pub torque_limits: bool,
@@ -30,10 +36,14 @@ impl Default for TimingSettings {
             velocity_scale: 1.0,
             acceleration_scale: 1.0,
             max_acceleration: None,
+            acceleration_time: DEFAULT_ACCELERATION_TIME,
             torque_limits: true,
         }
     }
 }
+
+/// The default [`TimingSettings::acceleration_time`] (s).
+pub const DEFAULT_ACCELERATION_TIME: f64 = 0.5;
 
 /// Whether a task times its candidates' motions.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -65,6 +75,15 @@ impl TimingSettings {
             if !(scale > 0.0 && scale <= 1.0) {
                 return Err((field, format!("must be a fraction in (0, 1], got {scale}")));
             }
+        }
+        if !(self.acceleration_time > 0.0 && self.acceleration_time <= 60.0) {
+            return Err((
+                "timing.acceleration_time",
+                format!(
+                    "must be a time to full speed in (0, 60] seconds, got {}",
+                    self.acceleration_time
+                ),
+            ));
         }
         if let Some(a) = self.max_acceleration {
             if !(a > 0.0 && a.is_finite()) {

@@ -24,7 +24,7 @@ mod tests;
 
 pub use motion::{PathLimits, TorqueLimits};
 pub use spline::{JointSpline, PathPoint, REPEATED_SAMPLE};
-pub use topp::{time_optimal, Constraints, Limit, Row, TimedPath};
+pub use topp::{time_optimal, Constraints, Discretization, Limit, Row, TimedPath};
 pub use trajectory::{TimedTrajectory, Torques, TrajectoryPoint, MAX_POINTS};
 
 use crate::robot::RobotError;

@@ -9,7 +9,7 @@
 //!   `b = M(q) q'' + C(q, q') q' = rnea(q, q', q'') − c` (payload included).
 
 use super::spline::{JointSpline, PathPoint};
-use super::topp::{time_optimal, Constraints, Limit, Row, TimedPath};
+use super::topp::{time_optimal, Constraints, Discretization, Limit, Row, TimedPath};
 use super::TimingError;
 use crate::robot::{Dynamics, RigidBody};
 
@@ -26,6 +26,8 @@ pub struct PathLimits<'a> {
     /// Grid intervals per spline interval (at least 1): the grid is the spline's knots with
     /// every interval split into this many equal parts.
     pub subdivisions: usize,
+    /// Where each stage's constraints are imposed.
+    pub discretization: Discretization,
 }
 
 /// Joint torque limits and the dynamics that turn a motion into torques.
@@ -40,9 +42,96 @@ pub struct TorqueLimits<'a> {
 }
 
 impl PathLimits<'_> {
-    /// The fastest motion along `spline` from rest to rest within these limits.
+    /// The fastest motion along `spline` from rest to rest within these limits: the
+    /// reachability analysis on the grid ([`time_optimal`]), then checked between the grid
+    /// points ([`PathLimits::slowdown`]) and slowed uniformly where the limits need it.
     pub fn time(&self, spline: &JointSpline) -> Result<TimedPath, TimingError> {
-        time_optimal(&self.constraints(spline)?)
+        let timed = time_optimal(&self.constraints(spline)?)?;
+        let factor = self.slowdown(spline, &timed)?;
+        Ok(if factor > 1.0 {
+            timed.slowed(factor)
+        } else {
+            timed
+        })
+    }
+
+    /// How much slower (`≥ 1`) `timed` must run for every limit to hold between its grid
+    /// points too. The reachability analysis imposes the limits at the grid points; between
+    /// them the path acceleration is constant while `q'(s)` and `q''(s)` vary, so a joint can
+    /// exceed its limit there by a few per cent on a coarse grid. Velocities and accelerations
+    /// are checked at the quarter points of every grid interval, torques at its middle; a
+    /// uniform slow-down by `k` divides velocities by `k` and accelerations by `k²`, and moves
+    /// each torque to `g + (τ − g)/k²` ([`TimedPath::slowed`]).
+    pub fn slowdown(&self, spline: &JointSpline, timed: &TimedPath) -> Result<f64, TimingError> {
+        let dof = spline.dof();
+        let torqued: Vec<(usize, f64)> = self.torque.map_or(Vec::new(), |t| limited(t.effort));
+        let mut dynamics = match &self.torque {
+            Some(t) if !torqued.is_empty() => {
+                let mut data = t.dynamics.data();
+                data.set_payload(t.payload)?;
+                Some((t.dynamics, data))
+            }
+            _ => None,
+        };
+        let [mut q, mut dq, mut ddq, mut qd, mut qdd, mut tau, mut g, zero] =
+            std::array::from_fn(|_| vec![0.0; dof]);
+        // The smallest k², from velocities (k² ≥ ratio²), accelerations and torques.
+        let mut k2: f64 = 1.0;
+        for i in 0..timed.grid.len().saturating_sub(1) {
+            let (s0, s1) = (timed.grid[i], timed.grid[i + 1]);
+            let (x0, x1) = (timed.sd_squared[i], timed.sd_squared[i + 1]);
+            let u = (x1 - x0) / (2.0 * (s1 - s0));
+            for fraction in [0.25, 0.5, 0.75] {
+                let s = s0 + fraction * (s1 - s0);
+                let x = (x0 + fraction * (x1 - x0)).max(0.0);
+                spline.evaluate_into(
+                    s,
+                    PathPoint {
+                        q: &mut q,
+                        dq: &mut dq,
+                        ddq: &mut ddq,
+                    },
+                );
+                let sd = x.sqrt();
+                for j in 0..dof {
+                    qd[j] = dq[j] * sd;
+                    qdd[j] = dq[j] * u + ddq[j] * x;
+                    if let Some(v) = self.velocity[j] {
+                        k2 = k2.max((qd[j] / v).powi(2));
+                    }
+                    if let Some(a) = self.acceleration[j] {
+                        k2 = k2.max(qdd[j].abs() / a);
+                    }
+                }
+                if fraction != 0.5 {
+                    continue;
+                }
+                if let Some((model, data)) = dynamics.as_mut() {
+                    model.inverse_dynamics_into(data, &q, &zero, &zero, &mut g)?;
+                    model.inverse_dynamics_into(data, &q, &qd, &qdd, &mut tau)?;
+                    for &(j, limit) in &torqued {
+                        // g + (τ − g)/k² within ±limit, with g itself within it.
+                        let bound = if tau[j] > limit {
+                            limit
+                        } else if tau[j] < -limit {
+                            -limit
+                        } else {
+                            continue;
+                        };
+                        let room = bound - g[j];
+                        if room * bound <= 0.0 {
+                            return Err(TimingError::Infeasible {
+                                grid_point: i,
+                                s,
+                                limit: Some(Limit::Torque(j)),
+                            });
+                        }
+                        k2 = k2.max((tau[j] - g[j]) / room);
+                    }
+                }
+            }
+        }
+        Ok(k2.sqrt())
     }
 
     /// The grid of `spline` (see [`PathLimits::subdivisions`]) and the constraints at each of
@@ -101,6 +190,7 @@ impl PathLimits<'_> {
             }
         }
         Ok(Constraints {
+            discretization: self.discretization,
             grid,
             x_max,
             rows_per_point,

@@ -23,6 +23,7 @@ fn one_joint(distance: f64, samples: usize, v: f64, a: f64, parts: usize) -> Tim
         acceleration: &[Some(a)],
         torque: None,
         subdivisions: parts,
+        discretization: Discretization::default(),
     }
     .time(&spline)
     .unwrap()
@@ -69,6 +70,7 @@ fn the_sampled_trajectory_respects_the_limits_and_ends_at_rest() {
         acceleration: &a,
         torque: None,
         subdivisions: 3,
+        discretization: Discretization::default(),
     };
     let timed = limits.time(&spline).unwrap();
     let names: Vec<String> = ["a", "b", "c"].map(String::from).to_vec();
@@ -103,6 +105,7 @@ fn an_unreachable_limit_is_infeasible_and_names_it() {
         acceleration: &[Some(0.0)],
         torque: None,
         subdivisions: 1,
+        discretization: Discretization::default(),
     }
     .time(&spline)
     .unwrap_err();
@@ -121,8 +124,44 @@ fn a_repeated_sample_adds_no_path_and_a_single_one_takes_no_time() {
         acceleration: &[None, None],
         torque: None,
         subdivisions: 2,
+        discretization: Discretization::default(),
     }
     .time(&spline)
     .unwrap();
     assert_eq!(timed.duration(), 0.0);
+}
+
+#[test]
+fn interpolation_is_never_faster_than_collocation() {
+    let q: Vec<Vec<f64>> = (0..40)
+        .map(|k| {
+            let t = k as f64 / 39.0;
+            vec![(3.0 * t).sin(), 0.5 * t * t - t, (2.0 * t).cos()]
+        })
+        .collect();
+    let spline = JointSpline::through(&q).unwrap();
+    let (v, a) = (
+        [Some(1.0), Some(0.5), Some(0.8)],
+        [Some(3.0), Some(2.0), Some(4.0)],
+    );
+    let time = |discretization| {
+        PathLimits {
+            velocity: &v,
+            acceleration: &a,
+            torque: None,
+            subdivisions: 2,
+            discretization,
+        }
+        .time(&spline)
+        .unwrap()
+        .duration()
+    };
+    let (c, i) = (
+        time(Discretization::Collocation),
+        time(Discretization::Interpolation),
+    );
+    assert!(
+        i >= c * (1.0 - 1e-12),
+        "interpolation {i} s < collocation {c} s"
+    );
 }

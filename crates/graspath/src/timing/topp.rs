@@ -6,7 +6,8 @@
 //! joint velocities `q'(s) ṡ` bound `x` alone; joint accelerations `q' u + q'' x` and joint
 //! torques `a(s) u + b(s) x + c(s)` are rows `lo ≤ a u + b x ≤ hi`. Between grid points `u` is
 //! constant, so `x_{i+1} = x_i + 2 Δ_i u_i`. The constraints are imposed at the grid points
-//! (toppra's *collocation* discretisation).
+//! (toppra's *collocation* discretisation) or, by default, at both ends of each stage with
+//! the stage's `u` (its *interpolation* discretisation; see [`Discretization`]).
 //!
 //! The backward pass computes each grid point's *controllable set* `K_i`: the `x_i` from
 //! which some admissible `u_i` reaches `K_{i+1}` (`K_N = {x_end}`), the projection on `x` of a
@@ -45,10 +46,25 @@ pub enum Limit {
     Torque(usize),
 }
 
+/// Where a stage's constraints are imposed (toppra's `DiscretizationType`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Discretization {
+    /// At the stage's start only: `(u_i, x_i)` satisfies grid point `i`'s rows.
+    Collocation,
+    /// At both ends of the stage with its one `u_i`: grid point `i`'s rows at `(u_i, x_i)`
+    /// and grid point `i+1`'s at `(u_i, x_i + 2Δ_i u_i)`, the path acceleration the motion
+    /// actually keeps up to the next grid point. The limits then hold at both ends of every
+    /// interval of the timed motion, not only where each interval starts (the default).
+    #[default]
+    Interpolation,
+}
+
 /// The constraints of a path on a grid: at each grid point an upper bound on `x` and the
 /// same number of rows.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Constraints {
+    /// Where each stage's constraints are imposed.
+    pub discretization: Discretization,
     /// The grid, strictly increasing.
     pub grid: Vec<f64>,
     /// The largest `x = ṡ²` at each grid point (`+∞` when unbounded), with what bounds it.
@@ -74,6 +90,22 @@ impl TimedPath {
     /// The motion's duration (s).
     pub fn duration(&self) -> f64 {
         self.times.last().copied().unwrap_or(0.0)
+    }
+
+    /// The same motion `factor` (≥ 1) times slower: every time multiplied by it, `ṡ`
+    /// divided by it. Velocities scale by `1/factor` and accelerations by `1/factor²`, and
+    /// each torque `g + (τ − g)/factor²` lies between the original one and the static `g(q)`:
+    /// every limit that held, with the path's static torques within theirs, still holds.
+    pub fn slowed(&self, factor: f64) -> Self {
+        Self {
+            grid: self.grid.clone(),
+            sd_squared: self
+                .sd_squared
+                .iter()
+                .map(|x| x / (factor * factor))
+                .collect(),
+            times: self.times.iter().map(|t| t * factor).collect(),
+        }
     }
 
     /// The path parameter, `ṡ` and `s̈` at time `t` (clamped to `[0, duration]`).
@@ -123,7 +155,7 @@ pub fn time_optimal(constraints: &Constraints) -> Result<TimedPath, TimingError>
     for i in 0..n - 1 {
         let delta = constraints.grid[i + 1] - constraints.grid[i];
         let (k_lo, k_hi) = controllable[i + 1];
-        let lines = Lines::at(constraints.rows_of(i), reach_row(delta, k_lo, k_hi));
+        let lines = constraints.stage(i, reach_row(delta, k_lo, k_hi));
         let u = lines.upper(x[i]);
         x[i + 1] = (x[i] + 2.0 * delta * u).clamp(k_lo, k_hi).max(0.0);
         let speeds = x[i].sqrt() + x[i + 1].sqrt();
@@ -144,6 +176,24 @@ impl Constraints {
     fn rows_of(&self, i: usize) -> &[Row] {
         &self.rows[i * self.rows_per_point..(i + 1) * self.rows_per_point]
     }
+
+    /// Stage `i`'s constraints on `(u_i, x_i)` as lines, with the reach row.
+    fn stage(&self, i: usize, reach: [f64; 4]) -> Lines {
+        let mut lines = Lines::with_capacity(2 * self.rows_per_point + 1);
+        for row in self.rows_of(i) {
+            lines.add(row.a, row.b, row.lo, row.hi);
+        }
+        if self.discretization == Discretization::Interpolation && i + 1 < self.grid.len() {
+            // a u + b (x + 2Δu) at the next grid point.
+            let two_delta = 2.0 * (self.grid[i + 1] - self.grid[i]);
+            for row in self.rows_of(i + 1) {
+                lines.add(row.a + two_delta * row.b, row.b, row.lo, row.hi);
+            }
+        }
+        let [a, b, lo, hi] = reach;
+        lines.add(a, b, lo, hi);
+        lines
+    }
 }
 
 /// `K_i` for every grid point, from the end (at rest) backwards.
@@ -153,7 +203,7 @@ fn controllable_sets(constraints: &Constraints) -> Result<Vec<(f64, f64)>, Timin
     for i in (0..n - 1).rev() {
         let delta = constraints.grid[i + 1] - constraints.grid[i];
         let (k_lo, k_hi) = sets[i + 1];
-        let lines = Lines::at(constraints.rows_of(i), reach_row(delta, k_lo, k_hi));
+        let lines = constraints.stage(i, reach_row(delta, k_lo, k_hi));
         let x_max = constraints.x_max[i].0;
         sets[i] = lines
             .x_range(x_max)
@@ -201,19 +251,13 @@ struct Lines {
 }
 
 impl Lines {
-    /// The lines of `rows` and of the reach row `[a, b, lo, hi]`.
-    fn at(rows: &[Row], reach: [f64; 4]) -> Self {
-        let mut lines = Lines {
-            upper: Vec::with_capacity(rows.len() + 1),
-            lower: Vec::with_capacity(rows.len() + 1),
+    /// No lines yet (room for `rows`), `x ≥ 0`.
+    fn with_capacity(rows: usize) -> Self {
+        Lines {
+            upper: Vec::with_capacity(rows),
+            lower: Vec::with_capacity(rows),
             x_bounds: Some((0.0, f64::INFINITY)),
-        };
-        for row in rows {
-            lines.add(row.a, row.b, row.lo, row.hi);
         }
-        let [a, b, lo, hi] = reach;
-        lines.add(a, b, lo, hi);
-        lines
     }
 
     /// Adds the row `lo ≤ a u + b x ≤ hi`.
@@ -358,5 +402,72 @@ fn active(lines: &[(f64, f64)], x: f64, side: Side, bound: Bound) -> (f64, f64) 
         (Some(b), _) => b,
         (None, Bound::Upper) => (f64::INFINITY, 0.0),
         (None, Bound::Lower) => (f64::NEG_INFINITY, 0.0),
+    }
+}
+
+#[cfg(test)]
+mod projection_tests {
+    use super::*;
+
+    /// The largest x with some u between every lower and upper line, by brute force over the
+    /// vertices (pairwise intersections and the bounds).
+    fn brute_max(lines: &Lines, x_max: f64) -> Option<f64> {
+        let (lo, hi) = lines.x_bounds?;
+        let hi = hi.min(x_max).min(UNBOUNDED_X);
+        let feasible = |x: f64| {
+            let up = lines
+                .upper
+                .iter()
+                .map(|(a, b)| a + b * x)
+                .fold(f64::INFINITY, f64::min);
+            let down = lines
+                .lower
+                .iter()
+                .map(|(a, b)| a + b * x)
+                .fold(f64::NEG_INFINITY, f64::max);
+            up - down >= -1e-9 * (1.0 + up.abs() + down.abs())
+        };
+        let mut candidates = vec![lo, hi];
+        for (a1, b1) in &lines.upper {
+            for (a2, b2) in &lines.lower {
+                if (b1 - b2).abs() > 0.0 {
+                    candidates.push((a2 - a1) / (b1 - b2));
+                }
+            }
+        }
+        candidates
+            .into_iter()
+            .filter(|x| *x >= lo - 1e-12 && *x <= hi + 1e-12 && feasible(*x))
+            .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x))))
+    }
+
+    #[test]
+    fn newton_equals_brute_force_on_random_stages() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+        let mut checked = 0;
+        for _ in 0..20000 {
+            let mut lines = Lines::with_capacity(12);
+            for _ in 0..rng.random_range(1..10) {
+                let a: f64 = rng.random_range(-2.0..2.0);
+                let b: f64 = rng.random_range(-2.0..2.0);
+                let w: f64 = rng.random_range(0.1..3.0);
+                let c: f64 = rng.random_range(-0.5..0.5);
+                lines.add(a, b, c - w, c + w);
+            }
+            lines.add(0.1, 1.0, 0.0, rng.random_range(0.0..5.0));
+            let x_max = rng.random_range(0.5..10.0);
+            let ours = lines.x_range(x_max).map(|r| r.1);
+            let brute = brute_max(&lines, x_max);
+            match (ours, brute) {
+                (Some(o), Some(b)) => {
+                    assert!((o - b).abs() <= 1e-7 * (1.0 + b.abs()), "{o} vs {b}");
+                    checked += 1;
+                }
+                (None, None) => {}
+                other => panic!("{other:?}"),
+            }
+        }
+        assert!(checked > 1000);
     }
 }

@@ -26,6 +26,7 @@ use crate::task::{
     defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
     Stroke, TimingSettings, WholeMotionPlan,
 };
+use crate::timing::TimedTrajectory;
 use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
 use nalgebra::{Isometry3, Matrix6xX};
@@ -249,6 +250,50 @@ pub fn for_each_score(
             .collect();
         scores.into_iter().flatten().for_each(&mut consume);
     }
+}
+
+/// The chosen motions of feasible candidates — one per arm, each scored with its arm's setup
+/// — timed as the task times motions on one shared timeline, and sampled every `period`
+/// seconds (at the timing grid's points with `None`): positions, velocities, accelerations
+/// and, with the arm's dynamics, torques. Arms that move the object together wait for each
+/// other: each part of the motion (approach, carry, retreat; or the whole without stops)
+/// takes the slowest arm's time, the faster arms' timings slowed uniformly to it. `None`
+/// when the task does not time motions or a candidate is not feasible.
+pub fn timed_together(
+    members: &[(ScoringSetup<'_>, &CandidateScore)],
+    period: Option<f64>,
+) -> Option<Result<Vec<TimedTrajectory>, Failure>> {
+    if members.iter().any(|(_, score)| !score.feasible()) {
+        return None;
+    }
+    let scorings: Vec<Scoring<'_>> = members
+        .iter()
+        .map(|(setup, score)| Scoring::new(setup, &score.candidate))
+        .collect();
+    let checks: Vec<TimingCheck<'_>> = scorings
+        .iter()
+        .map(TimingCheck::of)
+        .collect::<Option<_>>()?;
+    let timed = || -> Result<Vec<TimedTrajectory>, Failure> {
+        let mut motions = Vec::with_capacity(members.len());
+        for (check, (_, score)) in checks.iter().zip(members) {
+            let q: Vec<Vec<f64>> = score
+                .approach
+                .iter()
+                .chain(&score.joint_trajectory)
+                .chain(&score.retreat)
+                .cloned()
+                .collect();
+            motions.push(check.timed(&q)?);
+        }
+        timing_check::synchronise(&mut motions);
+        checks
+            .iter()
+            .zip(motions)
+            .map(|(check, segments)| check.sample(segments, period))
+            .collect()
+    };
+    Some(timed())
 }
 
 /// Scores every candidate for one arm (see [`for_each_score`]), in candidate order.

@@ -133,7 +133,7 @@ pub(super) fn index_along(
             .tangent(i, object_from_wrist, mode)
             .filter(|_| chain.pose_and_jacobian_into(q, jacobian).is_ok());
         m_t.push(at.map(|d| mode.task_relevant(jacobian, &d)));
-        if !ranked.is_task_relevant() {
+        if !ranked.series_is_m_t() {
             values.push(
                 at.map(|d| ranked.value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])),
             );
@@ -141,7 +141,7 @@ pub(super) fn index_along(
     }
     IndexSeries {
         m_t,
-        ranked: (!ranked.is_task_relevant()).then_some(values),
+        ranked: (!ranked.series_is_m_t()).then_some(values),
     }
 }
 

@@ -12,12 +12,15 @@ use crate::failure::{Failure, FailureReason, Phase};
 use crate::robot::{Dynamics, RigidBody};
 use crate::task::TimingSettings;
 use crate::timing::{
-    Constraints, JointSpline, Limit, PathLimits, PathPoint, TimedPath, TimingError, TorqueLimits,
+    Constraints, Discretization, JointSpline, Limit, PathLimits, PathPoint, TimedPath,
+    TimedTrajectory, TimingError, TorqueLimits, TrajectoryPoint,
 };
 use std::ops::Range;
 
-/// How far (rad or m) a smoothed motion may leave a joint's range between samples: rounding.
-pub const SPLINE_LIMIT_TOLERANCE: f64 = 1e-9;
+/// How far (rad or m) a smoothed motion may leave a joint's range between samples: a
+/// micro-radian, far below any joint encoder's resolution (IK samples that ride a limit give
+/// excursions of a few 1e-9 rad).
+pub const SPLINE_LIMIT_TOLERANCE: f64 = 1e-6;
 
 /// How long a candidate's chosen motion takes, and how far its smoothing departs from the
 /// IK samples.
@@ -75,6 +78,7 @@ impl<'a> TimingCheck<'a> {
             .map(|l| {
                 l.acceleration
                     .or(settings.max_acceleration)
+                    .or(l.velocity.map(|v| v / settings.acceleration_time))
                     .map(|a| a * settings.acceleration_scale)
             })
             .collect();
@@ -117,19 +121,20 @@ impl<'a> TimingCheck<'a> {
                 payload: if carrying { self.payload } else { None },
             }),
             subdivisions: self.settings.subdivisions,
+            discretization: Discretization::Interpolation,
         }
     }
 
-    /// The motion through `q[range]` timed from rest to rest; its duration and the spline's
-    /// deviation.
+    /// The motion through `q[range]` as a spline timed from rest to rest (`None` for fewer
+    /// than two samples).
     fn time_segment(
         &self,
         q: &[Vec<f64>],
         range: Range<usize>,
         carrying: bool,
-    ) -> Result<(f64, f64), Failure> {
+    ) -> Result<Option<TimedSegment>, Failure> {
         if range.len() < 2 {
-            return Ok((0.0, 0.0));
+            return Ok(None);
         }
         let samples = &q[range.clone()];
         let spline = JointSpline::through(samples).map_err(|e| self.failure(range.start, &e))?;
@@ -138,16 +143,22 @@ impl<'a> TimingCheck<'a> {
             .limits(carrying)
             .time(&spline)
             .map_err(|e| self.timing_failure(&e, samples, range.start))?;
-        Ok((timed.duration(), spline.deviation_from_chords()))
+        Ok(Some(TimedSegment {
+            spline,
+            timed,
+            carried: carrying.then_some((0.0, f64::INFINITY)),
+            hold: 0.0,
+        }))
     }
 
-    /// The whole motion as one, the payload's torques only on the carry's grid points; its
-    /// parts' durations at the grasp and the place.
-    fn time_whole(&self, q: &[Vec<f64>]) -> Result<MotionDurations, Failure> {
+    /// The whole motion as one, the payload's torques only on the carry's grid points.
+    fn time_whole(&self, q: &[Vec<f64>]) -> Result<TimedSegment, Failure> {
         let spline = JointSpline::through(q).map_err(|e| self.failure(0, &e))?;
         self.check_range(&spline, q, 0)?;
-        let at = |sample: usize| parameter_of(q, sample);
-        let (grasp, place) = (at(self.carry.start), at(self.carry.end - 1));
+        let (grasp, place) = (
+            parameter_of(q, self.carry.start),
+            parameter_of(q, self.carry.end - 1),
+        );
         let empty = self.limits(false).constraints(&spline);
         let loaded = self.limits(true).constraints(&spline);
         let constraints = match (empty, loaded) {
@@ -156,13 +167,74 @@ impl<'a> TimingCheck<'a> {
         };
         let timed =
             crate::timing::time_optimal(&constraints).map_err(|e| self.timing_failure(&e, q, 0))?;
-        let (t_grasp, t_place) = (time_at(&timed, grasp), time_at(&timed, place));
-        Ok(MotionDurations {
-            approach: t_grasp,
-            carry: t_place - t_grasp,
-            retreat: timed.duration() - t_place,
-            spline_deviation: spline.deviation_from_chords(),
+        let carried = Some((time_at(&timed, grasp), time_at(&timed, place)));
+        Ok(TimedSegment {
+            spline,
+            timed,
+            carried,
+            hold: 0.0,
         })
+    }
+
+    /// The whole motion `q` timed: its segments in order (three with stops, one without).
+    pub(super) fn timed(&self, q: &[Vec<f64>]) -> Result<Vec<TimedSegment>, Failure> {
+        if !self.settings.stops {
+            return Ok(vec![self.time_whole(q)?]);
+        }
+        let mut segments = Vec::with_capacity(3);
+        for (range, carrying) in [
+            (self.approach.clone(), false),
+            (self.carry.clone(), true),
+            (self.retreat.clone(), false),
+        ] {
+            segments.extend(self.time_segment(q, range, carrying)?);
+        }
+        Ok(segments)
+    }
+
+    /// A timed motion's segments sampled every `period` seconds (at the grid points with
+    /// `None`), one after the other; torques with the arm's dynamics (the object's from the
+    /// grasp to the place).
+    pub(super) fn sample(
+        &self,
+        segments: Vec<TimedSegment>,
+        period: Option<f64>,
+    ) -> Result<TimedTrajectory, Failure> {
+        let names = self.scoring.setup.arm.chain.joint_names();
+        let mut trajectory = TimedTrajectory::default();
+        let dynamics = self.scoring.setup.arm.dynamics.as_deref();
+        for segment in segments {
+            let sample = |payload: Option<RigidBody>| {
+                TimedTrajectory::sample(
+                    names,
+                    &segment.spline,
+                    &segment.timed,
+                    period,
+                    dynamics.map(|d| (d, payload)),
+                )
+                .map_err(|e| self.failure(0, &e))
+            };
+            let mut part = sample(None)?;
+            if let (Some((from, to)), Some(_)) = (segment.carried, self.payload) {
+                let loaded = sample(self.payload)?;
+                for (point, with) in part.points.iter_mut().zip(loaded.points) {
+                    if (from..=to).contains(&point.time) {
+                        point.efforts = with.efforts;
+                    }
+                }
+            }
+            // A segment that does not move waits, at rest, for the other arms.
+            if segment.hold > part.duration() {
+                if let Some(last) = part.points.last().cloned() {
+                    part.points.push(TrajectoryPoint {
+                        time: segment.hold,
+                        ..last
+                    });
+                }
+            }
+            trajectory.extend(part);
+        }
+        Ok(trajectory)
     }
 
     /// A smoothed motion that leaves a joint's range (beyond [`SPLINE_LIMIT_TOLERANCE`]) at
@@ -249,20 +321,81 @@ impl<'a> TimingCheck<'a> {
 
 impl BranchCheck for TimingCheck<'_> {
     fn check(&self, q: &[Vec<f64>], findings: &mut BranchFindings) -> Result<(), Failure> {
-        findings.durations = Some(if self.settings.stops {
-            let (approach, a) = self.time_segment(q, self.approach.clone(), false)?;
-            let (carry, c) = self.time_segment(q, self.carry.clone(), true)?;
-            let (retreat, r) = self.time_segment(q, self.retreat.clone(), false)?;
+        let segments = self.timed(q)?;
+        let deviation = segments
+            .iter()
+            .map(|s| s.spline.deviation_from_chords())
+            .fold(0.0, f64::max);
+        let durations = if self.settings.stops {
+            // The segments present, in order; an absent approach or retreat takes no time.
+            let mut parts = segments.iter().map(|s| s.timed.duration());
+            let approach = if self.approach.len() >= 2 {
+                parts.next()
+            } else {
+                None
+            };
+            let carry = if self.carry.len() >= 2 {
+                parts.next()
+            } else {
+                None
+            };
+            let retreat = if self.retreat.len() >= 2 {
+                parts.next()
+            } else {
+                None
+            };
             MotionDurations {
-                approach,
-                carry,
-                retreat,
-                spline_deviation: a.max(c).max(r),
+                approach: approach.unwrap_or(0.0),
+                carry: carry.unwrap_or(0.0),
+                retreat: retreat.unwrap_or(0.0),
+                spline_deviation: deviation,
             }
         } else {
-            self.time_whole(q)?
-        });
+            let whole = &segments[0];
+            let (grasp, place) = whole.carried.unwrap_or((0.0, 0.0));
+            MotionDurations {
+                approach: grasp,
+                carry: place - grasp,
+                retreat: whole.timed.duration() - place,
+                spline_deviation: deviation,
+            }
+        };
+        findings.durations = Some(durations);
         Ok(())
+    }
+}
+
+/// One rest-to-rest motion of a timed branch: its spline, its timing, and the times between
+/// which it carries the object (`None`: it does not).
+pub(super) struct TimedSegment {
+    spline: JointSpline,
+    timed: TimedPath,
+    carried: Option<(f64, f64)>,
+    /// How long the segment lasts when it does not move (0) while another arm's does (s).
+    hold: f64,
+}
+
+/// Puts the timed motions of arms that move the object together on one timeline: each
+/// segment (by position) takes the slowest arm's time, the faster arms' timings slowed
+/// uniformly to it (`ṡ` divided by the factor, so every limit still holds).
+pub(super) fn synchronise(motions: &mut [Vec<TimedSegment>]) {
+    let parts = motions.iter().map(Vec::len).max().unwrap_or(0);
+    for k in 0..parts {
+        let slowest = motions
+            .iter()
+            .filter_map(|m| m.get(k))
+            .map(|s| s.timed.duration())
+            .fold(0.0, f64::max);
+        for segment in motions.iter_mut().filter_map(|m| m.get_mut(k)) {
+            let own = segment.timed.duration();
+            if own > 0.0 {
+                let factor = slowest / own;
+                segment.timed = segment.timed.slowed(factor);
+                segment.carried = segment.carried.map(|(a, b)| (a * factor, b * factor));
+            } else {
+                segment.hold = slowest;
+            }
+        }
     }
 }
 

@@ -314,6 +314,20 @@ def main():
             assert np.allclose(x, sd_squared, rtol=1e-10, atol=1e-12), np.abs(x - sd_squared).max()
             assert np.allclose(sets, controllable, rtol=1e-10, atol=1e-12), name
 
+            # The same problem with the constraints imposed at both ends of every stage
+            # (toppra's Interpolation scheme; graspath's default for selection).
+            interpolation = toppra.constraint.DiscretizationType.Interpolation
+            interpolated = [
+                toppra.constraint.JointVelocityConstraint(velocity_limits),
+                toppra.constraint.JointAccelerationConstraint(
+                    acceleration_limits, discretization_scheme=interpolation),
+            ]
+            if torque:
+                interpolated.append(toppra.constraint.JointTorqueConstraint(
+                    inv_dyn, np.stack([-torque_limits, torque_limits], axis=1),
+                    np.zeros(dof), discretization_scheme=interpolation))
+            interpolated_trajectory, interpolated_sd, _ = solve(path, grid, interpolated)
+
             # toppra's path is scipy's natural cubic spline through the knots.
             spline = CubicSpline(knots, waypoints, bc_type="natural")
             intervals = rng.choice(n - 1, SPLINE_CHECKS, replace=False)
@@ -341,6 +355,8 @@ def main():
                                 "inertia": PAYLOAD_INERTIA} if with_payload else None,
                     "duration": duration,
                     "sd_squared": sd_squared.tolist(),
+                    "duration_interpolation": float(interpolated_trajectory.duration),
+                    "sd_squared_interpolation": (interpolated_sd**2).tolist(),
                     "controllable_sets": controllable.tolist(),
                     "spline_check": {
                         "s": s.tolist(),

@@ -1,0 +1,205 @@
+//! The timed motions of a selection, checked independently of the timing code: every written
+//! velocity, acceleration and torque within its limit, at rest at both ends, through the IK
+//! samples, velocities the finite differences of the positions; the same trajectories at any
+//! thread count; `selection.max_duration` and `index.measure: duration`.
+
+use graspath::select::{select, selected_motions, CandidateScore, Selection};
+use graspath::task::{Task, TaskFile};
+use std::path::Path;
+
+/// The Panda picking a 1.5 kg box from above, lifting, carrying and placing it, with an
+/// approach and a retreat; `extra` adds task-file lines.
+fn task(extra: &str) -> Task {
+    let text = format!(
+        r#"
+robot: {{ builtin: panda }}
+object:
+  pose: {{ xyz: [0.55, 0.0, 0.10] }}
+  shape: {{ box: {{ size: [0.05, 0.05, 0.20] }} }}
+  mass: 1.5
+candidates:
+  family: {{ faces: {{ count: 24, exclude: [bottom], depth: 0.02 }} }}
+trajectory:
+  samples_per_step: 6
+  steps:
+    - {{ lift: 0.15, label: lift }}
+    - {{ move: [0.0, 0.25, 0.0], label: carry }}
+    - {{ place: 0.15, label: place }}
+approach: {{ distance: 0.08, samples: 4 }}
+retreat: {{ distance: 0.08, samples: 4 }}
+{extra}
+"#
+    );
+    let file = TaskFile::parse(&text, "timed.yaml", "yaml").unwrap();
+    Task::from_file(&file, "timed.yaml", Path::new(".")).unwrap()
+}
+
+/// Relative slack on a limit for points sampled between the timing's check points.
+const SLACK: f64 = 5e-3;
+
+fn best(selection: &Selection) -> &CandidateScore {
+    let arm = &selection.arms[0];
+    &arm.scores[arm.best().expect("a feasible grasp")]
+}
+
+#[test]
+fn the_selected_motion_stays_within_every_limit_and_passes_through_the_ik_samples() {
+    let task = task("");
+    let selection = select(&task, &|| {});
+    let chosen = best(&selection);
+    let durations = chosen.durations.expect("the task times motions");
+    assert!(durations.approach > 0.0 && durations.carry > 0.0 && durations.retreat > 0.0);
+    let period = 0.002;
+    let motions = selected_motions(&task, &selection, Some(period))
+        .expect("timed")
+        .expect("feasible");
+    assert_eq!(motions.len(), 1);
+    let trajectory = &motions[0].trajectory;
+    assert_eq!(motions[0].candidate.id, chosen.candidate.id);
+    assert!((trajectory.duration() - durations.total()).abs() < 1e-9);
+    let limits = task.arms[0].chain.motion_limits().to_vec();
+    let mut worst: f64 = 0.0;
+    for point in &trajectory.points {
+        for (j, l) in limits.iter().enumerate() {
+            let v = point.velocities[j].abs() / l.velocity.unwrap();
+            let a = point.accelerations[j].abs() / l.acceleration.unwrap();
+            let tau = point.efforts.as_ref().expect("torques")[j].abs() / l.effort.unwrap();
+            worst = worst.max(v).max(a).max(tau);
+        }
+    }
+    assert!(worst <= 1.0 + SLACK, "a limit exceeded by {worst}");
+    // Some limit binds: the motion is time-optimal, not merely slow.
+    assert!(worst > 0.9, "no limit is reached ({worst})");
+    // At rest at both ends and at the stops (the grasp and the place).
+    let first = &trajectory.points[0];
+    let last = trajectory.points.last().unwrap();
+    for p in [first, last] {
+        assert!(p.velocities.iter().all(|v| v.abs() < 1e-9), "{p:?}");
+    }
+    for stop in [durations.approach, durations.approach + durations.carry] {
+        let at = trajectory
+            .points
+            .iter()
+            .min_by(|a, b| (a.time - stop).abs().total_cmp(&(b.time - stop).abs()))
+            .unwrap();
+        assert!(at.velocities.iter().all(|v| v.abs() < 0.05), "{at:?}");
+    }
+    // Velocities are the derivatives of the positions (central differences).
+    let points = &trajectory.points;
+    for k in 1..points.len() - 1 {
+        let dt = points[k + 1].time - points[k - 1].time;
+        for j in 0..7 {
+            let fd = (points[k + 1].positions[j] - points[k - 1].positions[j]) / dt;
+            // The acceleration jumps at grid points: the difference is off by at most
+            // 2·period times the largest acceleration (Panda: 20 rad/s²).
+            let tolerance = 2.0 * period * 20.0;
+            assert!(
+                (fd - points[k].velocities[j]).abs() <= tolerance,
+                "t = {}: joint {j}: {fd} vs {}",
+                points[k].time,
+                points[k].velocities[j]
+            );
+        }
+    }
+    // At the timing grid's points the motion passes through every IK sample, in order.
+    let on_grid = selected_motions(&task, &selection, None).unwrap().unwrap();
+    let samples: Vec<&Vec<f64>> = chosen
+        .approach
+        .iter()
+        .chain(&chosen.joint_trajectory)
+        .chain(&chosen.retreat)
+        .collect();
+    let mut next = 0;
+    for p in &on_grid[0].trajectory.points {
+        if next < samples.len()
+            && p.positions
+                .iter()
+                .zip(samples[next])
+                .all(|(a, b)| (a - b).abs() < 1e-9)
+        {
+            next += 1;
+            // A repeated sample (the motion's stops) is passed at the same point.
+            while next < samples.len() && samples[next] == samples[next - 1] {
+                next += 1;
+            }
+        }
+    }
+    assert_eq!(next, samples.len(), "the motion misses IK sample {next}");
+}
+
+#[test]
+fn timed_motions_do_not_depend_on_the_thread_count() {
+    let task = task("");
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let selection = select(&task, &|| {});
+            let durations: Vec<_> = selection.arms[0]
+                .scores
+                .iter()
+                .map(|s| s.durations)
+                .collect();
+            let motions = selected_motions(&task, &selection, Some(0.01))
+                .unwrap()
+                .unwrap();
+            (durations, motions[0].trajectory.to_csv())
+        })
+    };
+    assert_eq!(run(1), run(3));
+}
+
+#[test]
+fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
+    let plain = select(&task(""), &|| {});
+    let mut durations: Vec<f64> = plain.arms[0]
+        .scores
+        .iter()
+        .filter_map(|s| s.durations.map(|d| d.total()))
+        .collect();
+    durations.sort_by(f64::total_cmp);
+    assert!(durations.len() >= 3, "{durations:?}");
+    let cut = 0.5 * (durations[0] + durations[durations.len() - 1]);
+    let bounded = select(
+        &task(&format!("selection: {{ max_duration: {cut} }}")),
+        &|| {},
+    );
+    for (score, ranking) in bounded.arms[0].scores.iter().zip(&bounded.arms[0].rankings) {
+        if let Some(d) = score.durations.map(|d| d.total()) {
+            assert_eq!(ranking.rank.is_none(), d > cut, "{d} s vs {cut} s");
+        }
+    }
+    let fastest = select(
+        &task("index: { measure: duration }\nselection: { likelihood: ignore }"),
+        &|| {},
+    );
+    let arm = &fastest.arms[0];
+    let mut ranked: Vec<(usize, f64)> = arm
+        .scores
+        .iter()
+        .zip(&arm.rankings)
+        .filter_map(|(s, r)| Some((r.rank?, s.durations?.total())))
+        .collect();
+    ranked.sort_by_key(|(rank, _)| *rank);
+    assert!(ranked.windows(2).all(|w| w[0].1 <= w[1].1), "{ranked:?}");
+    assert_eq!(ranked[0].1, durations[0]);
+}
+
+#[test]
+fn timing_can_be_turned_off_and_then_nothing_is_timed() {
+    let selection = select(&task("timing: false"), &|| {});
+    assert!(selection.arms[0]
+        .scores
+        .iter()
+        .all(|s| s.durations.is_none()));
+    let file = TaskFile::parse(
+        "robot: { builtin: panda }\nobject: { pose: { xyz: [0.5, 0, 0.1] }, shape: { box: { size: [0.05, 0.05, 0.2] } } }\ncandidates: { family: { faces: { count: 4 } } }\ntrajectory: { steps: [ { lift: 0.1 } ] }\ntiming: false\nselection: { max_duration: 2 }\n",
+        "off.yaml",
+        "yaml",
+    )
+    .unwrap();
+    let err = Task::from_file(&file, "off.yaml", Path::new(".")).unwrap_err();
+    assert!(err.to_string().contains("selection.max_duration"), "{err}");
+}

@@ -130,38 +130,3 @@ fn a_repeated_sample_adds_no_path_and_a_single_one_takes_no_time() {
     .unwrap();
     assert_eq!(timed.duration(), 0.0);
 }
-
-#[test]
-fn interpolation_is_never_faster_than_collocation() {
-    let q: Vec<Vec<f64>> = (0..40)
-        .map(|k| {
-            let t = k as f64 / 39.0;
-            vec![(3.0 * t).sin(), 0.5 * t * t - t, (2.0 * t).cos()]
-        })
-        .collect();
-    let spline = JointSpline::through(&q).unwrap();
-    let (v, a) = (
-        [Some(1.0), Some(0.5), Some(0.8)],
-        [Some(3.0), Some(2.0), Some(4.0)],
-    );
-    let time = |discretization| {
-        PathLimits {
-            velocity: &v,
-            acceleration: &a,
-            torque: None,
-            subdivisions: 2,
-            discretization,
-        }
-        .time(&spline)
-        .unwrap()
-        .duration()
-    };
-    let (c, i) = (
-        time(Discretization::Collocation),
-        time(Discretization::Interpolation),
-    );
-    assert!(
-        i >= c * (1.0 - 1e-12),
-        "interpolation {i} s < collocation {c} s"
-    );
-}

@@ -98,6 +98,12 @@ fn expected_row(record: &Value) -> Map<String, Value> {
         "clearance",
         "torque_margin",
         "payload_capacity",
+        "duration",
+        "approach_duration",
+        "carry_duration",
+        "retreat_duration",
+        "spline_deviation",
+        "limit_excursion",
     ] {
         row.insert(name.into(), field(name));
     }

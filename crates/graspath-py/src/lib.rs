@@ -39,6 +39,7 @@ mod record;
 mod robot;
 mod selection;
 mod task;
+mod timing;
 
 use pyo3::prelude::*;
 
@@ -70,6 +71,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("DEFAULTS", task::defaults_dict(py)?)?;
     module.add_function(wrap_pyfunction!(grasps::read_grasps, module)?)?;
     module.add_function(wrap_pyfunction!(memory::result_cache, module)?)?;
+    module.add_function(wrap_pyfunction!(timing::time_path, module)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -6,9 +6,9 @@ use crate::record::set_numpy_columns;
 use crate::task::PyTask;
 use graspath::fsutil::{write_files, Existing};
 use graspath::select::record::{outputs, Row, Trajectories};
-use graspath::select::{select as run_selection, Selection};
+use graspath::select::{select as run_selection, selected_motions, Selection};
 use graspath::task::{Norm, Task};
-use graspath_report::{candidates_json, pairs_json, summary_json};
+use graspath_report::{candidates_json, pairs_json, summary_json, trajectory_files};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -132,10 +132,75 @@ impl PySelection {
         Ok(Some(array(py, flat, &[n, dof])?.into_any().unbind()))
     }
 
-    /// Writes ``candidates.json``, ``summary.json`` and, with two arms, ``pairs.json`` into
-    /// ``out_dir`` (created if missing; an existing non-empty folder is refused), byte for byte as
-    /// ``graspath select --out`` does; the files appear together or not at all. Returns the paths written.
-    fn write(&self, out_dir: PathBuf) -> PyResult<Vec<PathBuf>> {
+    /// The selected motions, timed (when the task times motions and something is selected;
+    /// otherwise an empty list): the best candidate's with one arm, the best pair's two on one
+    /// timeline with two. One dict per arm: ``arm``, ``candidate`` (id), ``label``,
+    /// ``duration`` (s), ``joint_names``, ``time`` ``(n,)`` (s), ``positions``,
+    /// ``velocities``, ``accelerations`` ``(n, dof)`` (rad, rad/s, rad/s²) and ``efforts``
+    /// ``(n, dof)`` (N·m; ``None`` without the arm's dynamics), sampled every ``period``
+    /// seconds (``None``: at the timing grid's points, where the motion passes through every
+    /// IK sample). ``trajectory.json`` holds the same motions (``graspath select``).
+    #[pyo3(signature = (period = Some(0.01)))]
+    fn timed_motions<'py>(
+        &self,
+        py: Python<'py>,
+        period: Option<f64>,
+    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        if let Some(p) = period {
+            if !(1e-4..=10.0).contains(&p) {
+                return Err(error(format!(
+                    "period: {p} is not a sampling period from 0.0001 to 10 seconds (or None)"
+                )));
+            }
+        }
+        let motions = match py.detach(|| selected_motions(&self.task, &self.selection, period)) {
+            None => return Ok(Vec::new()),
+            Some(motions) => motions.map_err(|f| error(format!("cannot time the motion: {f}")))?,
+        };
+        motions
+            .into_iter()
+            .map(|motion| {
+                let dict = PyDict::new(py);
+                let trajectory = &motion.trajectory;
+                let n = trajectory.points.len();
+                let dof = trajectory.joint_names.len();
+                let matrix = |f: &dyn Fn(&graspath::timing::TrajectoryPoint) -> &[f64]| {
+                    let flat: Vec<f64> = trajectory
+                        .points
+                        .iter()
+                        .flat_map(|p| f(p).to_vec())
+                        .collect();
+                    array(py, flat, &[n, dof])
+                };
+                dict.set_item("arm", &motion.arm)?;
+                dict.set_item("candidate", motion.candidate.id)?;
+                dict.set_item("label", &motion.candidate.label)?;
+                dict.set_item("duration", trajectory.duration())?;
+                dict.set_item("joint_names", &trajectory.joint_names)?;
+                let times: Vec<f64> = trajectory.points.iter().map(|p| p.time).collect();
+                dict.set_item("time", array(py, times, &[n])?)?;
+                dict.set_item("positions", matrix(&|p| &p.positions)?)?;
+                dict.set_item("velocities", matrix(&|p| &p.velocities)?)?;
+                dict.set_item("accelerations", matrix(&|p| &p.accelerations)?)?;
+                let efforts = if trajectory.points.iter().all(|p| p.efforts.is_some()) {
+                    Some(matrix(&|p| p.efforts.as_deref().unwrap_or(&[]))?)
+                } else {
+                    None
+                };
+                dict.set_item("efforts", efforts)?;
+                Ok(dict)
+            })
+            .collect()
+    }
+
+    /// Writes ``candidates.json``, ``summary.json``, with two arms ``pairs.json`` and, when the
+    /// task times motions, ``trajectory.json`` and ``trajectory-<arm>.csv`` (sampled every
+    /// ``trajectory_period`` seconds; ``0``: at the timing grid's points) into ``out_dir``
+    /// (created if missing; an existing non-empty folder is refused), byte for byte as
+    /// ``graspath select --out`` does; the files appear together or not at all. Returns the
+    /// paths written.
+    #[pyo3(signature = (out_dir, trajectory_period = 0.01))]
+    fn write(&self, out_dir: PathBuf, trajectory_period: f64) -> PyResult<Vec<PathBuf>> {
         let mut files = vec![
             (
                 "candidates.json".to_string(),
@@ -152,6 +217,16 @@ impl PySelection {
                 pretty(&pairs_json(&self.selection))?,
             ));
         }
+        if !(trajectory_period == 0.0 || (1e-4..=10.0).contains(&trajectory_period)) {
+            return Err(error(format!(
+                "trajectory_period: {trajectory_period} is not 0 or a period from 0.0001 to 10 s"
+            )));
+        }
+        let period = (trajectory_period > 0.0).then_some(trajectory_period);
+        files.extend(
+            trajectory_files(&self.task, &self.selection, period)
+                .map_err(|f| error(format!("cannot time the motion: {f}")))?,
+        );
         write_files(&out_dir, &files, Existing::Refuse).map_err(error)
     }
 

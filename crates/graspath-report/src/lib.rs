@@ -37,5 +37,5 @@ pub use stage::{
     stage, Stage, Torso, VIEW_ASPECT, VIEW_AZIMUTH, VIEW_ELEVATION, VIEW_FILL, VIEW_FOV_DEG,
 };
 pub use text::{best_pair_sentence, best_sentence, findings_sentences, percent};
-pub use trajectory::{trajectory_csvs, trajectory_json};
+pub use trajectory::{trajectory_csvs, trajectory_files, trajectory_json};
 pub use world::{MAX_VIEW_POINTS, MAX_VIEW_TRIANGLES};

@@ -2,8 +2,33 @@
 //! trajectories, in the layout of ROS 2 `trajectory_msgs/JointTrajectory` (JSON) and as one
 //! CSV table per arm.
 
-use graspath::select::SelectedMotion;
+use graspath::select::{selected_motions, Failure, Scored, SelectedMotion, Selection};
+use graspath::task::Task;
 use serde_json::{json, Value};
+
+/// `trajectory.json` and the `trajectory-<arm>.csv` files of `selection`'s selected motions,
+/// sampled every `period` seconds (at the timing grid's points with `None`), as `(file name,
+/// bytes)`: none when the task does not time motions or nothing is selected.
+pub fn trajectory_files<S: Scored>(
+    task: &Task,
+    selection: &Selection<S>,
+    period: Option<f64>,
+) -> Result<Vec<(String, Vec<u8>)>, Failure> {
+    let Some(motions) = selected_motions(task, selection, period) else {
+        return Ok(Vec::new());
+    };
+    let motions = motions?;
+    let mut json = serde_json::to_vec_pretty(&trajectory_json(&motions, period))
+        .expect("a JSON value serialises");
+    json.push(b'\n');
+    let mut files = vec![("trajectory.json".to_string(), json)];
+    files.extend(
+        trajectory_csvs(&motions)
+            .into_iter()
+            .map(|(name, csv)| (name, csv.into_bytes())),
+    );
+    Ok(files)
+}
 
 /// `trajectory.json`: `duration` (s, the longest arm's), `period` (s, `null` at the timing
 /// grid's points) and per arm its name, candidate id and label, its duration and the

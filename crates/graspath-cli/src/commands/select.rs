@@ -13,14 +13,12 @@ use clap::Args;
 use graspath::fsutil::{check_folder_target, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
 use graspath::select::record::Trajectories;
-use graspath::select::{
-    select, select_streaming, selected_motions, CandidateScalars, Scored, Selection,
-};
+use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
-    trajectory_csvs, trajectory_json, write_candidate_line, write_candidates_json,
-    write_ranking_jsonl, write_ranking_parquet, CandidatesParquet,
+    write_candidate_line, write_candidates_json, write_ranking_jsonl, write_ranking_parquet,
+    CandidatesParquet,
 };
 use std::fs::File;
 use std::io::BufWriter;
@@ -80,27 +78,14 @@ fn sampling_period(text: &str) -> Result<f64, String> {
 }
 
 /// `trajectory.json` and `trajectory-<arm>.csv` of the selected motions, when the task times
-/// motions and something is selected (see [`selected_motions`]); none otherwise.
+/// motions and something is selected (`graspath_report::trajectory_files`); none otherwise.
 fn trajectory_files<S: Scored>(
     task: &Task,
     selection: &Selection<S>,
     period: f64,
 ) -> Result<Vec<(String, Vec<u8>)>> {
-    let period = (period > 0.0).then_some(period);
-    let Some(motions) = selected_motions(task, selection, period) else {
-        return Ok(Vec::new());
-    };
-    let motions =
-        motions.map_err(|f| anyhow::anyhow!("the selected motion cannot be timed: {f}"))?;
-    let mut json = serde_json::to_vec_pretty(&trajectory_json(&motions, period))?;
-    json.push(b'\n');
-    let mut files = vec![("trajectory.json".to_string(), json)];
-    files.extend(
-        trajectory_csvs(&motions)
-            .into_iter()
-            .map(|(name, csv)| (name, csv.into_bytes())),
-    );
-    Ok(files)
+    graspath_report::trajectory_files(task, selection, (period > 0.0).then_some(period))
+        .map_err(|f| anyhow::anyhow!("the selected motion cannot be timed: {f}"))
 }
 
 /// The candidate records' format (`--format`).

@@ -51,6 +51,7 @@ from ._graspath import (
     select,
     select_batch,
     select_pairs,
+    time_path,
     train,
 )
 
@@ -69,6 +70,7 @@ __all__ = [
     "select",
     "select_batch",
     "select_pairs",
+    "time_path",
     "train",
     "__version__",
 ]

@@ -303,14 +303,38 @@ class Selection:
         ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
         ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
         ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``torque_margin`` and
-        ``payload_capacity`` (kg; with the object's mass), ``contact`` ``(k, 3)``, ``m_t``
+        ``payload_capacity`` (kg; with the object's mass), ``duration``,
+        ``approach_duration``, ``carry_duration``, ``retreat_duration`` (s),
+        ``spline_deviation`` and ``limit_excursion`` (rad; when motions are timed),
+        ``contact`` ``(k, 3)``, ``m_t``
         ``(k, n)``, ``ranked_index`` ``(k, n)``. Everything absent is NaN (``None`` for a
         text), never a sentinel: ``rank`` (float64, 1 for the best) is NaN when not ranked,
         ``failure_sample`` (float64) NaN when feasible."""
     def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
-    def write(self, out_dir: StrPath) -> List[Path]:
-        """Writes the CLI's JSON files into ``out_dir``."""
+    def timed_motions(self, period: Optional[float] = 0.01) -> List[Dict[str, Any]]:
+        """The selected motions, timed (empty when the task does not time motions or nothing
+        is selected): per arm ``arm``, ``candidate``, ``label``, ``duration`` (s),
+        ``joint_names``, ``time`` ``(n,)``, ``positions``, ``velocities``,
+        ``accelerations`` and ``efforts`` ``(n, dof)`` (``efforts`` ``None`` without
+        dynamics), sampled every ``period`` s (``None``: at the timing grid's points)."""
+    def write(self, out_dir: StrPath, trajectory_period: float = 0.01) -> List[Path]:
+        """Writes the CLI's files into ``out_dir`` (with ``trajectory.json`` and
+        ``trajectory-<arm>.csv`` when motions are timed)."""
+
+def time_path(
+    samples: npt.ArrayLike,
+    velocity_limits: npt.ArrayLike,
+    acceleration_limits: npt.ArrayLike,
+    *,
+    subdivisions: int = 2,
+    discretization: Literal["interpolation", "collocation"] = "interpolation",
+    check_between: bool = True,
+) -> Dict[str, Any]:
+    """The fastest rest-to-rest motion through the joint samples ``(n, dof)`` within the
+    velocity and acceleration limits ``(dof,)`` (``inf``: none): TOPP-RA on the natural cubic
+    spline through them (chord-length knots, each interval split into ``subdivisions``).
+    Returns ``duration``, ``knots``, ``grid``, ``sd_squared``, ``times`` and ``slowdown``."""
 
 def placement_map(
     task: StrPath,

@@ -652,6 +652,16 @@ pub static COLUMNS: &[Column] = &[
     )
     .omitted_when_absent(),
     column(
+        "limit_excursion",
+        Kind::Float,
+        "rad or m",
+        "when motions are timed: how far the smoothed motion leaves a joint's range between IK \
+         samples that ride a limit (written trajectories are clamped into it)",
+        FILES | ARRAYS,
+        |r| Cell::Float(r.score.durations.map(|d| d.limit_excursion)),
+    )
+    .omitted_when_absent(),
+    column(
         "self_motion_mu_l2_first_branch",
         Kind::Float,
         "index",

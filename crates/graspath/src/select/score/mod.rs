@@ -10,7 +10,7 @@ mod timing_check;
 mod torque_check;
 
 pub use path::wrist_trajectory;
-pub use timing_check::{MotionDurations, SPLINE_LIMIT_TOLERANCE};
+pub use timing_check::MotionDurations;
 
 use crate::collision::{ArmInScene, Body, ObjectAlong};
 pub use crate::failure::Failure;

@@ -3,8 +3,8 @@
 //! torque limits with the arm carrying it ([`crate::timing`]). With `timing.stops` (the
 //! default) the approach, the carry and the retreat are three motions from rest to rest (the
 //! gripper closes at the grasp and opens at the place); otherwise one motion through all.
-//! A motion no timing can keep within the limits is refused (`timing_infeasible`), and so is
-//! a smoothed motion that leaves a joint's range between samples (`joint_limit`).
+//! A motion no timing can keep within the limits is refused (`timing_infeasible`); the
+//! smoothing never refuses a branch that IK found (its departures are reported).
 
 use super::branch_checks::{BranchCheck, BranchFindings};
 use super::Scoring;
@@ -16,11 +16,6 @@ use crate::timing::{
     TimedTrajectory, TimingError, TorqueLimits, TrajectoryPoint,
 };
 use std::ops::Range;
-
-/// How far (rad or m) a smoothed motion may leave a joint's range between samples: a
-/// micro-radian, far below any joint encoder's resolution (IK samples that ride a limit give
-/// excursions of a few 1e-9 rad).
-pub const SPLINE_LIMIT_TOLERANCE: f64 = 1e-6;
 
 /// How long a candidate's chosen motion takes, and how far its smoothing departs from the
 /// IK samples.
@@ -36,6 +31,9 @@ pub struct MotionDurations {
     /// segments between its IK samples (rad or m; see
     /// [`JointSpline::deviation_from_chords`]).
     pub spline_deviation: f64,
+    /// How far (rad or m) the smoothed motion leaves a joint's range between IK samples that
+    /// ride a limit (0 when it stays inside); written trajectories are clamped into the range.
+    pub limit_excursion: f64,
 }
 
 impl MotionDurations {
@@ -138,7 +136,6 @@ impl<'a> TimingCheck<'a> {
         }
         let samples = &q[range.clone()];
         let spline = JointSpline::through(samples).map_err(|e| self.failure(range.start, &e))?;
-        self.check_range(&spline, samples, range.start)?;
         let timed = self
             .limits(carrying)
             .time(&spline)
@@ -154,7 +151,6 @@ impl<'a> TimingCheck<'a> {
     /// The whole motion as one, the payload's torques only on the carry's grid points.
     fn time_whole(&self, q: &[Vec<f64>]) -> Result<TimedSegment, Failure> {
         let spline = JointSpline::through(q).map_err(|e| self.failure(0, &e))?;
-        self.check_range(&spline, q, 0)?;
         let (grasp, place) = (
             parameter_of(q, self.carry.start),
             parameter_of(q, self.carry.end - 1),
@@ -234,22 +230,31 @@ impl<'a> TimingCheck<'a> {
             }
             trajectory.extend(part);
         }
+        // A smoothed motion through samples that ride a limit can leave the range by a few
+        // milliradians between them (`limit_excursion`): clamped into it.
+        let chain = &self.scoring.setup.arm.chain;
+        for point in &mut trajectory.points {
+            for ((q, lo), hi) in point
+                .positions
+                .iter_mut()
+                .zip(chain.lower())
+                .zip(chain.upper())
+            {
+                *q = q.clamp(*lo, *hi);
+            }
+        }
         Ok(trajectory)
     }
 
-    /// A smoothed motion that leaves a joint's range (beyond [`SPLINE_LIMIT_TOLERANCE`]) at
-    /// the middle of an interval or at its quarter points is refused.
-    fn check_range(
-        &self,
-        spline: &JointSpline,
-        samples: &[Vec<f64>],
-        first: usize,
-    ) -> Result<(), Failure> {
+    /// How far (rad or m) `spline` leaves a joint's range between its samples, at the
+    /// quarter points of every interval (0 when it stays inside).
+    fn limit_excursion(&self, spline: &JointSpline) -> f64 {
         let chain = &self.scoring.setup.arm.chain;
         let (lower, upper) = (chain.lower(), chain.upper());
         let dof = spline.dof();
         let [mut q, mut dq, mut ddq] = std::array::from_fn(|_| vec![0.0; dof]);
-        for (i, pair) in spline.knots().windows(2).enumerate() {
+        let mut worst: f64 = 0.0;
+        for pair in spline.knots().windows(2) {
             for fraction in [0.25, 0.5, 0.75] {
                 let s = pair[0] + fraction * (pair[1] - pair[0]);
                 spline.evaluate_into(
@@ -261,27 +266,11 @@ impl<'a> TimingCheck<'a> {
                     },
                 );
                 for j in 0..dof {
-                    let excess = (lower[j] - q[j]).max(q[j] - upper[j]);
-                    if excess > SPLINE_LIMIT_TOLERANCE {
-                        let sample = first + sample_at(samples, pair[0]);
-                        return Err(self.scoring.located(Failure {
-                            reason: FailureReason::JointLimit,
-                            phase: Phase::Path,
-                            sample,
-                            detail: format!(
-                                "the smoothed motion leaves joint '{}''s range [{:.4}, {:.4}] by \
-                                 {excess:.2e} after this sample (spline interval {i})",
-                                chain.joint_names()[j],
-                                lower[j],
-                                upper[j]
-                            ),
-                            bodies: None,
-                        }));
-                    }
+                    worst = worst.max(lower[j] - q[j]).max(q[j] - upper[j]);
                 }
             }
         }
-        Ok(())
+        worst
     }
 
     /// A `timing_infeasible` failure for a timing error along `samples` (whose first is
@@ -326,6 +315,10 @@ impl BranchCheck for TimingCheck<'_> {
             .iter()
             .map(|s| s.spline.deviation_from_chords())
             .fold(0.0, f64::max);
+        let excursion = segments
+            .iter()
+            .map(|s| self.limit_excursion(&s.spline))
+            .fold(0.0, f64::max);
         let durations = if self.settings.stops {
             // The segments present, in order; an absent approach or retreat takes no time.
             let mut parts = segments.iter().map(|s| s.timed.duration());
@@ -349,6 +342,7 @@ impl BranchCheck for TimingCheck<'_> {
                 carry: carry.unwrap_or(0.0),
                 retreat: retreat.unwrap_or(0.0),
                 spline_deviation: deviation,
+                limit_excursion: excursion,
             }
         } else {
             let whole = &segments[0];
@@ -358,6 +352,7 @@ impl BranchCheck for TimingCheck<'_> {
                 carry: place - grasp,
                 retreat: whole.timed.duration() - place,
                 spline_deviation: deviation,
+                limit_excursion: excursion,
             }
         };
         findings.durations = Some(durations);

@@ -140,7 +140,7 @@ impl PySelection {
     /// ``(n, dof)`` (N·m; ``None`` without the arm's dynamics), sampled every ``period``
     /// seconds (``None``: at the timing grid's points, where the motion passes through every
     /// IK sample). ``trajectory.json`` holds the same motions (``graspath select``).
-    #[pyo3(signature = (period = Some(0.01)))]
+    #[pyo3(signature = (period = Some(0.01)), text_signature = "(self, period=0.01)")]
     fn timed_motions<'py>(
         &self,
         py: Python<'py>,

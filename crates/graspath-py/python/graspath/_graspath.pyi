@@ -390,7 +390,8 @@ def select_batch(
     (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
     or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
     ``mu_l1``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``torque_margin`` and
-    ``payload_capacity`` (kg; with the object's mass), ``score`` and ``rank`` (float64, 1 for
+    ``payload_capacity`` (kg; with the object's mass), ``duration`` (s; timed motions),
+    ``score`` and ``rank`` (float64, 1 for
     the best; NaN wherever absent: infeasible, not ranked, no scene): besides ``object``,
     ``arm_index`` and ``candidate``, the record columns marked ``select_batch`` in
     :func:`record_columns`.

@@ -152,10 +152,11 @@ pub fn time_optimal(constraints: &Constraints) -> Result<TimedPath, TimingError>
     // Forward pass: the largest admissible u that stays controllable.
     let mut x = vec![0.0; n];
     let mut times = vec![0.0; n];
+    let mut lines = Lines::with_capacity(2 * constraints.rows_per_point + 1);
     for i in 0..n - 1 {
         let delta = constraints.grid[i + 1] - constraints.grid[i];
         let (k_lo, k_hi) = controllable[i + 1];
-        let lines = constraints.stage(i, reach_row(delta, k_lo, k_hi));
+        constraints.stage_into(i, reach_row(delta, k_lo, k_hi), &mut lines);
         let u = lines.upper(x[i]);
         x[i + 1] = (x[i] + 2.0 * delta * u).clamp(k_lo, k_hi).max(0.0);
         let speeds = x[i].sqrt() + x[i + 1].sqrt();
@@ -177,9 +178,10 @@ impl Constraints {
         &self.rows[i * self.rows_per_point..(i + 1) * self.rows_per_point]
     }
 
-    /// Stage `i`'s constraints on `(u_i, x_i)` as lines, with the reach row.
-    fn stage(&self, i: usize, reach: [f64; 4]) -> Lines {
-        let mut lines = Lines::with_capacity(2 * self.rows_per_point + 1);
+    /// Stage `i`'s constraints on `(u_i, x_i)` as lines, with the reach row, into `lines`
+    /// (emptied first; its buffers are reused from stage to stage).
+    fn stage_into(&self, i: usize, reach: [f64; 4], lines: &mut Lines) {
+        lines.clear();
         for row in self.rows_of(i) {
             lines.add(row.a, row.b, row.lo, row.hi);
         }
@@ -192,7 +194,6 @@ impl Constraints {
         }
         let [a, b, lo, hi] = reach;
         lines.add(a, b, lo, hi);
-        lines
     }
 }
 
@@ -200,10 +201,11 @@ impl Constraints {
 fn controllable_sets(constraints: &Constraints) -> Result<Vec<(f64, f64)>, TimingError> {
     let n = constraints.grid.len();
     let mut sets = vec![(0.0, 0.0); n];
+    let mut lines = Lines::with_capacity(2 * constraints.rows_per_point + 1);
     for i in (0..n - 1).rev() {
         let delta = constraints.grid[i + 1] - constraints.grid[i];
         let (k_lo, k_hi) = sets[i + 1];
-        let lines = constraints.stage(i, reach_row(delta, k_lo, k_hi));
+        constraints.stage_into(i, reach_row(delta, k_lo, k_hi), &mut lines);
         let x_max = constraints.x_max[i].0;
         sets[i] = lines
             .x_range(x_max)
@@ -260,12 +262,21 @@ impl Lines {
         }
     }
 
+    /// Back to no lines, `x ≥ 0`.
+    fn clear(&mut self) {
+        self.upper.clear();
+        self.lower.clear();
+        self.x_bounds = Some((0.0, f64::INFINITY));
+    }
+
     /// Adds the row `lo ≤ a u + b x ≤ hi`.
     fn add(&mut self, a: f64, b: f64, lo: f64, hi: f64) {
         let scale = a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
         if a.abs() > 1e-12 * scale {
-            let upper = (hi / a, -b / a);
-            let lower = (lo / a, -b / a);
+            let inverse = 1.0 / a;
+            let slope = -b * inverse;
+            let upper = (hi * inverse, slope);
+            let lower = (lo * inverse, slope);
             let (up, down) = if a > 0.0 {
                 (upper, lower)
             } else {
@@ -311,10 +322,34 @@ impl Lines {
         if lo > hi + slack {
             return None;
         }
-        let hi = hi.max(lo);
+        let hi = self.pairwise_bound(hi.max(lo)).max(lo);
         let right = self.feasible_end(hi, lo, Side::Left)?;
         let left = self.feasible_end(lo, right, Side::Right)?;
         Some((left.min(right), right))
+    }
+
+    /// `hi` lowered to the largest `x` at which the last upper line stays above every lower
+    /// line and every upper line above the last lower one. Any pair of lines bounds the
+    /// feasible `x` (`α_u + β_u x ≥ α_l + β_l x`), so this is an upper bound of the largest
+    /// feasible `x`; with the reach row last (`stage_into`), whose lines are the steepest, it
+    /// is usually that `x` itself, and the Newton steps from it end at once.
+    fn pairwise_bound(&self, mut hi: f64) -> f64 {
+        let (Some(&last_up), Some(&last_down)) = (self.upper.last(), self.lower.last()) else {
+            return hi;
+        };
+        let pairs = self
+            .lower
+            .iter()
+            .map(|&down| (last_up, down))
+            .chain(self.upper.iter().map(|&up| (up, last_down)));
+        for ((alpha_u, beta_u), (alpha_l, beta_l)) in pairs {
+            // (β_u − β_l) x ≥ α_l − α_u bounds x above where β_u < β_l.
+            let (slope, gap) = (beta_u - beta_l, alpha_l - alpha_u);
+            if slope < 0.0 && gap > hi * slope {
+                hi = gap / slope;
+            }
+        }
+        hi
     }
 
     /// From `start`, Newton steps towards `limit` on the slack `g(x) = min upper − max

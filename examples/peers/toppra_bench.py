@@ -40,6 +40,7 @@ import argparse
 import json
 import os
 import statistics
+import sys
 import sysconfig
 import time
 from importlib.metadata import version
@@ -51,6 +52,15 @@ import toppra
 import toppra.algorithm
 import toppra.constraint
 
+# The problem is built by the reference script's own helpers (the reduced chain model, the
+# random path inside the limits).
+sys.path.insert(
+    0,
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "crates", "graspath",
+                 "tests", "data", "timing"),
+)
+from toppra_reference import chain_model, random_path  # noqa: E402
+
 ROBOTS = os.path.join(
     sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots"
 )
@@ -58,34 +68,6 @@ URDF = "panda_description/urdf/panda.urdf"
 BASE, TIP = "panda_link0", "panda_hand_tcp"
 ACCELERATION_RANGE = (20.0, 60.0)  # rad/s², per joint
 MAX_DRAWS = 200
-
-
-def chain_model(full, base, tip):
-    """The full model reduced to the joints between `base` and `tip`, and the ids of the
-    base and tip frames in it."""
-    tip_joint = full.frames[full.getFrameId(tip)].parentJoint
-    base_joint = full.frames[full.getFrameId(base)].parentJoint
-    keep = set(full.supports[tip_joint]) - set(full.supports[base_joint])
-    locked = [j for j in range(1, full.njoints) if j not in keep]
-    model = pin.buildReducedModel(full, locked, pin.neutral(full))
-    return model, model.getFrameId(base), model.getFrameId(tip)
-
-
-def random_path(rng, lower, upper, n):
-    """A smooth random path inside the limits (as toppra_reference.py): start and end in the
-    middle 80 % of each joint range, three sine harmonics adding up to at most 10 % of it, at
-    unevenly spaced path fractions."""
-    span = upper - lower
-    start = rng.uniform(lower + 0.1 * span, upper - 0.1 * span)
-    end = rng.uniform(lower + 0.1 * span, upper - 0.1 * span)
-    steps = rng.uniform(0.5, 1.5, n - 1)
-    t = np.concatenate([[0.0], np.cumsum(steps) / steps.sum()])
-    weights = rng.uniform(-1.0, 1.0, (3, len(lower)))
-    weights *= 0.1 / np.maximum(np.abs(weights).sum(axis=0), 1.0)
-    q = start + t[:, None] * (end - start)
-    for k in range(3):
-        q += np.sin((k + 1) * np.pi * t)[:, None] * weights[k] * span
-    return q
 
 
 def run(constraints, path, grid):

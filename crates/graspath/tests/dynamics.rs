@@ -11,7 +11,7 @@
 
 mod common;
 
-use graspath::robot::{Chain, RigidBody, RobotSource};
+use graspath::robot::{Chain, RigidBody};
 use nalgebra::{DMatrix, Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use serde_json::Value;
 
@@ -37,24 +37,13 @@ fn relative_error(ours: &[f64], reference: &[f64], what: &str) -> f64 {
 }
 
 fn chain(data: &std::path::Path, robot: &Value, tip_from_tool: Option<Isometry3<f64>>) -> Chain {
-    let share = data
-        .parent()
-        .and_then(|p| p.parent())
-        .unwrap()
-        .to_path_buf();
-    RobotSource::Urdf {
-        path: data.join(robot["urdf"].as_str().unwrap()),
-        search_paths: vec![share],
-        xacro_args: Default::default(),
-    }
-    .load()
-    .unwrap()
-    .chain(
-        robot["base"].as_str().unwrap(),
-        robot["tip"].as_str().unwrap(),
+    let name = |key: &str| robot[key].as_str().unwrap();
+    common::example_robot_chain(
+        data,
+        name("urdf"),
+        (name("base"), name("tip")),
         tip_from_tool,
     )
-    .unwrap()
 }
 
 #[test]

@@ -15,7 +15,7 @@
 
 mod common;
 
-use graspath::robot::{Chain, RigidBody, RobotSource};
+use graspath::robot::{Chain, RigidBody};
 use graspath::timing::{Discretization, JointSpline, PathLimits, PathPoint, TorqueLimits};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -34,24 +34,8 @@ fn reference() -> Value {
 }
 
 fn chain(data: &std::path::Path, case: &Value) -> Chain {
-    let share = data
-        .parent()
-        .and_then(|p| p.parent())
-        .unwrap()
-        .to_path_buf();
-    RobotSource::Urdf {
-        path: data.join(case["urdf"].as_str().unwrap()),
-        search_paths: vec![share],
-        xacro_args: Default::default(),
-    }
-    .load()
-    .unwrap()
-    .chain(
-        case["base"].as_str().unwrap(),
-        case["tip"].as_str().unwrap(),
-        None,
-    )
-    .unwrap()
+    let name = |key: &str| case[key].as_str().unwrap();
+    common::example_robot_chain(data, name("urdf"), (name("base"), name("tip")), None)
 }
 
 fn limits(v: &Value) -> Vec<Option<f64>> {

@@ -54,10 +54,35 @@ pub fn robot_data() -> Option<PathBuf> {
     found
 }
 
-use graspath::robot::{Chain, ChainSpec, JointKind, JointSpec};
+use graspath::robot::{Chain, ChainSpec, JointKind, JointSpec, RobotSource};
 use nalgebra::{Isometry3, IsometryMatrix3, Matrix6xX, Translation3, UnitQuaternion, Vector3};
 use rand::rngs::StdRng;
 use rand::{RngExt, SeedableRng};
+
+/// The chain `base` → `tip` (with `tip_from_tool`) of the example-robot-data URDF `urdf`
+/// (relative to `data`, the package's `robots` folder; its meshes' packages are found in the
+/// `share` folder above it).
+pub fn example_robot_chain(
+    data: &std::path::Path,
+    urdf: &str,
+    (base, tip): (&str, &str),
+    tip_from_tool: Option<Isometry3<f64>>,
+) -> Chain {
+    let share = data
+        .parent()
+        .and_then(|p| p.parent())
+        .expect("robots lies in share/example-robot-data")
+        .to_path_buf();
+    RobotSource::Urdf {
+        path: data.join(urdf),
+        search_paths: vec![share],
+        xacro_args: Default::default(),
+    }
+    .load()
+    .unwrap_or_else(|e| panic!("{urdf}: {e}"))
+    .chain(base, tip, tip_from_tool)
+    .unwrap_or_else(|e| panic!("{urdf}: {e}"))
+}
 
 /// `count` seeded configurations of `chain`, uniform inside its limits (over one revolution for
 /// a joint without limits).

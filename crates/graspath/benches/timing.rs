@@ -77,13 +77,13 @@ fn timing(c: &mut Criterion) {
         group.bench_function(format!("topp_ra_50_samples_{name}"), |b| {
             b.iter(|| {
                 let constraints = limits.constraints(black_box(&spline)).unwrap();
-                black_box(time_optimal(&constraints).unwrap().duration())
-            })
+                black_box(time_optimal(&constraints).unwrap().duration());
+            });
         });
     }
     let checked = limits(true);
     group.bench_function("time_50_samples_vel_acc_torque_checked", |b| {
-        b.iter(|| black_box(checked.time(black_box(&spline)).unwrap().duration()))
+        b.iter(|| black_box(checked.time(black_box(&spline)).unwrap().duration()));
     });
     group.finish();
 }

@@ -215,6 +215,27 @@ impl JointSpline {
     }
 }
 
+impl JointSpline {
+    /// How far (rad or m) the spline leaves the range `[lower, upper]` of any joint at the
+    /// quarter points of its intervals (0 when it stays inside): where IK samples ride a joint
+    /// limit, the smooth curve through them can overshoot it between them.
+    pub fn range_excursion(&self, lower: &[f64], upper: &[f64]) -> f64 {
+        let mut worst: f64 = 0.0;
+        for (i, pair) in self.knots.windows(2).enumerate() {
+            let h = pair[1] - pair[0];
+            let row = &self.coefficients[i * self.dof..(i + 1) * self.dof];
+            for fraction in [0.25, 0.5, 0.75] {
+                let t = fraction * h;
+                for (j, [c0, c1, c2, c3]) in row.iter().enumerate() {
+                    let q = c0 + t * (c1 + t * (c2 + t * c3));
+                    worst = worst.max(lower[j] - q).max(q - upper[j]);
+                }
+            }
+        }
+        worst
+    }
+}
+
 /// The joint count of `samples`, which must be non-empty, equally long and finite.
 fn check_samples(samples: &[Vec<f64>]) -> Result<usize, TimingError> {
     let dof = samples

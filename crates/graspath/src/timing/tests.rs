@@ -130,3 +130,38 @@ fn a_repeated_sample_adds_no_path_and_a_single_one_takes_no_time() {
     .unwrap();
     assert_eq!(timed.duration(), 0.0);
 }
+
+#[test]
+fn a_spline_through_samples_on_a_limit_overshoots_it_by_the_reported_excursion() {
+    // Joint 0 rides its upper limit 1.0 for three samples while joint 1 moves on: the cubic
+    // through joint 0's samples bulges above the limit between them.
+    let q: Vec<Vec<f64>> = [0.6, 1.0, 1.0, 1.0, 0.6]
+        .iter()
+        .enumerate()
+        .map(|(k, v)| vec![*v, 0.1 * k as f64])
+        .collect();
+    let spline = JointSpline::through(&q).unwrap();
+    let excursion = spline.range_excursion(&[-2.0, -2.0], &[1.0, 2.0]);
+    // Oracle: the largest value at the same quarter points, by the general evaluation.
+    let (mut p, mut d, mut dd) = (vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]);
+    let mut highest = f64::NEG_INFINITY;
+    for pair in spline.knots().windows(2) {
+        for f in [0.25, 0.5, 0.75] {
+            let point = PathPoint {
+                q: &mut p,
+                dq: &mut d,
+                ddq: &mut dd,
+            };
+            spline.evaluate_into(pair[0] + f * (pair[1] - pair[0]), point);
+            highest = highest.max(p[0]);
+        }
+    }
+    assert!(excursion > 0.0, "no overshoot");
+    assert!(
+        (excursion - (highest - 1.0)).abs() < 1e-12,
+        "{excursion} vs {}",
+        highest - 1.0
+    );
+    // Inside a wider range there is none.
+    assert_eq!(spline.range_excursion(&[-2.0, -2.0], &[2.0, 2.0]), 0.0);
+}

@@ -152,12 +152,10 @@ pub fn time_optimal(constraints: &Constraints) -> Result<TimedPath, TimingError>
     // Forward pass: the largest admissible u that stays controllable.
     let mut x = vec![0.0; n];
     let mut times = vec![0.0; n];
-    let mut lines = Lines::with_capacity(2 * constraints.rows_per_point + 1);
     for i in 0..n - 1 {
         let delta = constraints.grid[i + 1] - constraints.grid[i];
         let (k_lo, k_hi) = controllable[i + 1];
-        constraints.stage_into(i, reach_row(delta, k_lo, k_hi), &mut lines);
-        let u = lines.upper(x[i]);
+        let u = constraints.largest_u(i, x[i], reach_row(delta, k_lo, k_hi));
         x[i + 1] = (x[i] + 2.0 * delta * u).clamp(k_lo, k_hi).max(0.0);
         let speeds = x[i].sqrt() + x[i + 1].sqrt();
         if speeds <= 0.0 {
@@ -176,6 +174,32 @@ impl Constraints {
     /// The rows of grid point `i`.
     fn rows_of(&self, i: usize) -> &[Row] {
         &self.rows[i * self.rows_per_point..(i + 1) * self.rows_per_point]
+    }
+
+    /// The largest `u` that stage `i`'s rows and the reach row allow at `x` (the smallest of
+    /// their upper bounds on `u`; rows whose `u` coefficient vanishes bound `x` only, as in
+    /// [`Lines::add`]).
+    fn largest_u(&self, i: usize, x: f64, reach: [f64; 4]) -> f64 {
+        let bound = |a: f64, b: f64, lo: f64, hi: f64| {
+            if a.abs() > 1e-12 * a.abs().max(b.abs()).max(f64::MIN_POSITIVE) {
+                (if a > 0.0 { hi } else { lo } - b * x) / a
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut u = self
+            .rows_of(i)
+            .iter()
+            .map(|r| bound(r.a, r.b, r.lo, r.hi))
+            .fold(f64::INFINITY, f64::min);
+        if self.discretization == Discretization::Interpolation && i + 1 < self.grid.len() {
+            let two_delta = 2.0 * (self.grid[i + 1] - self.grid[i]);
+            for r in self.rows_of(i + 1) {
+                u = u.min(bound(r.a + two_delta * r.b, r.b, r.lo, r.hi));
+            }
+        }
+        let [a, b, lo, hi] = reach;
+        u.min(bound(a, b, lo, hi))
     }
 
     /// Stage `i`'s constraints on `(u_i, x_i)` as lines, with the reach row, into `lines`
@@ -303,14 +327,6 @@ impl Lines {
                 Some((x_lo.max(below), x_hi.min(above)))
             };
         }
-    }
-
-    /// The smallest upper bound on `u` at `x`.
-    fn upper(&self, x: f64) -> f64 {
-        self.upper
-            .iter()
-            .map(|(alpha, beta)| alpha + beta * x)
-            .fold(f64::INFINITY, f64::min)
     }
 
     /// The range of `x ∈ [0, x_max]` for which some `u` satisfies every row, or `None`.

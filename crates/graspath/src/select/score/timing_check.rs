@@ -12,8 +12,8 @@ use crate::failure::{Failure, FailureReason, Phase};
 use crate::robot::{Dynamics, RigidBody};
 use crate::task::TimingSettings;
 use crate::timing::{
-    Constraints, Discretization, JointSpline, Limit, PathLimits, PathPoint, TimedPath,
-    TimedTrajectory, TimingError, TorqueLimits, TrajectoryPoint,
+    Constraints, Discretization, JointSpline, Limit, PathLimits, TimedPath, TimedTrajectory,
+    TimingError, TorqueLimits, TrajectoryPoint,
 };
 use std::ops::Range;
 
@@ -246,33 +246,6 @@ impl<'a> TimingCheck<'a> {
         Ok(trajectory)
     }
 
-    /// How far (rad or m) `spline` leaves a joint's range between its samples, at the
-    /// quarter points of every interval (0 when it stays inside).
-    fn limit_excursion(&self, spline: &JointSpline) -> f64 {
-        let chain = &self.scoring.setup.arm.chain;
-        let (lower, upper) = (chain.lower(), chain.upper());
-        let dof = spline.dof();
-        let [mut q, mut dq, mut ddq] = std::array::from_fn(|_| vec![0.0; dof]);
-        let mut worst: f64 = 0.0;
-        for pair in spline.knots().windows(2) {
-            for fraction in [0.25, 0.5, 0.75] {
-                let s = pair[0] + fraction * (pair[1] - pair[0]);
-                spline.evaluate_into(
-                    s,
-                    PathPoint {
-                        q: &mut q,
-                        dq: &mut dq,
-                        ddq: &mut ddq,
-                    },
-                );
-                for j in 0..dof {
-                    worst = worst.max(lower[j] - q[j]).max(q[j] - upper[j]);
-                }
-            }
-        }
-        worst
-    }
-
     /// A `timing_infeasible` failure for a timing error along `samples` (whose first is
     /// whole-motion sample `first`).
     fn timing_failure(&self, error: &TimingError, samples: &[Vec<f64>], first: usize) -> Failure {
@@ -315,9 +288,10 @@ impl BranchCheck for TimingCheck<'_> {
             .iter()
             .map(|s| s.spline.deviation_from_chords())
             .fold(0.0, f64::max);
+        let chain = &self.scoring.setup.arm.chain;
         let excursion = segments
             .iter()
-            .map(|s| self.limit_excursion(&s.spline))
+            .map(|s| s.spline.range_excursion(chain.lower(), chain.upper()))
             .fold(0.0, f64::max);
         let durations = if self.settings.stops {
             // The segments present, in order; an absent approach or retreat takes no time.

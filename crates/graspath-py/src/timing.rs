@@ -83,6 +83,7 @@ pub fn time_path<'py>(
         velocity: &velocity,
         acceleration: &acceleration,
         torque: None,
+        object: None,
         subdivisions,
         discretization,
     };

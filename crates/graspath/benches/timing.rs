@@ -68,6 +68,7 @@ fn timing(c: &mut Criterion) {
             effort: &effort,
             payload: None,
         }),
+        object: None,
         subdivisions: 2,
         discretization: Discretization::Collocation,
     };

@@ -203,3 +203,48 @@ fn timing_can_be_turned_off_and_then_nothing_is_timed() {
     let err = Task::from_file(&file, "off.yaml", Path::new(".")).unwrap_err();
     assert!(err.to_string().contains("selection.max_duration"), "{err}");
 }
+
+#[test]
+fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
+    let limit = 0.15; // m/s
+    let plain = task("");
+    let slow = task(&format!(
+        "timing: {{ object_speed: {limit}, object_turn_rate: 1.0 }}"
+    ));
+    let (fast_selection, slow_selection) = (select(&plain, &|| {}), select(&slow, &|| {}));
+    let (fast, chosen) = (best(&fast_selection), best(&slow_selection));
+    assert_eq!(
+        fast.candidate.id, chosen.candidate.id,
+        "the limit changes no feasibility"
+    );
+    let durations = chosen.durations.unwrap();
+    assert!(durations.carry > fast.durations.unwrap().carry * 1.2);
+    // Oracle: the object's origin by forward kinematics at every point of the written
+    // trajectory, its speed by finite differences.
+    let period = 0.002;
+    let motion = &selected_motions(&slow, &slow_selection, Some(period))
+        .unwrap()
+        .unwrap()[0];
+    let chain = &slow.arms[0].chain;
+    let origin = chosen
+        .candidate
+        .object_from_wrist
+        .inverse()
+        .translation
+        .vector;
+    let position = |q: &[f64]| chain.pose(q).unwrap() * nalgebra::Point3::from(origin);
+    let (start, end) = (durations.approach, durations.approach + durations.carry);
+    let mut fastest: f64 = 0.0;
+    for pair in motion.trajectory.points.windows(2) {
+        if pair[0].time < start || pair[1].time > end {
+            continue;
+        }
+        let travelled = (position(&pair[1].positions) - position(&pair[0].positions)).norm();
+        fastest = fastest.max(travelled / (pair[1].time - pair[0].time));
+    }
+    assert!(fastest <= limit * 1.01, "the object moves at {fastest} m/s");
+    assert!(
+        fastest >= limit * 0.9,
+        "the limit does not bind ({fastest} m/s)"
+    );
+}

@@ -126,6 +126,7 @@ fn durations_equal_toppra_on_panda_ur5_and_baxter() {
                     effort,
                     payload,
                 }),
+                object: None,
                 subdivisions: 2,
                 discretization,
             };

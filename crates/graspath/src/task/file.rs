@@ -618,6 +618,12 @@ pub struct TimingSettingsFile {
     /// Whether the torque limits bind with the object's mass (default true).
     #[serde(default)]
     pub torque_limits: Option<bool>,
+    /// The largest linear speed of the carried object (m/s; default none).
+    #[serde(default)]
+    pub object_speed: Option<f64>,
+    /// The largest angular speed of the carried object (rad/s; default none).
+    #[serde(default)]
+    pub object_turn_rate: Option<f64>,
 }
 
 /// Trajectory IK settings.

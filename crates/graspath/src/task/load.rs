@@ -855,6 +855,8 @@ fn timing_request(timing: Option<&TimingFile>) -> TimingRequest {
             max_acceleration: t.max_acceleration.or(defaults.max_acceleration),
             acceleration_time: t.acceleration_time.unwrap_or(defaults.acceleration_time),
             torque_limits: t.torque_limits.unwrap_or(defaults.torque_limits),
+            object_speed: t.object_speed,
+            object_turn_rate: t.object_turn_rate,
         }),
     }
 }

@@ -26,6 +26,10 @@ pub struct TimingSettings {
     /// Whether the joint torque limits bind (through the arm's dynamics and the carried
     /// object, where the robot gives inertias and effort limits).
     pub torque_limits: bool,
+    /// The largest linear speed of the carried object's origin (m/s), while it is carried.
+    pub object_speed: Option<f64>,
+    /// The largest angular speed of the carried object (rad/s), while it is carried.
+    pub object_turn_rate: Option<f64>,
 }
 
 impl Default for TimingSettings {
@@ -38,6 +42,8 @@ impl Default for TimingSettings {
             max_acceleration: None,
             acceleration_time: DEFAULT_ACCELERATION_TIME,
             torque_limits: true,
+            object_speed: None,
+            object_turn_rate: None,
         }
     }
 }
@@ -84,6 +90,19 @@ impl TimingSettings {
                     self.acceleration_time
                 ),
             ));
+        }
+        for (field, limit, unit) in [
+            ("timing.object_speed", self.object_speed, "m/s"),
+            ("timing.object_turn_rate", self.object_turn_rate, "rad/s"),
+        ] {
+            if let Some(v) = limit {
+                if !(v > 0.0 && v.is_finite()) {
+                    return Err((
+                        field,
+                        format!("must be a positive speed in {unit}, got {v}"),
+                    ));
+                }
+            }
         }
         if let Some(a) = self.max_acceleration {
             if !(a > 0.0 && a.is_finite()) {

@@ -6,12 +6,15 @@
 //! * a torque limit is the row `−τ_j ≤ a_j u + b_j x + c_j ≤ τ_j`, from the inverse dynamics
 //!   `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` with `q̇ = q' ṡ` and `q̈ = q' u + q'' x`:
 //!   `c = g(q) = rnea(q, 0, 0)`, `a = M(q) q' = rnea(q, 0, q') − c`,
-//!   `b = M(q) q'' + C(q, q') q' = rnea(q, q', q'') − c` (payload included).
+//!   `b = M(q) q'' + C(q, q') q' = rnea(q, q', q'') − c` (payload included);
+//! * a limit on a carried body's linear or angular speed bounds `x` by
+//!   `(v_max / ‖v_body(q, q')‖)²`, its velocity per unit `ṡ` from the Jacobian.
 
 use super::spline::{JointSpline, PathPoint};
 use super::topp::{time_optimal, Constraints, Discretization, Limit, Row, TimedPath};
 use super::TimingError;
-use crate::robot::{Dynamics, RigidBody};
+use crate::robot::{Chain, Dynamics, RigidBody};
+use nalgebra::{DVector, Matrix6xX, Vector3};
 
 /// The limits a joint path is timed under. Slices hold one entry per joint of the chain;
 /// `None` is unlimited.
@@ -23,6 +26,8 @@ pub struct PathLimits<'a> {
     pub acceleration: &'a [Option<f64>],
     /// Joint torque limits through the arm's dynamics, when they apply.
     pub torque: Option<TorqueLimits<'a>>,
+    /// Limits on the carried object's own speed, when they apply.
+    pub object: Option<ObjectSpeedLimits<'a>>,
     /// Grid intervals per spline interval (at least 1): the grid is the spline's knots with
     /// every interval split into this many equal parts.
     pub subdivisions: usize,
@@ -39,6 +44,62 @@ pub struct TorqueLimits<'a> {
     pub effort: &'a [Option<f64>],
     /// The body the tool carries, in the tool frame (kg, m, kg·m²), when it carries one.
     pub payload: Option<RigidBody>,
+}
+
+/// Limits on the speed of a body carried by the tool (a cup of coffee, a tray of parts): its
+/// origin's linear speed and its angular speed, from the chain's kinematics. Both bound
+/// `x = ṡ²` alone: the body's velocity is `J(q) q'(s) ṡ`.
+#[derive(Debug, Clone, Copy)]
+pub struct ObjectSpeedLimits<'a> {
+    /// The chain (its tool frame carries the body).
+    pub chain: &'a Chain,
+    /// The body's origin in the tool frame (m).
+    pub origin_in_tool: Vector3<f64>,
+    /// The largest linear speed of the body's origin (m/s).
+    pub linear: Option<f64>,
+    /// The largest angular speed of the body (rad/s).
+    pub angular: Option<f64>,
+}
+
+impl ObjectSpeedLimits<'_> {
+    /// The body's linear and angular speed per unit `ṡ` at `q` moving along `dq`, using
+    /// `jacobian` as the workspace.
+    fn speeds(
+        &self,
+        q: &[f64],
+        dq: &[f64],
+        jacobian: &mut Matrix6xX<f64>,
+    ) -> Result<(f64, f64), TimingError> {
+        let pose = self.chain.pose_and_jacobian_into(q, jacobian)?;
+        let twist = &*jacobian * DVector::from_column_slice(dq);
+        let v_tool = Vector3::new(twist[0], twist[1], twist[2]);
+        let omega = Vector3::new(twist[3], twist[4], twist[5]);
+        let lever = pose.rotation * self.origin_in_tool;
+        Ok(((v_tool + omega.cross(&lever)).norm(), omega.norm()))
+    }
+
+    /// The largest `x` the limits allow at `q` moving along `dq`, and which limit sets it.
+    fn bound(
+        &self,
+        q: &[f64],
+        dq: &[f64],
+        jacobian: &mut Matrix6xX<f64>,
+    ) -> Result<(f64, Option<Limit>), TimingError> {
+        let (linear, angular) = self.speeds(q, dq, jacobian)?;
+        let mut bound = (f64::INFINITY, None);
+        for (limit, speed, which) in [
+            (self.linear, linear, Limit::ObjectSpeed),
+            (self.angular, angular, Limit::ObjectTurnRate),
+        ] {
+            if let Some(limit) = limit {
+                let x = (limit / speed).powi(2);
+                if x < bound.0 {
+                    bound = (x, Some(which));
+                }
+            }
+        }
+        Ok(bound)
+    }
 }
 
 impl PathLimits<'_> {
@@ -75,6 +136,7 @@ impl PathLimits<'_> {
         };
         let [mut q, mut dq, mut ddq, mut qd, mut qdd, mut tau, mut g, zero] =
             std::array::from_fn(|_| vec![0.0; dof]);
+        let mut jacobian = Matrix6xX::zeros(dof);
         // The smallest k², from velocities (k² ≥ ratio²), accelerations and torques.
         let mut k2: f64 = 1.0;
         for i in 0..timed.grid.len().saturating_sub(1) {
@@ -101,6 +163,14 @@ impl PathLimits<'_> {
                     }
                     if let Some(a) = self.acceleration[j] {
                         k2 = k2.max(qdd[j].abs() / a);
+                    }
+                }
+                if let Some(object) = &self.object {
+                    let (linear, angular) = object.speeds(&q, &dq, &mut jacobian)?;
+                    for (limit, speed) in [(object.linear, linear), (object.angular, angular)] {
+                        if let Some(limit) = limit {
+                            k2 = k2.max((speed * sd / limit).powi(2));
+                        }
                     }
                 }
                 if fraction != 0.5 {
@@ -155,6 +225,7 @@ impl PathLimits<'_> {
         };
         let [mut q, mut dq, mut ddq, mut g, mut tau_a, mut tau_b, zero] =
             std::array::from_fn(|_| vec![0.0; dof]);
+        let mut jacobian = Matrix6xX::zeros(dof);
         for &s in &grid {
             spline.evaluate_into(
                 s,
@@ -164,7 +235,14 @@ impl PathLimits<'_> {
                     ddq: &mut ddq,
                 },
             );
-            x_max.push(velocity_bound(self.velocity, &dq));
+            let mut bound = velocity_bound(self.velocity, &dq);
+            if let Some(object) = &self.object {
+                let by_object = object.bound(&q, &dq, &mut jacobian)?;
+                if by_object.0 < bound.0 {
+                    bound = by_object;
+                }
+            }
+            x_max.push(bound);
             for &(j, limit) in &accelerated {
                 rows.push(Row {
                     a: dq[j],

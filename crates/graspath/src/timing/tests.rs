@@ -22,6 +22,7 @@ fn one_joint(distance: f64, samples: usize, v: f64, a: f64, parts: usize) -> Tim
         velocity: &[Some(v)],
         acceleration: &[Some(a)],
         torque: None,
+        object: None,
         subdivisions: parts,
         discretization: Discretization::default(),
     }
@@ -69,6 +70,7 @@ fn the_sampled_trajectory_respects_the_limits_and_ends_at_rest() {
         velocity: &v,
         acceleration: &a,
         torque: None,
+        object: None,
         subdivisions: 3,
         discretization: Discretization::default(),
     };
@@ -104,6 +106,7 @@ fn an_unreachable_limit_is_infeasible_and_names_it() {
         velocity: &[Some(1.0)],
         acceleration: &[Some(0.0)],
         torque: None,
+        object: None,
         subdivisions: 1,
         discretization: Discretization::default(),
     }
@@ -123,6 +126,7 @@ fn a_repeated_sample_adds_no_path_and_a_single_one_takes_no_time() {
         velocity: &[Some(1.0), Some(1.0)],
         acceleration: &[None, None],
         torque: None,
+        object: None,
         subdivisions: 2,
         discretization: Discretization::default(),
     }

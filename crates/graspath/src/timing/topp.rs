@@ -35,7 +35,8 @@ pub struct Row {
     pub limit: Limit,
 }
 
-/// The quantity a constraint limits: a joint's velocity, acceleration or torque.
+/// The quantity a constraint limits: a joint's velocity, acceleration or torque, or the carried
+/// object's speed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Limit {
     /// Joint `j`'s velocity.
@@ -44,6 +45,10 @@ pub enum Limit {
     Acceleration(usize),
     /// Joint `j`'s torque (or force).
     Torque(usize),
+    /// The carried object's linear speed.
+    ObjectSpeed,
+    /// The carried object's angular speed.
+    ObjectTurnRate,
 }
 
 /// Where a stage's constraints are imposed (toppra's `DiscretizationType`).

@@ -12,8 +12,8 @@ use crate::failure::{Failure, FailureReason, Phase};
 use crate::robot::{Dynamics, RigidBody};
 use crate::task::TimingSettings;
 use crate::timing::{
-    Constraints, Discretization, JointSpline, Limit, PathLimits, TimedPath, TimedTrajectory,
-    TimingError, TorqueLimits, TrajectoryPoint,
+    Constraints, Discretization, JointSpline, Limit, ObjectSpeedLimits, PathLimits, TimedPath,
+    TimedTrajectory, TimingError, TorqueLimits, TrajectoryPoint,
 };
 use std::ops::Range;
 
@@ -54,6 +54,8 @@ pub(super) struct TimingCheck<'a> {
     dynamics: Option<&'a Dynamics>,
     /// The carried object in the tool frame.
     payload: Option<RigidBody>,
+    /// Limits on the carried object's speed (while carrying), with the task's.
+    object_speed: Option<ObjectSpeedLimits<'a>>,
     /// The whole-motion samples of the approach (with the grasp), the carry and the retreat
     /// (with the place).
     approach: Range<usize>,
@@ -98,6 +100,13 @@ impl<'a> TimingCheck<'a> {
             effort: limits.iter().map(|l| l.effort).collect(),
             dynamics,
             payload: payload.map(|p| p.transformed(&wrist_from_object)),
+            object_speed: (settings.object_speed.is_some() || settings.object_turn_rate.is_some())
+                .then_some(ObjectSpeedLimits {
+                    chain,
+                    origin_in_tool: wrist_from_object.translation.vector,
+                    linear: settings.object_speed,
+                    angular: settings.object_turn_rate,
+                }),
             approach: if before > 0 { 0..before + 1 } else { 0..0 },
             carry: before..before + n,
             retreat: if total > before + n {
@@ -118,6 +127,7 @@ impl<'a> TimingCheck<'a> {
                 effort: &self.effort,
                 payload: if carrying { self.payload } else { None },
             }),
+            object: self.object_speed.filter(|_| carrying),
             subdivisions: self.settings.subdivisions,
             discretization: Discretization::Interpolation,
         }
@@ -257,6 +267,8 @@ impl<'a> TimingCheck<'a> {
             Some(Limit::Velocity(j)) => format!("joint '{}''s velocity limit", names[*j]),
             Some(Limit::Acceleration(j)) => format!("joint '{}''s acceleration limit", names[*j]),
             Some(Limit::Torque(j)) => format!("joint '{}''s torque limit", names[*j]),
+            Some(Limit::ObjectSpeed) => "the object's speed limit".into(),
+            Some(Limit::ObjectTurnRate) => "the object's turn-rate limit".into(),
             None => "the limits".into(),
         };
         let sample = first + sample_at(samples, *s);

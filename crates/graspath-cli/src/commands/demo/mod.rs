@@ -10,6 +10,7 @@
 //! `findings.json` (`sampling` says which reading is which).
 
 mod evidence;
+mod timing;
 
 use super::select::run_task;
 use crate::output::{print_summary_table, OutputArgs};
@@ -231,6 +232,10 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             "ours": ours,
             "ours_at_waypoints": waypoints,
         });
+        let timed = timing::timing_finding(&selection);
+        if !timed.is_null() {
+            finding["timing"] = timed;
+        }
         if let Some(judge) = evidence::cuboid_judge(experiment.name) {
             finding["where_it_holds"] = evidence::cuboid_where_it_holds(&file, &source, judge)
                 .with_context(|| format!("experiment {}: placement map", experiment.name))?;

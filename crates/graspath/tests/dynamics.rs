@@ -20,11 +20,7 @@ use serde_json::Value;
 const TOL: f64 = 1e-9;
 
 fn reference() -> Value {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/dynamics/pinocchio_dynamics.json"
-    );
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    common::reference_json("dynamics/pinocchio_dynamics.json")
 }
 
 fn vector3(v: &Value) -> Vector3<f64> {

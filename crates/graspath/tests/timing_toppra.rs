@@ -26,11 +26,7 @@ const DURATION_TOLERANCE: f64 = 1e-6;
 const SD_TOLERANCE: f64 = 1e-4;
 
 fn reference() -> Value {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/timing/toppra_timing.json"
-    );
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    common::reference_json("timing/toppra_timing.json")
 }
 
 fn chain(data: &std::path::Path, case: &Value) -> Chain {

@@ -59,6 +59,16 @@ use nalgebra::{Isometry3, IsometryMatrix3, Matrix6xX, Translation3, UnitQuaterni
 use rand::rngs::StdRng;
 use rand::{RngExt, SeedableRng};
 
+/// The JSON document `tests/data/<relative>` (reference values written by the scripts beside
+/// them).
+pub fn reference_json(relative: &str) -> serde_json::Value {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(relative);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 /// The chain `base` → `tip` (with `tip_from_tool`) of the example-robot-data URDF `urdf`
 /// (relative to `data`, the package's `robots` folder; its meshes' packages are found in the
 /// `share` folder above it).

@@ -70,7 +70,7 @@ Run (writes toppra_timing.json beside this file):
 
 import json
 import os
-import sysconfig
+import sys
 from importlib.metadata import version
 
 import numpy as np
@@ -81,15 +81,16 @@ import toppra.algorithm
 import toppra.constraint
 from scipy.interpolate import CubicSpline
 
-ROBOTS = os.path.join(
-    sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots"
+# The robots, their chains, the payload and the chain models are the dynamics reference's.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "dynamics"))
+from pinocchio_reference import (  # noqa: E402
+    CHAINS,
+    PAYLOAD_COM,
+    PAYLOAD_INERTIA,
+    PAYLOAD_MASS,
+    ROBOTS,
+    chain_model,
 )
-
-CHAINS = [
-    ("panda", "panda_description/urdf/panda.urdf", "panda_link0", "panda_hand_tcp"),
-    ("ur5", "ur_description/urdf/ur5_robot.urdf", "base_link", "tool0"),
-    ("baxter", "baxter_description/urdf/baxter.urdf", "base", "left_gripper"),
-]
 
 # The cases of each robot: (name, waypoint count (None: random in [8, 50)), factor on the URDF
 # effort limits (None: no torque constraint), payload). Each robot has a 50-waypoint case with
@@ -106,24 +107,9 @@ CASES = {
 ACCELERATION_RANGE = (2.0, 15.0)
 ACCELERATION_RANGE_TORQUE = (20.0, 60.0)
 
-PAYLOAD_MASS = 1.7
-PAYLOAD_COM = [0.02, -0.03, 0.11]
-PAYLOAD_INERTIA = [[0.012, 0.001, -0.002], [0.001, 0.009, 0.0005], [-0.002, 0.0005, 0.006]]
-
 SPLINE_CHECKS = 5  # parameter values per case where the spline is recorded
 MAX_DRAWS = 200  # draws of a case before giving up
 SEED = 2024
-
-
-def chain_model(full, base, tip):
-    """The full model reduced to the joints between `base` and `tip`, and the ids of the
-    base and tip frames in it (as pinocchio_reference.py)."""
-    tip_joint = full.frames[full.getFrameId(tip)].parentJoint
-    base_joint = full.frames[full.getFrameId(base)].parentJoint
-    keep = set(full.supports[tip_joint]) - set(full.supports[base_joint])
-    locked = [j for j in range(1, full.njoints) if j not in keep]
-    model = pin.buildReducedModel(full, locked, pin.neutral(full))
-    return model, model.getFrameId(base), model.getFrameId(tip)
 
 
 def random_path(rng, lower, upper, n):

@@ -11,8 +11,8 @@
 
 mod common;
 
-use graspath::robot::{Chain, RigidBody};
-use nalgebra::{DMatrix, Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use graspath::robot::Chain;
+use nalgebra::{DMatrix, Isometry3, Translation3, UnitQuaternion, Vector3};
 use serde_json::Value;
 
 /// The largest error allowed, relative to the largest entry of the reference vector or
@@ -57,18 +57,7 @@ fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
         Translation3::new(xyz[0], xyz[1], xyz[2]),
         UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
     );
-    let p = &reference["payload"];
-    let inertia: Vec<f64> = p["inertia"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .flat_map(common::json_numbers)
-        .collect();
-    let payload = RigidBody::new(
-        p["mass"].as_f64().unwrap(),
-        vector3(&p["com"]),
-        Matrix3::from_row_slice(&inertia),
-    );
+    let payload = common::json_body(&reference["payload"]);
     let robots = reference["robots"].as_array().unwrap();
     assert_eq!(robots.len(), 3);
     for robot in robots {
@@ -76,12 +65,7 @@ fn gravity_rnea_and_crba_equal_pinocchio_on_panda_ur5_and_baxter() {
         let gravity = vector3(&robot["gravity_base"]);
         let bare = chain(&data, robot, None).dynamics().unwrap();
         let tooled = chain(&data, robot, Some(tip_from_tool));
-        let names: Vec<String> = robot["joint_names"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_str().unwrap().to_string())
-            .collect();
+        let names = common::json_names(&robot["joint_names"]);
         assert_eq!(tooled.joint_names(), names.as_slice(), "{name}");
         let loaded = tooled.dynamics().unwrap().with_gravity(gravity).unwrap();
         let bare = bare.with_gravity(gravity).unwrap();

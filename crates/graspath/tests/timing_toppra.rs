@@ -15,9 +15,9 @@
 
 mod common;
 
-use graspath::robot::{Chain, RigidBody};
+use graspath::robot::Chain;
 use graspath::timing::{Discretization, JointSpline, PathLimits, PathPoint, TorqueLimits};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use serde_json::Value;
 
 /// Durations agree to this, relative (the issue asks for 1 %).
@@ -77,29 +77,11 @@ fn durations_equal_toppra_on_panda_ur5_and_baxter() {
             }
         }
         let chain = chain(&data, case);
-        let names: Vec<String> = case["joint_names"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_str().unwrap().to_string())
-            .collect();
+        let names = common::json_names(&case["joint_names"]);
         assert_eq!(chain.joint_names(), names.as_slice(), "{name}");
         let gravity = Vector3::from_vec(common::json_numbers(&case["gravity_base"]));
         let dynamics = chain.dynamics().unwrap().with_gravity(gravity).unwrap();
-        let payload = (!case["payload"].is_null()).then(|| {
-            let p = &case["payload"];
-            let inertia: Vec<f64> = p["inertia"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .flat_map(common::json_numbers)
-                .collect();
-            RigidBody::new(
-                p["mass"].as_f64().unwrap(),
-                Vector3::from_vec(common::json_numbers(&p["com"])),
-                Matrix3::from_row_slice(&inertia),
-            )
-        });
+        let payload = (!case["payload"].is_null()).then(|| common::json_body(&case["payload"]));
         let (velocity, acceleration) = (
             limits(&case["velocity_limits"]),
             limits(&case["acceleration_limits"]),

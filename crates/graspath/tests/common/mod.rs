@@ -69,6 +69,30 @@ pub fn reference_json(relative: &str) -> serde_json::Value {
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// A reference file's body `{mass, com, inertia}` (kg, m, kg·m² as a 3 × 3 list).
+pub fn json_body(v: &serde_json::Value) -> graspath::robot::RigidBody {
+    let inertia: Vec<f64> = v["inertia"]
+        .as_array()
+        .expect("inertia rows")
+        .iter()
+        .flat_map(json_numbers)
+        .collect();
+    graspath::robot::RigidBody::new(
+        v["mass"].as_f64().expect("mass"),
+        Vector3::from_vec(json_numbers(&v["com"])),
+        nalgebra::Matrix3::from_row_slice(&inertia),
+    )
+}
+
+/// A reference file's list of joint names.
+pub fn json_names(v: &serde_json::Value) -> Vec<String> {
+    v.as_array()
+        .expect("names")
+        .iter()
+        .map(|n| n.as_str().expect("a name").to_string())
+        .collect()
+}
+
 /// The chain `base` → `tip` (with `tip_from_tool`) of the example-robot-data URDF `urdf`
 /// (relative to `data`, the package's `robots` folder; its meshes' packages are found in the
 /// `share` folder above it).

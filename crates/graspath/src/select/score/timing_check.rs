@@ -220,15 +220,25 @@ impl<'a> TimingCheck<'a> {
                 )
                 .map_err(|e| self.failure(0, &e))
             };
-            let mut part = sample(None)?;
-            if let (Some((from, to)), Some(_)) = (segment.carried, self.payload) {
-                let loaded = sample(self.payload)?;
-                for (point, with) in part.points.iter_mut().zip(loaded.points) {
-                    if (from..=to).contains(&point.time) {
-                        point.efforts = with.efforts;
-                    }
+            let duration = segment.timed.duration();
+            let mut part = match (segment.carried, self.payload) {
+                // Carried throughout (a carry between stops): one pass, with the payload.
+                (Some((from, to)), Some(_)) if from <= 0.0 && to >= duration => {
+                    sample(self.payload)?
                 }
-            }
+                // Carried between the grasp and the place of one whole motion.
+                (Some((from, to)), Some(_)) => {
+                    let mut part = sample(None)?;
+                    let loaded = sample(self.payload)?;
+                    for (point, with) in part.points.iter_mut().zip(loaded.points) {
+                        if (from..=to).contains(&point.time) {
+                            point.efforts = with.efforts;
+                        }
+                    }
+                    part
+                }
+                _ => sample(None)?,
+            };
             // A segment that does not move waits, at rest, for the other arms.
             if segment.hold > part.duration() {
                 if let Some(last) = part.points.last().cloned() {

@@ -1,12 +1,13 @@
 //! `graspath.Robot`: one serial chain (a URDF or MJCF chain, or a built-in arm) with forward
-//! kinematics, the geometric Jacobian, manipulability indices and inverse kinematics, for one
-//! configuration or for many at once.
+//! kinematics, the geometric Jacobian, manipulability indices, inverse kinematics and
+//! rigid-body dynamics, for one configuration or for many at once.
 //!
 //! Frames and units as in the library: every pose and Jacobian is in the chain **base frame**;
 //! metres and radians; the Jacobian has rows `[v; ω]` (Pinocchio's `LOCAL_WORLD_ALIGNED`).
 //!
-//! One file on purpose (about 800 lines): it is the whole `Robot` class, whose methods PyO3
-//! requires in one `#[pymethods]` block.
+//! One file on purpose (over 1000 lines): it is the whole `Robot` class, whose methods PyO3
+//! requires in one `#[pymethods]` block. The dynamics' argument parsing and batch evaluation
+//! are in [`dynamics`].
 
 use crate::convert::{
     array, check_finite, error, index_mode, non_finite_error, poses, renamed_keyword, row_major,
@@ -19,9 +20,9 @@ use graspath::manipulability::{
 };
 
 use graspath::robot::{
-    null_space, optimize_self_motion, solve_ik, solve_trajectories, Chain, IkOptions, IkSolution,
-    KeptRows, RobotError, RobotSource, SelfMotionOptions, TrajectoryIkOptions, TrajectoryIkResult,
-    UrdfRobot,
+    null_space, optimize_self_motion, solve_ik, solve_trajectories, Chain, Dynamics, IkOptions,
+    IkSolution, KeptRows, MotionLimits, RobotError, RobotSource, SelfMotionOptions,
+    TrajectoryIkOptions, TrajectoryIkResult, UrdfRobot,
 };
 use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
 use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
@@ -31,18 +32,84 @@ use rayon::prelude::*;
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::OnceLock;
 use std::time::Duration;
+
+mod dynamics;
+
+use dynamics::{Quantity, States};
 
 /// A serial kinematic chain from a base link to a tip link.
 #[pyclass(module = "graspath", name = "Robot", frozen)]
 pub struct PyRobot {
     pub(crate) chain: Chain,
+    /// The chain's dynamics model (or the message of why it has none), built on first use.
+    dynamics: OnceLock<Result<Dynamics, String>>,
 }
 
 impl PyRobot {
     /// Wraps a chain.
     pub fn new(chain: Chain) -> Self {
-        Self { chain }
+        Self {
+            chain,
+            dynamics: OnceLock::new(),
+        }
+    }
+
+    /// The chain's dynamics model with standard gravity; a `GraspathError` naming the robot
+    /// and the links when a moving link has no inertial data.
+    fn dynamics_model(&self) -> PyResult<&Dynamics> {
+        self.dynamics
+            .get_or_init(|| self.chain.dynamics().map_err(|e| e.to_string()))
+            .as_ref()
+            .map_err(error)
+    }
+
+    /// A dynamics call's model (with `gravity` when given), states and payload, checked, and
+    /// its result.
+    #[allow(clippy::too_many_arguments)]
+    fn dynamics_call<'py>(
+        &self,
+        py: Python<'py>,
+        quantity: Quantity,
+        q: &FloatArray<'py>,
+        qd: Option<&FloatArray<'py>>,
+        qdd: Option<&FloatArray<'py>>,
+        gravity: Option<&FloatArray<'py>>,
+        payload: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        let model = self.dynamics_model()?;
+        let (q_values, batch) = self.configurations(q)?;
+        let dof = self.chain.dof();
+        let states = States {
+            q: q_values,
+            qd: dynamics::like_q(qd, q.shape(), dof, "qd")?,
+            qdd: dynamics::like_q(qdd, q.shape(), dof, "qdd")?,
+            batch,
+        };
+        let gravity = dynamics::gravity_vector(gravity, model.gravity())?;
+        let payload = dynamics::payload_body(payload)?;
+        let model = if gravity == model.gravity() {
+            Cow::Borrowed(model)
+        } else {
+            Cow::Owned(model.clone().with_gravity(gravity).map_err(error)?)
+        };
+        dynamics::evaluate(py, &model, payload, quantity, &states)
+    }
+
+    /// One of the joints' motion limits, `+inf` where unknown.
+    fn limits<'py>(
+        &self,
+        py: Python<'py>,
+        limit: fn(&MotionLimits) -> Option<f64>,
+    ) -> Bound<'py, PyArray1<f64>> {
+        let values: Vec<f64> = self
+            .chain
+            .motion_limits()
+            .iter()
+            .map(|l| limit(l).unwrap_or(f64::INFINITY))
+            .collect();
+        PyArray1::from_vec(py, values)
     }
 
     /// Configurations from `(dof,)` or `(n, dof)`, checked finite: row-major values (the
@@ -985,6 +1052,123 @@ impl PyRobot {
         dict.set_item("mu_l2_seed", seed_total.sqrt())?;
         dict.set_item("mu_l2_min", found.worst_total.sqrt())?;
         Ok(dict)
+    }
+
+    /// Joint effort limits, shape ``(dof,)`` (N·m, or N for a prismatic joint; ``inf`` where
+    /// the source gives none), from the URDF ``<limit effort>``, the MJCF force ranges or the
+    /// built-in arm's datasheet.
+    #[getter]
+    fn effort_limits<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.limits(py, |l| l.effort)
+    }
+
+    /// Joint velocity limits, shape ``(dof,)`` (rad/s or m/s; ``inf`` where the source gives
+    /// none), as :func:`time_path` takes them.
+    #[getter]
+    fn velocity_limits<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.limits(py, |l| l.velocity)
+    }
+
+    /// Joint acceleration limits, shape ``(dof,)`` (rad/s² or m/s²; ``inf`` where the source
+    /// gives none: most robots), as :func:`time_path` takes them.
+    #[getter]
+    fn acceleration_limits<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.limits(py, |l| l.acceleration)
+    }
+
+    /// The total mass of the links the joints move (kg; links before the first moving joint
+    /// are not counted). A ``GraspathError`` when a moving link has no inertial data.
+    #[getter]
+    fn moving_mass(&self) -> PyResult<f64> {
+        Ok(self.dynamics_model()?.moving_mass())
+    }
+
+    /// The gravity torques ``g(q)``: the joint torques (N·m, or N for a prismatic joint) that
+    /// hold the arm, and the ``payload``, still at ``q`` against ``gravity`` (a vector in the
+    /// chain's **base frame**, m/s²; default 9.81 m/s² along the base's −z). Shape ``(dof,)``
+    /// for ``q`` of shape ``(dof,)``, ``(n, dof)`` for ``(n, dof)`` (in parallel, the GIL
+    /// released; each row what the single call gives, bit for bit). Pinocchio's
+    /// ``computeGeneralizedGravity``.
+    ///
+    /// ``payload``: ``None`` or a dict ``{"mass": kg, "com": [x, y, z], "inertia": I}`` carried
+    /// rigidly at the tool frame (the frame of :meth:`fk`): ``com`` in the tool frame (m,
+    /// default its origin), ``I`` about the centre of mass along the tool frame's axes
+    /// (kg·m²), a ``(3, 3)`` symmetric matrix or the principal moments ``[ixx, iyy, izz]``
+    /// (default 0: a point mass). The mass is at most 1000 kg, the centre of mass at most
+    /// 10 m from the tool frame. Needs each moving link's inertial data (a ``GraspathError``
+    /// names the links without).
+    #[pyo3(
+        signature = (q, *, gravity = None, payload = None),
+        text_signature = "(self, q, *, gravity=(0.0, 0.0, -9.81), payload=None)"
+    )]
+    fn gravity_torques<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        gravity: Option<FloatArray<'py>>,
+        payload: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        self.dynamics_call(
+            py,
+            Quantity::Gravity,
+            &q,
+            None,
+            None,
+            gravity.as_ref(),
+            payload.as_ref(),
+        )
+    }
+
+    /// Inverse dynamics by the recursive Newton–Euler algorithm: the joint torques
+    /// ``τ = M(q) q̈ + C(q, q̇) q̇ + g(q)`` (N·m or N) for the joint velocities ``qd`` (rad/s)
+    /// and accelerations ``qdd`` (rad/s²), each of ``q``'s shape: ``(dof,)`` gives ``(dof,)``,
+    /// ``(n, dof)`` gives ``(n, dof)``. Pinocchio's ``rnea``. ``gravity`` and ``payload`` as
+    /// for :meth:`gravity_torques`.
+    #[pyo3(
+        signature = (q, qd, qdd, *, gravity = None, payload = None),
+        text_signature = "(self, q, qd, qdd, *, gravity=(0.0, 0.0, -9.81), payload=None)"
+    )]
+    fn inverse_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        qd: FloatArray<'py>,
+        qdd: FloatArray<'py>,
+        gravity: Option<FloatArray<'py>>,
+        payload: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        self.dynamics_call(
+            py,
+            Quantity::InverseDynamics,
+            &q,
+            Some(&qd),
+            Some(&qdd),
+            gravity.as_ref(),
+            payload.as_ref(),
+        )
+    }
+
+    /// The joint-space inertia matrix ``M(q)`` by the composite rigid body algorithm, both
+    /// triangles written (symmetric; kg·m², kg on a prismatic joint's row and column):
+    /// ``(dof, dof)`` for ``q`` of shape ``(dof,)``, ``(n, dof, dof)`` for ``(n, dof)``.
+    /// Pinocchio's ``crba`` (which fills the upper triangle only). ``payload`` as for
+    /// :meth:`gravity_torques`.
+    #[pyo3(signature = (q, *, payload = None))]
+    fn mass_matrix<'py>(
+        &self,
+        py: Python<'py>,
+        q: FloatArray<'py>,
+        payload: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        self.dynamics_call(
+            py,
+            Quantity::MassMatrix,
+            &q,
+            None,
+            None,
+            None,
+            payload.as_ref(),
+        )
     }
 
     fn __repr__(&self) -> String {

@@ -22,6 +22,17 @@ IntArray = npt.NDArray[np.int64]
 Part = Literal["full", "translation", "rotation"]
 StrPath = Union[str, "PathLike[str]"]
 
+class _PayloadMass(TypedDict):
+    mass: float
+
+class Payload(_PayloadMass, total=False):
+    """A rigid payload carried at the tool frame: ``mass`` (kg, required), ``com`` (tool frame,
+    m; default the origin), ``inertia`` about the centre of mass, tool frame axes (kg·m²; a
+    3×3 symmetric matrix or the principal moments ``[ixx, iyy, izz]``; default 0)."""
+
+    com: ArrayLike
+    inertia: ArrayLike
+
 class GraspathError(ValueError):
     """Bad input (a file, a field, an array's shape or values), with the library's message."""
 
@@ -177,6 +188,39 @@ class Robot:
         """The joint path through ``targets`` ``(n, 4, 4)`` in the self-motion around ``q``
         ``(n, dof)`` (a path on the targets) with the largest ``Σ M_T²``: ``q``, ``m_t``
         (NaN where the tip is still), ``mu_l2``, ``mu_l2_seed``, ``mu_l2_min``."""
+    @property
+    def effort_limits(self) -> FloatArray:
+        """Joint effort limits ``(dof,)`` (N·m, N for prismatic joints; ``inf`` where unknown)."""
+    @property
+    def velocity_limits(self) -> FloatArray:
+        """Joint velocity limits ``(dof,)`` (rad/s or m/s; ``inf`` where unknown)."""
+    @property
+    def acceleration_limits(self) -> FloatArray:
+        """Joint acceleration limits ``(dof,)`` (rad/s² or m/s²; ``inf`` where unknown)."""
+    @property
+    def moving_mass(self) -> float:
+        """The mass of the links the joints move (kg); an error without inertial data."""
+    def gravity_torques(
+        self,
+        q: ArrayLike,
+        *,
+        gravity: ArrayLike = (0.0, 0.0, -9.81),
+        payload: Optional[Payload] = None,
+    ) -> FloatArray:
+        """``g(q)`` (N·m): ``(dof,)`` for ``(dof,)``, ``(n, dof)`` for ``(n, dof)`` (in parallel
+        without the GIL); ``gravity`` in the base frame (m/s²), ``payload`` at the tool frame."""
+    def inverse_dynamics(
+        self,
+        q: ArrayLike,
+        qd: ArrayLike,
+        qdd: ArrayLike,
+        *,
+        gravity: ArrayLike = (0.0, 0.0, -9.81),
+        payload: Optional[Payload] = None,
+    ) -> FloatArray:
+        """``τ = M(q) q̈ + C(q, q̇) q̇ + g(q)`` (RNEA, N·m); ``qd``, ``qdd`` of ``q``'s shape."""
+    def mass_matrix(self, q: ArrayLike, *, payload: Optional[Payload] = None) -> FloatArray:
+        """``M(q)`` (CRBA, kg·m², symmetric): ``(dof, dof)`` or ``(n, dof, dof)``."""
 
 class Task:
     """A selection task: arms, object path, grasp candidates and settings."""

@@ -35,6 +35,8 @@ enum Command {
     Train(commands::train::TrainArgs),
     /// Generate grasp candidates with log-likelihoods on an object cloud from a trained model.
     Generate(commands::generate::GenerateArgs),
+    /// Write the task's world (arms, gripper, object, table, obstacles) as MJCF for MuJoCo.
+    ExportMjcf(commands::export_mjcf::ExportMjcfArgs),
 }
 
 /// How a run that did not fail ended.
@@ -77,6 +79,7 @@ fn main() -> ExitCode {
         Command::Ik(args) => done(commands::ik::run(&args)),
         Command::Train(args) => done(commands::train::run(&args)),
         Command::Generate(args) => done(commands::generate::run(&args)),
+        Command::ExportMjcf(args) => done(commands::export_mjcf::run(&args)),
     };
     ExitCode::from(match result {
         Ok(Finished::Done) => exit::SUCCESS,

@@ -33,6 +33,7 @@ mod grasps;
 mod memory;
 mod model;
 mod pairs;
+mod physics;
 mod placement;
 mod pose;
 mod record;
@@ -72,6 +73,9 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(grasps::read_grasps, module)?)?;
     module.add_function(wrap_pyfunction!(memory::result_cache, module)?)?;
     module.add_function(wrap_pyfunction!(timing::time_path, module)?)?;
+    module.add_function(wrap_pyfunction!(physics::world_mjcf, module)?)?;
+    module.add_function(wrap_pyfunction!(physics::robot_mjcf, module)?)?;
+    module.add_function(wrap_pyfunction!(physics::candidate_motions, module)?)?;
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

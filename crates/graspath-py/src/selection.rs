@@ -146,50 +146,14 @@ impl PySelection {
         py: Python<'py>,
         period: Option<f64>,
     ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        if let Some(p) = period {
-            if !(1e-4..=10.0).contains(&p) {
-                return Err(error(format!(
-                    "period: {p} is not a sampling period from 0.0001 to 10 seconds (or None)"
-                )));
-            }
-        }
+        crate::physics::check_period(period)?;
         let motions = match py.detach(|| selected_motions(&self.task, &self.selection, period)) {
             None => return Ok(Vec::new()),
             Some(motions) => motions.map_err(|f| error(format!("cannot time the motion: {f}")))?,
         };
         motions
-            .into_iter()
-            .map(|motion| {
-                let dict = PyDict::new(py);
-                let trajectory = &motion.trajectory;
-                let n = trajectory.points.len();
-                let dof = trajectory.joint_names.len();
-                let matrix = |f: &dyn Fn(&graspath::timing::TrajectoryPoint) -> &[f64]| {
-                    let flat: Vec<f64> = trajectory
-                        .points
-                        .iter()
-                        .flat_map(|p| f(p).to_vec())
-                        .collect();
-                    array(py, flat, &[n, dof])
-                };
-                dict.set_item("arm", &motion.arm)?;
-                dict.set_item("candidate", motion.candidate.id)?;
-                dict.set_item("label", &motion.candidate.label)?;
-                dict.set_item("duration", trajectory.duration())?;
-                dict.set_item("joint_names", &trajectory.joint_names)?;
-                let times: Vec<f64> = trajectory.points.iter().map(|p| p.time).collect();
-                dict.set_item("time", array(py, times, &[n])?)?;
-                dict.set_item("positions", matrix(&|p| &p.positions)?)?;
-                dict.set_item("velocities", matrix(&|p| &p.velocities)?)?;
-                dict.set_item("accelerations", matrix(&|p| &p.accelerations)?)?;
-                let efforts = if trajectory.points.iter().all(|p| p.efforts.is_some()) {
-                    Some(matrix(&|p| p.efforts.as_deref().unwrap_or(&[]))?)
-                } else {
-                    None
-                };
-                dict.set_item("efforts", efforts)?;
-                Ok(dict)
-            })
+            .iter()
+            .map(|motion| crate::physics::motion_dict(py, motion))
             .collect()
     }
 

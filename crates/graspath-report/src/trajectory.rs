@@ -31,8 +31,9 @@ pub fn trajectory_files<S: Scored>(
 }
 
 /// `trajectory.json`: `duration` (s, the longest arm's), `period` (s, `null` at the timing
-/// grid's points) and per arm its name, candidate id and label, its duration and the
-/// `trajectory` as a `JointTrajectory` (`joint_names`, `points` with `positions`,
+/// grid's points) and per arm its name, candidate id and label, its duration, when the tool
+/// reaches the grasp and the place (`grasp_time`, `place_time`, s: where a gripper closes and
+/// opens) and the `trajectory` as a `JointTrajectory` (`joint_names`, `points` with `positions`,
 /// `velocities`, `accelerations`, `effort` and `time_from_start {sec, nanosec}`).
 pub fn trajectory_json(motions: &[SelectedMotion], period: Option<f64>) -> Value {
     let arms: Vec<Value> = motions
@@ -43,6 +44,8 @@ pub fn trajectory_json(motions: &[SelectedMotion], period: Option<f64>) -> Value
                 "candidate": m.candidate.id,
                 "label": m.candidate.label,
                 "duration": m.trajectory.duration(),
+                "grasp_time": m.grasp_time,
+                "place_time": m.place_time,
                 "trajectory": m.trajectory.to_joint_trajectory(),
             })
         })

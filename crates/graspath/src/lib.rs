@@ -78,6 +78,7 @@ pub mod geometry;
 pub mod grasp;
 pub mod input;
 pub mod manipulability;
+pub mod physics;
 pub mod placement;
 pub mod random;
 pub mod robot;

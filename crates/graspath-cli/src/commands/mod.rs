@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod demo;
+pub mod export_mjcf;
 pub mod generate;
 pub mod ik;
 pub mod kinematics;

@@ -358,8 +358,8 @@ class Selection:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
     def timed_motions(self, period: Optional[float] = 0.01) -> List[Dict[str, Any]]:
         """The selected motions, timed (empty when the task does not time motions or nothing
-        is selected): per arm ``arm``, ``candidate``, ``label``, ``duration`` (s),
-        ``joint_names``, ``time`` ``(n,)``, ``positions``, ``velocities``,
+        is selected): per arm ``arm``, ``candidate``, ``label``, ``duration``, ``grasp_time``
+        and ``place_time`` (s: where the gripper closes and opens), ``joint_names``, ``time`` ``(n,)``, ``positions``, ``velocities``,
         ``accelerations`` and ``efforts`` ``(n, dof)`` (``efforts`` ``None`` without
         dynamics), sampled every ``period`` s (``None``: at the timing grid's points)."""
     def write(self, out_dir: StrPath, trajectory_period: float = 0.01) -> List[Path]:
@@ -379,6 +379,28 @@ def time_path(
     velocity and acceleration limits ``(dof,)`` (``inf``: none): TOPP-RA on the natural cubic
     spline through them (chord-length knots, each interval split into ``subdivisions``).
     Returns ``duration``, ``knots``, ``grid``, ``sd_squared``, ``times`` and ``slowdown``."""
+
+def candidate_motions(
+    task: Task, candidates: Sequence[int], period: Optional[float] = 0.01
+) -> Optional[List[Dict[str, Any]]]:
+    """The timed motions of the candidates at positions ``candidates`` (one per arm), as
+    :meth:`Selection.timed_motions` gives them; ``None`` when one is not feasible."""
+
+def world_mjcf(
+    task: Task,
+    *,
+    timestep: float = 0.002,
+    friction: float = 1.0,
+    grip_force: float = 40.0,
+    object_density: float = 500.0,
+    arm_gravity_compensation: bool = False,
+) -> Dict[str, Any]:
+    """The task's world (arms, gripper, object, table, obstacles) as MJCF for MuJoCo:
+    ``xml``, ``arms`` (names per arm), ``object``, ``hold_weld``, ``object_mass``,
+    ``has_table``, ``notes``."""
+
+def robot_mjcf(robot: Robot, arm: str = "arm") -> Tuple[str, Dict[str, Any]]:
+    """The robot's chain alone as MJCF (base at the origin) and its names."""
 
 def placement_map(
     task: StrPath,

@@ -26,7 +26,10 @@ mod urdf;
 mod urdf_scan;
 mod xacro;
 
-pub use chain::{Chain, FixedChain, JointAxes, JointAxis, MotionKind, SweepBound};
+pub use chain::{
+    Chain, ChainLayout, FixedChain, JointAxes, JointAxis, LinkPlacement, MotionKind, SegmentLayout,
+    SweepBound,
+};
 pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, MeshResolver};
 pub use dynamics::{Dynamics, DynamicsData, STANDARD_GRAVITY};
 pub use error::RobotError;

@@ -17,7 +17,7 @@ pub use run::{pairs_of_eligible, scoring_setup, select, ArmResult, PairInputErro
 pub use scalars::{CandidateScalars, FailurePoint, Scored};
 pub use score::{
     for_each_score, score_candidates, timed_together, wrist_trajectory, CandidateScore, Failure,
-    MotionDurations, ScoringSetup, SelfMotionScores, STREAM_CHUNK,
+    MotionDurations, ScoringSetup, SelfMotionScores, TimedMotion, STREAM_CHUNK,
 };
 pub use stream::{select_streaming, Streamed, NAMED_BEST};
-pub use timed::{selected_motions, SelectedMotion};
+pub use timed::{candidate_motions, selected_motions, SelectedMotion};

@@ -465,11 +465,12 @@ impl Chain {
         Ok(points)
     }
 
-    /// The flattened layout the dynamics kernels copy: per moving segment its placement at
-    /// `q = 0` (rotation, translation, kind), its drive `(source, multiplier, offset)`, its
-    /// body (aligned frame) and the names of the links it carries; then the tail
-    /// (last aligned frame to tool).
-    pub(in crate::robot) fn dynamics_layout(&self) -> DynamicsLayout {
+    /// The flattened layout: per moving segment its placement at `q = 0` (rotation,
+    /// translation, kind), its drive `(source, multiplier, offset)`, its body (aligned frame)
+    /// and the names of the links it carries; every link's place on the segments; then the
+    /// tail (last aligned frame to tool). The dynamics kernels copy it, and a physics model
+    /// written from it has the chain's kinematics and mass properties exactly.
+    pub fn layout(&self) -> ChainLayout {
         let segments = self
             .segments
             .iter()
@@ -486,7 +487,7 @@ impl Chain {
                     .filter(|(slot, _)| slot.segment == Some(i))
                     .map(|(_, name)| name.clone())
                     .collect();
-                LayoutSegment {
+                SegmentLayout {
                     rotation: segment.rotation,
                     translation: segment.translation,
                     kind: segment.kind,
@@ -496,8 +497,20 @@ impl Chain {
                 }
             })
             .collect();
-        DynamicsLayout {
+        let links = self
+            .link_slots
+            .iter()
+            .zip(&self.link_names)
+            .map(|(slot, name)| LinkPlacement {
+                name: name.clone(),
+                segment: slot.segment,
+                rotation: slot.rotation,
+                translation: slot.translation,
+            })
+            .collect();
+        ChainLayout {
             segments,
+            links,
             has_mimic: self.drives.is_some(),
             tail_rotation: self.tail_rotation,
             tail_translation: self.tail_translation,
@@ -547,21 +560,53 @@ impl SegmentFrames {
     }
 }
 
-/// One moving segment as [`Chain::dynamics_layout`] gives it.
-pub(in crate::robot) struct LayoutSegment {
+/// One moving segment as [`Chain::layout`] gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentLayout {
+    /// The segment's aligned frame at `q = 0` (its `z` axis is the joint axis) in the previous
+    /// segment's aligned frame, or in the chain's base frame for the first segment: rotation.
     pub rotation: Matrix3<f64>,
+    /// ... and translation (m).
     pub translation: Vector3<f64>,
+    /// How the joint moves the segment (about or along the aligned `z`).
     pub kind: MotionKind,
+    /// What drives it, `(source, multiplier, offset)`: the joint value is
+    /// `multiplier · q[source] + offset` (rad or m); `(i, 1, 0)` without mimic joints.
     pub drive: (usize, f64, f64),
+    /// The mass properties of everything the segment carries, in its aligned frame after the
+    /// joint motion; `None` when no link of it has inertial data.
     pub body: Option<RigidBody>,
+    /// The links the segment carries, in chain order.
     pub links: Vec<String>,
 }
 
-/// The chain's layout for the dynamics kernels ([`Chain::dynamics_layout`]).
-pub(in crate::robot) struct DynamicsLayout {
-    pub segments: Vec<LayoutSegment>,
+/// Where one link of the chain sits ([`Chain::layout`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkPlacement {
+    /// The link's name.
+    pub name: String,
+    /// The segment it rides on (`None`: the base, before the first moving joint).
+    pub segment: Option<usize>,
+    /// The link frame in that segment's aligned frame (after its motion), or in the base
+    /// frame: rotation ...
+    pub rotation: Matrix3<f64>,
+    /// ... and translation (m).
+    pub translation: Vector3<f64>,
+}
+
+/// A chain's flattened layout ([`Chain::layout`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainLayout {
+    /// The moving segments, base first.
+    pub segments: Vec<SegmentLayout>,
+    /// Every link, in [`Chain::link_names`] order.
+    pub links: Vec<LinkPlacement>,
+    /// Whether a segment follows another joint (a mimic joint).
     pub has_mimic: bool,
+    /// The tool frame in the last segment's aligned frame (the base frame without moving
+    /// joints): rotation ...
     pub tail_rotation: Matrix3<f64>,
+    /// ... and translation (m).
     pub tail_translation: Vector3<f64>,
 }
 

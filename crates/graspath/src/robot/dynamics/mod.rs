@@ -181,7 +181,7 @@ impl Chain {
     /// # Ok::<(), graspath::robot::RobotError>(())
     /// ```
     pub fn dynamics(&self) -> Result<Dynamics, RobotError> {
-        let layout = self.dynamics_layout();
+        let layout = self.layout();
         let mut segments = Vec::with_capacity(layout.segments.len());
         for (i, s) in layout.segments.iter().enumerate() {
             let joint = segment_joint_name(self, &layout, i);
@@ -226,7 +226,7 @@ impl Chain {
 /// The joint that moves segment `i`, for messages: its name when the chain has no mimic
 /// joints (segment `i` is then joint `i`), else the link it moves (a mimic follower has no
 /// entry in `q`).
-fn segment_joint_name(chain: &Chain, layout: &super::chain::DynamicsLayout, i: usize) -> String {
+fn segment_joint_name(chain: &Chain, layout: &super::chain::ChainLayout, i: usize) -> String {
     if !layout.has_mimic {
         if let Some(name) = chain.joint_names().get(i) {
             return name.clone();

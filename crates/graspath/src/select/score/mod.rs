@@ -10,7 +10,7 @@ mod timing_check;
 mod torque_check;
 
 pub use path::wrist_trajectory;
-pub use timing_check::MotionDurations;
+pub use timing_check::{MotionDurations, TimedMotion};
 
 use crate::collision::{ArmInScene, Body, ObjectAlong};
 pub use crate::failure::Failure;
@@ -26,7 +26,6 @@ use crate::task::{
     defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
     Stroke, TimingSettings, WholeMotionPlan,
 };
-use crate::timing::TimedTrajectory;
 use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
 use nalgebra::{Isometry3, Matrix6xX};
@@ -262,7 +261,7 @@ pub fn for_each_score(
 pub fn timed_together(
     members: &[(ScoringSetup<'_>, &CandidateScore)],
     period: Option<f64>,
-) -> Option<Result<Vec<TimedTrajectory>, Failure>> {
+) -> Option<Result<Vec<TimedMotion>, Failure>> {
     if members.iter().any(|(_, score)| !score.feasible()) {
         return None;
     }
@@ -274,7 +273,7 @@ pub fn timed_together(
         .iter()
         .map(TimingCheck::of)
         .collect::<Option<_>>()?;
-    let timed = || -> Result<Vec<TimedTrajectory>, Failure> {
+    let timed = || -> Result<Vec<TimedMotion>, Failure> {
         let mut motions = Vec::with_capacity(members.len());
         for (check, (_, score)) in checks.iter().zip(members) {
             let q: Vec<Vec<f64>> = score

@@ -205,11 +205,14 @@ impl<'a> TimingCheck<'a> {
         &self,
         segments: Vec<TimedSegment>,
         period: Option<f64>,
-    ) -> Result<TimedTrajectory, Failure> {
+    ) -> Result<TimedMotion, Failure> {
         let names = self.scoring.setup.arm.chain.joint_names();
         let mut trajectory = TimedTrajectory::default();
         let dynamics = self.scoring.setup.arm.dynamics.as_deref();
+        // The first and last instants the object is carried (s from the start).
+        let mut carry: Option<(f64, f64)> = None;
         for segment in segments {
+            let offset = trajectory.duration();
             let sample = |payload: Option<RigidBody>| {
                 TimedTrajectory::sample(
                     names,
@@ -248,6 +251,10 @@ impl<'a> TimingCheck<'a> {
                     });
                 }
             }
+            if let Some((from, to)) = segment.carried {
+                let (grasp, place) = (offset + from.max(0.0), offset + to.min(part.duration()));
+                carry = Some(carry.map_or((grasp, place), |(first, _)| (first, place)));
+            }
             trajectory.extend(part);
         }
         // A smoothed motion through samples that ride a limit can leave the range by a few
@@ -263,7 +270,12 @@ impl<'a> TimingCheck<'a> {
                 *q = q.clamp(*lo, *hi);
             }
         }
-        Ok(trajectory)
+        let (grasp_time, place_time) = carry.unwrap_or((0.0, trajectory.duration()));
+        Ok(TimedMotion {
+            trajectory,
+            grasp_time,
+            place_time,
+        })
     }
 
     /// A `timing_infeasible` failure for a timing error along `samples` (whose first is
@@ -364,6 +376,18 @@ pub(super) struct TimedSegment {
     carried: Option<(f64, f64)>,
     /// How long the segment lasts when it does not move (0) while another arm's does (s).
     hold: f64,
+}
+
+/// One arm's whole motion, timed, and when it holds the object.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimedMotion {
+    /// The approach, the carry and the retreat, one after the other.
+    pub trajectory: TimedTrajectory,
+    /// When the tool reaches the grasp and the carry begins (s from the start): where a
+    /// gripper closes.
+    pub grasp_time: f64,
+    /// When the carry ends at the place (s from the start): where a gripper opens.
+    pub place_time: f64,
 }
 
 /// Puts the timed motions of arms that move the object together on one timeline: each

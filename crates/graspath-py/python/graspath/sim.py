@@ -374,6 +374,9 @@ class World:
                         contacts[key] = contacts.get(key, 0) + 1
                     if first_contact is None:
                         first_contact = i * o.timestep
+        # MuJoCo resets a simulation whose accelerations blow up (e.g. a load far beyond the
+        # motors): such a run is reported as unstable, never as a success.
+        unstable = bool(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0)
         final = self._object_error()
         if delivery is None:
             delivery = final
@@ -403,6 +406,7 @@ class World:
         judged = final if supported else delivery
         success = (
             not dropped
+            and not unstable
             and judged["position"] <= POSITION_TOLERANCE
             and judged["angle"] <= ANGLE_TOLERANCE
             and not contacts
@@ -422,6 +426,7 @@ class World:
             "slip_distance": slip_distance,
             "slip_angle": slip_angle,
             "dropped": bool(dropped),
+            "unstable": unstable,
             "tracking_error_max": tracking_max,
             "tracking_error_rms": tracking_rms,
             "saturated_fraction": float(saturated.mean()),
@@ -669,6 +674,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--grip-force", type=float, default=SimOptions.grip_force)
     parser.add_argument("--object-mass", type=float, default=None)
     parser.add_argument("--timestep", type=float, default=SimOptions.timestep)
+    parser.add_argument(
+        "--arm-gravity-compensation",
+        action="store_true",
+        help="carry the arm's own weight outside the motors (a gravity-assist spring, as on "
+        "Baxter's shoulder)",
+    )
     args = parser.parse_args(argv)
     try:
         options = SimOptions(
@@ -676,6 +687,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             grip_force=args.grip_force,
             object_mass=args.object_mass,
             timestep=args.timestep,
+            arm_gravity_compensation=args.arm_gravity_compensation,
         )
         options.check()
         task = graspath.Task.load(args.task)

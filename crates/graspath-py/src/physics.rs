@@ -125,7 +125,7 @@ fn arm_dict<'py>(py: Python<'py>, arm: &ArmNames) -> PyResult<Bound<'py, PyDict>
 /// at the path's start), the table and the obstacles — as one MJCF model for MuJoCo
 /// (docs/simulation.md). Returns a dict: ``xml`` (the model), ``arms`` (per arm its
 /// ``joints``, ``effort`` limits, ``tool`` body, ``fingers``, ``finger_travel`` (m),
-/// ``grasp_weld``, ``task_gripper``), ``object``, ``hold_weld``, ``object_mass`` (kg),
+/// ``grasp_weld``, ``task_gripper``), ``object``, ``object_mass`` (kg),
 /// ``has_table`` and ``notes`` (what the model approximates). With
 /// ``arm_gravity_compensation`` the arms' and hands' own weight is carried outside the motors
 /// (MuJoCo ``gravcomp``: a gravity-assist spring or counterbalance).
@@ -158,7 +158,6 @@ pub fn world_mjcf<'py>(
         .collect::<PyResult<Vec<_>>>()?;
     dict.set_item("arms", arms)?;
     dict.set_item("object", &world.object)?;
-    dict.set_item("hold_weld", &world.hold_weld)?;
     dict.set_item("object_mass", world.object_mass)?;
     dict.set_item("has_table", world.has_table)?;
     dict.set_item("notes", &world.notes)?;

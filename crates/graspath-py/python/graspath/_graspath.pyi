@@ -396,7 +396,7 @@ def world_mjcf(
     arm_gravity_compensation: bool = False,
 ) -> Dict[str, Any]:
     """The task's world (arms, gripper, object, table, obstacles) as MJCF for MuJoCo:
-    ``xml``, ``arms`` (names per arm), ``object``, ``hold_weld``, ``object_mass``,
+    ``xml``, ``arms`` (names per arm), ``object``, ``object_mass``,
     ``has_table``, ``notes``."""
 
 def robot_mjcf(robot: Robot, arm: str = "arm") -> Tuple[str, Dict[str, Any]]:

@@ -33,9 +33,7 @@
 //! the settings under which a held object does not creep out of a grip.
 //!
 //! **Equality constraints**, off at the start, for the simulator to switch: `{arm}/grasp`
-//! welds the object to an arm's tool (a welded grasp, which isolates the arm from slip), and
-//! `object/hold` welds the object to the world (it holds an object that the task gives no
-//! support until the gripper has closed).
+//! welds the object to an arm's tool (a welded grasp, which isolates the arm from slip).
 //!
 //! Names: arm `a`'s joint `j` is the joint and the motor `a/j`; its segment bodies are
 //! `a/<first link of the segment>`; its fingers' joints and actuators `a/finger0`,
@@ -174,8 +172,6 @@ pub struct MjcfWorld {
     pub arms: Vec<ArmNames>,
     /// The object's free body (and free joint).
     pub object: String,
-    /// The weld that holds the object to the world (inactive at the start).
-    pub hold_weld: String,
     /// The object's mass (kg).
     pub object_mass: f64,
     /// Whether the world has a table.
@@ -187,8 +183,6 @@ pub struct MjcfWorld {
 
 /// The object's body name.
 pub const OBJECT: &str = "object";
-/// The object-to-world weld's name.
-pub const HOLD_WELD: &str = "object/hold";
 
 /// A geom's contact filter, `(contype, conaffinity)`.
 type ContactBits = (&'static str, &'static str);
@@ -258,7 +252,6 @@ pub fn world_mjcf(task: &Task, options: &WorldOptions) -> Result<MjcfWorld, Phys
         xml: writer.finish(&arms, true),
         arms,
         object: OBJECT.into(),
-        hold_weld: HOLD_WELD.into(),
         object_mass,
         has_table,
         notes,
@@ -393,14 +386,6 @@ impl<'o> Writer<'o> {
                     ],
                 );
             }
-            self.xml.leaf(
-                "weld",
-                &[
-                    ("name", name(HOLD_WELD)),
-                    ("body1", name(OBJECT)),
-                    ("active", "false".into()),
-                ],
-            );
             self.xml.close("equality");
         }
         self.xml.open("actuator", &[]);

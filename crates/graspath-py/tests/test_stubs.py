@@ -16,7 +16,7 @@ def test_stubs_match_the_module():
         runtime = {n for n in dir(getattr(graspath, name)) if not n.startswith("_")}
         assert stub == runtime, name
     functions = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
-    assert functions == {"generate", "placement_map", "pose_matrix", "read_grasps", "record_columns", "result_cache", "select", "select_batch", "select_pairs", "time_path", "train"}
+    assert functions == {"candidate_motions", "generate", "placement_map", "pose_matrix", "read_grasps", "record_columns", "result_cache", "robot_mjcf", "select", "select_batch", "select_pairs", "time_path", "train", "world_mjcf"}
     assert functions == {n for n in graspath.__all__ if callable(getattr(graspath, n)) and n[0].islower()}
     assert (STUB.parent / "py.typed").is_file()
 

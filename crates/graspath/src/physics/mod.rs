@@ -17,8 +17,8 @@
 //! task's, else a parallel gripper opening [`DEFAULT_OPENING`]. Each finger is a body on a
 //! slide joint that moves it towards the tool's `z` axis (a parallel gripper's fingers close
 //! along the tool's `y`), from open (0) to the middle (half the opening), driven by a
-//! position actuator whose force is limited to [`WorldOptions::grip_force`]; the palm and the
-//! hand's other shapes are fixed to the tool.
+//! position actuator whose force is limited to [`WorldOptions::grip_force`] and damped to
+//! close at most 10 cm/s; the palm and the hand's other shapes are fixed to the tool.
 //!
 //! The object is a free body (`object`) at the path's first pose, with the task's mass
 //! properties (`object.mass`) or, without them, its shape's at
@@ -777,7 +777,10 @@ impl<'o> Writer<'o> {
                         ("type", "slide".into()),
                         ("axis", axis.as_slice().to_vec().into()),
                         ("range", vec![0.0, travel].into()),
-                        ("damping", FINGER_DAMPING.into()),
+                        (
+                            "damping",
+                            (self.options.grip_force.max(1.0) / FINGER_SPEED).into(),
+                        ),
                         ("armature", FINGER_ARMATURE.into()),
                     ],
                 );
@@ -877,7 +880,9 @@ impl GeomPart {
 /// The finger position error (m) at which the grip force saturates: the actuators' gain is the
 /// grip force over it.
 const FINGER_SATURATION: f64 = 0.01;
-/// Finger joint damping (N·s/m) and armature (kg): keep the stiff finger drive stable at
-/// millisecond steps.
-const FINGER_DAMPING: f64 = 20.0;
+/// The fingers' closing speed (m/s) under the full grip force, set by their joints' damping:
+/// about the speed of the Franka hand and Baxter's electric gripper. A finger that closes
+/// faster strikes a light object hard enough to squeeze it out at millisecond steps.
+const FINGER_SPEED: f64 = 0.1;
+/// Finger joint armature (kg): keeps the stiff finger drive stable at millisecond steps.
 const FINGER_ARMATURE: f64 = 0.01;

@@ -248,3 +248,40 @@ fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
         "the limit does not bind ({fastest} m/s)"
     );
 }
+
+#[test]
+fn the_grasp_and_place_times_are_where_the_tool_holds_the_object_at_its_first_and_last_pose() {
+    let task = task("");
+    let selection = select(&task, &|| {});
+    let chosen = best(&selection);
+    let durations = chosen.durations.expect("the task times motions");
+    let motion = &selected_motions(&task, &selection, None)
+        .expect("timed")
+        .expect("feasible")[0];
+    // With stops, the grasp ends the approach and the place ends the carry.
+    assert!((motion.grasp_time - durations.approach).abs() < 1e-9);
+    assert!((motion.place_time - durations.approach - durations.carry).abs() < 1e-9);
+    let chain = &task.arms[0].chain;
+    let base_from_world = task.arms[0].world_from_base.inverse();
+    let object_from_wrist = motion.candidate.object_from_wrist;
+    for (time, sample) in [
+        (motion.grasp_time, task.path.samples.first().unwrap()),
+        (motion.place_time, task.path.samples.last().unwrap()),
+    ] {
+        // At the grid's points the motion passes through the IK samples: the point at that
+        // time puts the tool at the object's pose times the grasp.
+        let point = motion
+            .trajectory
+            .points
+            .iter()
+            .find(|p| (p.time - time).abs() < 1e-9)
+            .expect("a grid point at the grasp and at the place");
+        let tool: nalgebra::Isometry3<f64> =
+            nalgebra::convert(chain.pose(&point.positions).unwrap());
+        let planned = base_from_world * sample.world_from_object * object_from_wrist;
+        let position = (tool.translation.vector - planned.translation.vector).norm();
+        let angle = tool.rotation.angle_to(&planned.rotation);
+        assert!(position < 1e-4 && angle < 1e-3, "{position} m, {angle} rad at {time} s");
+        assert!(point.velocities.iter().all(|v| v.abs() < 1e-6), "at rest at {time} s");
+    }
+}

@@ -116,6 +116,13 @@ def _rotation_angle(r: np.ndarray) -> float:
     return float(math.acos(max(-1.0, min(1.0, (np.trace(r) - 1.0) / 2.0))))
 
 
+#: Which contacts are unintended, by the two geoms' classes (0 the static world, 1 the object,
+#: 2 an arm link, 3 the hand): an arm link touching anything, the hand touching the world.
+UNINTENDED = np.zeros((4, 4), dtype=bool)
+UNINTENDED[2, :] = UNINTENDED[:, 2] = True
+UNINTENDED[0, 3] = UNINTENDED[3, 0] = True
+
+
 def _as_slice(indices: np.ndarray):
     """A slice for consecutive indices (views instead of copies), else the indices."""
     indices = np.asarray(indices, dtype=int)
@@ -344,21 +351,28 @@ class World:
                 for arm in self.arms:
                     data.eq_active[arm["weld"]] = 0
             finger_target = close_start <= i < placed
+            # The arms' feedback accelerations, then one product with M (the arms' blocks do
+            # not couple: each hangs from the world on its own).
             for a in range(n_arms):
                 arm = self.arms[a]
                 qr, qdr, qddr = padded[a]
-                qs, ds = arm["qslice"], arm["dslice"]
-                q = qpos[qs]
+                ds = arm["dslice"]
+                q = qpos[arm["qslice"]]
                 q_history[a][i] = q
                 vec[ds] = qddr[i] + kp * (qr[i] - q) + kd * (qdr[i] - qvel[ds])
-                mujoco.mj_mulM(model, data, res, vec)
+            mujoco.mj_mulM(model, data, res, vec)
+            for a in range(n_arms):
+                arm = self.arms[a]
+                ds = arm["dslice"]
                 tau = res[ds] + bias[ds] - gravcomp[ds]
                 if carrying:
                     # The carried object's weight, shared by the arms, through each tool.
                     mujoco.mj_jac(model, data, jacp, None, data.xipos[object_body], arm["tool"])
                     tau -= jacp[:, ds].T @ weight
                 tau_history[a][i] = tau
-                ctrl[arm["mslice"]] = np.clip(tau, arm["lower_effort"], arm["effort"])
+                np.minimum(tau, arm["effort"], out=tau)
+                np.maximum(tau, arm["lower_effort"], out=tau)
+                ctrl[arm["mslice"]] = tau
                 ctrl[arm["fslice"]] = arm["names"]["finger_travel"] if finger_target else 0.0
             mujoco.mj_step(model, data)
             if carrying:
@@ -367,10 +381,7 @@ class World:
                 in_hand_r[i] = rotation.T @ xmat[object_body].reshape(3, 3)
             if data.ncon:
                 geoms = data.contact.geom[: data.ncon]
-                classes = geom_class[geoms]
-                unintended = (classes == 2).any(axis=1) | (
-                    (classes.min(axis=1) == 0) & (classes.max(axis=1) == 3)
-                )
+                unintended = UNINTENDED[geom_class[geoms[:, 0]], geom_class[geoms[:, 1]]]
                 if unintended.any():
                     for g1, g2 in geoms[unintended]:
                         key = " / ".join(sorted((self._body_name(g1), self._body_name(g2))))

@@ -281,7 +281,13 @@ fn the_grasp_and_place_times_are_where_the_tool_holds_the_object_at_its_first_an
         let planned = base_from_world * sample.world_from_object * object_from_wrist;
         let position = (tool.translation.vector - planned.translation.vector).norm();
         let angle = tool.rotation.angle_to(&planned.rotation);
-        assert!(position < 1e-4 && angle < 1e-3, "{position} m, {angle} rad at {time} s");
-        assert!(point.velocities.iter().all(|v| v.abs() < 1e-6), "at rest at {time} s");
+        assert!(
+            position < 1e-4 && angle < 1e-3,
+            "{position} m, {angle} rad at {time} s"
+        );
+        assert!(
+            point.velocities.iter().all(|v| v.abs() < 1e-6),
+            "at rest at {time} s"
+        );
     }
 }

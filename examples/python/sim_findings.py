@@ -41,6 +41,7 @@ EXPERIMENTS = [
     ("Baxter Pick-Rotate-Place, two arms (paper)", "pick_rotate_place_both.yaml", True, None),
     ("Baxter T-shape move", "t_shape_move.yaml", True, None),
     ("Baxter T-shape rotate", "t_shape_rotate.yaml", True, None),
+    ("Baxter T-shape move and rotate", "t_shape_move_rotate.yaml", True, None),
     ("Panda shelf pick", "scene/panda_shelf_pick.yaml", False, None),
     (
         "Panda shelf pick, 2 kg box (torque-limited timing)",

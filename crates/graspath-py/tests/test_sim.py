@@ -244,6 +244,66 @@ def test_the_same_inputs_give_the_same_sim_json_bytes(tmp_path, table_world):
     assert {s["group"] for s in document["summary"]} == set(groups)
 
 
+def hand_urdf(finger, palm, travel):
+    """A parallel-jaw hand as a URDF: a palm box behind the finger roots on the root link
+    ``hand`` and two box fingers on prismatic joints along ``±y`` (the fixture of
+    ``tests/scene_tasks.rs``)."""
+    length, width, thickness = finger
+
+    def box(size):
+        return f'<box size="{size[0]} {size[1]} {size[2]}"/>'
+
+    def finger_link(name, side):
+        return (
+            f'<link name="{name}"><collision><origin xyz="0 {side * thickness / 2} {-length / 2}"/>'
+            f"<geometry>{box([width, thickness, length])}</geometry></collision></link>"
+        )
+
+    def slide(name, child, side):
+        return (
+            f'<joint name="{name}" type="prismatic"><parent link="hand"/><child link="{child}"/>'
+            f'<axis xyz="0 {side} 0"/><limit lower="0" upper="{travel}" effort="1" velocity="1"/></joint>'
+        )
+
+    return (
+        f'<robot name="two_jaw"><link name="hand"><collision><origin xyz="0 0 {-length - palm[2] / 2}"/>'
+        f"<geometry>{box(palm)}</geometry></collision></link>"
+        + finger_link("left_finger", 1)
+        + finger_link("right_finger", -1)
+        + slide("left_slide", "left_finger", 1)
+        + slide("right_slide", "right_finger", -1)
+        + "</robot>"
+    )
+
+
+def test_a_urdf_hand_is_simulated_as_the_gripper_its_shapes_describe(tmp_path, table_world):
+    # Oracle: the same fingers and palm given by their sizes. Both worlds slide the fingers
+    # along the tool's ±y by half the opening, and the same grasp gives the same run.
+    _, sim, middle, _ = table_world
+    finger, palm = [0.09, 0.02, 0.01], [0.06, 0.11, 0.04]
+    (tmp_path / "hand.urdf").write_text(hand_urdf(finger, palm, 0.035))
+    text = ON_TABLE.read_text()
+    assert "gripper: { builtin: baxter }" in text
+    grippers = {
+        "sized": f"gripper: {{ opening: 0.07, finger: {finger}, palm: {palm} }}",
+        "urdf": "gripper: { urdf: hand.urdf, root: hand }",
+    }
+    runs = {}
+    for name, gripper in grippers.items():
+        path = tmp_path / f"{name}.yaml"
+        path.write_text(text.replace("gripper: { builtin: baxter }", gripper))
+        task = graspath.Task.load(path)
+        world = sim.World(task, sim.SimOptions(arm_gravity_compensation=True, object_mass=0.3))
+        names = world.world["arms"][0]
+        axes = sorted(tuple(world.model.jnt_axis[world.model.joint(f).id]) for f in names["fingers"])
+        np.testing.assert_allclose(axes, [(0, -1, 0), (0, 1, 0)], atol=1e-12)
+        assert abs(names["finger_travel"] - 0.035) < 1e-12
+        runs[name] = world.run([middle], mode="friction")
+    assert runs["urdf"]["success"]
+    for key in ("position_error", "slip_distance", "tracking_error_max"):
+        np.testing.assert_allclose(runs["urdf"][key], runs["sized"][key], rtol=1e-6, atol=1e-9)
+
+
 def test_bad_options_are_refused_with_their_name(table_world):
     task, sim, _, best = table_world
     with pytest.raises(ValueError, match="mode"):

@@ -790,3 +790,100 @@ fn a_signal_leaves_no_temporary_output_behind() {
         assert_eq!(names, ["summary.json"], "the earlier output was touched");
     }
 }
+
+/// The semantic mistakes a user makes in a well-formed task file: each is a warning on
+/// stderr naming the file and the field, and in `summary.json`; the run goes on (a deliberate
+/// value goes through) and exits as it would without the warning.
+#[test]
+fn well_formed_but_implausible_values_are_warned_about_by_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let pose = "xyz: [0.75, 0.0, -0.10]";
+    let table: [(&str, String, &str, &str); 6] = [
+        (
+            "degrees in a radians field",
+            SMALL_TASK.replace(pose, &format!("{pose}, rpy: [0, 0, 45]")),
+            "object.pose.rpy",
+            "looks like degrees",
+        ),
+        (
+            "radians in a degrees field",
+            SMALL_TASK.replace("{ move: [0, 0.3, 0] }", "{ rotate: { angle_deg: 1.5708 } }"),
+            "trajectory.steps[1].rotate.angle_deg",
+            "looks like radians",
+        ),
+        (
+            "millimetres",
+            SMALL_TASK.replace("{ lift: 0.2 }", "{ lift: 200 }"),
+            "trajectory.steps[0].lift",
+            "looks like millimetres",
+        ),
+        (
+            "a quaternion written w, x, y, z",
+            SMALL_TASK.replace(pose, &format!("{pose}, quaternion: [1, 0, 0, 0]")),
+            "object.pose.quaternion",
+            "[x, y, z, w]",
+        ),
+        (
+            "a joint step over a quarter turn",
+            format!("{SMALL_TASK}ik: {{ max_joint_step: 30 }}\n"),
+            "ik.max_joint_step",
+            "more than a quarter turn",
+        ),
+        (
+            "an object starting inside the table",
+            format!("{SMALL_TASK}scene: {{ table: {{ height: -0.10 }} }}\n"),
+            "object.pose",
+            "50.0 mm inside the table",
+        ),
+    ];
+    for (i, (what, text, field, message)) in table.iter().enumerate() {
+        let task = write(dir.path(), &format!("task{i}.yaml"), text);
+        let out = dir.path().join(format!("out{i}"));
+        let o = graspath(
+            &[
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+                "--allow-empty",
+            ],
+            None,
+            None,
+        );
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(0), "{what}: {err}");
+        let line = format!("graspath: warning: {}: {field}: ", task.display());
+        assert!(err.contains(&line), "{what}: no '{line}' in {err}");
+        assert!(err.contains(message), "{what}: no '{message}' in {err}");
+        let summary: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+        let warnings = summary["warnings"]
+            .as_array()
+            .expect("warnings in summary.json");
+        assert!(
+            warnings.iter().any(|w| w["field"] == *field),
+            "{what}: {warnings:?}"
+        );
+    }
+    // The plain task has none, and its summary no `warnings` key.
+    let task = write(dir.path(), "plain.yaml", SMALL_TASK);
+    let out = dir.path().join("plain");
+    let o = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+        None,
+        None,
+    );
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert!(summary.get("warnings").is_none());
+}

@@ -436,6 +436,19 @@ impl PyTask {
         self.task.robot_name.clone()
     }
 
+    /// Values that are probably mistakes — degrees in a radians field, millimetres, a
+    /// quaternion written ``[w, x, y, z]``, an object starting inside the table or upside
+    /// down (docs/task-file.md, "Plausibility warnings"): a list of ``(field, message)``.
+    /// Warnings, not errors: the task is scored as written.
+    #[getter]
+    fn warnings(&self) -> Vec<(String, String)> {
+        self.task
+            .warnings
+            .iter()
+            .map(|w| (w.field.clone(), w.message.clone()))
+            .collect()
+    }
+
     /// The arms, in order.
     #[getter]
     fn arms(&self) -> Vec<String> {

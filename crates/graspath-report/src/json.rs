@@ -345,5 +345,14 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
     if world && selection.arms.len() == 2 {
         summary["colliding_pairs"] = json!(selection.colliding_pairs);
     }
+    // Values that are probably mistakes (only when there are some: files of tasks without
+    // any keep their bytes).
+    if !task.warnings.is_empty() {
+        summary["warnings"] = json!(task
+            .warnings
+            .iter()
+            .map(|w| json!({"field": w.field, "message": w.message}))
+            .collect::<Vec<_>>());
+    }
     summary
 }

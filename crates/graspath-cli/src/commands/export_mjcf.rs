@@ -45,6 +45,7 @@ pub fn run(args: &ExportMjcfArgs) -> Result<()> {
     let title = args.task.display().to_string();
     let base_dir = args.task.parent().map(PathBuf::from).unwrap_or_default();
     let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
+    super::print_warnings(&title, &task);
     let options = WorldOptions {
         timestep: args.timestep,
         friction: args.friction,

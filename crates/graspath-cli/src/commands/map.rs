@@ -84,6 +84,7 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
         .clone()
         .build()
         .context("cannot use the task file")?;
+    super::print_warnings(&name, &task);
     let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
     drop(task);
     let progress = Progress::new(&args.output, grid.len() as u64, &name, "placements");

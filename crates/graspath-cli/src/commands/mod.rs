@@ -10,7 +10,7 @@ pub mod select;
 pub mod train;
 
 use graspath::fsutil::{check_not_an_input, OutputError};
-use graspath::task::TaskFile;
+use graspath::task::{Task, TaskFile};
 use std::path::{Path, PathBuf};
 
 /// Refuses an `--out` that is or holds the task file or a file or folder the task reads
@@ -30,4 +30,12 @@ pub fn check_out_spares_task_inputs(
 pub fn check_out_spares(out: &Path, inputs: &[&Path]) -> Result<(), OutputError> {
     let inputs: Vec<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
     check_not_an_input(out, &inputs)
+}
+
+/// Prints the task's plausibility warnings (values that are probably mistakes) to stderr, one
+/// line each: `graspath: warning: TASK: FIELD: MESSAGE`.
+pub fn print_warnings(title: &str, task: &Task) {
+    for warning in &task.warnings {
+        eprintln!("graspath: warning: {title}: {warning}");
+    }
 }

@@ -287,6 +287,7 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     let trajectories = TrajectoriesArg::or_default_for(args.trajectories, args.format);
     if args.format == Format::Json {
         let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
+        super::print_warnings(&title, &task);
         let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
         let run =
             run_task_but_candidates(&task, parameter.as_ref(), &args.output, &title, args.report)?;
@@ -314,6 +315,7 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     // they are scored, never held whole.
     let task =
         Task::from_file_chunked(&file, &title, &base_dir).context("cannot use the task file")?;
+    super::print_warnings(&title, &task);
     let (selection, elapsed) = stream_task(&task, args, existing, &title, trajectories)?;
     finish(args, &task, &selection, &title, elapsed)
 }

@@ -299,6 +299,10 @@ class Task:
     @property
     def robot_name(self) -> str: ...
     @property
+    def warnings(self) -> List[Tuple[str, str]]:
+        """``(field, message)`` of each value that is probably a mistake (degrees in a radians
+        field, millimetres, an object inside the table, ...); the task is scored as written."""
+    @property
     def arms(self) -> List[str]: ...
     @property
     def object_poses(self) -> FloatArray:

@@ -4,6 +4,7 @@
 
 use super::error::TaskError;
 use super::path::{ObjectPath, Sampling, TimedStep};
+use super::plausibility::TaskWarning;
 use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
 pub(crate) use super::settings::check_count;
 use super::settings::{
@@ -111,6 +112,9 @@ pub struct Task {
     pub payload: Option<RigidBody>,
     /// How each feasible candidate's motion is timed (`None`: not timed).
     pub timing: Option<TimingSettings>,
+    /// Values that are probably mistakes (degrees in a radians field, millimetres, an object
+    /// starting inside the table, ...): warnings, not errors — the task is scored as written.
+    pub warnings: Vec<TaskWarning>,
 }
 
 impl Task {
@@ -246,6 +250,7 @@ pub struct TaskBuilder {
     payload: Option<RigidBody>,
     timing: TimingRequest,
     max_duration: Option<f64>,
+    warnings: Vec<TaskWarning>,
 }
 
 impl TaskBuilder {
@@ -283,6 +288,7 @@ impl TaskBuilder {
             payload: None,
             timing: TimingRequest::Auto,
             max_duration: None,
+            warnings: Vec::new(),
         }
     }
 
@@ -329,6 +335,14 @@ impl TaskBuilder {
     /// timing).
     pub fn max_duration(mut self, seconds: Option<f64>) -> Self {
         self.max_duration = seconds;
+        self
+    }
+
+    /// Warnings about how the task was written (the loader's: units and conventions, see
+    /// [`super::plausibility`]); [`TaskBuilder::build`] adds those about the world at the
+    /// start.
+    pub fn warnings(mut self, warnings: Vec<TaskWarning>) -> Self {
+        self.warnings = warnings;
         self
     }
 
@@ -782,7 +796,7 @@ impl TaskBuilder {
             .then_some(self.shape.as_ref())
             .flatten()
             .map(|shape| Arc::new(Body::from_shape("object", shape)));
-        let task = Task {
+        let mut task = Task {
             source_name: self.name.clone(),
             robot_name: self.robot_name.unwrap_or_else(|| "robot".into()),
             arms,
@@ -814,7 +828,10 @@ impl TaskBuilder {
             object_body,
             payload: self.payload,
             timing,
+            warnings: self.warnings,
         };
+        let world = super::plausibility::world_warnings(&task);
+        task.warnings.extend(world);
         let work = task.work();
         if work > limits.max_work {
             return Err(TaskError::new(

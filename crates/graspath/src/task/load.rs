@@ -78,7 +78,9 @@ fn builder_with(
 ) -> Result<TaskBuilder, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source_name, field, message);
     let limits = file.limits.unwrap_or_default();
-    let mut builder = Task::builder(source_name).limits(limits);
+    let mut builder = Task::builder(source_name)
+        .limits(limits)
+        .warnings(super::plausibility::file_warnings(file));
     let (robot_name, arms, model) = setup_arms(file, source_name, base_dir)?;
     builder = builder.robot_name(robot_name);
     for (name, chain, world_from_base) in arms {

@@ -16,6 +16,7 @@ mod load;
 mod load_scene;
 mod path;
 mod payload;
+mod plausibility;
 mod scene;
 mod settings;
 mod timing;
@@ -31,6 +32,10 @@ pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
 pub use path::{ObjectPath, PathError, PathSample, Sampling, Step, TimedStep};
 pub use payload::{MAX_CENTER_OF_MASS_DISTANCE, MAX_PAYLOAD_MASS};
+pub use plausibility::{
+    file_warnings, world_warnings, TaskWarning, MAX_PLAUSIBLE_POSITION, MAX_PLAUSIBLE_SIZE,
+    TABLE_PENETRATION,
+};
 pub use scene::{
     Collisions, Gripper, GripperBodies, GripperLink, SceneSettings, Stroke, WholeMotionPlan,
     DEFAULT_FINGER, MIN_RESOLUTION,

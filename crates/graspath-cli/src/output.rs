@@ -206,9 +206,15 @@ pub fn print_summary_table<S: Scored>(
         }
         let rejected = arm.rankings.iter().filter(|r| r.rejected.is_some()).count();
         let reasons: Vec<String> = reasons.iter().map(|(r, n)| format!("{n} {r}")).collect();
+        // A one-arm robot's chain is named `arm`: "the arm", not "arm arm".
+        let arm_name = if arm.arm == "arm" {
+            "the arm".to_string()
+        } else {
+            format!("arm {}", arm.arm)
+        };
         say!(
-            "  arm {}: {} feasible, {} rejected by the selection rule{}",
-            arm.arm,
+            "  {}: {} feasible, {} rejected by the selection rule{}",
+            arm_name,
             arm.feasible_count(),
             rejected,
             if reasons.is_empty() {
@@ -274,6 +280,10 @@ pub fn print_summary_table<S: Scored>(
         );
     }
     if nothing_selected(selection) {
-        say!("  nothing selected: no feasible candidate (two arms: no valid pair)");
+        if selection.arms.len() >= 2 {
+            say!("  nothing selected: no valid pair of grasps");
+        } else {
+            say!("  nothing selected: no feasible candidate");
+        }
     }
 }

@@ -24,7 +24,9 @@
 //! * `unreachable`: the chain's geometry proves the target out of reach (the detail names the
 //!   two points the target puts farther apart than the links between them span, see
 //!   `Chain::out_of_reach`), or no solution near it was found (the
-//!   detail gives the best residual). A target proven out of reach is not searched.
+//!   detail gives the best residual). Every pose is checked for such a proof before the
+//!   search, and the first proven out of reach fails the trajectory at once: the cause is
+//!   named, not the discontinuity met while the arm stretches towards it.
 //!
 //! Only iteration budgets are used (the time budget [`IkOptions::max_time`] is ignored here),
 //! so results are identical from run to run and at any thread count.
@@ -384,14 +386,19 @@ impl Tracker<'_> {
     fn initial_solutions(&self, q_start: &[f64]) -> Result<Vec<Vec<f64>>, Failure> {
         let n = self.n();
         let kernel = &self.kernel;
-        let target = Target::new(&self.poses[0]);
-        if let Some(proof) = out_of_reach(kernel, &target) {
-            return Err(Failure::new(
-                FailureReason::Unreachable,
-                0,
-                proof.to_string(),
-            ));
+        // A pose the chain's geometry proves out of reach fails the whole trajectory there,
+        // before any search: its cause, rather than the discontinuity or joint limit that
+        // tracking would meet first while the arm stretches towards it.
+        for (i, pose) in self.poses.iter().enumerate() {
+            if let Some(proof) = out_of_reach(kernel, &Target::new(pose)) {
+                return Err(Failure::new(
+                    FailureReason::Unreachable,
+                    i,
+                    proof.to_string(),
+                ));
+            }
         }
+        let target = Target::new(&self.poses[0]);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.options.ik.random_seed);
         let mut ws = Workspace::new();
         let wanted = self.options.branches;

@@ -213,6 +213,39 @@ fn pushing_a_joint_past_its_limit_is_a_joint_limit_failure() {
     assert!(failure.detail.contains("shoulder_pan_joint"), "{failure}");
 }
 
+#[test]
+fn a_path_through_an_unreachable_pose_names_it_not_the_limit_met_on_the_way() {
+    // The joint-limit path above, then a pose 3 m away: the path fails because of that pose,
+    // and the failure says so, at its sample, with the distance.
+    let chain = ur5_like(std::f64::consts::PI);
+    let mut poses: Vec<_> = (0..31)
+        .map(|i| fk(&chain, &[2.6 + 0.03 * i as f64, -1.2, 1.4, -0.6, 1.1, 0.3]))
+        .collect();
+    let options = TrajectoryIkOptions {
+        branches: 1,
+        ..TrajectoryIkOptions::default()
+    };
+    let q_start = [2.6, -1.2, 1.4, -0.6, 1.1, 0.3];
+    let limited = solve_trajectory(&chain, &poses, &q_start, &options).expect("ok");
+    assert_eq!(
+        limited.failure.expect("explained").reason,
+        FailureReason::JointLimit
+    );
+    poses.push(Isometry3::translation(3.0, 0.0, 0.0) * poses[30]);
+    let result = solve_trajectory(&chain, &poses, &q_start, &options).expect("ok");
+    assert!(result.branches.is_empty());
+    let failure = result.failure.expect("explained");
+    assert_eq!(failure.reason, FailureReason::Unreachable, "{failure}");
+    assert_eq!(failure.sample, 31, "{failure}");
+    assert!(failure.detail.starts_with("out of reach: "), "{failure}");
+    // Oracle: the last pose is beyond the arm's reach sphere about its first joint.
+    let origins = chain.joint_origins(&q_start).unwrap();
+    let span: f64 = origins.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let first_joint = origins[1];
+    let target = poses[31].translation.vector;
+    assert!((target - first_joint.coords).norm() > span);
+}
+
 /// Poses passing close to UR5's wrist singularity (wrist 2 near 0), where the wrist must turn
 /// by about π between two samples.
 fn near_wrist_singularity(chain: &Chain) -> Vec<Isometry3<f64>> {

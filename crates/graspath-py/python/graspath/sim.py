@@ -34,9 +34,10 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from typing import Any, Dict, List, Optional, Sequence
 
 import numpy as np
@@ -285,14 +286,17 @@ class World:
         placed = max(r[2] for r in refs)
         opened = max(r[3] for r in refs)
         close_start = closed - int(round(o.close_time / o.timestep))
-        # Every arm's reference padded to the longest (an arm that is done holds still).
+        # Every arm's reference padded to the longest: an arm that is done holds still where
+        # it ended (its last position, no velocity, no acceleration).
         padded = []
-        for ref, *_rest in refs:
-            extra = steps - ref[0].shape[0]
+        for (q, qd, qdd), *_rest in refs:
+            extra = steps - q.shape[0]
+            still = np.zeros((extra, q.shape[1]))
             padded.append(
-                tuple(
-                    np.concatenate([r, np.repeat(r[-1:] * (j == 0), extra, axis=0)]) if extra else r
-                    for j, r in enumerate(ref)
+                (
+                    np.concatenate([q, np.repeat(q[-1:], extra, axis=0)]),
+                    np.concatenate([qd, still]),
+                    np.concatenate([qdd, still]),
                 )
             )
 
@@ -738,8 +742,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     tmp = args.out + ".tmp"
     with open(tmp, "w", encoding="utf-8") as f:
         f.write(text)
-    import os
-
     os.replace(tmp, args.out)
     print(summary_table(document))
     return 0

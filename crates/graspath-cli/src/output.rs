@@ -11,7 +11,7 @@ macro_rules! say {
 
 use clap::Args;
 use graspath::select::{Scored, Selection, NAMED_BEST};
-use graspath::task::Task;
+use graspath::task::{defaults, Task};
 use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -225,15 +225,17 @@ pub fn print_summary_table<S: Scored>(
         );
         // In a scene the last column is the clearance from it (m); else Yoshikawa's index.
         let in_scene = task.collisions.is_some();
+        // `limit`: the smallest distance of any joint to its limit along the motion (rad).
         say!(
-            "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
+            "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10} {:>8}",
             "rank",
             "id",
             "label",
             "score",
             "mu_l2",
             "mu_linf",
-            if in_scene { "clearance" } else { "yoshikawa" }
+            if in_scene { "clearance" } else { "yoshikawa" },
+            "limit"
         );
         let mut ranked: Vec<usize> = (0..arm.rankings.len())
             .filter(|&i| arm.rankings[i].rank.is_some())
@@ -255,7 +257,7 @@ pub fn print_summary_table<S: Scored>(
                 rank.to_string()
             };
             say!(
-                "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10}",
+                "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10} {:>8}",
                 rank,
                 s.id(),
                 label.chars().take(28).collect::<String>(),
@@ -267,7 +269,24 @@ pub fn print_summary_table<S: Scored>(
                 } else {
                     s.yoshikawa_at_grasp()
                 }),
+                number(s.limit_distance_min()),
             );
+        }
+        // A selected grasp whose motion comes this close to a joint limit leaves no margin for
+        // the next perception error, and a real controller may fault on it.
+        if let Some(best) = arm.best() {
+            let s = &arm.scores[best];
+            if let Some(d) = s
+                .limit_distance_min()
+                .filter(|d| *d <= defaults::LIMIT_HUG_DISTANCE)
+            {
+                say!(
+                    "  warning: the selected grasp (id {}) comes within {d:.4} rad of a joint \
+                     limit along its motion; index.joint_limit_penalty ranks grasps away from \
+                     the limits",
+                    s.id()
+                );
+            }
         }
     }
     for sentence in findings_sentences(task, selection) {

@@ -887,3 +887,71 @@ fn well_formed_but_implausible_values_are_warned_about_by_field() {
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
     assert!(summary.get("warnings").is_none());
 }
+
+/// The summary table's `limit` column is each listed grasp's `limit_distance_min` from
+/// `candidates.json`, and the warning appears exactly when the selected grasp comes within
+/// 0.02 rad of a joint limit (the faces workload's best rides one; the paper's cuboid task's
+/// does not).
+#[test]
+fn the_table_shows_how_close_each_grasp_comes_to_a_limit_and_warns_for_the_selected() {
+    let dir = tempfile::tempdir().unwrap();
+    let faces = std::fs::read_to_string(repo_root().join("examples/workload_1000_faces.yaml"))
+        .unwrap()
+        .replace("count: 1000", "count: 200");
+    let faces = write(dir.path(), "faces.yaml", &faces);
+    let cuboid = repo_root().join("examples/pick_and_place_left.yaml");
+    for (task, warned) in [(faces, true), (cuboid, false)] {
+        let out = dir.path().join(format!("out{warned}"));
+        let o = graspath(
+            &[
+                "select",
+                "--task",
+                task.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+            None,
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
+        let records: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("candidates.json")).unwrap()).unwrap();
+        let limit_of = |id: u64| {
+            records
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|r| r["id"] == id)
+                .unwrap()["limit_distance_min"]
+                .as_f64()
+                .unwrap()
+        };
+        let header = text
+            .lines()
+            .position(|l| l.trim_start().starts_with("rank"))
+            .unwrap();
+        assert!(text
+            .lines()
+            .nth(header)
+            .unwrap()
+            .trim_end()
+            .ends_with("limit"));
+        let rows: Vec<&str> = text
+            .lines()
+            .skip(header + 1)
+            .take_while(|l| l.starts_with("      "))
+            .collect();
+        assert!(!rows.is_empty(), "{text}");
+        for row in &rows {
+            let fields: Vec<&str> = row.split_whitespace().collect();
+            let id: u64 = fields[1].parse().unwrap();
+            let shown = fields.last().unwrap();
+            assert_eq!(*shown, format!("{:.4}", limit_of(id)), "{row}");
+        }
+        let best: u64 = rows[0].split_whitespace().nth(1).unwrap().parse().unwrap();
+        assert_eq!(limit_of(best) <= 0.02, warned, "{text}");
+        let warning = format!("warning: the selected grasp (id {best}) comes within");
+        assert_eq!(text.contains(&warning), warned, "{text}");
+    }
+}

@@ -292,17 +292,6 @@ impl Column {
 
 use outputs::{ARRAYS, BATCH, FILES, JSON, JSON_BOTH};
 
-/// The smallest distance to a joint limit along the chosen motion.
-fn limit_distance_min(score: &CandidateScore) -> Option<f64> {
-    finite(
-        score
-            .limit_distance
-            .iter()
-            .copied()
-            .fold(f64::INFINITY, f64::min),
-    )
-}
-
 /// Every per-candidate column, in the order of `candidates.parquet` (JSON records list their
 /// fields in the byte order of their names: [`json_fields`]).
 pub static COLUMNS: &[Column] = &[
@@ -566,7 +555,7 @@ pub static COLUMNS: &[Column] = &[
         "rad or m",
         "the path's closest approach to a joint limit",
         FILES | ARRAYS,
-        |r| Cell::Float(limit_distance_min(r.score)),
+        |r| Cell::Float(r.score.limit_distance_min()),
     ),
     column(
         "hugs_limit",

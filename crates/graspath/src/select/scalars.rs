@@ -31,6 +31,9 @@ pub trait Scored {
     fn torque_margin(&self) -> Option<f64>;
     /// How long the timed motion takes (s), when the task times motions.
     fn duration(&self) -> Option<f64>;
+    /// The smallest distance (rad or m) of any joint to its limit along the motion, when
+    /// feasible.
+    fn limit_distance_min(&self) -> Option<f64>;
     /// The candidate itself, when it is held: always by a [`CandidateScore`]; by
     /// [`CandidateScalars`] only for the candidates a summary names.
     fn candidate(&self) -> Option<&Arc<Candidate>>;
@@ -67,6 +70,9 @@ impl Scored for CandidateScore {
     }
     fn duration(&self) -> Option<f64> {
         self.durations.map(|d| d.total())
+    }
+    fn limit_distance_min(&self) -> Option<f64> {
+        CandidateScore::limit_distance_min(self)
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         Some(&self.candidate)
@@ -120,6 +126,8 @@ pub struct CandidateScalars {
     pub payload_capacity: Option<f64>,
     /// See [`CandidateScore::durations`].
     pub durations: Option<MotionDurations>,
+    /// See [`CandidateScore::limit_distance_min`] (rad or m).
+    pub limit_distance_min: Option<f64>,
     /// The candidate, for those a summary names (the best ranked of each arm and the kept
     /// pairs' members; see [`select_streaming`](super::select_streaming)); `None` otherwise.
     pub candidate: Option<Arc<Candidate>>,
@@ -148,6 +156,7 @@ impl CandidateScalars {
             torque_margin: score.torque_margin,
             payload_capacity: score.payload_capacity,
             durations: score.durations,
+            limit_distance_min: score.limit_distance_min(),
             candidate: None,
         }
     }
@@ -180,6 +189,9 @@ impl Scored for CandidateScalars {
     }
     fn duration(&self) -> Option<f64> {
         self.durations.map(|d| d.total())
+    }
+    fn limit_distance_min(&self) -> Option<f64> {
+        self.limit_distance_min
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         self.candidate.as_ref()

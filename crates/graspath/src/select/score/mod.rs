@@ -140,6 +140,17 @@ impl CandidateScore {
         self.failure.is_none()
     }
 
+    /// The smallest distance (rad or m) of any joint to its limit along the chosen motion;
+    /// `None` when infeasible.
+    pub fn limit_distance_min(&self) -> Option<f64> {
+        let min = self
+            .limit_distance
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        min.is_finite().then_some(min)
+    }
+
     /// Whether the chosen motion hugs a joint limit: at least
     /// [`defaults::LIMIT_HUG_SHARE`] of the path samples have a joint within
     /// [`defaults::LIMIT_HUG_DISTANCE`] of a limit.

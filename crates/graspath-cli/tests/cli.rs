@@ -51,6 +51,19 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
+/// `graspath select --task TASK --out OUT EXTRA…`.
+fn select(task: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "select",
+        "--task",
+        task.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    graspath(&args, None, None)
+}
+
 const SMALL_TASK: &str = r#"
 robot: { builtin: baxter }
 arms: left
@@ -839,19 +852,7 @@ fn well_formed_but_implausible_values_are_warned_about_by_field() {
     for (i, (what, text, field, message)) in table.iter().enumerate() {
         let task = write(dir.path(), &format!("task{i}.yaml"), text);
         let out = dir.path().join(format!("out{i}"));
-        let o = graspath(
-            &[
-                "select",
-                "--task",
-                task.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-                "--quiet",
-                "--allow-empty",
-            ],
-            None,
-            None,
-        );
+        let o = select(&task, &out, &["--quiet", "--allow-empty"]);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(0), "{what}: {err}");
         let line = format!("graspath: warning: {}: {field}: ", task.display());
@@ -870,18 +871,7 @@ fn well_formed_but_implausible_values_are_warned_about_by_field() {
     // The plain task has none, and its summary no `warnings` key.
     let task = write(dir.path(), "plain.yaml", SMALL_TASK);
     let out = dir.path().join("plain");
-    let o = graspath(
-        &[
-            "select",
-            "--task",
-            task.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--quiet",
-        ],
-        None,
-        None,
-    );
+    let o = select(&task, &out, &["--quiet"]);
     assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
@@ -902,17 +892,7 @@ fn the_table_shows_how_close_each_grasp_comes_to_a_limit_and_warns_for_the_selec
     let cuboid = repo_root().join("examples/pick_and_place_left.yaml");
     for (task, warned) in [(faces, true), (cuboid, false)] {
         let out = dir.path().join(format!("out{warned}"));
-        let o = graspath(
-            &[
-                "select",
-                "--task",
-                task.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-            ],
-            None,
-            None,
-        );
+        let o = select(&task, &out, &[]);
         assert!(o.status.success(), "{}", stderr(&o));
         let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
         let records: serde_json::Value =

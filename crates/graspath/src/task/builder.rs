@@ -830,8 +830,15 @@ impl TaskBuilder {
             timing,
             warnings: self.warnings,
         };
-        let world = super::plausibility::world_warnings(&task);
-        task.warnings.extend(world);
+        if let Some(start) = task.path.samples.first() {
+            let table = task.collisions.as_ref().and_then(|c| c.scene.table());
+            let world = super::plausibility::world_warnings(
+                &start.world_from_object,
+                task.shape.as_ref(),
+                table,
+            );
+            task.warnings.extend(world);
+        }
         let work = task.work();
         if work > limits.max_work {
             return Err(TaskError::new(

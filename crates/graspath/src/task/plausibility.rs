@@ -17,10 +17,11 @@
 //! * the object's `z` axis pointing more than 45° below the horizontal at the start (upside
 //!   down), or its lowest point more than [`TABLE_PENETRATION`] below the table's top.
 
-use super::builder::Task;
 use super::file::{FamilyFile, TaskFile};
+use crate::collision::Table;
+use crate::geometry::shape::Shape;
 use crate::geometry::PoseSpec;
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// A value that is probably a mistake: the task-file field and what it looks like.
@@ -230,14 +231,14 @@ fn millimetres(field: &str, values: &[f64], out: &mut Vec<TaskWarning>) {
     }
 }
 
-/// The warnings about the task's world at the start: an object upside down, or inside the
-/// table.
-pub fn world_warnings(task: &Task) -> Vec<TaskWarning> {
+/// The warnings about the task's world at the start: an object at `world_from_object`
+/// upside down, or (of `shape`) inside `table`.
+pub fn world_warnings(
+    world_from_object: &Isometry3<f64>,
+    shape: Option<&Shape>,
+    table: Option<&Table>,
+) -> Vec<TaskWarning> {
     let mut out = Vec::new();
-    let Some(start) = task.path.samples.first() else {
-        return out;
-    };
-    let world_from_object = start.world_from_object;
     let up = world_from_object.rotation * Vector3::z();
     if up.z < -std::f64::consts::FRAC_1_SQRT_2 {
         out.push(TaskWarning {
@@ -248,11 +249,7 @@ pub fn world_warnings(task: &Task) -> Vec<TaskWarning> {
             ),
         });
     }
-    let table = task
-        .collisions
-        .as_ref()
-        .and_then(|c| c.scene.table().cloned());
-    if let (Some(shape), Some(table)) = (&task.shape, table) {
+    if let (Some(shape), Some(table)) = (shape, table) {
         let down = world_from_object.rotation.inverse() * -Vector3::z();
         let lowest = world_from_object * shape.support(&down);
         let depth = table.height - lowest.z;

@@ -1,6 +1,8 @@
 //! The `graspath` binary end to end: outputs, determinism, and one clear error (no panic, no
 //! partial output) for each kind of bad input.
 
+mod common;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -51,17 +53,9 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
-/// `graspath select --task TASK --out OUT EXTRA…`.
+/// `graspath select --task TASK --out OUT EXTRA…` (its output, whatever it is).
 fn select(task: &Path, out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec![
-        "select",
-        "--task",
-        task.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend(extra);
-    graspath(&args, None, None)
+    common::select_output(task, out, extra, "2")
 }
 
 const SMALL_TASK: &str = r#"

@@ -19,6 +19,19 @@ def shared_dir():
     return None
 
 
+def require(module: str, install: str):
+    """Imports ``module`` (an oracle the suite compares with): when it is missing, the test
+    skips, except under CI (``CI=true``), which installs it and must not skip silently."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        if os.environ.get("CI") == "true":
+            raise
+        pytest.skip(f"{module} is not installed ({install})")
+
+
 @pytest.fixture(scope="session")
 def shared():
     path = shared_dir()

@@ -13,7 +13,6 @@ is missing.
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -22,6 +21,7 @@ import numpy as np
 import pytest
 
 import graspath
+from conftest import require
 
 REPO = Path(__file__).resolve().parents[3]
 ON_TABLE = REPO / "examples" / "scene" / "pick_and_place_left_on_table.yaml"
@@ -29,15 +29,7 @@ BUILTINS = ["baxter", "panda", "fr3", "ur5", "ur10", "ur5e", "ur10e", "iiwa14", 
 
 
 def mujoco_or_skip():
-    try:
-        import mujoco  # noqa: F401
-    except ImportError:
-        if os.environ.get("CI") == "true":
-            raise
-        pytest.skip("mujoco is not installed")
-    import mujoco
-
-    return mujoco
+    return require("mujoco", "pip install mujoco")
 
 
 def robots():

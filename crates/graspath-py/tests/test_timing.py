@@ -8,28 +8,20 @@ The torque limits are compared with toppra in the Rust tests (``tests/timing_top
 with Pinocchio's inverse dynamics)."""
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import graspath
+from conftest import require
 
 REPO = Path(__file__).resolve().parents[3]
 LEFT = REPO / "examples" / "pick_and_place_left.yaml"
 
 
 def toppra_or_skip():
-    try:
-        import toppra  # noqa: F401
-    except ImportError:
-        if os.environ.get("CI") == "true":
-            raise
-        pytest.skip("toppra is not installed")
-    import toppra
-
-    return toppra
+    return require("toppra", "pip install toppra")
 
 
 def random_path(rng, n, dof):

@@ -23,22 +23,29 @@ pub fn graspath(args: &[&str], threads: &str) -> Output {
         .expect("graspath runs")
 }
 
-/// `graspath select --task TASK --out OUT --quiet EXTRA…` on `threads` threads; fails the test
-/// (with the binary's stderr) unless it succeeds.
-pub fn select(task: &Path, out: &Path, extra: &[&str], threads: &str) {
+/// `graspath select --task TASK --out OUT EXTRA…` on `threads` threads, whatever its outcome.
+pub fn select_output(task: &Path, out: &Path, extra: &[&str], threads: &str) -> Output {
     let mut args = vec![
         "select",
         "--task",
         task.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--quiet",
     ];
     args.extend(extra);
-    let output = graspath(&args, threads);
+    graspath(&args, threads)
+}
+
+/// `graspath select --task TASK --out OUT --quiet EXTRA…` on `threads` threads; fails the test
+/// (with the binary's stderr) unless it succeeds.
+pub fn select(task: &Path, out: &Path, extra: &[&str], threads: &str) {
+    let mut quiet = vec!["--quiet"];
+    quiet.extend(extra);
+    let output = select_output(task, out, &quiet, threads);
     assert!(
         output.status.success(),
-        "graspath {args:?} failed: {}",
+        "graspath select {} failed: {}",
+        task.display(),
         String::from_utf8_lossy(&output.stderr)
     );
 }

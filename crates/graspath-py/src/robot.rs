@@ -365,6 +365,19 @@ impl PyRobot {
         PyArray1::from_slice(py, self.chain.upper())
     }
 
+    /// This robot with narrower joint ranges, ``{joint: (lower, upper)}`` (rad, or m for a
+    /// prismatic joint), each inside the joint's own range (the task file's
+    /// ``robot.joint_limits``); a continuous joint given a range becomes a revolute one.
+    fn with_joint_limits(&self, limits: BTreeMap<String, (f64, f64)>) -> PyResult<Self> {
+        let mut chain = self.chain.clone();
+        for (joint, (lower, upper)) in &limits {
+            chain = chain
+                .with_joint_range(joint, *lower, *upper)
+                .map_err(error)?;
+        }
+        Ok(Self::new(chain))
+    }
+
     /// The middle of the joint limits, shape ``(dof,)`` (0 for an unbounded joint): the seed
     /// the selection uses.
     fn mid_configuration<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {

@@ -182,3 +182,21 @@ class TestErrors:
             left.ik_trajectory(np.stack([np.eye(4)] * 2), max_joint_step=0.0)
         with pytest.raises(graspath.GraspathError, match="trajectory: not a valid pose"):
             left.ik_trajectory(np.zeros((0, 4, 4)))
+
+
+def test_narrowed_joint_limits_hold_for_ik(left):
+    """A narrowed range (``Robot.with_joint_limits``) is the range IK keeps to; a range
+    outside the joint's own is refused with the joint's name."""
+    name = left.joint_names[3]
+    lower, upper = left.lower[3], left.upper[3]
+    narrow = left.with_joint_limits({name: (lower + 0.25 * (upper - lower), upper)})
+    assert narrow.lower[3] == lower + 0.25 * (upper - lower) and narrow.upper[3] == upper
+    assert np.array_equal(np.delete(narrow.lower, 3), np.delete(left.lower, 3))
+    for target in targets(narrow, 6, seed=11):
+        result = narrow.ik(target, **EXACT)
+        if result["converged"]:
+            assert narrow.within_limits(result["q"])
+    with pytest.raises(graspath.GraspathError, match=name):
+        left.with_joint_limits({name: (lower - 0.1, upper)})
+    with pytest.raises(graspath.GraspathError, match="not a range"):
+        left.with_joint_limits({name: (0.5, 0.5)})

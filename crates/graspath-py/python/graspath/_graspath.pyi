@@ -99,6 +99,10 @@ class Robot:
     @property
     def upper(self) -> FloatArray:
         """Upper joint limits ``(dof,)`` (``+inf`` for continuous joints)."""
+    def with_joint_limits(self, limits: Mapping[str, Tuple[float, float]]) -> "Robot":
+        """This robot with narrower joint ranges ``{joint: (lower, upper)}`` (rad, or m for a
+        prismatic joint), each inside the joint's own range; a continuous joint given a range
+        becomes a revolute one. Raises ``GraspathError`` otherwise."""
     def mid_configuration(self) -> FloatArray:
         """The middle of the joint limits ``(dof,)``."""
     @overload

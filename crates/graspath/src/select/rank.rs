@@ -6,7 +6,7 @@ use super::score::CandidateScore;
 use crate::grasp::Candidate;
 use crate::task::{LikelihoodRule, Norm, SelectionOptions};
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::BinaryHeap;
 use std::sync::Arc;
 
 /// A candidate's place in the ranking of one arm.
@@ -341,13 +341,13 @@ pub fn best_pairs_of(
     if a.is_empty() || b.is_empty() || count == 0 {
         return (kept, refused);
     }
+    // The frontier holds at most one pair per first-arm candidate: popping `(x, y)` queues
+    // `(x, y + 1)`, and popping `(x, 0)` also queues `(x + 1, 0)`. Every pair is queued once,
+    // after a pair that precedes it, so the pairs come out in order with memory linear in the
+    // candidates, not in the pairs visited (a search that finds no valid pair visits them all).
     let mut frontier = BinaryHeap::new();
-    let mut queued = HashSet::new();
-    let push = |frontier: &mut BinaryHeap<Frontier>,
-                queued: &mut HashSet<(usize, usize)>,
-                x: usize,
-                y: usize| {
-        if x < a.len() && y < b.len() && queued.insert((x, y)) {
+    let push = |frontier: &mut BinaryHeap<Frontier>, x: usize, y: usize| {
+        if x < a.len() && y < b.len() {
             frontier.push(Frontier {
                 score: a[x].1 + b[y].1,
                 first: a[x].0,
@@ -356,11 +356,13 @@ pub fn best_pairs_of(
             });
         }
     };
-    push(&mut frontier, &mut queued, 0, 0);
+    push(&mut frontier, 0, 0);
     while let Some(next) = frontier.pop() {
         let (x, y) = next.at;
-        push(&mut frontier, &mut queued, x + 1, y);
-        push(&mut frontier, &mut queued, x, y + 1);
+        if y == 0 {
+            push(&mut frontier, x + 1, 0);
+        }
+        push(&mut frontier, x, y + 1);
         let (i, j) = (next.first, next.second);
         let (pi, pj) = ((first.grasp_point)(i), (second.grasp_point)(j));
         if (pi - pj).norm() < min_separation {

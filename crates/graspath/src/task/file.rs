@@ -239,6 +239,12 @@ pub struct RobotFile {
     /// A tool offset `tip_from_tool` applied to every arm that does not set its own.
     #[serde(default)]
     pub tool: Option<PoseSpec>,
+    /// Narrower joint ranges by joint name, `[lower, upper]` in rad (m for a prismatic
+    /// joint), for every arm whose chain has the joint: `{elbow_joint: [-3.1416, 3.1416]}`.
+    /// Each must lie inside the robot's own range (a task narrows, never widens); a continuous
+    /// joint given a range becomes a revolute one.
+    #[serde(default)]
+    pub joint_limits: BTreeMap<String, [f64; 2]>,
 }
 
 /// A xacro argument's value as a task file writes it: text, a number or a boolean.

@@ -24,6 +24,7 @@ use crate::grasp::{
 };
 use crate::robot::{Chain, RobotModel, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 impl Task {
@@ -377,7 +378,44 @@ fn setup_arms(
         .map_err(|e| TaskError::caused_by(source, &field, e))?;
         arms.push((name.clone(), chain, world_from_base));
     }
+    narrow_joint_ranges(&mut arms, &robot.joint_limits, source)?;
     Ok((model.name().to_string(), arms, model))
+}
+
+/// Applies `robot.joint_limits` to every arm whose chain has the joint; a joint on no arm is
+/// an error that lists the arms' joints.
+fn narrow_joint_ranges(
+    arms: &mut [ArmParts],
+    ranges: &BTreeMap<String, [f64; 2]>,
+    source: &str,
+) -> Result<(), TaskError> {
+    for (joint, &[lower, upper]) in ranges {
+        let field = format!("robot.joint_limits.{joint}");
+        let mut found = false;
+        for (_, chain, _) in arms.iter_mut() {
+            if chain.joint_names().iter().any(|n| n == joint) {
+                *chain = chain
+                    .with_joint_range(joint, lower, upper)
+                    .map_err(|e| TaskError::caused_by(source, &field, e))?;
+                found = true;
+            }
+        }
+        if !found {
+            let known: Vec<&str> = arms
+                .iter()
+                .flat_map(|(_, chain, _)| chain.joint_names().iter().map(String::as_str))
+                .collect();
+            return Err(TaskError::new(
+                source,
+                &field,
+                format!(
+                    "no arm of the task has an independent joint '{joint}' (joints: {})",
+                    known.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A task file's candidates: read or generated, a family's layout, or an indexed file.

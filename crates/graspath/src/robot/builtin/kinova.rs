@@ -6,8 +6,11 @@
 //! They match the classical DH table of Kinova's Gen3 user guide (`d₁ = −(0.1564 +
 //! 0.1284)`, `d₃ = −(0.2104 + 0.2104)`, `d₅ = −(0.2084 + 0.1059)`, `d₇ = −(0.1059 + 0.0615)`
 //! m, rounded there to 0.1 mm). Joints 1, 3, 5, 7 turn without limits; joints 2, 4, 6 are
-//! limited to ±2.41, ±2.66 and ±2.23 rad as published (the controller's software limits
-//! can be set tighter).
+//! limited to ±2.24, ±2.57 and ±2.09 rad: Kinova's Gen3 user guide gives ±128.9°, ±147.8° and
+//! ±120.3°, and `ros2_kortex` (commit 7e0ac34, October 2024, "as per the values in the User
+//! Guides"; `ros_kortex` and MuJoCo Menagerie's `kinova_gen3` agree) writes them rounded
+//! down to two decimals, which is kept here. Before that commit the descriptions gave ±2.41,
+//! ±2.66 and ±2.23 rad. A task narrows them further with `robot.joint_limits`.
 //!
 //! **Tool frame**: `end_effector_link`, the centre of the tool interface on the bracelet
 //! (0.061525 m beyond the bracelet frame, turned by π about `x` so that `z` points out of the
@@ -95,7 +98,7 @@ const ROWS: [JointRow; 8] = [
         "half_arm_1_link",
         [0.0, 0.005375, -0.12838],
         FRAC_PI_2,
-        Motion::Revolute(-2.41, 2.41),
+        Motion::Revolute(-2.24, 2.24),
     ),
     JointRow::rolled(
         "joint_3",
@@ -109,7 +112,7 @@ const ROWS: [JointRow; 8] = [
         "forearm_link",
         [0.0, 0.006375, -0.21038],
         FRAC_PI_2,
-        Motion::Revolute(-2.66, 2.66),
+        Motion::Revolute(-2.57, 2.57),
     ),
     JointRow::rolled(
         "joint_5",
@@ -123,7 +126,7 @@ const ROWS: [JointRow; 8] = [
         "spherical_wrist_2_link",
         [0.0, 0.00017505, -0.10593],
         FRAC_PI_2,
-        Motion::Revolute(-2.23, 2.23),
+        Motion::Revolute(-2.09, 2.09),
     ),
     JointRow::rolled(
         "joint_7",

@@ -7,6 +7,13 @@
 //! limits ±2π (±360° on every joint, the datasheets' working range). Turned into joint
 //! origins by [`super::dh_rows`]: link `i`'s frame is DH frame `i − 1` turned by `qᵢ`.
 //!
+//! **The elbow's range.** ROS-Industrial's `ur_description` and MuJoCo Menagerie limit the
+//! elbow to ±π instead: the forearm meets the upper arm before a full turn, and no elbow
+//! configuration beyond ±π reaches a pose that one within ±π does not. The built-in keeps
+//! the datasheet's ±2π (the controller accepts it); a task that wants ROS's range narrows it:
+//! `robot: {builtin: ur5e, joint_limits: {elbow_joint: [-3.141592653589793,
+//! 3.141592653589793]}}`.
+//!
 //! **Base and tool frames**: `base` is the controller's base frame (the DH frame 0; ROS's
 //! `ur_description` calls it `base` too, and its `base_link` is `base` turned by π about
 //! `z`). `tool0` is the DH frame 6, the centre of the tool flange with `z` out of the flange

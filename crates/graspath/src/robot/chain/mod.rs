@@ -376,6 +376,55 @@ impl Chain {
         &self.upper
     }
 
+    /// This chain with the independent joint `joint` limited to `[lower, upper]` (rad, or m for
+    /// a prismatic joint), inside its own range: a task narrows a joint's range (a cable, a
+    /// fixture, a controller's software limits, ROS-Industrial's ±π UR elbow), never widens
+    /// it. A continuous joint given a range becomes a revolute one. The error names the joint
+    /// and the range it must lie in.
+    pub fn with_joint_range(
+        &self,
+        joint: &str,
+        lower: f64,
+        upper: f64,
+    ) -> Result<Chain, RobotError> {
+        let bad = |message: String| RobotError::BadJoint {
+            source_name: self.source_name.clone(),
+            joint: joint.to_string(),
+            field: "range",
+            message,
+        };
+        let i = self
+            .joint_names
+            .iter()
+            .position(|n| n == joint)
+            .ok_or_else(|| {
+                bad(format!(
+                    "not an independent joint of the chain {} (joints: {})",
+                    self.name(),
+                    self.joint_names.join(", ")
+                ))
+            })?;
+        if !(lower.is_finite() && upper.is_finite() && lower < upper) {
+            return Err(bad(format!(
+                "[{lower}, {upper}] is not a range: give finite [lower, upper] with lower < upper"
+            )));
+        }
+        let (own_lower, own_upper) = (self.lower[i], self.upper[i]);
+        if lower < own_lower || upper > own_upper {
+            return Err(bad(format!(
+                "[{lower}, {upper}] is not inside the joint's own range [{own_lower}, {own_upper}]: \
+                 a task may narrow a joint's range, not widen it"
+            )));
+        }
+        let mut chain = self.clone();
+        chain.lower[i] = lower;
+        chain.upper[i] = upper;
+        if chain.joint_kinds[i] == JointKind::Continuous {
+            chain.joint_kinds[i] = JointKind::Revolute;
+        }
+        Ok(chain)
+    }
+
     /// The middle of the joint limits (0 for an unbounded joint).
     pub fn mid_configuration(&self) -> Vec<f64> {
         self.lower

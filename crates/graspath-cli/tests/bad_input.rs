@@ -304,6 +304,10 @@ fn variants() -> BTreeMap<&'static str, (&'static str, &'static str)> {
             ),
         ),
         (
+            "v-memory-tight.yaml",
+            ("arms: left", "arms: left\nlimits: { max_memory_mib: 0 }"),
+        ),
+        (
             "v-limits-unknown.yaml",
             ("arms: left", "arms: left\nlimits: { max_sample: 10 }"),
         ),
@@ -351,6 +355,7 @@ fn table() -> Vec<Row> {
         row("task ik iterations 2^32", "select --task {d}/v-iterations-huge.yaml --out {d}/out", &[], 2, "field 'ik.iterations'"),
         row("task ik branches 1e5", "select --task {d}/v-branches-huge.yaml --out {d}/out", &[], 2, "field 'ik.branches'"),
         row("task work beyond its limit", "select --task {d}/v-work-huge.yaml --out {d}/out", &[], 2, "raise limits.max_work"),
+        row("selection held whole beyond the memory limit", "select --task {d}/v-memory-tight.yaml --out {d}/out", &[], 2, "limits.max_memory_mib"),
         row("task limits unknown field", "select --task {d}/v-limits-unknown.yaml --out {d}/out", &[], 2, "limits.max_sample"),
         row("task quaternion norm 2", "select --task {d}/v-quaternion-norm.yaml --out {d}/out", &[], 2, "object.pose.quaternion"),
         row("task unknown norm", "select --task {d}/v-norm.yaml --out {d}/out", &[], 2, "l3"),

@@ -30,12 +30,14 @@ fn pretty(value: &serde_json::Value) -> PyResult<Vec<u8>> {
 /// Scores every candidate of ``task`` along its object path for each arm (trajectory IK,
 /// ``M_T`` at every sample, the norms μ_l2, μ_l∞, μ_l1 and the indices at the grasp), ranks
 /// them per arm and, with two arms, ranks the pairs. Runs in parallel without the GIL;
-/// deterministic.
+/// deterministic. A selection whose estimated memory exceeds the task's
+/// ``limits.max_memory_mib`` is refused before any work (use :func:`select_batch`).
 #[pyfunction]
-pub fn select(py: Python<'_>, task: &Bound<'_, PyTask>) -> PySelection {
+pub fn select(py: Python<'_>, task: &Bound<'_, PyTask>) -> PyResult<PySelection> {
     let task = task.get().task.clone();
+    task.check_selection_memory().map_err(error)?;
     let selection = py.detach(|| run_selection(&task, &|| {}));
-    PySelection { task, selection }
+    Ok(PySelection { task, selection })
 }
 
 #[pymethods]

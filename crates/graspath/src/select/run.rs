@@ -206,7 +206,7 @@ pub fn pairs_of_eligible(
     let all = task.all_candidates()?;
     // Whole motions scored on demand, once per arm and candidate.
     let motions = RefCell::new(HashMap::new());
-    let need_motions = pairs_need_motions(task);
+    let need_motions = task.checks_arms_against_each_other();
     let apart = |i: usize, j: usize| {
         if !need_motions {
             return true;
@@ -257,17 +257,6 @@ pub fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSetup<'a> 
         },
         timing: task.timing.as_ref(),
     }
-}
-
-/// Whether [`arms_apart`] looks at the arms' motions (a scene, `collision.between_arms` and
-/// both arms' bodies); otherwise every pair is apart.
-pub(super) fn pairs_need_motions(task: &Task) -> bool {
-    task.collisions
-        .as_ref()
-        .is_some_and(|c| c.options.between_arms)
-        && task.arms.len() >= 2
-        && task.arms[0].bodies.is_some()
-        && task.arms[1].bodies.is_some()
 }
 
 /// A candidate's whole motion: approach, path and retreat (rad or m per joint and sample).

@@ -7,9 +7,7 @@
 //! [`Task::for_each_candidate_chunk`]).
 
 use super::rank::{assign_ranks, best_pairs, ranking_alone, ArmPair, Ranking};
-use super::run::{
-    arms_apart, pairs_need_motions, scoring_setup, whole_motion, ArmResult, Selection,
-};
+use super::run::{arms_apart, scoring_setup, whole_motion, ArmResult, Selection};
 use super::scalars::CandidateScalars;
 use super::score::{score_candidates, CandidateScore, STREAM_CHUNK};
 use crate::grasp::CandidateError;
@@ -51,7 +49,7 @@ pub fn select_streaming<E: From<CandidateError>>(
     mut consume: impl FnMut(Streamed<'_>) -> Result<(), E>,
 ) -> Result<Selection<CandidateScalars>, E> {
     let max_log = task.max_log_likelihood();
-    let keep_motions = task.arms.len() == 2 && pairs_need_motions(task);
+    let keep_motions = task.arms.len() == 2 && task.checks_arms_against_each_other();
     let count = task.candidate_count();
     let mut arms = Vec::with_capacity(task.arms.len());
     // Per arm, with `keep_motions`: each candidate's whole motion when it is eligible.

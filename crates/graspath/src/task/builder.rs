@@ -188,18 +188,122 @@ impl Task {
         }
     }
 
-    /// The work estimate of this task in kinematics evaluations (see [`Limits::max_work`]).
+    /// The work estimate of this task in kinematics evaluations (see [`Limits::max_work`]):
+    /// the total of [`Task::work_estimate`].
     pub fn work(&self) -> u64 {
-        Limits::work(
+        self.work_estimate().total()
+    }
+
+    /// An upper bound on the memory (bytes) of this task's selection held whole
+    /// ([`select`](crate::select::select)): per arm and candidate, its record and every
+    /// sample's joint values (approach, path, retreat), `M_T` and limit distance.
+    pub fn selection_memory(&self) -> u64 {
+        const RECORD_BYTES: u64 = 1024;
+        const VEC_BYTES: u64 = 24;
+        let samples = (self.path.samples.len()
+            + self.approach.map_or(0, |s| s.samples)
+            + self.retreat.map_or(0, |s| s.samples)) as u64;
+        let candidates = self.candidate_count() as u64;
+        self.arms
+            .iter()
+            .map(|arm| {
+                let per_sample = VEC_BYTES + 8 * arm.chain.dof() as u64 + 16 + 8;
+                candidates
+                    .saturating_mul(RECORD_BYTES.saturating_add(samples.saturating_mul(per_sample)))
+            })
+            .fold(0u64, u64::saturating_add)
+    }
+
+    /// `Ok` when [`Task::selection_memory`] is within `limits.max_memory_mib`; else an error
+    /// that names the limit and the streamed formats that need no such memory. Called before
+    /// a selection is held whole (`select --format json`, Python's `select`).
+    pub fn check_selection_memory(&self) -> Result<(), TaskError> {
+        let bytes = self.selection_memory();
+        let limit = self.limits.max_memory_mib.saturating_mul(1 << 20);
+        if bytes <= limit {
+            return Ok(());
+        }
+        Err(TaskError::new(
+            &self.source_name,
+            "limits.max_memory_mib",
+            format!(
+                "holding the whole selection ({} arm(s) × {} candidates with their joint \
+                 trajectories) takes about {} MiB, more than the limit {} MiB: stream it \
+                 (`graspath select --format jsonl` or `parquet`, Python `select_batch`) or \
+                 raise limits.max_memory_mib",
+                self.arms.len(),
+                self.candidate_count(),
+                bytes >> 20,
+                self.limits.max_memory_mib,
+            ),
+        ))
+    }
+
+    /// Whether the two arms' motions are checked against each other (a scene with
+    /// `collision.between_arms`, two arms, and bodies for both).
+    pub fn checks_arms_against_each_other(&self) -> bool {
+        self.collisions
+            .as_ref()
+            .is_some_and(|c| c.options.between_arms)
+            && self.arms.len() >= 2
+            && self.arms[0].bodies.is_some()
+            && self.arms[1].bodies.is_some()
+    }
+
+    /// The work estimate of this task by part, in kinematics evaluations: an upper bound on
+    /// scoring (IK along every branch), on the collision checks against the scene, and on
+    /// the two-arm pair search when no pair is valid (every pair visited).
+    pub fn work_estimate(&self) -> WorkEstimate {
+        let samples = self.path.samples.len()
+            + self.approach.map_or(0, |s| s.samples)
+            + self.retreat.map_or(0, |s| s.samples);
+        let candidates = self.candidate_count() as u64;
+        let scoring = Limits::work(
             self.arms.len(),
             self.candidate_count(),
-            self.path.samples.len()
-                + self.approach.map_or(0, |s| s.samples)
-                + self.retreat.map_or(0, |s| s.samples),
+            samples,
             self.ik.branches,
             self.ik.ik.max_iterations,
             self.ik.per_sample_iterations,
-        )
+        );
+        let bodies = |arm: &ArmSetup| arm.bodies.as_ref().map_or(0, |b| b.bodies.len()) as u64;
+        let scene_bodies = self
+            .collisions
+            .as_ref()
+            .map_or(0, |c| c.scene.bodies().len() as u64);
+        // Every moving body and the object against every scene body, at every sample of
+        // every branch.
+        let collisions = self
+            .arms
+            .iter()
+            .map(|arm| {
+                candidates
+                    .saturating_mul(self.ik.branches as u64)
+                    .saturating_mul(samples as u64)
+                    .saturating_mul(bodies(arm).saturating_add(1))
+                    .saturating_mul(scene_bodies)
+                    / WorkEstimate::COLLISION_PAIRS_PER_EVALUATION
+            })
+            .fold(0u64, u64::saturating_add);
+        let pairs = if self.arms.len() == 2 {
+            let visited = candidates.saturating_mul(candidates);
+            let between = if self.checks_arms_against_each_other() {
+                visited
+                    .saturating_mul(samples as u64)
+                    .saturating_mul(bodies(&self.arms[0]).saturating_mul(bodies(&self.arms[1])))
+                    / WorkEstimate::COLLISION_PAIRS_PER_EVALUATION
+            } else {
+                0
+            };
+            (visited / WorkEstimate::PAIR_VISITS_PER_EVALUATION).saturating_add(between)
+        } else {
+            0
+        };
+        WorkEstimate {
+            scoring,
+            collisions,
+            pairs,
+        }
     }
 }
 
@@ -839,28 +943,87 @@ impl TaskBuilder {
             );
             task.warnings.extend(world);
         }
-        let work = task.work();
+        let estimate = task.work_estimate();
+        let work = estimate.total();
         if work > limits.max_work {
             return Err(TaskError::new(
                 &self.name,
                 "limits.max_work",
                 format!(
-                    "the task asks for about {:.3e} kinematics evaluations ({} arm(s) × {} \
-                     candidates × {} branches × ({} grasp iterations + {} samples × {} per \
-                     sample)), more than the limit {:.3e}; reduce the task or raise \
-                     limits.max_work",
+                    "the task asks for about {:.3e} kinematics evaluations, more than the limit \
+                     {:.3e}: {}; reduce the task or raise limits.max_work",
                     work as f64,
-                    task.arms.len(),
-                    task.candidate_count(),
-                    task.ik.branches,
-                    task.ik.ik.max_iterations,
-                    task.path.samples.len(),
-                    task.ik.per_sample_iterations,
                     limits.max_work as f64,
+                    estimate.explain(&task),
                 ),
             ));
         }
         Ok(task)
+    }
+}
+
+/// A task's work estimate by part, in kinematics evaluations (one forward kinematics and
+/// Jacobian of one arm; [`Limits::max_work`]). Each part is an upper bound measured against
+/// release builds (BENCHMARKS.md, "Work estimate"): scoring assumes every IK branch runs its
+/// whole budget, the collision part every body checked against every scene body at every
+/// sample, the pair part a search that finds no valid pair and so visits every pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WorkEstimate {
+    /// IK and indices: arms × candidates × branches × (grasp iterations + samples × per
+    /// sample iterations).
+    pub scoring: u64,
+    /// The scene: arms × candidates × branches × samples × (arm bodies + object) × scene
+    /// bodies, at [`WorkEstimate::COLLISION_PAIRS_PER_EVALUATION`] body pairs an evaluation.
+    pub collisions: u64,
+    /// Two arms: candidates² pairs visited, at [`WorkEstimate::PAIR_VISITS_PER_EVALUATION`]
+    /// an evaluation, and with `collision.between_arms` the two motions' bodies checked
+    /// against each other at every sample of every pair.
+    pub pairs: u64,
+}
+
+impl WorkEstimate {
+    /// Body pairs whose distance costs about one kinematics evaluation.
+    pub const COLLISION_PAIRS_PER_EVALUATION: u64 = 8;
+    /// Pairs of the two-arm search visited in about one kinematics evaluation.
+    pub const PAIR_VISITS_PER_EVALUATION: u64 = 1;
+
+    /// The whole estimate (saturating).
+    pub fn total(&self) -> u64 {
+        self.scoring
+            .saturating_add(self.collisions)
+            .saturating_add(self.pairs)
+    }
+
+    /// The parts, with what each counts, for a message.
+    fn explain(&self, task: &Task) -> String {
+        let mut parts = vec![format!(
+            "scoring {:.3e} ({} arm(s) × {} candidates × {} branches × ({} grasp iterations + {} \
+             samples × {} per sample))",
+            self.scoring as f64,
+            task.arms.len(),
+            task.candidate_count(),
+            task.ik.branches,
+            task.ik.ik.max_iterations,
+            task.path.samples.len(),
+            task.ik.per_sample_iterations,
+        )];
+        if self.collisions > 0 {
+            parts.push(format!(
+                "scene {:.3e} ({} scene bodies against the arm's bodies at every sample)",
+                self.collisions as f64,
+                task.collisions
+                    .as_ref()
+                    .map_or(0, |c| c.scene.bodies().len()),
+            ));
+        }
+        if self.pairs > 0 {
+            parts.push(format!(
+                "pairs {:.3e} (up to {}² pairs of the two arms' candidates)",
+                self.pairs as f64,
+                task.candidate_count(),
+            ));
+        }
+        parts.join(", ")
     }
 }
 

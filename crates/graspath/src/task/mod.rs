@@ -21,7 +21,7 @@ mod scene;
 mod settings;
 mod timing;
 
-pub use builder::{ArmSetup, Task, TaskBuilder};
+pub use builder::{ArmSetup, Task, TaskBuilder, WorkEstimate};
 pub use error::TaskError;
 pub use file::{
     pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,

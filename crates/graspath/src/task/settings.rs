@@ -306,6 +306,11 @@ pub struct Limits {
     /// (grasp iterations + samples × per-sample iterations). About 10¹⁰ evaluations are
     /// 30 minutes on two cores.
     pub max_work: u64,
+    /// Largest estimated memory (MiB) of a selection held whole in memory: `select
+    /// --format json` and Python's `select` keep every candidate's joint trajectories
+    /// ([`Task::selection_memory`](super::Task::selection_memory)). Streamed selections
+    /// (`--format jsonl` / `parquet`) are not bounded by it.
+    pub max_memory_mib: u64,
 }
 
 impl Default for Limits {
@@ -316,6 +321,7 @@ impl Default for Limits {
             max_ik_iterations: 1_000_000,
             max_ik_branches: 64,
             max_work: 10_000_000_000,
+            max_memory_mib: 3072,
         }
     }
 }

@@ -124,8 +124,10 @@ impl RigidBody {
     }
 
     /// Whether every number is finite, the mass non-negative and the inertia symmetric
-    /// (to 1e-9 relative) with non-negative diagonal. Physical consistency (the triangle
-    /// inequality of the principal moments) is not required: published models break it.
+    /// (to 1e-9 relative) with non-negative diagonal, down to [`INERTIA_ROUNDING`] below zero
+    /// (iCub's URDF writes a zero moment as −5.4e−20 kg·m², which Pinocchio and urdfdom
+    /// accept). Physical consistency (the triangle inequality of the principal moments) is
+    /// not required: published models break it.
     pub fn is_valid(&self) -> bool {
         let finite = self.mass.is_finite()
             && self.com.iter().all(|v| v.is_finite())
@@ -134,9 +136,13 @@ impl RigidBody {
         finite
             && self.mass >= 0.0
             && (self.inertia - self.inertia.transpose()).amax() <= 1e-9 * scale
-            && (0..3).all(|i| self.inertia[(i, i)] >= 0.0)
+            && (0..3).all(|i| self.inertia[(i, i)] >= -INERTIA_ROUNDING)
     }
 }
+
+/// How far below zero a moment of inertia may be and still be read as a rounded zero
+/// (kg·m²): far below any physical link's (a 1 g, 1 mm part has about 1e−10).
+pub const INERTIA_ROUNDING: f64 = 1e-15;
 
 /// A serial chain from a base link to a tip link, every joint in order from the base.
 #[derive(Debug, Clone, PartialEq)]

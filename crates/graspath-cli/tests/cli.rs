@@ -874,18 +874,26 @@ fn well_formed_but_implausible_values_are_warned_about_by_field() {
 
 /// The summary table's `limit` column is each listed grasp's `limit_distance_min` from
 /// `candidates.json`, and the warning appears exactly when the selected grasp comes within
-/// 0.02 rad of a joint limit (the faces workload's best rides one; the paper's cuboid task's
-/// does not).
+/// 0.02 rad of a joint limit (the faces workload's best rides one when planned up to the
+/// limits, not with the default `ik.limit_margin`; the paper's cuboid task's does not).
 #[test]
 fn the_table_shows_how_close_each_grasp_comes_to_a_limit_and_warns_for_the_selected() {
     let dir = tempfile::tempdir().unwrap();
     let faces = std::fs::read_to_string(repo_root().join("examples/workload_1000_faces.yaml"))
         .unwrap()
         .replace("count: 1000", "count: 200");
+    let at_limits = write(
+        dir.path(),
+        "faces_at_limits.yaml",
+        &format!("{faces}ik: {{ limit_margin: 0 }}\n"),
+    );
     let faces = write(dir.path(), "faces.yaml", &faces);
     let cuboid = repo_root().join("examples/pick_and_place_left.yaml");
-    for (task, warned) in [(faces, true), (cuboid, false)] {
-        let out = dir.path().join(format!("out{warned}"));
+    for (k, (task, warned)) in [(at_limits, true), (faces, false), (cuboid, false)]
+        .into_iter()
+        .enumerate()
+    {
+        let out = dir.path().join(format!("out{k}"));
         let o = select(&task, &out, &[]);
         assert!(o.status.success(), "{}", stderr(&o));
         let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));

@@ -55,6 +55,7 @@ pub fn defaults_dict(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     dict.set_item("pairs", defaults::PAIRS)?;
     dict.set_item("min_separation", defaults::MIN_SEPARATION)?;
     dict.set_item("max_joint_step", defaults::MAX_JOINT_STEP)?;
+    dict.set_item("ik_limit_margin", defaults::IK_LIMIT_MARGIN)?;
     dict.set_item("branches", defaults::IK_BRANCHES)?;
     dict.set_item("ik_tolerance", defaults::IK_TOLERANCE)?;
     dict.set_item("ik_iterations", defaults::GRASP_IK_ITERATIONS)?;
@@ -229,6 +230,7 @@ impl PyTask {
         pairs = 10,
         min_separation = 0.08,
         max_joint_step = 0.5,
+        ik_limit_margin = 0.1,
         branches = 4,
         ik_random_seed = None,
         ik_tolerance = 1e-5,
@@ -258,6 +260,7 @@ impl PyTask {
         pairs: usize,
         min_separation: f64,
         max_joint_step: f64,
+        ik_limit_margin: f64,
         branches: usize,
         ik_random_seed: Option<u64>,
         ik_tolerance: f64,
@@ -387,6 +390,7 @@ impl PyTask {
             .pairs(pairs)
             .min_separation(min_separation)
             .max_joint_step(max_joint_step)
+            .ik_limit_margin(ik_limit_margin)
             .ik_branches(branches)
             .ik_random_seed(ik_random_seed)
             .ik_tolerance(ik_tolerance)

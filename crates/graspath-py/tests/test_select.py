@@ -25,7 +25,7 @@ def run_cli(binary, task, out):
 
 
 # The IK settings of examples/pick_and_place_left.yaml.
-SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "compare_branches": True}
+SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "compare_branches": True, "ik_limit_margin": 0.0}
 
 
 @pytest.fixture(scope="module")
@@ -167,7 +167,7 @@ def test_dict_and_text_tasks_equal_the_file(left_selection):
         },
         "index": {"mode": "twist", "length_scale": 1.0},
         "selection": {"norm": "l2"},
-        "ik": {"compare_branches": True, "branches": 8, "iterations": 2000},
+        "ik": {"compare_branches": True, "branches": 8, "iterations": 2000, "limit_margin": 0},
     }
     from_dict = graspath.select(graspath.Task.from_dict(document))
     assert from_dict.candidates == selection.candidates

@@ -179,13 +179,13 @@ pub(crate) fn first_collision(
     // The configuration at the hit's sample and, for a hit between samples, at the next one.
     let (hit, at_hit, after_hit) = match tool_hit {
         Some(hit) => {
-            let q = solve_ik(&setup.chain, &targets[hit.sample], &q_start, &task.ik.ik)
+            let q = solve_ik(&setup.ik_chain, &targets[hit.sample], &q_start, &task.ik.ik)
                 .ok()?
                 .q?;
             (hit, q, None)
         }
         None => {
-            let result = solve_trajectory(&setup.chain, &targets, &q_start, &task.ik).ok()?;
+            let result = solve_trajectory(&setup.ik_chain, &targets, &q_start, &task.ik).ok()?;
             let branch = result.branches.into_iter().next()?;
             let hit = checker
                 .check(&WholeMotion {

@@ -39,6 +39,7 @@ fn pick_and_place_in_code(name: &str) -> Task {
         .rows(JacobianRows::Twist { length_scale: 1.0 })
         .norm(Norm::L2)
         .compare_branches(true)
+        .ik_limit_margin(0.0)
         .ik_branches(8)
         .grasp_ik_iterations(2000)
         .build()

@@ -278,6 +278,7 @@ class Task:
         pairs: int = 10,
         min_separation: float = 0.08,
         max_joint_step: float = 0.5,
+        ik_limit_margin: float = 0.1,
         branches: int = 4,
         ik_random_seed: Optional[int] = None,
         ik_tolerance: float = 1e-5,
@@ -295,7 +296,9 @@ class Task:
         restarts; ``ik_seed`` is its deprecated name. ``redundancy`` is the task file's
         ``ik.redundancy``; ``compare_branches=True`` is ``"best_branch"``. ``measure`` and
         ``joint_limit_penalty`` (a gain ``k``) are the task file's ``index.measure`` and
-        ``index.joint_limit_penalty``."""
+        ``index.joint_limit_penalty``; ``ik_limit_margin`` (rad) is ``ik.limit_margin``: how far
+        inside its limits the IK keeps every revolute joint (0: up to the limits, as in the
+        paper)."""
     def with_arms(self, arms: Sequence[str]) -> Task:
         """The same task with only the named arms, in that order."""
     @property

@@ -246,6 +246,7 @@ pub fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSetup<'a> 
         rows: task.rows,
         ranked: task.ranked,
         ik: &task.ik,
+        ik_limit_margin: task.ik_limit_margin,
         redundancy: task.redundancy,
         world: WorldSetup {
             approach: task.approach.as_ref(),

@@ -24,8 +24,14 @@ use std::sync::Arc;
 pub struct ArmSetup {
     /// The arm's name (`left`, `right`, or the key in `robot.chains`).
     pub name: String,
-    /// Its kinematic chain (poses and Jacobians in the chain's base frame).
+    /// Its kinematic chain (poses and Jacobians in the chain's base frame), with the joint
+    /// limits as the robot gives them (or as the task narrowed them, `robot.joint_limits`).
     pub chain: Chain,
+    /// The chain the IK plans in: `chain` with each revolute joint's range narrowed by the
+    /// task's [`Task::ik_limit_margin`] at both ends ([`Chain::with_limit_margin`]), so the
+    /// chosen motions keep that margin from the limits. Distances to the limits, the limits'
+    /// penalty, timing and the exported robot use `chain`.
+    pub ik_chain: Chain,
     /// Where the chain's base is in the task's world frame, `world_from_base`.
     pub world_from_base: Isometry3<f64>,
     /// The arm's bodies (links and hand) when the task checks collisions.
@@ -90,6 +96,10 @@ pub struct Task {
     pub selection: SelectionOptions,
     /// Trajectory IK settings.
     pub ik: TrajectoryIkOptions,
+    /// How far inside its limits the IK keeps every revolute joint (rad; `ik.limit_margin`,
+    /// default [`defaults::IK_LIMIT_MARGIN`]; 0 plans up to the limits, as the paper does):
+    /// each arm's [`ArmSetup::ik_chain`].
+    pub ik_limit_margin: f64,
     /// How the arm's self-motion is chosen (`ik.redundancy`).
     pub redundancy: Redundancy,
     /// The bounds the task was checked against.
@@ -341,6 +351,7 @@ pub struct TaskBuilder {
     min_torque_margin: Option<f64>,
     tie_tolerance: f64,
     max_joint_step: f64,
+    ik_limit_margin: f64,
     ik_branches: usize,
     ik_random_seed: u64,
     ik_tolerance: f64,
@@ -379,6 +390,7 @@ impl TaskBuilder {
             min_torque_margin: None,
             tie_tolerance: defaults::TIE_TOLERANCE,
             max_joint_step: defaults::MAX_JOINT_STEP,
+            ik_limit_margin: defaults::IK_LIMIT_MARGIN,
             ik_branches: defaults::IK_BRANCHES,
             ik_random_seed: defaults::IK_RANDOM_SEED,
             ik_tolerance: defaults::IK_TOLERANCE,
@@ -412,6 +424,7 @@ impl TaskBuilder {
     ) -> Self {
         self.arms.push(ArmSetup {
             name: name.into(),
+            ik_chain: chain.clone(),
             chain,
             world_from_base,
             bodies: None,
@@ -590,6 +603,13 @@ impl TaskBuilder {
     /// Largest joint motion between consecutive samples (rad or m).
     pub fn max_joint_step(mut self, step: f64) -> Self {
         self.max_joint_step = step;
+        self
+    }
+
+    /// How far inside its limits the IK keeps every revolute joint (rad; 0: up to the
+    /// limits). See [`Task::ik_limit_margin`].
+    pub fn ik_limit_margin(mut self, margin: f64) -> Self {
+        self.ik_limit_margin = margin;
         self
     }
 
@@ -798,6 +818,15 @@ impl TaskBuilder {
                 "must be a positive angle in radians".into(),
             ));
         }
+        if !(self.ik_limit_margin.is_finite() && (0.0..=0.5).contains(&self.ik_limit_margin)) {
+            return Err(err(
+                "ik.limit_margin",
+                format!(
+                    "must be an angle in radians from 0 to 0.5, got {}",
+                    self.ik_limit_margin
+                ),
+            ));
+        }
         if self.ik_branches == 0 {
             return Err(err("ik.branches", "must be at least 1".into()));
         }
@@ -873,6 +902,9 @@ impl TaskBuilder {
             per_sample_iterations: defaults::PER_SAMPLE_IK_ITERATIONS,
         };
         let mut arms = self.arms;
+        for arm in &mut arms {
+            arm.ik_chain = arm.chain.with_limit_margin(self.ik_limit_margin);
+        }
         let (collisions, bodies) = super::scene::check_world(
             WorldInput {
                 approach: self.approach.as_ref(),
@@ -923,6 +955,7 @@ impl TaskBuilder {
                 tie_tolerance: self.tie_tolerance,
             },
             ik,
+            ik_limit_margin: self.ik_limit_margin,
             redundancy: self.redundancy,
             limits,
             approach: self.approach,

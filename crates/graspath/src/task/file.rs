@@ -639,6 +639,10 @@ pub struct IkFile {
     /// Largest joint motion between consecutive samples (rad or m; default 0.5).
     #[serde(default)]
     pub max_joint_step: Option<f64>,
+    /// How far inside its limits the IK keeps every revolute joint (rad; default 0.1; 0 plans
+    /// up to the limits, as the paper does).
+    #[serde(default)]
+    pub limit_margin: Option<f64>,
     /// Distinct IK branches tracked from the grasp pose (default 4).
     #[serde(default)]
     pub branches: Option<usize>,

@@ -189,6 +189,9 @@ fn builder_with(
     if let Some(step) = ik.max_joint_step {
         builder = builder.max_joint_step(step);
     }
+    if let Some(margin) = ik.limit_margin {
+        builder = builder.ik_limit_margin(margin);
+    }
     if let Some(branches) = ik.branches {
         builder = builder.ik_branches(branches);
     }

@@ -271,6 +271,12 @@ pub mod defaults {
     /// Largest joint motion between consecutive samples (rad or m); also the separation that
     /// makes two IK branches distinct.
     pub const MAX_JOINT_STEP: f64 = 0.5;
+    /// How far inside its limits the IK keeps every revolute joint (rad): MoveIt Servo's
+    /// default `joint_limit_margins` (5.7°). A motion planned up to a limit leaves the next
+    /// perception or tracking error no room, and a controller faults on it; with this margin
+    /// the chosen grasps do not ride the limits (`ik.limit_margin: 0` plans up to them, as the
+    /// paper does).
+    pub const IK_LIMIT_MARGIN: f64 = 0.1;
     /// Distinct IK branches searched from the grasp pose.
     pub const IK_BRANCHES: usize = 4;
     /// Random seed of the IK's restarts (task file `ik.random_seed`).

@@ -425,6 +425,27 @@ impl Chain {
         Ok(chain)
     }
 
+    /// This chain with every revolute joint's range narrowed by `margin` (rad) at both ends:
+    /// `[l + m, u − m]` with `m = min(margin, (u − l) / 4)`, so that at least half of a short
+    /// range remains. Continuous and prismatic joints keep their ranges, as does every joint
+    /// when `margin` is not positive. A solver that plans in the narrowed ranges keeps each
+    /// revolute joint `m` away from its limits (the task setting `ik.limit_margin`). The
+    /// middle of every range ([`Chain::mid_configuration`]) is unchanged.
+    pub fn with_limit_margin(&self, margin: f64) -> Chain {
+        let mut chain = self.clone();
+        if margin > 0.0 {
+            for (j, kind) in self.joint_kinds.iter().enumerate() {
+                let (lower, upper) = (self.lower[j], self.upper[j]);
+                if *kind == JointKind::Revolute && lower.is_finite() && upper.is_finite() {
+                    let m = margin.min(0.25 * (upper - lower));
+                    chain.lower[j] = lower + m;
+                    chain.upper[j] = upper - m;
+                }
+            }
+        }
+        chain
+    }
+
     /// The middle of the joint limits (0 for an unbounded joint).
     pub fn mid_configuration(&self) -> Vec<f64> {
         self.lower

@@ -179,6 +179,9 @@ pub struct ScoringSetup<'a> {
     pub ranked: RankedIndex,
     /// Trajectory IK settings.
     pub ik: &'a TrajectoryIkOptions,
+    /// How far inside its limits the IK keeps every revolute joint (rad): the arm's
+    /// [`ArmSetup::ik_chain`] is narrowed by it; named in `joint_limit` failures.
+    pub ik_limit_margin: f64,
     /// How the arm's self-motion is chosen (first branch, best branch, or optimised).
     pub redundancy: Redundancy,
     /// The tool's approach to the grasp and retreat after the place, the gripper, and the
@@ -389,6 +392,12 @@ impl<'s> Scoring<'s> {
         let (phase, sample) = self.plan.phase_of(failure.sample);
         failure.phase = phase;
         failure.sample = sample;
+        let margin = self.setup.ik_limit_margin;
+        if failure.reason == FailureReason::JointLimit && margin > 0.0 {
+            failure.detail.push_str(&format!(
+                " (the IK keeps every revolute joint ik.limit_margin = {margin} rad inside its limits)"
+            ));
+        }
         failure
     }
 
@@ -413,7 +422,8 @@ fn score_group(
     times: &[f64],
     checks: &[&dyn GraspCheck],
 ) -> Vec<CandidateScore> {
-    let chain = &setup.arm.chain;
+    // The IK plans in the ranges narrowed by the task's limit margin.
+    let chain = &setup.arm.ik_chain;
     let scorings: Vec<Scoring<'_>> = group.iter().map(|c| Scoring::new(setup, c)).collect();
     let early: Vec<Option<Failure>> = scorings
         .iter()
@@ -511,6 +521,9 @@ fn score_solved(
     let candidate = scoring.candidate;
     let compare_branches = redundancy != Redundancy::First;
     let chain = &arm.chain;
+    // The IK plans in the ranges narrowed by the task's limit margin; the distances to the
+    // limits and their penalty are measured against the limits themselves.
+    let ik_chain = &arm.ik_chain;
     let n = path.samples.len();
     let before = scoring.plan.approach_samples();
     let targets = &scoring.targets;
@@ -541,7 +554,7 @@ fn score_solved(
     let mut grasp_configuration: Option<Vec<f64>> = None;
     for (attempt, options) in tries.iter().enumerate() {
         let solved = first.take().unwrap_or_else(|| {
-            solve_trajectory(chain, targets, &q_start, options).map_err(|e| e.to_string())
+            solve_trajectory(ik_chain, targets, &q_start, options).map_err(|e| e.to_string())
         });
         let result = match solved {
             Ok(r) => r,
@@ -665,7 +678,7 @@ fn score_solved(
             branches: 1,
             ..ik.clone()
         };
-        solve_trajectory(chain, &targets[before..=before], &q_start, &alone)
+        solve_trajectory(ik_chain, &targets[before..=before], &q_start, &alone)
             .ok()
             .and_then(|r| r.first_pose.into_iter().next())
     });

@@ -65,8 +65,9 @@ impl SelfMotionSearch<'_> {
             rotation_tolerance: ik.ik.rotation_tolerance,
             ..SelfMotionOptions::default()
         };
+        // The self-motion keeps the task's limit margin, as the branches do.
         let found = optimize_self_motion(
-            chain,
+            &arm.ik_chain,
             self.targets,
             &seeds,
             KeptRows::Pose,

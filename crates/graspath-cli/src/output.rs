@@ -232,7 +232,7 @@ pub fn print_summary_table<S: Scored>(
             "id",
             "label",
             "score",
-            "mu_l2",
+            task.selection.norm.field(),
             "mu_linf",
             if in_scene { "clearance" } else { "yoshikawa" },
             "limit"
@@ -262,7 +262,7 @@ pub fn print_summary_table<S: Scored>(
                 s.id(),
                 label.chars().take(28).collect::<String>(),
                 number(arm.rankings[i].score),
-                number(s.norms().map(|n| n.l2)),
+                number(s.norms().map(|n| task.selection.norm.of(&n))),
                 number(s.norms().map(|n| n.linf)),
                 number(if in_scene {
                     s.clearance()
@@ -282,8 +282,8 @@ pub fn print_summary_table<S: Scored>(
             {
                 say!(
                     "  warning: the selected grasp (id {}) comes within {d:.4} rad of a joint \
-                     limit along its motion; index.joint_limit_penalty ranks grasps away from \
-                     the limits",
+                     limit along its motion; ik.limit_margin (default 0.1 rad) keeps the \
+                     motions that far inside the limits",
                     s.id()
                 );
             }

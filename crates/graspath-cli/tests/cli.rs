@@ -167,6 +167,7 @@ fn select_is_byte_identical_at_any_thread_count() {
             "mu_l2",
             "mu_linf",
             "mu_l1",
+            "mu_rms",
             "m_t",
             "yoshikawa_at_grasp",
             "inverse_condition_at_grasp",

@@ -258,10 +258,10 @@ trajectory:
         "generated best first"
     );
     assert!(logs[0] > logs[14], "likelihoods differ");
-    // The ranking combines the likelihood: every ranked candidate's score is its μ_l2 times
-    // its likelihood relative to the most likely candidate.
+    // The ranking combines the likelihood: every ranked candidate's score is its ranked norm
+    // (the default μ_rms) times its likelihood relative to the most likely candidate.
     for c in list.iter().filter(|c| c["rank"].is_u64()) {
-        let expected = c["mu_l2"].as_f64().expect("mu")
+        let expected = c["mu_rms"].as_f64().expect("mu")
             * (c["log_likelihood"].as_f64().expect("log") - logs[0]).exp();
         assert!(
             (c["score"].as_f64().expect("score") - expected).abs() <= 1e-12 * expected.max(1e-300)

@@ -87,6 +87,7 @@ fn expected_row(record: &Value) -> Map<String, Value> {
         "mu_linf",
         "mu_linf_infinite",
         "mu_l1",
+        "mu_rms",
         "skipped_samples",
         "yoshikawa_at_grasp",
         "yoshikawa_penalized_at_grasp",

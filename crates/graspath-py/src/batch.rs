@@ -131,7 +131,7 @@ fn task_slices(
 ///   ``discontinuity``, ``collision``, …, or ``None``); ``failure_sample`` (float64, NaN when
 ///   feasible); ``rejected`` (object: why a feasible candidate is not ranked, or ``None``);
 /// * ``log_likelihood`` (float64, the candidate's); ``mu_l2``, ``mu_linf`` (``inf`` on a
-///   singular path), ``mu_l1`` (float64, the norms of the ranked per-sample index — ``M_T`` in
+///   singular path), ``mu_l1``, ``mu_rms`` (float64, the norms of the ranked per-sample index — ``M_T`` in
 ///   the units of the task's index mode — NaN when infeasible); ``yoshikawa_at_grasp``,
 ///   ``clearance`` (m, the smallest distance to the scene), ``torque_margin`` and
 ///   ``payload_capacity`` (kg; with the object's mass), ``duration`` (s; when motions are

@@ -7,7 +7,7 @@ use crate::task::PyTask;
 use graspath::fsutil::{write_files, Existing};
 use graspath::select::record::{outputs, Row, Trajectories};
 use graspath::select::{select as run_selection, selected_motions, Selection};
-use graspath::task::{Norm, Task};
+use graspath::task::Task;
 use graspath_report::{candidates_json, pairs_json, summary_json, trajectory_files};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -81,7 +81,7 @@ impl PySelection {
     /// ``feasible`` (bool), ``failure_reason`` (object, ``None`` when feasible),
     /// ``failure_sample`` (float64, NaN when feasible), ``rejected`` (object), ``rank``
     /// (float64, 1 for the best, NaN when not ranked), ``score``, ``log_likelihood``,
-    /// ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``, ``yoshikawa_at_grasp``,
+    /// ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``,
     /// ``yoshikawa_penalized_at_grasp`` (with a joint-limit penalty),
     /// ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
     /// ``limit_distance_min`` (rad or m, the path's closest approach to a joint limit),
@@ -196,13 +196,10 @@ impl PySelection {
         write_files(&out_dir, &files, Existing::Refuse).map_err(error)
     }
 
-    /// The norm used for ranking: ``"l2"`` or ``"l1"``.
+    /// The norm used for ranking: ``"rms"``, ``"l2"`` or ``"l1"``.
     #[getter]
     fn norm(&self) -> &'static str {
-        match self.task.selection.norm {
-            Norm::L2 => "l2",
-            Norm::L1 => "l1",
-        }
+        self.task.selection.norm.as_str()
     }
 
     fn __repr__(&self) -> String {

@@ -53,6 +53,7 @@ pub fn defaults_dict(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let dict = PyDict::new(py);
     dict.set_item("length_scale", defaults::LENGTH_SCALE)?;
     dict.set_item("pairs", defaults::PAIRS)?;
+    dict.set_item("norm", Norm::default().as_str())?;
     dict.set_item("min_separation", defaults::MIN_SEPARATION)?;
     dict.set_item("max_joint_step", defaults::MAX_JOINT_STEP)?;
     dict.set_item("ik_limit_margin", defaults::IK_LIMIT_MARGIN)?;
@@ -202,7 +203,7 @@ impl PyTask {
     ///   ``likelihoods`` ``(k,)`` (> 0), ``labels`` and ``contacts`` ``(k, 3)`` (object frame;
     ///   NaN rows = unknown).
     /// * settings as in the task file: ``mode`` (``twist``/``translation``/``rotation``),
-    ///   ``length_scale``, ``norm`` (``l2``/``l1``), ``mu0``, ``likelihood`` (``"product"``,
+    ///   ``length_scale``, ``norm`` (``rms``/``l2``/``l1``), ``mu0``, ``likelihood`` (``"product"``,
     ///   ``"ignore"`` or a weight), ``pairs``, ``min_separation`` (m), and the trajectory IK's
     ///   ``max_joint_step``, ``branches``, ``ik_random_seed`` (the random seed of the IK's
     ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``redundancy``
@@ -224,7 +225,7 @@ impl PyTask {
         contacts = None,
         mode = "twist",
         length_scale = 1.0,
-        norm = "l2",
+        norm = "rms",
         mu0 = None,
         likelihood = None,
         pairs = 10,
@@ -359,11 +360,8 @@ impl PyTask {
                 width: None,
             })
             .collect();
-        let norm = match norm {
-            "l2" => Norm::L2,
-            "l1" => Norm::L1,
-            other => return Err(error(format!("norm '{other}' is not 'l2' or 'l1'"))),
-        };
+        let norm = Norm::from_name(norm)
+            .ok_or_else(|| error(format!("norm '{norm}' is not 'rms', 'l2' or 'l1'")))?;
         let likelihood = match likelihood {
             None => LikelihoodRule::Product,
             Some(value) => likelihood_rule(value)?,

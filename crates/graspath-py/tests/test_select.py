@@ -63,7 +63,7 @@ def test_records_mirror_candidates_json(left_selection):
     assert len(records) == len(task) == 21
     first = records[0]
     for key in ("id", "arm", "label", "object_from_wrist", "feasible", "failure", "rank", "score",
-                "mu_l2", "mu_linf", "mu_linf_infinite", "mu_l1", "m_t", "joint_trajectory",
+                "mu_l2", "mu_linf", "mu_linf_infinite", "mu_l1", "mu_rms", "m_t", "joint_trajectory",
                 "yoshikawa_at_grasp", "inverse_condition_squared_at_grasp", "pareto"):
         assert key in first
     assert selection.summary["arms"][0]["selected"]["id"] == selection.best("left")

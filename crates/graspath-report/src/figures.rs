@@ -21,8 +21,18 @@ pub struct Figure {
 
 fn norm_name(task: &Task) -> &'static str {
     match task.selection.norm {
+        Norm::Rms => "μ_rms",
         Norm::L2 => "μ_l2",
         Norm::L1 => "μ_l1",
+    }
+}
+
+/// How the ranked norm is written in a legend.
+fn norm_legend(norm: Norm) -> &'static str {
+    match norm {
+        Norm::Rms => "μ_rms = RMS of M_T over time (maximised)",
+        Norm::L2 => "μ_l2 = ‖M_T‖₂ (maximised)",
+        Norm::L1 => "μ_l1 = ∫ M_T dt (maximised)",
     }
 }
 
@@ -148,10 +158,15 @@ fn row_label(base: &str, parameter: Option<&FamilyParameter>) -> String {
     }
 }
 
-/// Fig. 5: the norms over the candidates, each normalised to its maximum.
-fn norms_figure(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure {
+/// Fig. 5: the norms over the candidates (the constraint and the ranked norm), each
+/// normalised to its maximum.
+fn norms_figure(norm: Norm, arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure {
     let axis = CandidateAxis::new(arm, parameter);
-    let l2: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.l2)).collect();
+    let ranked: Vec<Option<f64>> = arm
+        .scores
+        .iter()
+        .map(|s| s.norms.map(|n| norm.of(&n)))
+        .collect();
     let linf: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.linf)).collect();
     let marks = best_mark(arm, &axis, "selected");
     let plot = LinePlot {
@@ -167,8 +182,8 @@ fn norms_figure(arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure 
                 style: LineStyle::Solid,
             },
             Line {
-                name: "μ_l2 = ‖M_T‖₂ (maximised)".into(),
-                values: axis.arrange(normalised(&l2)),
+                name: norm_legend(norm).into(),
+                values: axis.arrange(normalised(&ranked)),
                 style: LineStyle::Dashed,
             },
         ],
@@ -323,10 +338,7 @@ fn pairs_figure(
     };
     let norm = |arm: &ArmResult, i: usize| -> Option<f64> {
         arm.rankings[i].score?;
-        arm.scores[i].norms.map(|n| match task.selection.norm {
-            Norm::L2 => n.l2,
-            Norm::L1 => n.l1,
-        })
+        arm.scores[i].norms.map(|n| task.selection.norm.of(&n))
     };
     // Row-major: rows are the first arm's candidates, columns the second arm's.
     let mut cells = Vec::with_capacity(first.scores.len() * second.scores.len());
@@ -396,7 +408,7 @@ pub fn figures(
     let parameter = parameter.filter(|p| p.values.len() == task.candidates.len());
     let mut figures = Vec::new();
     for arm in &selection.arms {
-        figures.push(norms_figure(arm, parameter));
+        figures.push(norms_figure(task.selection.norm, arm, parameter));
         figures.push(m_t_figure(task, arm, parameter));
         figures.push(classical_figure(arm, parameter));
     }

@@ -10,7 +10,7 @@ use graspath::select::{
     values_tied, ArmPair, ArmResult, CandidateScore, Ranking, Scored, Selection, Streamed,
 };
 use graspath::task::JacobianRows;
-use graspath::task::{Norm, NormSamples, Task};
+use graspath::task::{NormSamples, Task};
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -285,6 +285,7 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
                     "mu_l2": norms.map(|n| n.l2),
                     "mu_linf": norms.and_then(|n| finite(n.linf)),
                     "mu_l1": norms.map(|n| n.l1),
+                    "mu_rms": norms.map(|n| n.rms),
                     "yoshikawa_at_grasp": s.yoshikawa_at_grasp(),
                     "tied_with": arm.tied_with(i, &task.selection),
                 })
@@ -335,7 +336,7 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
         "steps": task.path.step_labels,
         "duration_s": task.path.samples.last().map(|s| s.time),
         "index": index_json(task),
-        "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
+        "norm": task.selection.norm.as_str(),
         "mu0": task.selection.mu0,
         "arms": arms,
         "best_pair": best_pair,

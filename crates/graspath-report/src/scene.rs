@@ -26,7 +26,7 @@ use graspath::geometry::shape::{Shape, Stem};
 use graspath::grasp::Candidate;
 use graspath::robot::Chain;
 use graspath::select::{ArmResult, CandidateScore, Selection};
-use graspath::task::{ArmSetup, Norm, Task};
+use graspath::task::{ArmSetup, Task};
 use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
 use serde_json::{json, Map, Value};
 use std::sync::Arc;
@@ -273,6 +273,7 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
                 "mu_l2": s.norms.map(|n| n.l2),
                 "mu_linf": s.norms.and_then(|n| finite(Some(n.linf))),
                 "mu_l1": s.norms.map(|n| n.l1),
+                "mu_rms": s.norms.map(|n| n.rms),
                 "yoshikawa": finite(s.yoshikawa_at_grasp),
                 "inverse_condition": finite(s.inverse_condition_squared_at_grasp),
                 "feasible": s.feasible(),
@@ -330,7 +331,7 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
     let mut view = json!({
         "task": task.source_name,
         "robot": task.robot_name,
-        "norm": match task.selection.norm { Norm::L2 => "l2", Norm::L1 => "l1" },
+        "norm": task.selection.norm.as_str(),
         "times": task.path.samples.iter().map(|s| round6(s.time)).collect::<Vec<_>>(),
         "steps": task.path.step_labels,
         "sample_step": task.path.samples.iter().map(|s| s.step).collect::<Vec<_>>(),

@@ -31,8 +31,10 @@ trajectory:
     - { lift: 0.2, label: pick }
     - { move: [0.0, 0.3, 0.0], label: move }
     - { place: 0.2, label: place }
-# The fixtures predate timing, which adds the duration fields, and the IK's limit margin.
+# The fixtures predate timing, which adds the duration fields, the IK's limit margin and the
+# default norm mu_rms (whose values the files now carry beside mu_l2).
 ik: { branches: 4, limit_margin: 0 }
+selection: { norm: l2 }
 timing: false
 "#;
 

@@ -23,6 +23,7 @@ fn arm(n: usize, seed: u64) -> Vec<CandidateScore> {
             CandidateScore {
                 norms: Some(PathNorms {
                     l2: norm,
+                    rms: norm,
                     linf: 1.0,
                     l1: norm,
                     evaluated: 1,

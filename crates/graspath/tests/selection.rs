@@ -250,7 +250,8 @@ fn pairs_never_overlap_and_sum_the_arms_norms() {
         let pa = pair.first.contact.unwrap();
         let pb = pair.second.contact.unwrap();
         assert!((pa - pb).norm() >= task.selection.min_separation);
-        let sum = a.norms.unwrap().l2 + b.norms.unwrap().l2;
+        // The sum of the arms' ranked norms (the default `μ_rms`).
+        let sum = a.norms.unwrap().rms + b.norms.unwrap().rms;
         assert!((pair.score - sum).abs() < 1e-12);
     }
     assert!(result.pairs.windows(2).all(|w| w[0].score >= w[1].score));

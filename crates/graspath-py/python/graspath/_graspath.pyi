@@ -272,7 +272,7 @@ class Task:
         contacts: Optional[ArrayLike] = None,
         mode: Literal["twist", "translation", "rotation"] = "twist",
         length_scale: float = 1.0,
-        norm: Literal["l2", "l1"] = "l2",
+        norm: Literal["rms", "l2", "l1"] = "rms",
         mu0: Optional[float] = None,
         likelihood: Union[Literal["product", "ignore"], float, None] = None,
         pairs: int = 10,
@@ -348,14 +348,14 @@ class Selection:
     @property
     def arms(self) -> List[str]: ...
     @property
-    def norm(self) -> Literal["l2", "l1"]: ...
+    def norm(self) -> Literal["rms", "l2", "l1"]: ...
     def best(self, arm: str) -> Optional[int]:
         """The id of the best-ranked candidate of ``arm``."""
     def arrays(self, arm: str) -> Dict[str, npt.NDArray[Any]]:
         """Per-candidate numpy arrays, the record columns marked ``arrays`` in
         :func:`record_columns`: ``id``, ``label``, ``feasible``, ``failure_reason``,
         ``failure_sample``, ``rejected``, ``rank``, ``score``, ``log_likelihood``, ``mu_l2``,
-        ``mu_linf``, ``mu_l1``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
+        ``mu_linf``, ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
         ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
         ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``torque_margin`` and
         ``payload_capacity`` (kg; with the object's mass), ``duration``,
@@ -466,7 +466,7 @@ def select_batch(
     (str), ``feasible`` (bool), ``failure_reason`` (object: reason or ``None``), ``failure_sample``
     (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
     or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
-    ``mu_l1``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``torque_margin`` and
+    ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``torque_margin`` and
     ``payload_capacity`` (kg; with the object's mass), ``duration`` (s; timed motions),
     ``score`` and ``rank`` (float64, 1 for
     the best; NaN wherever absent: infeasible, not ranked, no scene): besides ``object``,
@@ -495,16 +495,16 @@ def record_columns() -> List[RecordColumn]:
 def select_pairs(task: Task, rows: Mapping[str, ArrayLike], *, top_k: Optional[int] = None) -> Dict[str, npt.NDArray[Any]]:
     """The best arm pairs of a two-arm ``task`` from its candidates' scores found apart.
 
-    ``rows``: the columns ``arm_index``, ``candidate``, ``score``, ``mu_l2`` and ``mu_l1`` of
-    :func:`select_batch` for this task, holding every ranked row (``score`` not NaN) of both
+    ``rows``: the columns ``arm_index``, ``candidate``, ``score`` and the task's ranked norm
+    (``mu_rms``, ``mu_l2`` or ``mu_l1``) of :func:`select_batch` for this task, holding every ranked row (``score`` not NaN) of both
     arms once — the whole task's rows or the union of its slices' rows (without ``top_k``);
     other columns and unranked rows are ignored.
 
     Numpy columns, one row per pair, best first: ``rank`` (int64), ``first_arm``,
     ``second_arm`` (str), ``first_candidate``, ``second_candidate`` (int64, positions in the
     task's candidates), ``first_id``, ``second_id`` (int64), ``first_label``, ``second_label``
-    (str), ``score`` (float64, the sum of the arms' norms: ``mu_l2``, or ``mu_l1`` with the
-    task's ``norm: l1``). They are the first ``top_k`` (default all) of :func:`select`'s pairs
+    (str), ``score`` (float64, the sum of the arms' ranked norms: ``mu_rms`` by default,
+    ``mu_l2`` or ``mu_l1`` with the task's ``norm``). They are the first ``top_k`` (default all) of :func:`select`'s pairs
     on the task, in the same order with the same scores; the check between the arms (a scene
     with ``collision.between_arms``) scores again only the candidates of the pairs it visits."""
 

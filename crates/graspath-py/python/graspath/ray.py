@@ -85,6 +85,7 @@ COLUMNS: Tuple[Tuple[str, str, bool, str], ...] = (
     ("mu_l2", "float64", False, "‖M‖₂ of the ranked per-sample index"),
     ("mu_linf", "float64", False, "max 1/M_T over the path"),
     ("mu_l1", "float64", False, "time integral of the ranked index (s·index)"),
+    ("mu_rms", "float64", False, "root mean square of the ranked index over the path's time"),
     ("log_likelihood", "float64", False, "the candidate's log-likelihood"),
     ("yoshikawa_at_grasp", "float64", True, "Yoshikawa's index at the grasp"),
     ("clearance", "float64", True, "smallest distance to the scene along the motion (m)"),
@@ -103,12 +104,12 @@ PAIR_COLUMNS: Tuple[Tuple[str, str, bool, str], ...] = (
     ("second_candidate", "int64", False, "the second arm's candidate: position in the task's candidates"),
     ("second_id", "int64", False, "the second arm's candidate's id"),
     ("second_label", "string", False, "the second arm's candidate's label"),
-    ("score", "float64", False, "the sum of the two arms' norms (mu_l2, or mu_l1 with the task's norm: l1)"),
+    ("score", "float64", False, "the sum of the two arms' ranked norms (mu_rms by default, mu_l2 or mu_l1 with the task's norm)"),
 )
 
 #: The columns of :func:`graspath.select_batch` a shard keeps, for every ranked candidate and
 #: arm of a two-arm task, to form the object's pairs (:func:`graspath.select_pairs`).
-PAIR_INPUT = ("object", "arm_index", "candidate", "score", "mu_l2", "mu_l1")
+PAIR_INPUT = ("object", "arm_index", "candidate", "score", "mu_l2", "mu_l1", "mu_rms")
 
 Piece = Tuple[int, int, int]
 """``(object, start, stop)``: candidates ``start:stop`` of one object."""

@@ -4,7 +4,7 @@
 use super::scalars::Scored;
 use super::score::CandidateScore;
 use crate::grasp::Candidate;
-use crate::task::{LikelihoodRule, Norm, SelectionOptions};
+use crate::task::{LikelihoodRule, SelectionOptions};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::sync::Arc;
@@ -28,10 +28,7 @@ fn norm_value(score: &impl Scored, options: &SelectionOptions) -> Option<f64> {
     if options.by_duration {
         return score.duration().filter(|d| *d > 0.0).map(|d| 1.0 / d);
     }
-    score.norms().map(|n| match options.norm {
-        Norm::L2 => n.l2,
-        Norm::L1 => n.l1,
-    })
+    score.norms().map(|n| options.norm.of(&n))
 }
 
 /// Why a feasible candidate fails the constraint, if it does.
@@ -418,6 +415,7 @@ mod tests {
         CandidateScore {
             norms: Some(PathNorms {
                 l2: norm,
+                rms: norm,
                 linf: 1.0,
                 l1: norm,
                 evaluated: 1,

@@ -473,6 +473,14 @@ pub static COLUMNS: &[Column] = &[
         |r| Cell::Float(r.score.norms.map(|n| n.l1)),
     ),
     column(
+        "mu_rms",
+        Kind::Float,
+        "index",
+        "the root mean square of v over the path's time (the default ranked norm)",
+        FILES | ARRAYS | BATCH,
+        |r| Cell::Float(r.score.norms.map(|n| n.rms)),
+    ),
+    column(
         "skipped_samples",
         Kind::Count,
         "",

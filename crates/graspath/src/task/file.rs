@@ -528,8 +528,10 @@ pub enum PenaltyFile {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum NormFile {
-    /// `μ_l2` (the paper's choice).
+    /// `μ_rms`, the root mean square over the path's time (the default).
     #[default]
+    Rms,
+    /// `μ_l2` (the paper's choice).
     L2,
     /// `μ_l1`, the time integral.
     L1,

@@ -167,6 +167,7 @@ fn builder_with(
             over,
         })
         .norm(match s.norm.unwrap_or_default() {
+            NormFile::Rms => Norm::Rms,
             NormFile::L2 => Norm::L2,
             NormFile::L1 => Norm::L1,
         })

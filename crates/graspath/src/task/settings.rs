@@ -167,14 +167,56 @@ impl Redundancy {
     }
 }
 
-/// The norm of `M_T` along the path that is maximised.
+/// The norm of the ranked index along the path that is maximised
+/// ([`PathNorms`](crate::manipulability::PathNorms) has each).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Norm {
-    /// `μ_l2 = ‖M‖₂` (the paper's choice).
+    /// `μ_rms`, the root mean square over the path's time (the default): the continuous
+    /// counterpart of the paper's `μ_l2`, independent of how densely the path is sampled, so
+    /// scores compare across tasks and rankings hold when the sampling is refined.
     #[default]
+    Rms,
+    /// `μ_l2 = ‖M‖₂` over the samples (the paper's choice, eq. 15): it grows with the square
+    /// root of the sample count.
     L2,
     /// `μ_l1`, the time integral of `M_T`.
     L1,
+}
+
+impl Norm {
+    /// The task-file spelling: `rms`, `l2`, `l1`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Norm::Rms => "rms",
+            Norm::L2 => "l2",
+            Norm::L1 => "l1",
+        }
+    }
+
+    /// The variant spelled `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::Rms, Self::L2, Self::L1]
+            .into_iter()
+            .find(|n| n.as_str() == name)
+    }
+
+    /// The name of its column in the candidate records: `mu_rms`, `mu_l2`, `mu_l1`.
+    pub fn field(self) -> &'static str {
+        match self {
+            Norm::Rms => "mu_rms",
+            Norm::L2 => "mu_l2",
+            Norm::L1 => "mu_l1",
+        }
+    }
+
+    /// Its value among a path's norms.
+    pub fn of(self, norms: &crate::manipulability::PathNorms) -> f64 {
+        match self {
+            Norm::Rms => norms.rms,
+            Norm::L2 => norms.l2,
+            Norm::L1 => norms.l1,
+        }
+    }
 }
 
 /// How the grasp likelihood combines with the norm into a score.
@@ -226,7 +268,7 @@ pub struct SelectionOptions {
 impl Default for SelectionOptions {
     fn default() -> Self {
         Self {
-            norm: Norm::L2,
+            norm: Norm::Rms,
             mu0: None,
             likelihood: LikelihoodRule::Product,
             pairs: defaults::PAIRS,

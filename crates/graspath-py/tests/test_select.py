@@ -24,8 +24,8 @@ def run_cli(binary, task, out):
     return {p.name: p.read_bytes() for p in sorted(out.iterdir())}
 
 
-# The IK settings of examples/pick_and_place_left.yaml.
-SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "compare_branches": True, "ik_limit_margin": 0.0}
+# The IK and norm settings of examples/pick_and_place_left.yaml (the paper's).
+SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "compare_branches": True, "ik_limit_margin": 0.0, "norm": "l2"}
 
 
 @pytest.fixture(scope="module")
@@ -196,6 +196,36 @@ def test_array_task_equals_the_file(left_selection):
 
 
 
+def test_array_task_defaults_equal_the_file_defaults(left_selection, tmp_path):
+    """Without ``ik.limit_margin`` and ``selection.norm``, a file and ``Task.from_arrays``
+    take the same defaults (0.1 rad, ``rms``): the same records, every chosen motion inside
+    the narrowed ranges."""
+    task, _ = left_selection
+    c = task.candidates
+    text = LEFT.read_text().replace(", limit_margin: 0", "").replace("selection: { norm: l2 }\n", "")
+    assert "limit_margin" not in text and "norm" not in text
+    path = tmp_path / "defaults.yaml"
+    path.write_text(text)
+    from_file = graspath.select(graspath.Task.load(str(path)))
+    from_arrays = graspath.select(graspath.Task.from_arrays(
+        {"left": task.robot("left")},
+        task.object_poses,
+        task.candidate_poses,
+        times=task.times,
+        labels=[x["label"] for x in c],
+        contacts=np.array([x["contact"] for x in c]),
+        likelihoods=np.array([x["likelihood"] for x in c]),
+        branches=8,
+        ik_iterations=2000,
+        compare_branches=True,
+    ))
+    assert from_arrays.norm == from_file.norm == "rms"
+    for a, b in zip(from_arrays.candidates, from_file.candidates):
+        assert a["mu_rms"] == b["mu_rms"] and a["score"] == b["score"]
+        if a["feasible"]:
+            assert a["limit_distance_min"] >= graspath.DEFAULTS["ik_limit_margin"] - 1e-12
+
+
 def test_the_deprecated_ik_seed_keyword_is_the_ik_random_seed(left_selection):
     """``ik_seed=`` (deprecated) builds the task ``ik_random_seed=`` builds, with a
     DeprecationWarning: the selections are equal. Both at once is an error."""
@@ -303,6 +333,8 @@ def test_array_task_redundancy_matches_the_file(left_selection, tmp_path):
         likelihoods=np.array([x["likelihood"] for x in c]),
         branches=8,
         ik_iterations=2000,
+        ik_limit_margin=0.0,
+        norm="l2",
     )
     from_arrays = graspath.Task.from_arrays(
         {"left": task.robot("left")},

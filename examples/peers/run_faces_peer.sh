@@ -17,9 +17,17 @@ python="${PYTHON:-python3}"
 shared="${SHARED:-$root/../shared}"
 runs="${RUNS:-5}"
 work="${OUT:-${TMPDIR:-/tmp}/graspath-faces-peer}"
-task="$root/examples/workload_1000_faces.yaml"
 graspath="$root/target/release/graspath"
 mkdir -p "$work"
+# Like with like: the peer tracks one branch up to the joint limits, ranks by the paper's
+# mu_l2 and does not time the motions, so graspath runs the workload with the same settings
+# (its defaults keep a 0.1 rad margin from the limits, rank by mu_rms and time every feasible
+# motion). WORKLOAD_SETTINGS=defaults times graspath's defaults instead.
+task="$work/workload_1000_faces.yaml"
+cp "$root/examples/workload_1000_faces.yaml" "$task"
+if [ "${WORKLOAD_SETTINGS:-paper}" = paper ]; then
+  printf 'ik: { limit_margin: 0 }\nselection: { norm: l2 }\ntiming: false\n' >>"$task"
+fi
 
 # The peer's input, written once and not timed: every candidate's wrist poses.
 (cd "$root" && cargo run --release -q -p graspath --example export_wrist_paths -- \

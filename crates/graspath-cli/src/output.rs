@@ -49,6 +49,9 @@ impl OutputArgs {
 /// The longest `--progress-every` interval (s): a week, far beyond any run.
 const MAX_PROGRESS_SECONDS: f64 = 7.0 * 24.0 * 3600.0;
 
+/// How many pairs of colliding bodies the summary names (`summary.json` has them all).
+const MOST_FREQUENT_COLLISIONS: usize = 3;
+
 fn positive_seconds(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(v) if (0.001..=MAX_PROGRESS_SECONDS).contains(&v) => Ok(v),
@@ -223,6 +226,16 @@ pub fn print_summary_table<S: Scored>(
                 format!(", infeasible: {}", reasons.join(", "))
             }
         );
+        // What the collisions hit most: the pairs of bodies to move first.
+        let colliding = arm.colliding_body_pairs();
+        if !colliding.is_empty() {
+            let shown: Vec<String> = colliding
+                .iter()
+                .take(MOST_FREQUENT_COLLISIONS)
+                .map(|([a, b], n)| format!("{a} – {b} ({n})"))
+                .collect();
+            say!("  most frequent collisions: {}", shown.join(", "));
+        }
         // In a scene the last column is the clearance from it (m); else Yoshikawa's index.
         let in_scene = task.collisions.is_some();
         // `limit`: the smallest distance of any joint to its limit along the motion (rad).

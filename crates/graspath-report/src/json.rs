@@ -266,7 +266,10 @@ pub fn tied_pairs<S>(selection: &Selection<S>, tolerance: f64) -> Vec<&ArmPair> 
 /// kept pairs tied with it. A task that
 /// describes its world (a scene, an approach or retreat, or a gripper) also gets, per arm,
 /// `failures`: how many candidates failed for each reason (`collision`, `gripper_width`, ...;
-/// reasons that did not occur are left out) and, with two arms, `colliding_pairs`: how many
+/// reasons that did not occur are left out), `colliding_bodies` when some collide: each pair
+/// of bodies the collisions name with how many candidates failed on it, the most frequent
+/// first (see [`ArmResult::colliding_body_pairs`](graspath::select::ArmResult::colliding_body_pairs)),
+/// and, with two arms, `colliding_pairs`: how many
 /// pairs better than the last kept were refused because the arms collide. A task that says
 /// nothing about its world gets the summary it had before scenes existed.
 pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
@@ -307,6 +310,13 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
                     *failures.entry(reason.as_str()).or_default() += 1;
                 }
                 summary["failures"] = json!(failures);
+                let colliding = arm.colliding_body_pairs();
+                if !colliding.is_empty() {
+                    summary["colliding_bodies"] = colliding
+                        .iter()
+                        .map(|(bodies, n)| json!({ "bodies": bodies, "candidates": n }))
+                        .collect();
+                }
             }
             summary
         })

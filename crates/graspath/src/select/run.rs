@@ -51,6 +51,20 @@ impl<S: Scored> ArmResult<S> {
     pub fn feasible_count(&self) -> usize {
         self.scores.iter().filter(|s| s.feasible()).count()
     }
+
+    /// The pairs of bodies the collision failures name, each with how many candidates failed
+    /// on it: the most frequent first, then by the bodies' names. What to move (an obstacle,
+    /// the object, the robot's base) to free the most candidates.
+    pub fn colliding_body_pairs(&self) -> Vec<(&[String; 2], usize)> {
+        let mut counts: std::collections::BTreeMap<&[String; 2], usize> = Default::default();
+        for bodies in self.scores.iter().filter_map(Scored::colliding_bodies) {
+            *counts.entry(bodies).or_default() += 1;
+        }
+        let mut pairs: Vec<(&[String; 2], usize)> = counts.into_iter().collect();
+        // Stable: equal counts keep the bodies' order.
+        pairs.sort_by(|a, b| b.1.cmp(&a.1));
+        pairs
+    }
 }
 
 /// The result of a task: every candidate's full scores ([`select`]) or their scalars

@@ -23,6 +23,9 @@ pub trait Scored {
     fn norms(&self) -> Option<PathNorms>;
     /// Why the arm cannot follow the whole motion (`None` when feasible).
     fn failure_reason(&self) -> Option<FailureReason>;
+    /// The two bodies of a collision failure (`link left_wrist`, `obstacle wall`, `table`,
+    /// ...); `None` for any other outcome.
+    fn colliding_bodies(&self) -> Option<&[String; 2]>;
     /// The smallest distance to the scene along the motion (m), with a scene.
     fn clearance(&self) -> Option<f64>;
     /// Yoshikawa's index of the full `J` at the grasp.
@@ -59,6 +62,12 @@ impl Scored for CandidateScore {
     fn failure_reason(&self) -> Option<FailureReason> {
         self.failure.as_ref().map(|f| f.reason)
     }
+    fn colliding_bodies(&self) -> Option<&[String; 2]> {
+        self.failure
+            .as_ref()
+            .filter(|f| f.reason == FailureReason::Collision)
+            .and_then(|f| f.bodies.as_ref())
+    }
     fn clearance(&self) -> Option<f64> {
         self.clearance
     }
@@ -92,8 +101,9 @@ pub struct FailurePoint {
 
 /// Every scalar of a candidate's scores for one arm — the candidate's id, log-likelihood and
 /// grasp point, the norms, the classical indices at the grasp, the clearance, the branch count,
-/// the self-motion scores and where it fails — and no per-sample series, motion, failure text
-/// or candidate pose: about 250 bytes, what a streamed selection keeps per candidate and arm.
+/// the self-motion scores, where it fails and, for a collision, the two bodies — and no
+/// per-sample series, motion, failure text or candidate pose: about 250 bytes, what a streamed
+/// selection keeps per candidate and arm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CandidateScalars {
     /// The candidate's id.
@@ -104,6 +114,8 @@ pub struct CandidateScalars {
     pub grasp_point: Point3<f64>,
     /// Where and why it fails (`None`: feasible).
     pub failure: Option<FailurePoint>,
+    /// See [`Scored::colliding_bodies`]: held only for collision failures.
+    pub colliding_bodies: Option<Box<[String; 2]>>,
     /// See [`CandidateScore::norms`].
     pub norms: Option<PathNorms>,
     /// See [`CandidateScore::yoshikawa_at_grasp`].
@@ -145,6 +157,7 @@ impl CandidateScalars {
                 phase: f.phase,
                 sample: f.sample,
             }),
+            colliding_bodies: score.colliding_bodies().cloned().map(Box::new),
             norms: score.norms,
             yoshikawa_at_grasp: score.yoshikawa_at_grasp,
             yoshikawa_penalized_at_grasp: score.yoshikawa_penalized_at_grasp,
@@ -177,6 +190,9 @@ impl Scored for CandidateScalars {
     }
     fn failure_reason(&self) -> Option<FailureReason> {
         self.failure.map(|f| f.reason)
+    }
+    fn colliding_bodies(&self) -> Option<&[String; 2]> {
+        self.colliding_bodies.as_deref()
     }
     fn clearance(&self) -> Option<f64> {
         self.clearance

@@ -62,7 +62,7 @@ impl<S: Scored> ArmResult<S> {
         }
         let mut pairs: Vec<(&[String; 2], usize)> = counts.into_iter().collect();
         // Stable: equal counts keep the bodies' order.
-        pairs.sort_by(|a, b| b.1.cmp(&a.1));
+        pairs.sort_by_key(|p| std::cmp::Reverse(p.1));
         pairs
     }
 }

@@ -285,6 +285,19 @@ pub fn print_summary_table<S: Scored>(
                 number(s.limit_distance_min()),
             );
         }
+        // How much the arm's redundancy matters for the selected grasp (`ik.redundancy:
+        // optimize`): the spread of μ_l2 over its self-motion.
+        if let Some(motion) = arm.best().and_then(|b| arm.scores[b].self_motion()) {
+            let (low, high) = motion.l2_range;
+            if high > 0.0 {
+                say!(
+                    "  over its self-motion the selected grasp's mu_l2 spans {low:.4} to \
+                     {high:.4} ({:.0} % of the largest; the first IK branch: {:.4})",
+                    100.0 * (high - low) / high,
+                    motion.first_branch_l2
+                );
+            }
+        }
         // A selected grasp whose motion comes this close to a joint limit leaves no margin for
         // the next perception error, and a real controller may fault on it.
         if let Some(best) = arm.best() {

@@ -938,3 +938,54 @@ fn the_table_shows_how_close_each_grasp_comes_to_a_limit_and_warns_for_the_selec
         assert_eq!(text.contains(&warning), warned, "{text}");
     }
 }
+
+/// With `ik.redundancy: optimize` the terminal reports the selected grasp's `μ_l2` spread over
+/// its self-motion: the numbers of its `self_motion` record in `candidates.json`.
+#[test]
+fn the_selected_grasps_self_motion_spread_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let faces = std::fs::read_to_string(repo_root().join("examples/workload_1000_faces.yaml"))
+        .unwrap()
+        .replace("count: 1000", "count: 100");
+    let task = write(
+        dir.path(),
+        "faces.yaml",
+        &format!("{faces}ik: {{ redundancy: optimize }}\n"),
+    );
+    let out = dir.path().join("out");
+    let o = select(&task, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let best = summary["arms"][0]["selected"]["id"].clone();
+    let records: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("candidates.json")).unwrap()).unwrap();
+    let record = records
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["id"] == best)
+        .unwrap();
+    let motion = &record["self_motion"];
+    let (low, high, first) = (
+        motion["mu_l2_min"].as_f64().unwrap(),
+        motion["mu_l2_max"].as_f64().unwrap(),
+        motion["mu_l2_first_branch"].as_f64().unwrap(),
+    );
+    assert!(low <= first + 1e-9 && first <= high + 1e-9, "{motion}");
+    let expected = format!(
+        "over its self-motion the selected grasp's mu_l2 spans {low:.4} to {high:.4} ({:.0} % of the largest; the first IK branch: {first:.4})",
+        100.0 * (high - low) / high
+    );
+    assert!(text.contains(&expected), "{expected}\n{text}");
+    // Without the self-motion search there is no such line.
+    let plain = dir.path().join("plain");
+    let o = select(
+        &repo_root().join("examples/pick_and_place_left.yaml"),
+        &plain,
+        &[],
+    );
+    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
+    assert!(!text.contains("over its self-motion"), "{text}");
+}

@@ -236,7 +236,7 @@ impl PyTask {
         ik_random_seed = None,
         ik_tolerance = 1e-5,
         ik_iterations = 200,
-        compare_branches = false,
+        compare_branches = None,
         redundancy = None,
         measure = "task_relevant",
         joint_limit_penalty = None,
@@ -266,7 +266,7 @@ impl PyTask {
         ik_random_seed: Option<u64>,
         ik_tolerance: f64,
         ik_iterations: usize,
-        compare_branches: bool,
+        compare_branches: Option<bool>,
         redundancy: Option<&str>,
         measure: &str,
         joint_limit_penalty: Option<f64>,
@@ -579,23 +579,30 @@ impl PyTask {
 }
 
 /// `redundancy` by name, or from `compare_branches` when it is not given; the two must agree.
-fn redundancy_of(name: Option<&str>, compare_branches: bool) -> PyResult<Redundancy> {
-    let compared = if compare_branches {
-        Redundancy::BestBranch
-    } else {
-        Redundancy::First
-    };
+fn redundancy_of(name: Option<&str>, compare_branches: Option<bool>) -> PyResult<Redundancy> {
+    let compared = compare_branches.map(|compare| {
+        if compare {
+            Redundancy::BestBranch
+        } else {
+            Redundancy::First
+        }
+    });
     let Some(name) = name else {
-        return Ok(compared);
+        return Ok(compared.unwrap_or_default());
     };
     let redundancy = Redundancy::from_name(name).ok_or_else(|| {
         error(format!(
             "redundancy: '{name}' is not one of first, best_branch, optimize"
         ))
     })?;
-    if compare_branches && redundancy != Redundancy::BestBranch {
+    if compared.is_some_and(|c| c != redundancy) {
         return Err(error(format!(
-            "compare_branches=True contradicts redundancy='{name}' (give one of them)"
+            "compare_branches={} contradicts redundancy='{name}' (give one of them)",
+            if compared == Some(Redundancy::BestBranch) {
+                "True"
+            } else {
+                "False"
+            }
         )));
     }
     Ok(redundancy)

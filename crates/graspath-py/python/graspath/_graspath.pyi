@@ -283,7 +283,7 @@ class Task:
         ik_random_seed: Optional[int] = None,
         ik_tolerance: float = 1e-5,
         ik_iterations: int = 200,
-        compare_branches: bool = False,
+        compare_branches: Optional[bool] = None,
         redundancy: Optional[Literal["first", "best_branch", "optimize"]] = None,
         measure: Literal["task_relevant", "velocity_ratio"] = "task_relevant",
         joint_limit_penalty: Optional[float] = None,
@@ -294,7 +294,8 @@ class Task:
         """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
         ``(k, 4, 4)`` (object_from_wrist). ``ik_random_seed`` (default 0) seeds the IK's
         restarts; ``ik_seed`` is its deprecated name. ``redundancy`` is the task file's
-        ``ik.redundancy``; ``compare_branches=True`` is ``"best_branch"``. ``measure`` and
+        ``ik.redundancy`` (default ``"optimize"``); ``compare_branches=True`` is ``"best_branch"``,
+        ``False`` is ``"first"``. ``measure`` and
         ``joint_limit_penalty`` (a gain ``k``) are the task file's ``index.measure`` and
         ``index.joint_limit_penalty``; ``ik_limit_margin`` (rad) is ``ik.limit_margin``: how far
         inside its limits the IK keeps every revolute joint (0: up to the limits, as in the

@@ -262,6 +262,7 @@ pub fn scoring_setup<'a>(task: &'a Task, arm: &'a ArmSetup) -> ScoringSetup<'a> 
         ik: &task.ik,
         ik_limit_margin: task.ik_limit_margin,
         redundancy: task.redundancy,
+        norm: task.selection.norm,
         world: WorldSetup {
             approach: task.approach.as_ref(),
             retreat: task.retreat.as_ref(),

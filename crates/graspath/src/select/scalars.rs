@@ -37,6 +37,8 @@ pub trait Scored {
     /// The smallest distance (rad or m) of any joint to its limit along the motion, when
     /// feasible.
     fn limit_distance_min(&self) -> Option<f64>;
+    /// With `ik.redundancy: optimize`: how `μ_l2` varies over the arm's self-motion.
+    fn self_motion(&self) -> Option<SelfMotionScores>;
     /// The candidate itself, when it is held: always by a [`CandidateScore`]; by
     /// [`CandidateScalars`] only for the candidates a summary names.
     fn candidate(&self) -> Option<&Arc<Candidate>>;
@@ -82,6 +84,9 @@ impl Scored for CandidateScore {
     }
     fn limit_distance_min(&self) -> Option<f64> {
         CandidateScore::limit_distance_min(self)
+    }
+    fn self_motion(&self) -> Option<SelfMotionScores> {
+        self.self_motion
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         Some(&self.candidate)
@@ -208,6 +213,9 @@ impl Scored for CandidateScalars {
     }
     fn limit_distance_min(&self) -> Option<f64> {
         self.limit_distance_min
+    }
+    fn self_motion(&self) -> Option<SelfMotionScores> {
+        self.self_motion
     }
     fn candidate(&self) -> Option<&Arc<Candidate>> {
         self.candidate.as_ref()

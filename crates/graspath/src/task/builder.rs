@@ -395,7 +395,7 @@ impl TaskBuilder {
             ik_random_seed: defaults::IK_RANDOM_SEED,
             ik_tolerance: defaults::IK_TOLERANCE,
             grasp_ik_iterations: defaults::GRASP_IK_ITERATIONS,
-            redundancy: Redundancy::First,
+            redundancy: Redundancy::default(),
             limits: Limits::default(),
             approach: None,
             retreat: None,

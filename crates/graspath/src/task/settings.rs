@@ -145,7 +145,9 @@ pub enum Redundancy {
     /// Every branch tracked; the one with the best norm is kept.
     BestBranch,
     /// Every branch tracked, then the self-motion around them searched for the joint path
-    /// with the largest `μ_l2` ([`crate::robot::optimize_self_motion`]).
+    /// with the largest `μ_l2` ([`crate::robot::optimize_self_motion`]); the one ranked
+    /// higher by the task's norm is kept. On an arm without redundancy it compares the IK
+    /// branches.
     Optimize,
 }
 

@@ -23,8 +23,8 @@ use crate::robot::{
     solve_trajectories, solve_trajectory, RigidBody, TrajectoryIkOptions, TrajectoryIkResult,
 };
 use crate::task::{
-    defaults, ArmSetup, Collisions, Gripper, JacobianRows, ObjectPath, RankedIndex, Redundancy,
-    Stroke, TimingSettings, WholeMotionPlan,
+    defaults, ArmSetup, Collisions, Gripper, JacobianRows, Norm, ObjectPath, RankedIndex,
+    Redundancy, Stroke, TimingSettings, WholeMotionPlan,
 };
 use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
@@ -184,6 +184,9 @@ pub struct ScoringSetup<'a> {
     pub ik_limit_margin: f64,
     /// How the arm's self-motion is chosen (first branch, best branch, or optimised).
     pub redundancy: Redundancy,
+    /// The norm candidates are ranked by: of two branches (or a branch and the optimised
+    /// self-motion) of one candidate, the larger is kept.
+    pub norm: Norm,
     /// The tool's approach to the grasp and retreat after the place, the gripper, and the
     /// collision checks (all `None`: the motion is the object's path in empty space).
     pub world: WorldSetup<'a>,
@@ -490,14 +493,16 @@ struct ChosenBranch {
 }
 
 impl ChosenBranch {
-    /// Whether `norms` rank above this branch's: a finite `μ_l∞` first, then a larger `μ_l2`.
-    fn norms_better(&self, norms: &PathNorms) -> bool {
-        (norms.linf.is_finite(), norms.l2) > (self.norms.linf.is_finite(), self.norms.l2)
+    /// Whether `norms` rank above this branch's: a finite `μ_l∞` first, then a larger value
+    /// of the task's ranked `norm`.
+    fn norms_better(&self, norms: &PathNorms, norm: Norm) -> bool {
+        (norms.linf.is_finite(), norm.of(norms))
+            > (self.norms.linf.is_finite(), norm.of(&self.norms))
     }
 
     /// Whether this branch ranks above `other` ([`ChosenBranch::norms_better`]).
-    fn better_than(&self, other: &ChosenBranch) -> bool {
-        other.norms_better(&self.norms)
+    fn better_than(&self, other: &ChosenBranch, norm: Norm) -> bool {
+        other.norms_better(&self.norms, norm)
     }
 }
 
@@ -581,7 +586,10 @@ fn score_solved(
             if redundancy == Redundancy::Optimize && first_branch.is_none() && attempt == 0 {
                 first_branch = Some((branch.q.clone(), norms.l2));
             }
-            if best.as_ref().is_some_and(|b| !b.norms_better(&norms)) {
+            if best
+                .as_ref()
+                .is_some_and(|b| !b.norms_better(&norms, scoring.setup.norm))
+            {
                 continue;
             }
             if let Some((_, failure)) = refused.iter().find(|(q, _)| *q == branch.q) {

@@ -27,8 +27,9 @@ pub(super) struct SelfMotionSearch<'a> {
 
 impl SelfMotionSearch<'_> {
     /// Searches the self-motion around the chosen branch and the first branch for the whole
-    /// motion with the largest `Σ v²` of the ranked index `v` on the path; replaces `chosen` when that motion is
-    /// better and collision-free. Returns what was found.
+    /// motion with the largest `Σ v²` of the ranked index `v` on the path (`μ_l2²`); replaces
+    /// `chosen` when that motion ranks higher by the task's norm and is collision-free.
+    /// Returns what was found.
     pub(super) fn improve(
         &self,
         chosen: &mut ChosenBranch,
@@ -94,7 +95,7 @@ impl SelfMotionSearch<'_> {
             q: found.q,
             findings: BranchFindings::default(),
         };
-        if !optimised.better_than(chosen) {
+        if !optimised.better_than(chosen, self.setup.norm) {
             return Some(scores);
         }
         if let Ok(findings) = check_branch(self.checks, &optimised.q) {

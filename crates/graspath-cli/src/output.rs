@@ -275,7 +275,7 @@ pub fn print_summary_table<S: Scored>(
                 s.id(),
                 label.chars().take(28).collect::<String>(),
                 number(arm.rankings[i].score),
-                number(s.norms().map(|n| task.selection.norm.of(&n))),
+                number(s.norms().map(|n| n.value(task.selection.norm))),
                 number(s.norms().map(|n| n.linf)),
                 number(if in_scene {
                     s.clearance()

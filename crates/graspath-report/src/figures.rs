@@ -165,7 +165,7 @@ fn norms_figure(norm: Norm, arm: &ArmResult, parameter: Option<&FamilyParameter>
     let ranked: Vec<Option<f64>> = arm
         .scores
         .iter()
-        .map(|s| s.norms.map(|n| norm.of(&n)))
+        .map(|s| s.norms.map(|n| n.value(norm)))
         .collect();
     let linf: Vec<Option<f64>> = arm.scores.iter().map(|s| s.norms.map(|n| n.linf)).collect();
     let marks = best_mark(arm, &axis, "selected");
@@ -338,7 +338,7 @@ fn pairs_figure(
     };
     let norm = |arm: &ArmResult, i: usize| -> Option<f64> {
         arm.rankings[i].score?;
-        arm.scores[i].norms.map(|n| task.selection.norm.of(&n))
+        arm.scores[i].norms.map(|n| n.value(task.selection.norm))
     };
     // Row-major: rows are the first arm's candidates, columns the second arm's.
     let mut cells = Vec::with_capacity(first.scores.len() * second.scores.len());

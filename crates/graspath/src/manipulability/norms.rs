@@ -1,5 +1,7 @@
 //! Norms of the task-relevant index over the samples of a path (paper eq. 15–17).
 
+use crate::task::Norm;
+
 /// One sample of the index along a path.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SampleIndex {
@@ -40,6 +42,15 @@ pub struct PathNorms {
 }
 
 impl PathNorms {
+    /// The value of `norm` among these norms.
+    pub fn value(&self, norm: Norm) -> f64 {
+        match norm {
+            Norm::Rms => self.rms,
+            Norm::L2 => self.l2,
+            Norm::L1 => self.l1,
+        }
+    }
+
     /// The norms of `samples` (in time order).
     pub fn of(samples: &[SampleIndex]) -> Self {
         let mut sum_squares = 0.0;

@@ -28,7 +28,7 @@ fn norm_value(score: &impl Scored, options: &SelectionOptions) -> Option<f64> {
     if options.by_duration {
         return score.duration().filter(|d| *d > 0.0).map(|d| 1.0 / d);
     }
-    score.norms().map(|n| options.norm.of(&n))
+    score.norms().map(|n| n.value(options.norm))
 }
 
 /// Why a feasible candidate fails the constraint, if it does.

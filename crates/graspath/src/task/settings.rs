@@ -169,8 +169,8 @@ impl Redundancy {
     }
 }
 
-/// The norm of the ranked index along the path that is maximised
-/// ([`PathNorms`](crate::manipulability::PathNorms) has each).
+/// The norm of the ranked index along the path that is maximised (each path's value:
+/// [`PathNorms::value`](crate::manipulability::PathNorms::value)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Norm {
     /// `μ_rms`, the root mean square over the path's time (the default): the continuous
@@ -208,15 +208,6 @@ impl Norm {
             Norm::Rms => "mu_rms",
             Norm::L2 => "mu_l2",
             Norm::L1 => "mu_l1",
-        }
-    }
-
-    /// Its value among a path's norms.
-    pub fn of(self, norms: &crate::manipulability::PathNorms) -> f64 {
-        match self {
-            Norm::Rms => norms.rms,
-            Norm::L2 => norms.l2,
-            Norm::L1 => norms.l1,
         }
     }
 }

@@ -496,8 +496,8 @@ impl ChosenBranch {
     /// Whether `norms` rank above this branch's: a finite `μ_l∞` first, then a larger value
     /// of the task's ranked `norm`.
     fn norms_better(&self, norms: &PathNorms, norm: Norm) -> bool {
-        (norms.linf.is_finite(), norm.of(norms))
-            > (self.norms.linf.is_finite(), norm.of(&self.norms))
+        (norms.linf.is_finite(), norms.value(norm))
+            > (self.norms.linf.is_finite(), self.norms.value(norm))
     }
 
     /// Whether this branch ranks above `other` ([`ChosenBranch::norms_better`]).

@@ -932,6 +932,10 @@ impl TaskBuilder {
             .then_some(self.shape.as_ref())
             .flatten()
             .map(|shape| Arc::new(Body::from_shape("object", shape)));
+        if let (Some(collisions), Some(object)) = (&collisions, &object_body) {
+            super::scene::check_object_clear(collisions, object, &path)
+                .map_err(|(field, m)| err(&field, m))?;
+        }
         let mut task = Task {
             source_name: self.name.clone(),
             robot_name: self.robot_name.unwrap_or_else(|| "robot".into()),

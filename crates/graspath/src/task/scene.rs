@@ -5,7 +5,9 @@
 
 use super::path::ObjectPath;
 use super::settings::{check_count, Limits};
-use crate::collision::{distance, ArmBodies, Body, CollisionOptions, LinkShape, Scene, SelfPairs};
+use crate::collision::{
+    distance, signed_distance, ArmBodies, Body, CollisionOptions, LinkShape, Scene, SelfPairs,
+};
 use crate::failure::Phase;
 use crate::geometry::shape::Shape;
 use crate::grasp::hand::{Hand, HandJointKind};
@@ -290,6 +292,46 @@ pub struct Collisions {
     pub scene: Arc<Scene>,
     /// Margins and which checks run.
     pub options: CollisionOptions,
+}
+
+/// `Err((field, message))` when the object, at the start or at the end of its path,
+/// overlaps an obstacle by more than `collision.touch_tolerance`: every grasp would then
+/// collide, and the cause is the task's placement, not the grasps. The field is
+/// `object.pose` for the start and `trajectory` for the end; the message names the
+/// obstacle, the depth and where the object is. (The table is a plausibility warning:
+/// an object resting on it touches it.)
+pub(crate) fn check_object_clear(
+    collisions: &Collisions,
+    object: &Body,
+    path: &ObjectPath,
+) -> Result<(), (String, String)> {
+    let (Some(first), Some(last)) = (path.samples.first(), path.samples.last()) else {
+        return Ok(());
+    };
+    let tolerance = collisions.options.touch_tolerance;
+    for (field, moment, sample) in [("object.pose", "start", first), ("trajectory", "end", last)] {
+        let pose = &sample.world_from_object;
+        for obstacle in collisions.scene.obstacles() {
+            let depth = -signed_distance(object, pose, &obstacle.body, &obstacle.world_from_body);
+            if depth > tolerance {
+                let at = pose.translation.vector;
+                return Err((
+                    field.to_string(),
+                    format!(
+                        "at the {moment} of its path the object, at ({:.3}, {:.3}, {:.3}) m, \
+                         overlaps {} by {:.1} mm: every grasp would collide; move the object \
+                         or the obstacle",
+                        at.x,
+                        at.y,
+                        at.z,
+                        obstacle.body.name(),
+                        depth * 1000.0
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The finest continuous-check resolution a task may ask for (m): below a nanometre the

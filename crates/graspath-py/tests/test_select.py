@@ -173,10 +173,11 @@ def test_dict_and_text_tasks_equal_the_file(left_selection):
     assert from_dict.candidates == selection.candidates
 
 
-def test_array_task_equals_the_file(left_selection):
-    task, selection = left_selection
+def array_task(task, **settings):
+    """``task`` (the left-arm example) rebuilt from its arrays: poses, times, labels, contacts
+    and likelihoods, with ``settings`` as keywords."""
     c = task.candidates
-    from_arrays = graspath.Task.from_arrays(
+    return graspath.Task.from_arrays(
         {"left": task.robot("left")},
         task.object_poses,
         task.candidate_poses,
@@ -184,8 +185,13 @@ def test_array_task_equals_the_file(left_selection):
         labels=[x["label"] for x in c],
         contacts=np.array([x["contact"] for x in c]),
         likelihoods=np.array([x["likelihood"] for x in c]),
-        **SAME_IK_AS_THE_FILE,
+        **settings,
     )
+
+
+def test_array_task_equals_the_file(left_selection):
+    task, selection = left_selection
+    from_arrays = array_task(task, **SAME_IK_AS_THE_FILE)
     assert len(from_arrays) == 21 and from_arrays.arms == ["left"]
     np.testing.assert_array_equal(from_arrays.object_poses, task.object_poses)
     result = graspath.select(from_arrays)
@@ -201,24 +207,12 @@ def test_array_task_defaults_equal_the_file_defaults(left_selection, tmp_path):
     take the same defaults (0.1 rad, ``rms``): the same records, every chosen motion inside
     the narrowed ranges."""
     task, _ = left_selection
-    c = task.candidates
     text = LEFT.read_text().replace(", limit_margin: 0", "").replace("selection: { norm: l2 }\n", "")
     assert "limit_margin" not in text and "norm" not in text
     path = tmp_path / "defaults.yaml"
     path.write_text(text)
     from_file = graspath.select(graspath.Task.load(str(path)))
-    from_arrays = graspath.select(graspath.Task.from_arrays(
-        {"left": task.robot("left")},
-        task.object_poses,
-        task.candidate_poses,
-        times=task.times,
-        labels=[x["label"] for x in c],
-        contacts=np.array([x["contact"] for x in c]),
-        likelihoods=np.array([x["likelihood"] for x in c]),
-        branches=8,
-        ik_iterations=2000,
-        compare_branches=True,
-    ))
+    from_arrays = graspath.select(array_task(task, branches=8, ik_iterations=2000, compare_branches=True))
     assert from_arrays.norm == from_file.norm == "rms"
     for a, b in zip(from_arrays.candidates, from_file.candidates):
         assert a["mu_rms"] == b["mu_rms"] and a["score"] == b["score"]
@@ -325,24 +319,8 @@ def test_array_task_redundancy_matches_the_file(left_selection, tmp_path):
     task file; a name that does not exist, or one that contradicts ``compare_branches``,
     is refused."""
     task, _ = left_selection
-    c = task.candidates
-    arrays = dict(
-        times=task.times,
-        labels=[x["label"] for x in c],
-        contacts=np.array([x["contact"] for x in c]),
-        likelihoods=np.array([x["likelihood"] for x in c]),
-        branches=8,
-        ik_iterations=2000,
-        ik_limit_margin=0.0,
-        norm="l2",
-    )
-    from_arrays = graspath.Task.from_arrays(
-        {"left": task.robot("left")},
-        task.object_poses,
-        task.candidate_poses,
-        redundancy="optimize",
-        **arrays,
-    )
+    settings = dict(branches=8, ik_iterations=2000, ik_limit_margin=0.0, norm="l2")
+    from_arrays = array_task(task, redundancy="optimize", **settings)
     text = LEFT.read_text().replace(
         "ik: { compare_branches: true,", "ik: { redundancy: optimize,"
     )
@@ -357,9 +335,4 @@ def test_array_task_redundancy_matches_the_file(left_selection, tmp_path):
     assert any(a.get("self_motion") for a in result.candidates)
     for bad in [dict(redundancy="elbow_up"), dict(redundancy="first", compare_branches=True)]:
         with pytest.raises(ValueError, match="redundancy"):
-            graspath.Task.from_arrays(
-                {"left": task.robot("left")},
-                task.object_poses,
-                task.candidate_poses,
-                **{**arrays, **bad},
-            )
+            array_task(task, **{**settings, **bad})

@@ -21,12 +21,12 @@ graspath="$root/target/release/graspath"
 mkdir -p "$work"
 # Like with like: the peer tracks one branch up to the joint limits, ranks by the paper's
 # mu_l2 and does not time the motions, so graspath runs the workload with the same settings
-# (its defaults keep a 0.1 rad margin from the limits, rank by mu_rms and time every feasible
+# (its defaults keep a 0.1 rad margin from the limits, search the self-motion, rank by mu_rms and time every feasible
 # motion). WORKLOAD_SETTINGS=defaults times graspath's defaults instead.
 task="$work/workload_1000_faces.yaml"
 cp "$root/examples/workload_1000_faces.yaml" "$task"
 if [ "${WORKLOAD_SETTINGS:-paper}" = paper ]; then
-  printf 'ik: { limit_margin: 0 }\nselection: { norm: l2 }\ntiming: false\n' >>"$task"
+  printf 'ik: { limit_margin: 0, redundancy: first }\nselection: { norm: l2 }\ntiming: false\n' >>"$task"
 fi
 
 # The peer's input, written once and not timed: every candidate's wrist poses.

@@ -30,7 +30,7 @@ trajectory:
     - {{ lift: 0.2, label: pick }}
     - {{ move: [0.0, 0.3, 0.0], label: move }}
     - {{ place: 0.2, label: place }}
-ik: {{ branches: 1, iterations: 2000 }}
+ik: {{ branches: 1, iterations: 2000, redundancy: first }}
 selection: {{ {selection} }}
 "#
     );

@@ -622,3 +622,36 @@ fn a_scene_task_on_a_robot_with_bare_links_keeps_its_margins() {
         assert!(s.clearance.unwrap() >= margin, "{:?}", s.clearance);
     }
 }
+
+/// A collision's detail numbers its samples as the failure's `phase` and `sample` do (0 =
+/// the phase's first), on the shipped scene examples (collisions on the approach, the
+/// object's path and between samples).
+#[test]
+fn a_collision_detail_names_the_failure_s_own_phase_and_sample() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/scene");
+    let mut seen = 0;
+    for name in [
+        "pick_and_place_left_cluttered.yaml",
+        "panda_shelf_pick.yaml",
+    ] {
+        let selection = select(&Task::load(&root.join(name)).unwrap(), &|| {});
+        for score in &selection.arms[0].scores {
+            let Some(f) = score.failure.as_ref() else {
+                continue;
+            };
+            if f.reason != FailureReason::Collision {
+                continue;
+            }
+            seen += 1;
+            let (phase, k) = (f.phase.as_str(), f.sample);
+            let at = format!("at {phase} sample {k};");
+            let between = format!("between {phase} samples {k} and {};", k + 1);
+            let across = format!("between {phase} sample {k} and ");
+            assert!(
+                f.detail.contains(&at) || f.detail.contains(&between) || f.detail.contains(&across),
+                "{name}: {f}"
+            );
+        }
+    }
+    assert!(seen > 0, "no collision to check");
+}

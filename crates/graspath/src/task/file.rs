@@ -659,12 +659,13 @@ pub struct IkFile {
     /// unreachable candidate costs before it is given up.
     #[serde(default)]
     pub iterations: Option<usize>,
-    /// Track every branch and keep the one with the best norm (default false: the first
-    /// feasible branch is scored; other branches are searched only when it fails).
+    /// `true`: track every branch and keep the one with the best norm (`best_branch`);
+    /// `false`: the first feasible branch is scored, others searched only when it fails
+    /// (`first`). Unset: `redundancy` decides (default `optimize`).
     #[serde(default)]
     pub compare_branches: Option<bool>,
-    /// `first`, `best_branch` or `optimize` (default `first`; `compare_branches: true` is
-    /// `best_branch`).
+    /// `first`, `best_branch` or `optimize` (default `optimize`; `compare_branches: true` is
+    /// `best_branch`, `false` is `first`).
     #[serde(default)]
     pub redundancy: Option<String>,
 }

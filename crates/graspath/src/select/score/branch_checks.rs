@@ -68,29 +68,36 @@ impl BranchCheck for SceneCheck<'_> {
             object: self.object.clone(),
         });
         if let Some(hit) = check.hit {
-            return Err(self.scoring.located(collision_failure(&hit)));
+            return Err(collision_failure(&hit, self.scoring));
         }
         findings.clearance = check.clearance;
         Ok(())
     }
 }
 
-/// A collision hit as a failure (whole-motion sample; the caller locates its phase).
-pub(super) fn collision_failure(hit: &CollisionHit) -> Failure {
+/// A collision hit as a failure, located in its phase: the detail numbers the samples as the
+/// failure's `phase` and `sample` do (0 = the phase's first).
+pub(super) fn collision_failure(hit: &CollisionHit, scoring: &Scoring<'_>) -> Failure {
     let [a, b] = &hit.bodies;
+    let (phase, sample) = scoring.plan.phase_of(hit.sample);
     let at = if hit.between {
-        format!("between samples {} and {}", hit.sample, hit.sample + 1)
+        let (next_phase, next) = scoring.plan.phase_of(hit.sample + 1);
+        if next_phase == phase {
+            format!("between {phase} samples {sample} and {next}")
+        } else {
+            format!("between {phase} sample {sample} and {next_phase} sample {next}")
+        }
     } else {
-        format!("at sample {}", hit.sample)
+        format!("at {phase} sample {sample}")
     };
-    Failure {
+    scoring.located(Failure {
         reason: FailureReason::Collision,
         phase: Phase::Path,
         sample: hit.sample,
         detail: format!(
-            "{a} and {b} are {:.4} m apart {at} of the motion; they must keep {:.4} m",
+            "{a} and {b} are {:.4} m apart {at}; they must keep {:.4} m",
             hit.distance, hit.required
         ),
         bodies: Some(hit.bodies.clone()),
-    }
+    })
 }

@@ -36,7 +36,7 @@ impl GraspCheck for HandInScene {
             base_from_tool: &scoring.targets,
             object: scoring.object_along(),
         })?;
-        Some(scoring.located(collision_failure(&hit)))
+        Some(collision_failure(&hit, scoring))
     }
 }
 

@@ -9,6 +9,7 @@ use super::file::{
     TaskFile, TimingFile,
 };
 use super::path::{Sampling, Step, TimedStep};
+use super::plausibility::TaskWarning;
 use super::settings::{
     defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
     Redundancy,
@@ -16,12 +17,13 @@ use super::settings::{
 use super::timing::{TimingRequest, TimingSettings};
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
-use crate::grasp::hand::Hand;
+use crate::grasp::hand::{Hand, StockGripper};
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{
     guess_format, open_grasp_file, read_grasp_file, Candidate, CandidateFile, CandidateSource,
     FamilyLayout, GraspCandidates, GraspFileOptions, GraspFormat, GraspFrame,
 };
+use crate::robot::builtin::BuiltinRobot;
 use crate::robot::{Chain, RobotModel, RobotSource};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::collections::BTreeMap;
@@ -79,10 +81,10 @@ fn builder_with(
 ) -> Result<TaskBuilder, TaskError> {
     let err = |field: &str, message: String| TaskError::new(source_name, field, message);
     let limits = file.limits.unwrap_or_default();
-    let mut builder = Task::builder(source_name)
-        .limits(limits)
-        .warnings(super::plausibility::file_warnings(file));
     let (robot_name, arms, model) = setup_arms(file, source_name, base_dir)?;
+    let mut warnings = super::plausibility::file_warnings(file);
+    warnings.extend(gripper_at_flange_warnings(file, &arms, &model));
+    let mut builder = Task::builder(source_name).limits(limits).warnings(warnings);
     builder = builder.robot_name(robot_name);
     for (name, chain, world_from_base) in arms {
         builder = builder.arm(name, chain, world_from_base);
@@ -312,6 +314,7 @@ fn setup_arms(
     let model = robot_source
         .load()
         .map_err(|e| TaskError::caused_by(source, source_field, e))?;
+    let default_tool = default_tool.or(stock_gripper_mount(file, source, &model)?);
     let available: Vec<String> = if model.is_builtin() {
         model.chain_names()
     } else {
@@ -384,6 +387,103 @@ fn setup_arms(
     }
     narrow_joint_ranges(&mut arms, &robot.joint_limits, source)?;
     Ok((model.name().to_string(), arms, model))
+}
+
+/// The tool offset a stock gripper (`gripper.builtin`) implies for a chain without one: the
+/// gripper is bolted to the chain's tip, its flange, so the tool frame is its TCP,
+/// `Tz(`[`StockGripper::flange_to_tcp`]`)` beyond it. `None` without a stock gripper, and on a
+/// built-in robot whose chains already end at that gripper's TCP (Baxter with its gripper, the
+/// Panda and the FR3 with the Franka Hand); another gripper on those is an error, since their
+/// chains and collision models include their own.
+fn stock_gripper_mount(
+    file: &TaskFile,
+    source: &str,
+    model: &RobotModel,
+) -> Result<Option<Isometry3<f64>>, TaskError> {
+    let Some(name) = file.gripper.as_ref().and_then(|g| g.builtin.as_deref()) else {
+        return Ok(None);
+    };
+    let Some(gripper) = StockGripper::from_name(name) else {
+        // gripper_from names the error.
+        return Ok(None);
+    };
+    let own = match model.builtin() {
+        Some(BuiltinRobot::Baxter) => Some((StockGripper::Baxter, "{arm}_gripper")),
+        Some(BuiltinRobot::Panda) => Some((StockGripper::FrankaHand, "panda_hand_tcp")),
+        Some(BuiltinRobot::Fr3) => Some((StockGripper::FrankaHand, "fr3_hand_tcp")),
+        _ => None,
+    };
+    match own {
+        Some((own, _)) if own == gripper => Ok(None),
+        Some((own, tip)) => Err(TaskError::new(
+            source,
+            "gripper.builtin",
+            format!(
+                "the built-in {} ends at its own gripper's TCP ({tip}) and models that \
+                 gripper; use builtin: {}, or load the arm from a URDF ending at its flange",
+                model.name(),
+                own.name()
+            ),
+        )),
+        None => Ok(Some(Isometry3::translation(
+            0.0,
+            0.0,
+            gripper.flange_to_tcp(),
+        ))),
+    }
+}
+
+/// A gripper given by its size (`opening`) or as a URDF hand without `tool_from_root`, on an
+/// arm whose chain ends at its flange and that has no tool offset: the gripper's frame is then
+/// the flange, its finger tips sit on it, and every grasp puts the wrist inside the object.
+/// A flange is the tip of a built-in arm without its own gripper (UR, iiwa, xArm, Gen3), or a
+/// robot file's tip named like one (`tool0`, `*flange*`, `link_eef`, `end_effector_link`,
+/// `*link8`, `ee_link`). Stock grippers mount themselves ([`stock_gripper_mount`]).
+fn gripper_at_flange_warnings(
+    file: &TaskFile,
+    arms: &[ArmParts],
+    model: &RobotModel,
+) -> Vec<TaskWarning> {
+    let Some(gripper) = &file.gripper else {
+        return Vec::new();
+    };
+    if gripper.builtin.is_some() || gripper.tool_from_root.is_some() || file.robot.tool.is_some() {
+        return Vec::new();
+    }
+    let at_flange = |tip: &str| match model.builtin() {
+        Some(BuiltinRobot::Baxter | BuiltinRobot::Panda | BuiltinRobot::Fr3) => false,
+        Some(_) => true,
+        None => {
+            let tip = tip.to_ascii_lowercase();
+            tip == "tool0"
+                || tip.contains("flange")
+                || tip.ends_with("link_eef")
+                || tip.ends_with("end_effector_link")
+                || tip.ends_with("link8")
+                || tip.ends_with("ee_link")
+        }
+    };
+    arms.iter()
+        .filter(|(name, chain, _)| {
+            let own_tool = file
+                .robot
+                .chains
+                .get(name)
+                .is_some_and(|a| a.tool.is_some());
+            !own_tool && at_flange(chain.tip_link())
+        })
+        .map(|(name, chain, _)| TaskWarning {
+            field: "gripper".into(),
+            message: format!(
+                "arm '{name}' ends at its flange '{}' and no tool offset is given: the \
+                 gripper's finger tips sit on the flange, so every grasp puts the wrist inside \
+                 the object; give the flange-to-TCP offset as robot.tool (e.g. {{ xyz: [0, 0, \
+                 0.15] }}), or a stock gripper (gripper.builtin: {}), which mounts itself",
+                chain.tip_link(),
+                StockGripper::names()
+            ),
+        })
+        .collect()
 }
 
 /// Applies `robot.joint_limits` to every arm whose chain has the joint; a joint on no arm is

@@ -10,7 +10,7 @@ use super::scene::{Gripper, GripperBodies, SceneSettings, Stroke};
 use crate::cloud::{load_collision_mesh, read_cloud, read_mesh};
 use crate::collision::{Body, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::{Shape, TriMesh};
-use crate::grasp::hand::hand_from_robot;
+use crate::grasp::hand::{hand_from_robot, StockGripper};
 use crate::robot::{CollisionGeometry, RobotError, RobotModel, RobotSource, Srdf};
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
@@ -278,21 +278,53 @@ fn gripper_from(
         }
     }
     let mut out = match (&gripper.builtin, gripper.opening) {
-        (Some(name), _) if name == "baxter" => Gripper::baxter(),
-        (Some(name), _) => {
-            return Err(err(
-                "gripper.builtin",
-                format!("unknown gripper '{name}' (built in: baxter)"),
-            ))
-        }
+        (Some(name), _) => match StockGripper::from_name(name) {
+            Some(StockGripper::Baxter) => Gripper::baxter(),
+            Some(stock) => Gripper::stock(stock),
+            None => {
+                return Err(err(
+                    "gripper.builtin",
+                    format!(
+                        "unknown gripper '{name}' (built in: {})",
+                        StockGripper::names()
+                    ),
+                ))
+            }
+        },
         (None, Some(opening)) => Gripper::parallel(opening),
         (None, None) => {
             return Err(err(
                 "gripper",
-                "give builtin: baxter, opening: METRES, or a URDF hand (urdf, root)".into(),
+                format!(
+                    "give builtin: NAME ({}), opening: METRES, or a URDF hand (urdf, root)",
+                    StockGripper::names()
+                ),
             ))
         }
     };
+    if let GripperBodies::Links(_) = &out.bodies {
+        // A stock gripper: the maker's bodies, and a narrower usable stroke at most.
+        for (field, given) in [
+            ("gripper.finger", gripper.finger.is_some()),
+            ("gripper.palm", gripper.palm.is_some()),
+        ] {
+            if given {
+                return Err(err(
+                    field,
+                    "does not apply to a stock gripper (its bodies are the maker's)".into(),
+                ));
+            }
+        }
+        if let Some(opening) = gripper.opening.filter(|o| !(*o > 0.0 && *o <= out.opening)) {
+            return Err(err(
+                "gripper.opening",
+                format!(
+                    "{opening} m is not within this gripper's stroke (0, {}] m",
+                    out.opening
+                ),
+            ));
+        }
+    }
     if let Some(opening) = gripper.opening {
         out.opening = opening;
     }

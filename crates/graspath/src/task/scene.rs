@@ -10,7 +10,7 @@ use crate::collision::{
 };
 use crate::failure::Phase;
 use crate::geometry::shape::Shape;
-use crate::grasp::hand::{Hand, HandJointKind};
+use crate::grasp::hand::{Hand, HandJointKind, StockGripper};
 use crate::robot::Chain;
 use nalgebra::{Isometry3, Translation3, Unit, Vector3};
 use std::sync::Arc;
@@ -116,6 +116,18 @@ impl Gripper {
                 palm: Some([0.06, 0.11, 0.1327 - 0.09]),
             },
         }
+    }
+
+    /// A stock gripper ([`StockGripper`]) open to its full stroke: its hand's links in its TCP
+    /// frame, the two finger links its fingers.
+    pub fn stock(gripper: StockGripper) -> Self {
+        Self::from_hand(
+            &gripper.hand(),
+            &Isometry3::identity(),
+            &[gripper.opening()],
+            &["l_finger".into(), "r_finger".into()],
+        )
+        .expect("a stock hand names its two fingers")
     }
 
     /// A hand's links at configuration `open` (its joints' values, rad / m; the hand's

@@ -6,9 +6,11 @@
 //! the tip frame `{arm}_gripper` of the built-in Baxter chain (see [`baxter_electric_gripper`]).
 
 mod baxter;
+mod stock;
 mod urdf;
 
 pub use baxter::{baxter_electric_gripper, BAXTER_GRIPPER_NAME};
+pub use stock::StockGripper;
 pub use urdf::{hand_from_robot, hand_from_robot_with_wrist, hand_from_urdf, HandError};
 
 use crate::geometry::shape::{Proximity, Shape};

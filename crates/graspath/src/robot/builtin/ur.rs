@@ -25,7 +25,11 @@
 //! the DH lines along the joint axes: the upper arm by the shoulder offset `s` and the
 //! forearm by `s − e` (the elbow offset), the values of ROS-Industrial's `ur_description` /
 //! `ur_e_description` (UR5 0.13585/0.1197, UR10 0.220941/0.1719, UR5e 0.138/0.131, UR10e
-//! 0.176/0.137 m). Radii are the datasheets' housing sizes, rounded up.
+//! 0.176/0.137 m). Radii are the datasheets' housing sizes, rounded up. The fixed base is a
+//! cylinder up to the top of `ur_description`'s base mesh (UR5 24 mm, UR10 38 mm, UR5e and
+//! UR10e 99 mm above the mounting plane), and the shoulder housing starts there — as in those
+//! meshes, whose shoulder reaches exactly down to the base's top — so an arm standing on a
+//! table at its mounting plane keeps the base's height from it at any `q1`.
 
 use super::{capsule_between, dh_rows, limits, spec_from_rows, DhRow, LinkInertia};
 use crate::geometry::shape::Shape;
@@ -106,6 +110,17 @@ impl UrModel {
             UrModel::Ur10 => (0.220941, 0.1719),
             UrModel::Ur5e => (0.138, 0.131),
             UrModel::Ur10e => (0.176, 0.137),
+        }
+    }
+
+    /// The fixed base's height above the mounting plane (m): the top of the base housing
+    /// in `ur_description`'s collision meshes (`base.stl`), where the rotating shoulder
+    /// housing starts.
+    fn base_height(self) -> f64 {
+        match self {
+            UrModel::Ur5 => 0.024,
+            UrModel::Ur10 => 0.038,
+            UrModel::Ur5e | UrModel::Ur10e => 0.099,
         }
     }
 
@@ -345,7 +360,7 @@ pub fn ur_collisions(model: UrModel) -> Vec<LinkCollisions> {
     let [d1, a2, a3, d4, d5, d6] = model.dh();
     let (s, e) = model.offsets();
     let [r_base, r_joint, r_fore, r_wrist] = model.radii();
-    let base_height = 0.6 * d1;
+    let base_height = model.base_height();
     let link = |name: &str, shapes: Vec<CollisionShape>| LinkCollisions {
         link: name.to_string(),
         shapes,
@@ -364,13 +379,14 @@ pub fn ur_collisions(model: UrModel) -> Vec<LinkCollisions> {
                 ),
             }],
         ),
-        // Link 1's frame is the base frame turned by q1; joint 2's axis is its −y.
+        // Link 1's frame is the base frame turned by q1; joint 2's axis is its −y. The
+        // shoulder housing stands on the fixed base: the column starts at the base's top.
         link(
             "shoulder_link",
             vec![
                 capsule_between(
                     "shoulder column",
-                    [0.0, 0.0, r_joint],
+                    [0.0, 0.0, base_height + r_joint],
                     [0.0, 0.0, d1],
                     r_joint,
                 ),
@@ -423,4 +439,66 @@ pub fn ur_collisions(model: UrModel) -> Vec<LinkCollisions> {
             )],
         ),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shoulder's vertical extent over the mounting plane in `ur_description`'s collision
+    /// meshes (`shoulder.stl`'s z range plus `d1`; the shoulder turns about z, so it is the
+    /// same at every `q1`), and the base mesh's height: per model, (bottom, top, base).
+    const MESH_SHOULDER: [(UrModel, f64, f64, f64); 4] = [
+        (UrModel::Ur5, 0.024, 0.158, 0.024),
+        (UrModel::Ur10, 0.038, 0.215, 0.038),
+        (UrModel::Ur5e, 0.099, 0.234, 0.099),
+        (UrModel::Ur10e, 0.099, 0.275, 0.099),
+    ];
+
+    /// The lowest and highest z (link frame) of a link's shapes, by their support points.
+    fn z_range(link: &LinkCollisions) -> (f64, f64) {
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        for s in &link.shapes {
+            let CollisionGeometry::Shape(shape) = &s.geometry else {
+                panic!("built-in shapes are primitives")
+            };
+            for dir in [Vector3::z(), -Vector3::z()] {
+                let local = s.link_from_collision.inverse_transform_vector(&dir);
+                let p = s.link_from_collision * shape.support(&local);
+                low = low.min(p.z);
+                high = high.max(p.z);
+            }
+        }
+        (low, high)
+    }
+
+    #[test]
+    fn the_shoulder_stands_on_the_base_as_in_the_link_meshes() {
+        for (model, bottom, top, base) in MESH_SHOULDER {
+            let links = ur_collisions(model);
+            let (base_low, base_high) = z_range(&links[0]);
+            assert!(
+                base_low.abs() < 1e-12,
+                "{model:?}: the base starts at its plane"
+            );
+            assert!(
+                (base_high - base).abs() < 1e-3,
+                "{model:?}: base top {base_high}"
+            );
+            // Link 1's frame is the base frame turned about z: its z range is the world's.
+            let (low, high) = z_range(&links[1]);
+            assert!(
+                (low - bottom).abs() < 1e-3,
+                "{model:?}: shoulder bottom {low}"
+            );
+            assert!(
+                low >= base_high - 1e-12,
+                "{model:?}: the shoulder enters the base"
+            );
+            assert!(
+                (high - top).abs() < 0.02,
+                "{model:?}: shoulder top {high} vs {top}"
+            );
+        }
+    }
 }

@@ -16,7 +16,7 @@ use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Output switches shared by the long-running subcommands.
@@ -66,7 +66,9 @@ fn positive_seconds(text: &str) -> Result<f64, String> {
 /// lines on stderr at that interval and one at the end. `inc` may be called from any thread.
 pub struct Progress {
     bar: ProgressBar,
-    log: Option<ProgressLog>,
+    log: Option<Arc<ProgressLog>>,
+    /// Taken (and stopped) by [`Progress::finish`] or on drop.
+    ticker: Mutex<Option<Ticker>>,
 }
 
 /// The plain-line side of [`Progress`].
@@ -74,11 +76,35 @@ struct ProgressLog {
     title: String,
     unit: &'static str,
     total: u64,
-    every: Duration,
     started: Instant,
     done: AtomicU64,
-    /// When the next line is due, from `started`.
-    next: Mutex<Duration>,
+}
+
+/// The thread that writes a `--progress-every` line on time, also while one long unit (a
+/// candidate with a long path) keeps the count from moving: the line then says the run is
+/// alive and how long it has taken.
+struct Ticker {
+    stop: mpsc::Sender<()>,
+    thread: std::thread::JoinHandle<()>,
+}
+
+impl Ticker {
+    fn start(log: Arc<ProgressLog>, every: Duration) -> Self {
+        let (stop, stopped) = mpsc::channel::<()>();
+        let thread = std::thread::spawn(move || {
+            // A message or a dropped sender ends it; a time-out is a line due.
+            while let Err(mpsc::RecvTimeoutError::Timeout) = stopped.recv_timeout(every) {
+                log.line(log.done.load(Ordering::Relaxed), log.started.elapsed());
+            }
+        });
+        Self { stop, thread }
+    }
+
+    fn stop(self) {
+        // The thread may have ended already; either way it is joined.
+        let _ = self.stop.send(());
+        let _ = self.thread.join();
+    }
 }
 
 impl Progress {
@@ -98,40 +124,60 @@ impl Progress {
             bar.set_message(title.to_string());
             bar
         };
-        let log = output.progress_every.map(|seconds| ProgressLog {
-            title: title.to_string(),
-            unit,
-            total,
-            every: Duration::from_secs_f64(seconds),
-            started: Instant::now(),
-            done: AtomicU64::new(0),
-            next: Mutex::new(Duration::from_secs_f64(seconds)),
+        let log = output.progress_every.map(|_| {
+            Arc::new(ProgressLog {
+                title: title.to_string(),
+                unit,
+                total,
+                started: Instant::now(),
+                done: AtomicU64::new(0),
+            })
         });
-        Self { bar, log }
+        let ticker = log
+            .as_ref()
+            .zip(output.progress_every)
+            .map(|(log, seconds)| Ticker::start(Arc::clone(log), Duration::from_secs_f64(seconds)));
+        Self {
+            bar,
+            log,
+            ticker: Mutex::new(ticker),
+        }
     }
 
     /// One more unit done.
     pub fn inc(&self) {
         self.bar.inc(1);
         if let Some(log) = &self.log {
-            let done = log.done.fetch_add(1, Ordering::Relaxed) + 1;
-            let elapsed = log.started.elapsed();
-            // One thread prints a due line; the others go on without waiting.
-            if let Ok(mut next) = log.next.try_lock() {
-                if elapsed >= *next {
-                    log.line(done, elapsed);
-                    *next = elapsed + log.every;
-                }
-            }
+            log.done.fetch_add(1, Ordering::Relaxed);
         }
     }
 
-    /// Clears the bar and logs the final line.
+    /// Clears the bar, stops the timed lines and logs the final line.
     pub fn finish(&self) {
         self.bar.finish_and_clear();
+        self.stop_ticker();
         if let Some(log) = &self.log {
             log.line(log.done.load(Ordering::Relaxed), log.started.elapsed());
         }
+    }
+}
+
+impl Progress {
+    fn stop_ticker(&self) {
+        let ticker = match self.ticker.lock() {
+            Ok(mut guard) => guard.take(),
+            Err(poisoned) => poisoned.into_inner().take(),
+        };
+        if let Some(ticker) = ticker {
+            ticker.stop();
+        }
+    }
+}
+
+impl Drop for Progress {
+    /// A run that ends early (an error) stops the timed lines without a final one.
+    fn drop(&mut self) {
+        self.stop_ticker();
     }
 }
 

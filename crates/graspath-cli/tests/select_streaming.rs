@@ -361,3 +361,47 @@ fn progress_every_logs_rising_counts_and_a_final_line() {
         assert!(String::from_utf8_lossy(&refused.stderr).contains("--progress-every"));
     }
 }
+
+/// One long candidate (5000 path samples): the timed lines keep coming while it is scored,
+/// its count still 0, and the final line counts it.
+#[test]
+fn progress_every_ticks_inside_a_long_candidate() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = dir.path().join("long.yaml");
+    std::fs::write(
+        &task,
+        "robot: { builtin: baxter }\narms: left\n\
+         object: { pose: { xyz: [0.70, 0.25, -0.05] }, shape: { box: { size: [0.06, 0.06, 0.20] } } }\n\
+         candidates: { family: { faces: { count: 1, exclude: [bottom] } } }\n\
+         trajectory: { samples: 5000, steps: [ { lift: 0.2 }, { move: [0.0, 0.3, 0.0] }, { place: 0.2 } ] }\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let output = graspath(
+        &[
+            "select",
+            "--task",
+            task.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--format",
+            "jsonl",
+            "--trajectories",
+            "none",
+            "--progress-every",
+            "0.01",
+        ],
+        "1",
+    );
+    assert!(output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let counts: Vec<(u64, u64)> = stderr.lines().filter_map(progress_counts).collect();
+    let during = counts.iter().filter(|&&(done, _)| done == 0).count();
+    assert!(
+        during >= 2,
+        "no line while the candidate was scored: {stderr}"
+    );
+    assert_eq!(counts.last(), Some(&(1, 1)), "{stderr}");
+    assert!(stderr.lines().last().unwrap().ends_with(", done"));
+}

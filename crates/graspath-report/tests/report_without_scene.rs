@@ -31,9 +31,10 @@ trajectory:
     - { lift: 0.2, label: pick }
     - { move: [0.0, 0.3, 0.0], label: move }
     - { place: 0.2, label: place }
-# The fixtures predate timing, which adds the duration fields, the IK's limit margin and the
-# default norm mu_rms (whose values the files now carry beside mu_l2).
-ik: { branches: 4, limit_margin: 0 }
+# The fixtures predate timing, which adds the duration fields, the IK's limit margin, the
+# default norm mu_rms (whose values the files now carry beside mu_l2) and the self-motion
+# search by default.
+ik: { branches: 4, limit_margin: 0, redundancy: first }
 selection: { norm: l2 }
 timing: false
 "#;

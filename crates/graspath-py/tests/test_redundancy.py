@@ -116,10 +116,16 @@ def test_the_ranked_index_options_match_the_task_file(tmp_path):
         c[2, 3] = 0.05
         candidates.append(c)
     arms = {"left": left}
-    plain = graspath.select(graspath.Task.from_arrays(arms, poses, np.array(candidates))).arrays("left")
+    # One tracked branch, so that both tasks follow the same motion (the default self-motion
+    # search would move the elbow towards what each index ranks).
+    plain = graspath.select(
+        graspath.Task.from_arrays(arms, poses, np.array(candidates), redundancy="first")
+    ).arrays("left")
     k = 20.0
     penalised = graspath.select(
-        graspath.Task.from_arrays(arms, poses, np.array(candidates), joint_limit_penalty=k)
+        graspath.Task.from_arrays(
+            arms, poses, np.array(candidates), joint_limit_penalty=k, redundancy="first"
+        )
     )
     values = penalised.arrays("left")
     assert values["feasible"].any()

@@ -239,13 +239,14 @@ fn rankings_do_not_change_with_the_world_frame() {
     );
 }
 
-/// The default `ik.redundancy: optimize` searches the self-motion on a grid of 0.2 rad steps
-/// with a joint-step bound, so a rounding difference can tip one discrete choice: in another
-/// world frame its scores agree to the search's resolution (1 %; 0.6 % measured), not to
-/// rounding, and it never scores a candidate below its best IK branch.
+/// `ik.redundancy: optimize` searches the self-motion on a grid of 0.2 rad steps with a
+/// joint-step bound, so a rounding difference can tip one discrete choice: in another world
+/// frame its scores agree to the search's resolution (1 %; 0.6 % measured), not to rounding,
+/// and it never scores a candidate below its best IK branch.
 #[test]
 fn the_self_motion_search_is_frame_independent_to_its_resolution_and_never_worse_than_a_branch() {
-    let file = TaskFile::parse(EDGE_TASK, "edge.yaml", "yaml").unwrap();
+    let text = format!("{EDGE_TASK}ik: {{ redundancy: optimize }}\n");
+    let file = TaskFile::parse(&text, "edge.yaml", "yaml").unwrap();
     let task = Task::from_file(&file, "edge.yaml", std::path::Path::new(".")).unwrap();
     let moved = task.in_world_frame(&Isometry3::new(
         Vector3::new(1.5, -2.0, 0.7),

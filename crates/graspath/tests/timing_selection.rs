@@ -44,7 +44,14 @@ fn best(selection: &Selection) -> &CandidateScore {
 
 #[test]
 fn the_selected_motion_stays_within_every_limit_and_passes_through_the_ik_samples() {
-    let task = task("");
+    // A tracked branch, and the self-motion search's rougher joint paths.
+    for redundancy in ["first", "optimize"] {
+        selected_motion_within_limits(&format!("ik: {{ redundancy: {redundancy} }}"));
+    }
+}
+
+fn selected_motion_within_limits(extra: &str) {
+    let task = task(extra);
     let selection = select(&task, &|| {});
     let chosen = best(&selection);
     let durations = chosen.durations.expect("the task times motions");

@@ -94,9 +94,16 @@ pub struct Ctx {
 }
 
 impl Ctx {
-    /// Creates the work directory `<scratch>/graspath-fuzz-<pid>` with its support files.
+    /// Creates the work directory `<scratch>/graspath-fuzz-<pid>` with its support files (a
+    /// further context in the same process, as tests running side by side make, gets
+    /// `graspath-fuzz-<pid>-<k>`: each removes its own directory when dropped).
     pub fn new() -> std::io::Result<Self> {
-        let dir = Self::dir_of(std::process::id());
+        static CONTEXTS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let pid = std::process::id();
+        let dir = match CONTEXTS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) {
+            0 => Self::dir_of(pid),
+            k => scratch_root().join(format!("graspath-fuzz-{pid}-{k}")),
+        };
         std::fs::create_dir_all(&dir)?;
         let cloud = box_cloud(2000, true);
         std::fs::write(dir.join("robot.urdf"), SMALL_ROBOT_URDF)?;

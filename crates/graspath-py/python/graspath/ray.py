@@ -1,6 +1,7 @@
 """Grasp selection over a dataset of objects, sharded over a Ray cluster.
 
-Install with ``pip install graspath[ray]`` (``ray>=2.9`` and ``pyarrow``). A dataset is a set of
+Install with the ``ray`` extra (``ray>=2.9`` and ``pyarrow``): from a checkout, ``pip install
+"./crates/graspath-py[ray]"``. A dataset is a set of
 objects, each a task file (graspath's task format, ``docs/task-file.md``) with its own object
 pose, path, candidates and scene: a directory of task files, a ``.csv`` manifest of task files
 with optional candidate files, object names and object poses (columns ``xyz`` and ``rpy``,
@@ -384,7 +385,9 @@ def select_dataset(
     try:
         import pyarrow  # noqa: F401
     except ImportError as e:
-        raise GraspathError("pyarrow is not installed: pip install graspath[ray]") from e
+        raise GraspathError(
+            'pyarrow is not installed: pip install pyarrow (or, from a checkout, pip install "./crates/graspath-py[ray]")'
+        ) from e
 
     objects = dataset_tasks(dataset)
     sources: List[Source] = [
@@ -455,7 +458,10 @@ def _run_on_ray(
     try:
         import ray
     except ImportError as e:
-        raise GraspathError("ray is not installed: pip install graspath[ray] (or run with local=True / --local)") from e
+        raise GraspathError(
+            'ray is not installed: pip install "ray>=2.9" (or, from a checkout, pip install "./crates/graspath-py[ray]"), '
+            "or run with local=True / --local"
+        ) from e
     started_here = False
     if not ray.is_initialized():
         kwargs: Dict[str, Any] = {"address": address}

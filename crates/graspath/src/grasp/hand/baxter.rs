@@ -1,7 +1,7 @@
 //! The Baxter electric parallel gripper, built in.
 
-use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape, Shape};
-use nalgebra::{Isometry3, Vector3};
+use super::{parallel_jaw_hand, Hand, LinkShape, Shape};
+use nalgebra::Isometry3;
 
 /// The built-in gripper's name in model files.
 pub const BAXTER_GRIPPER_NAME: &str = "baxter_electric_gripper";
@@ -46,48 +46,17 @@ fn cuboid(size: [f64; 3]) -> Shape {
 pub fn baxter_electric_gripper() -> Hand {
     let half_finger = FINGER_LENGTH / 2.0;
     let palm_depth = BASE_TO_TOOL - FINGER_LENGTH;
-    let finger = |name: &str, side: f64| HandLink {
-        name: name.to_string(),
-        parent: Some(0),
-        joint: LinkJoint {
-            kind: HandJointKind::Prismatic,
-            parent_from_joint: Isometry3::translation(0.0, 0.0, -half_finger),
-            axis: Vector3::new(0.0, side, 0.0),
-            joint: 0,
-            multiplier: 0.5,
-            offset: 0.0,
-        },
-        shapes: vec![LinkShape {
-            link_from_shape: Isometry3::translation(0.0, side * FINGER_THICKNESS / 2.0, 0.0),
-            shape: cuboid([FINGER_WIDTH, FINGER_THICKNESS, 2.0 * half_finger]),
-        }],
-    };
-    Hand {
-        name: BAXTER_GRIPPER_NAME.to_string(),
-        joints: vec![HandJoint {
-            name: "opening".into(),
-            lower: 0.01,
-            upper: 0.07,
-            sigma: 0.001,
-        }],
-        links: vec![
-            HandLink {
-                name: "palm".into(),
-                parent: None,
-                joint: LinkJoint::root(),
-                shapes: vec![LinkShape {
-                    link_from_shape: Isometry3::translation(
-                        0.0,
-                        0.0,
-                        -FINGER_LENGTH - palm_depth / 2.0,
-                    ),
-                    shape: cuboid([PALM_X, PALM_Y, palm_depth]),
-                }],
-            },
-            finger("l_finger", 1.0),
-            finger("r_finger", -1.0),
-        ],
-    }
+    let palm = vec![LinkShape {
+        link_from_shape: Isometry3::translation(0.0, 0.0, -FINGER_LENGTH - palm_depth / 2.0),
+        shape: cuboid([PALM_X, PALM_Y, palm_depth]),
+    }];
+    parallel_jaw_hand(
+        BAXTER_GRIPPER_NAME,
+        palm,
+        -half_finger,
+        [FINGER_WIDTH, FINGER_THICKNESS, 2.0 * half_finger],
+        (0.01, 0.07),
+    )
 }
 
 #[cfg(test)]

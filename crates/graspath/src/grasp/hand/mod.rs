@@ -196,6 +196,55 @@ impl Hand {
     }
 }
 
+/// A parallel-jaw hand: the root link `palm` with the shapes `palm` (wrist frame), and the
+/// fingers `l_finger` (on `+y`) and `r_finger` (on `−y`), each a box `[width, thickness,
+/// length]` whose joint frame sits at `z = finger_z` and slides along `±y` by half the one
+/// hand joint `opening` (m, in `[lower, upper]`, σ = 1 mm), so that the fingers' inner faces
+/// lie at `y = ±opening/2`.
+fn parallel_jaw_hand(
+    name: &str,
+    palm: Vec<LinkShape>,
+    finger_z: f64,
+    [width, thickness, length]: [f64; 3],
+    (lower, upper): (f64, f64),
+) -> Hand {
+    let finger = |name: &str, side: f64| HandLink {
+        name: name.to_string(),
+        parent: Some(0),
+        joint: LinkJoint {
+            kind: HandJointKind::Prismatic,
+            parent_from_joint: Isometry3::translation(0.0, 0.0, finger_z),
+            axis: Vector3::new(0.0, side, 0.0),
+            joint: 0,
+            multiplier: 0.5,
+            offset: 0.0,
+        },
+        shapes: vec![LinkShape {
+            link_from_shape: Isometry3::translation(0.0, side * thickness / 2.0, 0.0),
+            shape: Shape::cuboid([width, thickness, length]).expect("built-in sizes are positive"),
+        }],
+    };
+    Hand {
+        name: name.to_string(),
+        joints: vec![HandJoint {
+            name: "opening".into(),
+            lower,
+            upper,
+            sigma: 0.001,
+        }],
+        links: vec![
+            HandLink {
+                name: "palm".into(),
+                parent: None,
+                joint: LinkJoint::root(),
+                shapes: palm,
+            },
+            finger("l_finger", 1.0),
+            finger("r_finger", -1.0),
+        ],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

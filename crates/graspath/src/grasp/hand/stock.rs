@@ -27,9 +27,9 @@
 //! The fingers are modelled as two boxes sliding along `±y` (the Robotiq linkages also raise
 //! the pads by 14–24 mm as they close; the task's checks use the hand open).
 
-use super::{baxter_electric_gripper, Hand, HandJoint, HandJointKind, HandLink, LinkJoint};
-use super::{LinkShape, Shape, BAXTER_GRIPPER_NAME};
-use nalgebra::{Isometry3, Vector3};
+use super::BAXTER_GRIPPER_NAME;
+use super::{baxter_electric_gripper, parallel_jaw_hand, Hand, LinkShape, Shape};
+use nalgebra::Isometry3;
 
 /// A stock gripper ([module documentation](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -180,22 +180,6 @@ fn parallel_hand(name: &str, d: &ParallelDimensions) -> Hand {
     // Heights from the mounting face become TCP-frame z by subtracting the TCP's height.
     let z = |height: f64| height - d.tcp;
     let [width, thickness, bottom, top] = d.finger;
-    let finger = |name: &str, side: f64| HandLink {
-        name: name.to_string(),
-        parent: Some(0),
-        joint: LinkJoint {
-            kind: HandJointKind::Prismatic,
-            parent_from_joint: Isometry3::translation(0.0, 0.0, z(0.5 * (bottom + top))),
-            axis: Vector3::new(0.0, side, 0.0),
-            joint: 0,
-            multiplier: 0.5,
-            offset: 0.0,
-        },
-        shapes: vec![LinkShape {
-            link_from_shape: Isometry3::translation(0.0, side * thickness / 2.0, 0.0),
-            shape: cuboid([width, thickness, top - bottom]),
-        }],
-    };
     let mut palm = vec![LinkShape {
         link_from_shape: Isometry3::translation(0.0, 0.0, z(0.5 * d.body_height)),
         shape: cuboid([d.body[0], d.body[1], d.body_height]),
@@ -206,31 +190,19 @@ fn parallel_hand(name: &str, d: &ParallelDimensions) -> Hand {
             shape: Shape::cylinder(diameter / 2.0, thickness).expect("built-in sizes are positive"),
         });
     }
-    Hand {
-        name: name.to_string(),
-        joints: vec![HandJoint {
-            name: "opening".into(),
-            lower: 0.0,
-            upper: d.opening,
-            sigma: 0.001,
-        }],
-        links: vec![
-            HandLink {
-                name: "palm".into(),
-                parent: None,
-                joint: LinkJoint::root(),
-                shapes: palm,
-            },
-            finger("l_finger", 1.0),
-            finger("r_finger", -1.0),
-        ],
-    }
+    parallel_jaw_hand(
+        name,
+        palm,
+        z(0.5 * (bottom + top)),
+        [width, thickness, top - bottom],
+        (0.0, d.opening),
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Point3;
+    use nalgebra::{Point3, Vector3};
 
     /// The lowest and highest `z` (TCP frame) any shape of the hand reaches at `opening`,
     /// by the shapes' support points.

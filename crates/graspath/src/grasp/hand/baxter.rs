@@ -8,7 +8,9 @@ pub const BAXTER_GRIPPER_NAME: &str = "baxter_electric_gripper";
 
 /// Distance from the gripper base (`{arm}_gripper_base`) to the tool frame (`{arm}_gripper`)
 /// along z in the built-in Baxter chain (m).
-const BASE_TO_TOOL: f64 = 0.1327;
+pub(super) const BASE_TO_TOOL: f64 = 0.1327;
+/// The opening's range (m): the 10–70 mm of the gripper description quoted in the model spec.
+pub(super) const OPENING_RANGE: (f64, f64) = (0.01, 0.07);
 /// Finger length along the approach axis (m); the finger tips end at the tool frame's
 /// `z = 0` plane.
 const FINGER_LENGTH: f64 = 0.09;
@@ -55,7 +57,7 @@ pub fn baxter_electric_gripper() -> Hand {
         palm,
         -half_finger,
         [FINGER_WIDTH, FINGER_THICKNESS, 2.0 * half_finger],
-        (0.01, 0.07),
+        OPENING_RANGE,
     )
 }
 

@@ -27,7 +27,7 @@
 //! The fingers are modelled as two boxes sliding along `±y` (the Robotiq linkages also raise
 //! the pads by 14–24 mm as they close; the task's checks use the hand open).
 
-use super::BAXTER_GRIPPER_NAME;
+use super::baxter;
 use super::{baxter_electric_gripper, parallel_jaw_hand, Hand, LinkShape, Shape};
 use nalgebra::Isometry3;
 
@@ -90,9 +90,6 @@ const FRANKA_HAND: ParallelDimensions = ParallelDimensions {
     coupling: None,
 };
 
-/// Baxter's gripper base to its TCP (the built-in Baxter chain's `gripper_base → gripper`).
-const BAXTER_FLANGE_TO_TCP: f64 = 0.1327;
-
 impl StockGripper {
     /// Every stock gripper.
     pub const ALL: [Self; 4] = [
@@ -136,7 +133,7 @@ impl StockGripper {
     /// flange.
     pub fn flange_to_tcp(self) -> f64 {
         match self.dimensions() {
-            None => BAXTER_FLANGE_TO_TCP,
+            None => baxter::BASE_TO_TOOL,
             Some(d) => d.tcp + d.coupling.map_or(0.0, |[_, thickness]| thickness),
         }
     }
@@ -144,7 +141,7 @@ impl StockGripper {
     /// The largest gap between the finger pads (m).
     pub fn opening(self) -> f64 {
         match self.dimensions() {
-            None => 0.07,
+            None => baxter::OPENING_RANGE.1,
             Some(d) => d.opening,
         }
     }
@@ -154,17 +151,7 @@ impl StockGripper {
     pub fn hand(self) -> Hand {
         match self.dimensions() {
             None => baxter_electric_gripper(),
-            Some(d) => parallel_hand(self.hand_name(), d),
-        }
-    }
-
-    /// The hand's name in model files.
-    pub fn hand_name(self) -> &'static str {
-        match self {
-            Self::Baxter => BAXTER_GRIPPER_NAME,
-            Self::Robotiq2F85 => "robotiq_2f_85",
-            Self::Robotiq2F140 => "robotiq_2f_140",
-            Self::FrankaHand => "franka_hand",
+            Some(d) => parallel_hand(self.name(), d),
         }
     }
 }

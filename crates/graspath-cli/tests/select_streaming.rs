@@ -362,7 +362,7 @@ fn progress_every_logs_rising_counts_and_a_final_line() {
     }
 }
 
-/// One long candidate (5000 path samples): the timed lines keep coming while it is scored,
+/// One long candidate (50 000 path samples, a few hundred milliseconds): the timed lines keep coming while it is scored,
 /// its count still 0, and the final line counts it.
 #[test]
 fn progress_every_ticks_inside_a_long_candidate() {
@@ -373,7 +373,7 @@ fn progress_every_ticks_inside_a_long_candidate() {
         "robot: { builtin: baxter }\narms: left\n\
          object: { pose: { xyz: [0.70, 0.25, -0.05] }, shape: { box: { size: [0.06, 0.06, 0.20] } } }\n\
          candidates: { family: { faces: { count: 1, exclude: [bottom] } } }\n\
-         trajectory: { samples: 5000, steps: [ { lift: 0.2 }, { move: [0.0, 0.3, 0.0] }, { place: 0.2 } ] }\n",
+         trajectory: { samples: 50000, steps: [ { lift: 0.2 }, { move: [0.0, 0.3, 0.0] }, { place: 0.2 } ] }\n",
     )
     .unwrap();
     let out = dir.path().join("out");
@@ -390,7 +390,7 @@ fn progress_every_ticks_inside_a_long_candidate() {
             "--trajectories",
             "none",
             "--progress-every",
-            "0.01",
+            "0.001",
         ],
         "1",
     );

@@ -294,7 +294,7 @@ class Task:
         """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
         ``(k, 4, 4)`` (object_from_wrist). ``ik_random_seed`` (default 0) seeds the IK's
         restarts; ``ik_seed`` is its deprecated name. ``redundancy`` is the task file's
-        ``ik.redundancy`` (default ``"first"``); ``compare_branches=True`` is ``"best_branch"``,
+        ``ik.redundancy`` (default ``"optimize"``); ``compare_branches=True`` is ``"best_branch"``,
         ``False`` is ``"first"``. ``measure`` and
         ``joint_limit_penalty`` (a gain ``k``) are the task file's ``index.measure`` and
         ``index.joint_limit_penalty``; ``ik_limit_margin`` (rad) is ``ik.limit_margin``: how far

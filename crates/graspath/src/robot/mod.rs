@@ -34,9 +34,9 @@ pub use collision::{CollisionGeometry, CollisionShape, LinkCollisions, MeshRef, 
 pub use dynamics::{Dynamics, DynamicsData, STANDARD_GRAVITY};
 pub use error::RobotError;
 pub use ik::{
-    null_space, optimize_self_motion, solve_ik, solve_trajectories, solve_trajectory, IkFailure,
-    IkOptions, IkSolution, JointPath, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
-    TrajectoryIkOptions, TrajectoryIkResult,
+    null_space, optimize_self_motion, optimize_smooth_self_motion, solve_ik, solve_trajectories,
+    solve_trajectory, IkFailure, IkOptions, IkSolution, JointPath, KeptRows, SampleValue,
+    SelfMotionOptions, SelfMotionPath, SmoothSelfMotion, TrajectoryIkOptions, TrajectoryIkResult,
 };
 pub use mjcf::{MjcfRobot, SkippedGeom};
 pub use source::{RobotModel, RobotSource};

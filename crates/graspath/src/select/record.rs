@@ -674,7 +674,8 @@ pub static COLUMNS: &[Column] = &[
         "self_motion_mu_l2_min",
         Kind::Float,
         "index",
-        "the smallest mu_l2 of any joint path found in the self-motion",
+        "the smallest mu_l2 of the motions seen in the self-motion: the traced chains within \
+         the joint-step bound, the first branch and the motion kept",
         FILES,
         |r| Cell::Float(r.score.self_motion.map(|s| s.l2_range.0)),
     )
@@ -686,7 +687,8 @@ pub static COLUMNS: &[Column] = &[
         "self_motion_mu_l2_max",
         Kind::Float,
         "index",
-        "the largest mu_l2 of any joint path found in the self-motion",
+        "the largest mu_l2 of the motions seen in the self-motion (the motion kept is smooth \
+         in time and may lie below it)",
         FILES,
         |r| Cell::Float(r.score.self_motion.map(|s| s.l2_range.1)),
     )

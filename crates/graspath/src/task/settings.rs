@@ -140,15 +140,15 @@ impl RankedIndex {
 pub enum Redundancy {
     /// One IK branch, tracked from the start configuration (the paper's practice); more
     /// branches are searched only when it fails or collides.
-    #[default]
     First,
     /// Every branch tracked; the one with the best norm is kept.
     BestBranch,
-    /// Every branch tracked, then the self-motion around them searched for the joint path
-    /// with the largest `μ_l2` ([`crate::robot::optimize_self_motion`]); the one ranked
-    /// higher by the task's norm is kept. On an arm without redundancy it compares the IK
-    /// branches. Not the default: the joint paths it chooses jump along the self-motion
-    /// between samples (`docs/task-file.md`, "Redundancy").
+    /// Every branch tracked, then the arm's place in the self-motion around the best one
+    /// chosen as a smooth function of the path's time for the largest ranked norm
+    /// ([`crate::robot::optimize_smooth_self_motion`]); kept when it ranks higher than the
+    /// branch. On an arm without redundancy it compares the IK branches. The default: a
+    /// grasp is scored by what the arm can do from it, not by the solver's first branch.
+    #[default]
     Optimize,
 }
 

@@ -28,7 +28,8 @@ mod simd;
 mod trajectory;
 
 pub use self_motion::{
-    null_space, optimize_self_motion, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
+    null_space, optimize_self_motion, optimize_smooth_self_motion, KeptRows, SampleValue,
+    SelfMotionOptions, SelfMotionPath, SmoothSelfMotion,
 };
 pub use trajectory::{
     solve_trajectories, solve_trajectory, JointPath, TrajectoryIkOptions, TrajectoryIkResult,

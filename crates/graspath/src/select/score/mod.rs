@@ -104,8 +104,10 @@ pub struct CandidateScore {
 pub struct SelfMotionScores {
     /// `μ_l2` along the first IK branch (the paper's practice).
     pub first_branch_l2: f64,
-    /// The smallest and the largest `μ_l2` of any joint path found in the self-motion
-    /// (collision checks aside); the candidate's score uses the largest collision-free one.
+    /// The smallest and the largest `μ_l2` of the joint paths seen in the self-motion: every
+    /// chain of traced configurations within the joint-step bound, the first branch and the
+    /// motion kept (collision checks aside). The kept motion is smooth in time, so its own
+    /// `μ_l2` may lie below the largest.
     pub l2_range: (f64, f64),
 }
 

@@ -1,12 +1,14 @@
 //! The self-motion search of one candidate ([`Redundancy::Optimize`](crate::task::Redundancy)):
-//! the whole motion whose ranked index is largest over the arm's self-motion around its
-//! branches.
+//! the whole motion whose ranked index is largest over the arm's self-motion around its best
+//! branch, the arm's place in the self-motion a smooth function of the path's time
+//! ([`optimize_smooth_self_motion`]).
 
 use super::branch_checks::{check_branch, BranchCheck, BranchFindings};
 use super::path::{index_along, ObjectMotion};
 use super::{ChosenBranch, ScoringSetup, SelfMotionScores};
 use crate::grasp::Candidate;
-use crate::robot::{optimize_self_motion, KeptRows, SelfMotionOptions};
+use crate::robot::{optimize_smooth_self_motion, KeptRows, SelfMotionOptions, SmoothSelfMotion};
+use crate::task::Norm;
 use nalgebra::{Isometry3, Matrix6xX};
 
 /// The self-motion search of one candidate ([`Redundancy::Optimize`]).
@@ -26,10 +28,11 @@ pub(super) struct SelfMotionSearch<'a> {
 }
 
 impl SelfMotionSearch<'_> {
-    /// Searches the self-motion around the chosen branch and the first branch for the whole
-    /// motion with the largest `Σ v²` of the ranked index `v` on the path (`μ_l2²`); replaces
-    /// `chosen` when that motion ranks higher by the task's norm and is collision-free.
-    /// Returns what was found.
+    /// Searches the self-motion around the chosen branch for the smooth whole motion with the
+    /// largest `Σ wᵢ vᵢ²` of the ranked index `v` on the path (`wᵢ` the samples' shares of the
+    /// path's time for `μ_rms` and `μ_l1`, 1 for `μ_l2`); replaces `chosen` when that motion
+    /// ranks higher by the task's norm and passes the branch checks. Returns the range of
+    /// `μ_l2` over the self-motion.
     pub(super) fn improve(
         &self,
         chosen: &mut ChosenBranch,
@@ -43,10 +46,6 @@ impl SelfMotionSearch<'_> {
             ..
         } = *self.setup;
         let chain = &arm.chain;
-        let mut seeds: Vec<&[Vec<f64>]> = vec![&chosen.q];
-        if let Some((q, _)) = first_branch.filter(|(q, _)| *q != chosen.q) {
-            seeds.push(q);
-        }
         let path = self.path.clone();
         let value = |i: usize, q: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
             if !path.contains(&i) {
@@ -66,14 +65,16 @@ impl SelfMotionSearch<'_> {
             rotation_tolerance: ik.ik.rotation_tolerance,
             ..SelfMotionOptions::default()
         };
+        let (times, weights) = self.times_and_weights();
         // The self-motion keeps the task's limit margin, as the branches do.
-        let found = optimize_self_motion(
+        let found = optimize_smooth_self_motion(
             &arm.ik_chain,
             self.targets,
-            &seeds,
+            &chosen.q,
             KeptRows::Pose,
             &value,
             &options,
+            &SmoothSelfMotion::new(&times, &weights),
         )?;
         let mut jacobian = Matrix6xX::zeros(chain.dof());
         let series = index_along(
@@ -85,25 +86,71 @@ impl SelfMotionSearch<'_> {
             &mut jacobian,
         );
         let norms = series.norms(self.times, self.counted);
-        let scores = SelfMotionScores {
-            first_branch_l2: first_branch.map_or(chosen.norms.l2, |(_, l2)| *l2),
-            l2_range: (found.worst_total.sqrt(), found.total.sqrt()),
-        };
+        let first_branch_l2 = first_branch.map_or(chosen.norms.l2, |(_, l2)| *l2);
         let optimised = ChosenBranch {
             series,
             norms,
             q: found.q,
             findings: BranchFindings::default(),
         };
-        if !optimised.better_than(chosen, self.setup.norm) {
-            return Some(scores);
+        if optimised.better_than(chosen, self.setup.norm) {
+            if let Ok(findings) = check_branch(self.checks, &optimised.q) {
+                *chosen = ChosenBranch {
+                    findings,
+                    ..optimised
+                };
+            }
         }
-        if let Ok(findings) = check_branch(self.checks, &optimised.q) {
-            *chosen = ChosenBranch {
-                findings,
-                ..optimised
-            };
-        }
-        Some(scores)
+        // The range over every motion seen: the traced states' chains, the first branch and
+        // the one kept.
+        let (low, high) = (found.worst_total.sqrt(), found.best_total.sqrt());
+        Some(SelfMotionScores {
+            first_branch_l2,
+            l2_range: (
+                low.min(first_branch_l2).min(chosen.norms.l2),
+                high.max(chosen.norms.l2),
+            ),
+        })
+    }
+
+    /// Each whole-motion sample's time (the approach at the path's start, the retreat at its
+    /// end) and weight in the search: its share of the path's time (trapezoidal) when the
+    /// task's norm integrates over time, 1 on the path for `μ_l2`; 0 off the path.
+    fn times_and_weights(&self) -> (Vec<f64>, Vec<f64>) {
+        let total = self.targets.len();
+        let (start, end) = (self.path.start, self.path.end);
+        let first = self.times.first().copied().unwrap_or(0.0);
+        let last = self.times.last().copied().unwrap_or(0.0);
+        let times = (0..total)
+            .map(|i| {
+                if i < start {
+                    first
+                } else if i >= end {
+                    last
+                } else {
+                    self.times[i - start]
+                }
+            })
+            .collect();
+        let by_time = self.setup.norm != Norm::L2;
+        let weights = (0..total)
+            .map(|i| {
+                if i < start || i >= end {
+                    return 0.0;
+                }
+                let k = i - start;
+                if !by_time {
+                    return 1.0;
+                }
+                let before = if k > 0 {
+                    self.times[k] - self.times[k - 1]
+                } else {
+                    0.0
+                };
+                let after = self.times.get(k + 1).map_or(0.0, |t| t - self.times[k]);
+                0.5 * (before + after)
+            })
+            .collect();
+        (times, weights)
     }
 }

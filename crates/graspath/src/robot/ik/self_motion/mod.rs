@@ -20,10 +20,14 @@
 //! a position) the traced curve is the self-motion manifold near the given paths; with more,
 //! it is one curve through it, and the optimum is over that curve.
 
+mod smooth;
+
+pub use smooth::{optimize_smooth_self_motion, SmoothSelfMotion};
+
 use crate::robot::chain::Chain;
 use nalgebra::{
-    Cholesky, DMatrix, DVector, Isometry3, IsometryMatrix3, Matrix6, Matrix6xX, Vector3, Vector6,
-    U6,
+    Cholesky, DMatrix, DVector, Isometry3, IsometryMatrix3, Matrix6, Matrix6xX, Rotation3, Vector3,
+    Vector6, U6,
 };
 
 /// Which rows of the tip pose the path keeps.
@@ -76,6 +80,9 @@ pub struct SelfMotionPath {
     /// The smallest sum any chain of states reaches (the other end of the self-motion's
     /// range on the traced states).
     pub worst_total: f64,
+    /// The largest sum any chain of states reaches (this path's own `total` for the
+    /// discrete search; the smooth search's path may collect less).
+    pub best_total: f64,
 }
 
 /// The per-sample value to maximise: sample index, configuration and the geometric
@@ -105,24 +112,19 @@ pub fn optimize_self_motion(
         .map(|t| nalgebra::convert(*t))
         .collect();
     let mut tracer = Tracer::new(chain, rows, options);
-    let traced: Vec<Traced> = targets
-        .iter()
-        .enumerate()
-        .map(|(i, target)| {
-            let mut at = tracer.trace(&paths[0][i], target, &|q, j| value(i, q, j));
-            // The other paths join as they are, off the traced curve.
-            for path in &paths[1..] {
-                if tracer.jacobian_at(&path[i]) {
-                    let v = value(i, &path[i], &tracer.jacobian);
-                    at.states.push(State {
-                        q: path[i].clone(),
-                        value: v,
-                    });
-                }
+    let mut traced = tracer.trace_along(&targets, paths[0], value);
+    for (i, at) in traced.iter_mut().enumerate() {
+        // The other paths join as they are, off the traced curve.
+        for path in &paths[1..] {
+            if tracer.jacobian_at(&path[i]) {
+                let v = value(i, &path[i], &tracer.jacobian);
+                at.states.push(State {
+                    q: path[i].clone(),
+                    value: v,
+                });
             }
-            at
-        })
-        .collect();
+        }
+    }
     let chosen = best_chain(&traced, options.max_joint_step)?;
     let mut q: Vec<Vec<f64>> = Vec::with_capacity(n);
     let mut values = Vec::with_capacity(n);
@@ -141,11 +143,13 @@ pub fn optimize_self_motion(
         q.push(state.q);
         values.push(state.value);
     }
+    let total = values.iter().sum();
     Some(SelfMotionPath {
-        total: values.iter().sum(),
+        total,
         q,
         values,
         worst_total: chosen.worst_total,
+        best_total: total,
     })
 }
 
@@ -216,17 +220,24 @@ struct State {
 }
 
 /// The states of one sample: the first `curve` in order along the traced self-motion (each
-/// `spacing` from the next), then the given paths' configurations.
+/// `spacing` from the next, but for an end where the curve leaves the limits within a step),
+/// then the given paths' configurations.
 struct Traced {
     states: Vec<State>,
     curve: usize,
+    /// The state traced from (the given configuration) among the first `curve`.
+    middle: usize,
+    /// The direction the curve was traced in first (joint space; zero when nothing was
+    /// traced): the next sample's curve is oriented the same way.
+    heading: DVector<f64>,
 }
 
-/// The dynamic programme's answer: the chosen state per sample and the smallest sum any
-/// chain of states reaches.
+/// The dynamic programme's answer: the chosen state per sample and the smallest and largest
+/// sums any chain of states reaches.
 struct Chosen {
     states: Vec<usize>,
     worst_total: f64,
+    best_total: f64,
 }
 
 /// The best chain of states under the joint-step bound, by dynamic programming.
@@ -263,7 +274,7 @@ fn best_chain(traced: &[Traced], max_joint_step: f64) -> Option<Chosen> {
         best.push(row);
     }
     let last = best.last()?;
-    let (mut k, _) = last
+    let (mut k, best_total) = last
         .iter()
         .enumerate()
         .filter(|(_, b)| b.0.is_finite())
@@ -284,7 +295,17 @@ fn best_chain(traced: &[Traced], max_joint_step: f64) -> Option<Chosen> {
     Some(Chosen {
         states,
         worst_total,
+        best_total,
     })
+}
+
+/// The joint-space (Euclidean) distance between two configurations (rad / m).
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 fn max_difference(a: &[f64], b: &[f64]) -> f64 {
@@ -306,6 +327,30 @@ fn parabola_peak(before: (f64, f64), v: f64, after: (f64, f64)) -> Option<f64> {
     (curvature < 0.0 && peak > -d0 && peak < d1).then_some(peak)
 }
 
+/// The rotation vector (axis × angle, rad) of `r`, accurate to rounding at small angles: up
+/// to 120° the angle comes from `atan2(sin, cos)` of the skew-symmetric part and the trace
+/// (an angle from the trace alone, as `acos`, loses half the digits near 0 and stalls
+/// corrections at ~1e-8 rad); beyond, where the skew part fades, from nalgebra.
+fn rotation_vector(r: &Rotation3<f64>) -> Vector3<f64> {
+    let m = r.matrix();
+    let skew = 0.5
+        * Vector3::new(
+            m[(2, 1)] - m[(1, 2)],
+            m[(0, 2)] - m[(2, 0)],
+            m[(1, 0)] - m[(0, 1)],
+        );
+    let sine = skew.norm();
+    let cosine = 0.5 * (m.trace() - 1.0);
+    let angle = sine.atan2(cosine);
+    if cosine > -0.5 {
+        // Near 0, angle / sine → 1 (the ratio is 1 + angle² / 6 + …).
+        let ratio = if sine > 0.0 { angle / sine } else { 1.0 };
+        skew * ratio
+    } else {
+        r.scaled_axis()
+    }
+}
+
 /// Traces the self-motion through a configuration.
 struct Tracer<'c> {
     chain: &'c Chain,
@@ -313,6 +358,27 @@ struct Tracer<'c> {
     options: &'c SelfMotionOptions,
     jacobian: Matrix6xX<f64>,
 }
+
+/// Traced steps on each side of a configuration, at most (`reach` steps of `spacing`, and
+/// the shorter ones where the curve bends).
+const MAX_TRACED_STEPS: usize = 64;
+
+/// How far (a fraction of the step) the corrections may pull a traced step off its
+/// predicted end before the step is halved.
+const BEND: f64 = 0.15;
+
+/// The shortest traced step, as a fraction of the spacing.
+const FINEST_STEP: f64 = 8.0;
+
+/// Bisections of the last step where a traced curve stops converging (a 32nd of the step).
+const BOUNDARY_BISECTIONS: usize = 5;
+
+/// Regula falsi steps, at most, to the point where a traced curve crosses a limit.
+const CROSSING_ITERATIONS: usize = 40;
+
+/// The error (m and rad together) below which a traced configuration is taken without
+/// another correction; one within the tolerances is taken after the last correction.
+const SETTLED: f64 = 1e-11;
 
 /// Gauss–Newton corrections allowed per traced configuration.
 const CORRECTIONS: usize = 8;
@@ -386,7 +452,7 @@ impl<'c> Tracer<'c> {
             .pose_and_jacobian_into(q, &mut self.jacobian)
             .ok()?;
         let dp: Vector3<f64> = target.translation.vector - pose.translation.vector;
-        let dr = (target.rotation * pose.rotation.inverse()).scaled_axis();
+        let dr = rotation_vector(&(target.rotation * pose.rotation.inverse()));
         let mut error = Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z);
         let mut a = self.jacobian.clone();
         if self.rows == KeptRows::Position {
@@ -408,45 +474,94 @@ impl<'c> Tracer<'c> {
             .all(|(j, v)| v.is_finite() && *v >= lower[j] && *v <= upper[j])
     }
 
+    /// The self-motion traced at every target around `path` (one configuration per target),
+    /// each curve oriented like the one before it.
+    fn trace_along(
+        &mut self,
+        targets: &[IsometryMatrix3<f64>],
+        path: &[Vec<f64>],
+        value: &SampleValue<'_>,
+    ) -> Vec<Traced> {
+        let mut traced: Vec<Traced> = Vec::with_capacity(targets.len());
+        for (i, (target, q)) in targets.iter().zip(path).enumerate() {
+            let previous = traced.last().map(|t| &t.heading);
+            let at = self.trace(q, target, &|q, j| value(i, q, j), previous);
+            traced.push(at);
+        }
+        traced
+    }
+
     /// `q` itself and up to `reach` configurations on each side of it along the self-motion,
     /// each on target and inside the limits, with their `value` (of the configuration and
-    /// the full Jacobian there), in order along the curve.
+    /// the full Jacobian there), in order along the curve. The curve runs the way that
+    /// `previous` (the previous sample's first heading) points, when it is given.
     fn trace(
         &mut self,
         q: &[f64],
         target: &IsometryMatrix3<f64>,
         value: &dyn Fn(&[f64], &Matrix6xX<f64>) -> f64,
+        previous: Option<&DVector<f64>>,
     ) -> Traced {
+        let dof = self.chain.dof();
         let Some(start) = self.kept(q, target) else {
             return Traced {
                 states: Vec::new(),
                 curve: 0,
+                middle: 0,
+                heading: DVector::zeros(dof),
             };
         };
         let middle = State {
             q: q.to_vec(),
             value: value(q, &self.jacobian),
         };
-        let dof = self.chain.dof();
         // The projected joint axis of largest norm: the first step's direction, both ways.
-        let initial = (0..dof)
+        let mut initial = (0..dof)
             .map(|j| start.project(&DVector::from_fn(dof, |r, _| f64::from(r == j))))
             .max_by(|x, y| x.norm().total_cmp(&y.norm()))
             .unwrap_or_else(|| DVector::zeros(dof));
+        if previous.is_some_and(|p| p.dot(&initial) < 0.0) {
+            initial.neg_mut();
+        }
         let mut sides = [Vec::new(), Vec::new()];
         for (side, out) in [1.0, -1.0].into_iter().zip(&mut sides) {
             let mut current = q.to_vec();
             let mut kept = start.clone();
             let mut heading = &initial * side;
-            for _ in 0..self.options.reach {
+            let reach = self.options.spacing * self.options.reach as f64;
+            let (mut travelled, mut length) = (0.0, self.options.spacing);
+            for _ in 0..MAX_TRACED_STEPS {
+                if travelled >= reach * (1.0 - 1e-9) {
+                    break;
+                }
+                let step = length.min(reach - travelled);
                 // Continue the previous heading in the null space at `current`.
                 let direction = kept.project(&heading);
-                let Some((next, at_next)) =
-                    self.advance(&current, &direction, self.options.spacing, target)
-                else {
+                let Some((next, at_next)) = self.advance(&current, &direction, step, target) else {
+                    // The curve ends inside this step (a joint limit): its last point, so
+                    // that where the traced part ends does not depend on the spacing.
+                    if let Some(end) = self.last_inside(&current, &direction, step, target, value) {
+                        out.push(end);
+                    }
                     break;
                 };
+                // Where the curve bends within the step, the corrections pull the step off
+                // its length: shorter steps there keep the traced points' spacing, and so
+                // their arc length, true.
+                let norm = direction.norm();
+                let pulled = next
+                    .iter()
+                    .zip(&current)
+                    .zip(direction.iter())
+                    .map(|((n, c), d)| (n - (c + step / norm * d)).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                if pulled > BEND * step && step > self.options.spacing / FINEST_STEP {
+                    length = 0.5 * step;
+                    continue;
+                }
                 // `self.jacobian` is the full Jacobian at `next` (the last solve).
+                travelled += distance(&current, &next);
                 out.push(State {
                     value: value(&next, &self.jacobian),
                     q: next.clone(),
@@ -454,14 +569,102 @@ impl<'c> Tracer<'c> {
                 heading = direction;
                 kept = at_next;
                 current = next;
+                length = (2.0 * step).min(self.options.spacing);
             }
         }
         let [forward, backward] = sides;
+        let middle_index = backward.len();
         let mut states: Vec<State> = backward.into_iter().rev().collect();
         states.push(middle);
         states.extend(forward);
         let curve = states.len();
-        Traced { states, curve }
+        Traced {
+            states,
+            curve,
+            middle: middle_index,
+            heading: initial,
+        }
+    }
+
+    /// The farthest configuration along `direction` from `from` (joint space) within
+    /// `spacing` that stays inside the limits, with its value; `None` when none is reached.
+    /// Where the curve crosses a limit, the crossing is found by regula falsi on the largest
+    /// limit excess (to 1e-12 of the step), so the traced part of the curve ends where the
+    /// curve does, not on the spacing's grid; where the corrections stop converging, by
+    /// bisection to a 32nd of the spacing.
+    fn last_inside(
+        &mut self,
+        from: &[f64],
+        direction: &DVector<f64>,
+        spacing: f64,
+        target: &IsometryMatrix3<f64>,
+        value: &dyn Fn(&[f64], &Matrix6xX<f64>) -> f64,
+    ) -> Option<State> {
+        let mut last = None;
+        let Some((far, _)) = self.advance_on_target(from, direction, spacing, target) else {
+            let (mut reached, mut missed) = (0.0, spacing);
+            for _ in 0..BOUNDARY_BISECTIONS {
+                let length = 0.5 * (reached + missed);
+                match self.advance(from, direction, length, target) {
+                    Some((q, _)) => {
+                        reached = length;
+                        last = Some(self.state(q, value));
+                    }
+                    None => missed = length,
+                }
+            }
+            return last;
+        };
+        // Illinois regula falsi on the excess between `inside` (≤ 0) and `outside` (> 0).
+        let (mut inside, mut outside) = ((0.0, self.excess(from)), (spacing, self.excess(&far)));
+        if inside.1 >= 0.0 || outside.1 <= 0.0 {
+            return None;
+        }
+        let mut kept_side = 0_i8;
+        for _ in 0..CROSSING_ITERATIONS {
+            if outside.0 - inside.0 <= 1e-12 * spacing {
+                break;
+            }
+            let length = outside.0 - outside.1 * (outside.0 - inside.0) / (outside.1 - inside.1);
+            let Some((q, _)) = self.advance_on_target(from, direction, length, target) else {
+                break;
+            };
+            let excess = self.excess(&q);
+            if excess <= 0.0 {
+                if self.inside(&q) {
+                    last = Some(self.state(q, value));
+                }
+                inside = (length, excess);
+                if kept_side == -1 {
+                    outside.1 *= 0.5;
+                }
+                kept_side = -1;
+            } else {
+                outside = (length, excess);
+                if kept_side == 1 {
+                    inside.1 *= 0.5;
+                }
+                kept_side = 1;
+            }
+        }
+        last
+    }
+
+    /// The state at `q` (`self.jacobian` is the Jacobian there).
+    fn state(&self, q: Vec<f64>, value: &dyn Fn(&[f64], &Matrix6xX<f64>) -> f64) -> State {
+        State {
+            value: value(&q, &self.jacobian),
+            q,
+        }
+    }
+
+    /// How far `q` is beyond its nearest limit (rad / m; negative inside).
+    fn excess(&self, q: &[f64]) -> f64 {
+        let (lower, upper) = (self.chain.lower(), self.chain.upper());
+        q.iter()
+            .enumerate()
+            .map(|(j, v)| (lower[j] - v).max(v - upper[j]))
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// The configuration `length` from `from` along `direction` (joint space), corrected back
@@ -474,23 +677,50 @@ impl<'c> Tracer<'c> {
         length: f64,
         target: &IsometryMatrix3<f64>,
     ) -> Option<(Vec<f64>, Kept)> {
+        self.advance_on_target(from, direction, length, target)
+            .filter(|(q, _)| self.inside(q))
+    }
+
+    /// [`Tracer::advance`] without the limits.
+    fn advance_on_target(
+        &mut self,
+        from: &[f64],
+        direction: &DVector<f64>,
+        length: f64,
+        target: &IsometryMatrix3<f64>,
+    ) -> Option<(Vec<f64>, Kept)> {
         let norm = direction.norm();
         if norm < 1e-9 {
             return None;
         }
         let scale = length / norm;
-        let mut next: Vec<f64> = from
+        let next: Vec<f64> = from
             .iter()
             .zip(direction.iter())
             .map(|(v, d)| v + scale * d)
             .collect();
-        for _ in 0..CORRECTIONS {
-            let kept = self.kept(&next, target)?;
-            if self.on_target(&kept.error) {
-                return self.inside(&next).then_some((next, kept));
+        self.correct(next, target)
+    }
+
+    /// `q` moved onto `target` by Gauss–Newton steps (each the smallest joint change that
+    /// removes the kept rows' error), the limits aside; `None` when it does not converge.
+    /// `self.jacobian` is then the full Jacobian there.
+    fn correct(
+        &mut self,
+        mut q: Vec<f64>,
+        target: &IsometryMatrix3<f64>,
+    ) -> Option<(Vec<f64>, Kept)> {
+        for correction in 0..CORRECTIONS {
+            let kept = self.kept(&q, target)?;
+            // Converged far below the tolerance, so neighbouring samples' configurations do
+            // not differ by the tolerance's noise (which a spline through densely sampled
+            // paths would turn into large accelerations).
+            let settled = kept.error.norm() <= SETTLED;
+            if settled || (correction + 1 == CORRECTIONS && self.on_target(&kept.error)) {
+                return Some((q, kept));
             }
-            let correction = kept.lift(&kept.error);
-            for (v, d) in next.iter_mut().zip(correction.iter()) {
+            let step = kept.lift(&kept.error);
+            for (v, d) in q.iter_mut().zip(step.iter()) {
                 *v += d;
             }
         }
@@ -543,5 +773,38 @@ impl<'c> Tracer<'c> {
             other.is_none_or(|o| max_difference(o, &state.q) <= self.options.max_joint_step)
         };
         (state.value > here.value && joins(before) && joins(after)).then_some(state)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rotation vector inverts `Rotation3::from_scaled_axis` to rounding from 1e-12 rad
+    /// (where the trace's `acos` alone loses half the digits) to just below π.
+    #[test]
+    fn the_rotation_vector_is_exact_at_small_and_large_angles() {
+        let axis = Vector3::new(0.3, -0.5, 0.8).normalize();
+        for angle in [
+            1e-12,
+            1e-9,
+            1e-6,
+            1e-3,
+            0.5,
+            2.0,
+            3.0,
+            std::f64::consts::PI - 1e-6,
+        ] {
+            let v = axis * angle;
+            let back = rotation_vector(&Rotation3::from_scaled_axis(v));
+            // Up to 120°, to rounding; beyond, nalgebra's own accuracy near π.
+            let tolerance = if angle < 2.0 {
+                1e-15 + 1e-12 * angle
+            } else {
+                1e-6
+            };
+            assert!((back - v).norm() <= tolerance, "{angle}: {back:?}");
+        }
+        assert_eq!(rotation_vector(&Rotation3::identity()), Vector3::zeros());
     }
 }

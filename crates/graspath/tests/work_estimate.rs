@@ -142,3 +142,41 @@ fn the_memory_estimate_bounds_the_selection_and_its_limit_is_checked() {
         "{message}"
     );
 }
+
+/// The self-motion search and the timing are parts of their own, counted per sample, and
+/// nothing when a task turns them off.
+#[test]
+fn the_self_motion_search_and_the_timing_have_their_parts() {
+    let base = scene(0, "").replace("timing: false\n", "");
+    let optimised = estimate(&base);
+    let first = estimate(&format!("{base}ik: {{ redundancy: first }}\n"));
+    let untimed = estimate(&format!("{base}timing: false\n"));
+    // One arm, 40-odd candidates, 11 samples (the initial pose and 10).
+    let (_dir, path) = task(&base);
+    let loaded = Task::load(&path).unwrap();
+    let per_sample = loaded.candidate_count() as u64 * loaded.path.samples.len() as u64;
+    assert_eq!(
+        optimised.self_motion,
+        per_sample * WorkEstimate::SELF_MOTION_EVALUATIONS_PER_SAMPLE
+    );
+    assert_eq!(first.self_motion, 0);
+    let timing = loaded.timing.as_ref().expect("timed by default");
+    let per_point = if timing.torque_limits {
+        WorkEstimate::TIMING_EVALUATIONS_PER_TORQUE_POINT
+    } else {
+        1
+    };
+    assert_eq!(
+        optimised.timing,
+        per_sample * timing.subdivisions as u64 * per_point
+    );
+    assert_eq!(untimed.timing, 0);
+    assert_eq!(
+        optimised.total(),
+        optimised.scoring + optimised.self_motion + optimised.timing + optimised.collisions
+    );
+    let over = format!("{base}limits: {{ max_work: 100000 }}\n");
+    let (_dir, path) = task(&over);
+    let message = refusal(&path);
+    assert!(message.contains("self-motion search"), "{message}");
+}

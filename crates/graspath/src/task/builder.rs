@@ -309,8 +309,29 @@ impl Task {
         } else {
             0
         };
+        let per_candidate = |evaluations_per_sample: u64| -> u64 {
+            (self.arms.len() as u64)
+                .saturating_mul(candidates)
+                .saturating_mul(samples as u64)
+                .saturating_mul(evaluations_per_sample)
+        };
+        let self_motion = if self.redundancy == Redundancy::Optimize {
+            per_candidate(WorkEstimate::SELF_MOTION_EVALUATIONS_PER_SAMPLE)
+        } else {
+            0
+        };
+        let timing = self.timing.as_ref().map_or(0, |t| {
+            let per_grid_point = if t.torque_limits {
+                WorkEstimate::TIMING_EVALUATIONS_PER_TORQUE_POINT
+            } else {
+                1
+            };
+            per_candidate((t.subdivisions as u64).saturating_mul(per_grid_point))
+        });
         WorkEstimate {
             scoring,
+            self_motion,
+            timing,
             collisions,
             pairs,
         }
@@ -1002,13 +1023,21 @@ impl TaskBuilder {
 /// A task's work estimate by part, in kinematics evaluations (one forward kinematics and
 /// Jacobian of one arm; [`Limits::max_work`]). Each part is an upper bound measured against
 /// release builds (BENCHMARKS.md, "Work estimate"): scoring assumes every IK branch runs its
-/// whole budget, the collision part every body checked against every scene body at every
+/// whole budget, the self-motion search and the timing every sample at their largest costs,
+/// the collision part every body checked against every scene body at every
 /// sample, the pair part a search that finds no valid pair and so visits every pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct WorkEstimate {
     /// IK and indices: arms × candidates × branches × (grasp iterations + samples × per
     /// sample iterations).
     pub scoring: u64,
+    /// With `ik.redundancy: optimize`, the self-motion search: arms × candidates × samples ×
+    /// [`WorkEstimate::SELF_MOTION_EVALUATIONS_PER_SAMPLE`].
+    pub self_motion: u64,
+    /// When motions are timed: arms × candidates × samples × the timing's grid points per
+    /// sample, each one evaluation (with torque limits,
+    /// [`WorkEstimate::TIMING_EVALUATIONS_PER_TORQUE_POINT`]).
+    pub timing: u64,
     /// The scene: arms × candidates × branches × samples × (arm bodies + object) × scene
     /// bodies, at [`WorkEstimate::COLLISION_PAIRS_PER_EVALUATION`] body pairs an evaluation.
     pub collisions: u64,
@@ -1023,10 +1052,20 @@ impl WorkEstimate {
     pub const COLLISION_PAIRS_PER_EVALUATION: u64 = 8;
     /// Pairs of the two-arm search visited in about one kinematics evaluation.
     pub const PAIR_VISITS_PER_EVALUATION: u64 = 1;
+    /// Kinematics evaluations of the self-motion search per sample, at most: the curve traced
+    /// both ways in up to 4 steps, each possibly halved once, each up to 8 corrections, and
+    /// the chosen place traced to (and checked against the previous sample's) in up to 8
+    /// corrections each.
+    pub const SELF_MOTION_EVALUATIONS_PER_SAMPLE: u64 = 2 * 4 * 2 * 8 + 2 * 8;
+    /// Evaluations per timing grid point with torque limits: the inverse dynamics of the arm
+    /// three times (gravity, `M q'`, `M q'' + C q'`) and the path's derivatives.
+    pub const TIMING_EVALUATIONS_PER_TORQUE_POINT: u64 = 4;
 
     /// The whole estimate (saturating).
     pub fn total(&self) -> u64 {
         self.scoring
+            .saturating_add(self.self_motion)
+            .saturating_add(self.timing)
             .saturating_add(self.collisions)
             .saturating_add(self.pairs)
     }
@@ -1044,6 +1083,18 @@ impl WorkEstimate {
             task.path.samples.len(),
             task.ik.per_sample_iterations,
         )];
+        if self.self_motion > 0 {
+            parts.push(format!(
+                "self-motion search {:.3e} (ik.redundancy: optimize; first costs none)",
+                self.self_motion as f64,
+            ));
+        }
+        if self.timing > 0 {
+            parts.push(format!(
+                "timing {:.3e} (timing: false costs none)",
+                self.timing as f64,
+            ));
+        }
         if self.collisions > 0 {
             parts.push(format!(
                 "scene {:.3e} ({} scene bodies against the arm's bodies at every sample)",

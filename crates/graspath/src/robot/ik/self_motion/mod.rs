@@ -376,8 +376,17 @@ const BOUNDARY_BISECTIONS: usize = 5;
 /// Regula falsi steps, at most, to the point where a traced curve crosses a limit.
 const CROSSING_ITERATIONS: usize = 40;
 
-/// The error (m and rad together) below which a traced configuration is taken without
-/// another correction; one within the tolerances is taken after the last correction.
+/// How far [`Tracer::correct`] goes.
+#[derive(Debug, Clone, Copy)]
+enum Convergence {
+    /// To the position and rotation tolerances.
+    Tolerance,
+    /// To [`SETTLED`] (or the tolerances after the last correction).
+    Settled,
+}
+
+/// The error (m and rad together) below which a settled configuration is taken without
+/// another correction.
 const SETTLED: f64 = 1e-11;
 
 /// Gauss–Newton corrections allowed per traced configuration.
@@ -699,24 +708,32 @@ impl<'c> Tracer<'c> {
             .zip(direction.iter())
             .map(|(v, d)| v + scale * d)
             .collect();
-        self.correct(next, target)
+        self.correct(next, target, Convergence::Tolerance)
     }
 
     /// `q` moved onto `target` by Gauss–Newton steps (each the smallest joint change that
     /// removes the kept rows' error), the limits aside; `None` when it does not converge.
-    /// `self.jacobian` is then the full Jacobian there.
+    /// `self.jacobian` is then the full Jacobian there. [`Convergence::Tolerance`] stops at
+    /// the tolerances (the traced states: where they lie on the curve only names it);
+    /// [`Convergence::Settled`] goes on far below them (configurations of a motion, which
+    /// neighbouring samples must not differ by the tolerances' noise: a spline through a
+    /// densely sampled path would turn it into large accelerations).
     fn correct(
         &mut self,
         mut q: Vec<f64>,
         target: &IsometryMatrix3<f64>,
+        convergence: Convergence,
     ) -> Option<(Vec<f64>, Kept)> {
         for correction in 0..CORRECTIONS {
             let kept = self.kept(&q, target)?;
-            // Converged far below the tolerance, so neighbouring samples' configurations do
-            // not differ by the tolerance's noise (which a spline through densely sampled
-            // paths would turn into large accelerations).
-            let settled = kept.error.norm() <= SETTLED;
-            if settled || (correction + 1 == CORRECTIONS && self.on_target(&kept.error)) {
+            let done = match convergence {
+                Convergence::Tolerance => self.on_target(&kept.error),
+                Convergence::Settled => {
+                    kept.error.norm() <= SETTLED
+                        || (correction + 1 == CORRECTIONS && self.on_target(&kept.error))
+                }
+            };
+            if done {
                 return Some((q, kept));
             }
             let step = kept.lift(&kept.error);

@@ -23,8 +23,8 @@
 //! joint moves more than the step bound between samples; otherwise the seed is returned.
 
 use super::{
-    best_chain, distance, max_difference, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
-    State, Traced, Tracer,
+    best_chain, distance, max_difference, Convergence, KeptRows, SampleValue, SelfMotionOptions,
+    SelfMotionPath, State, Traced, Tracer,
 };
 use crate::robot::chain::Chain;
 use nalgebra::{DMatrix, DVector, Isometry3, IsometryMatrix3};
@@ -501,7 +501,7 @@ impl Tracer<'_> {
                     + h11 * h * tangent(k + 1, j)
             })
             .collect();
-        let (mut q, _) = self.correct(guess, target)?;
+        let (mut q, _) = self.correct(guess, target, Convergence::Settled)?;
         if !self.inside(&q) {
             // A joint that rides its limit along the curve may come out beyond it by the
             // interpolation's error: back onto the limit, when the tip stays on target.

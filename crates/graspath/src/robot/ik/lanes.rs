@@ -260,7 +260,7 @@ impl<'k> Lanes<'k> {
     /// One iteration of every busy lane; the runs that end are appended to `ended`.
     pub(crate) fn advance(&mut self, ended: &mut Vec<(usize, AttemptEnd)>) {
         #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
+        if crate::cpu::has_avx2() {
             // SAFETY: the processor has AVX2, checked just above.
             return unsafe { self.advance_avx2(ended) };
         }

@@ -36,8 +36,8 @@ pub(crate) struct Attempt {
     pub cap: usize,
 }
 
-/// How a lane's run ended and its best state: as [`super::run_attempt`] would leave them for a
-/// started attempt, as [`Kernel::run`] would for a resumed run.
+/// How a lane's run ended and its best state: as [`super::attempt::run_attempt`] would leave
+/// them for a started attempt, as [`Kernel::run`] would for a resumed run.
 #[derive(Debug, Clone)]
 pub(crate) struct AttemptEnd {
     pub end: RunEnd,
@@ -605,8 +605,8 @@ pub(crate) fn run_in_order(
 
 #[cfg(test)]
 mod tests {
+    use super::super::attempt::run_attempt;
     use super::super::kernel::{Budget, Workspace};
-    use super::super::run_attempt;
     use super::*;
     use crate::robot::builtin::{baxter, Arm};
     use crate::robot::chain::Chain;

@@ -39,12 +39,12 @@
 //! One file on purpose (about 1000 lines, an eighth tests): the branch search, the tracking in
 //! lanes and the per-sample recovery ladder share the tracker's state.
 
+use super::attempt::{
+    out_of_reach, prepare_attempt, run_attempt, wrap_continuous, RESTART_ATTEMPT_CAP,
+};
 use super::kernel::{Budget, Kernel, Patience, RunEnd, Strategy, Target, Workspace};
 use super::lanes::{run_each, run_in_order, Attempt, Handed, Lanes};
-use super::{
-    check_options, check_pose, out_of_reach, prepare_attempt, run_attempt, wrap_continuous,
-    IkOptions, RESTART_ATTEMPT_CAP,
-};
+use super::single_pose::{check_options, check_pose, IkOptions};
 use crate::failure::{Failure, FailureReason};
 use crate::geometry::interpolate_decoupled;
 use crate::random::splitmix64;

@@ -12,7 +12,7 @@
 //! * `attempt`: one attempt of a run (its start, limit strategy and cap) and what every
 //!   solver shares around it.
 //! * `single_pose`: the single-pose solver, [`solve_ik`], with its options and results.
-//! * `trajectory`: trajectory IK, [`solve_trajectory`] and [`solve_trajectories`].
+//! * `trajectory/`: trajectory IK, [`solve_trajectory`] and [`solve_trajectories`].
 //! * `self_motion`: the null space of the Jacobian and the self-motion that improves a
 //!   path's value.
 

@@ -71,6 +71,7 @@
 
 pub mod cloud;
 pub mod collision;
+mod cpu;
 mod error;
 pub mod failure;
 pub mod fsutil;

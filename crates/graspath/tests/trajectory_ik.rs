@@ -361,7 +361,7 @@ fn bad_input_is_an_error() {
 /// (empty, not finite) refused on its own. Input common to all is refused once. With one
 /// branch a trajectory alone is tracked by the one-at-a-time loop, so the batch's lanes are
 /// checked against it; with several both go through the lanes (the unit test in
-/// `robot/ik/trajectory.rs` checks the lanes against the loop for every branch).
+/// `robot/ik/trajectory/tracking.rs` checks the lanes against the loop for every branch).
 #[test]
 fn a_batch_solves_each_trajectory_as_alone() {
     let chain = ur5_like(std::f64::consts::PI);

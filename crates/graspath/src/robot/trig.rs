@@ -164,7 +164,7 @@ mod tests {
     #[test]
     fn four_lanes_match_one_lane_bit_for_bit() {
         use std::arch::x86_64::*;
-        if !is_x86_feature_detected!("avx2") {
+        if !crate::cpu::has_avx2() {
             eprintln!("no AVX2 on this processor: nothing to compare");
             return;
         }

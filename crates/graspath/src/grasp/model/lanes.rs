@@ -99,7 +99,7 @@ impl KernelTable {
     #[inline]
     pub fn sum(&self, runs: &[std::ops::Range<usize>], query: &LaneQuery) -> f64 {
         #[cfg(target_arch = "x86_64")]
-        if is_x86_feature_detected!("avx2") {
+        if crate::cpu::has_avx2() {
             // SAFETY: the processor supports AVX2 (checked just above).
             return unsafe { self.sum_avx2(runs, query) };
         }
@@ -354,7 +354,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx2_and_portable_sums_are_bit_identical() {
-        if !is_x86_feature_detected!("avx2") {
+        if !crate::cpu::has_avx2() {
             eprintln!("no AVX2 on this processor: nothing to compare");
             return;
         }

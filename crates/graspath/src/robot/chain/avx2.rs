@@ -10,12 +10,6 @@ use crate::robot::trig::sin_cos4;
 use nalgebra::{IsometryMatrix3, Matrix3, Vector3};
 use std::arch::x86_64::*;
 
-/// Whether this processor can run [`forward`] (checked once, then cached by the standard library).
-#[inline(always)]
-pub(super) fn available() -> bool {
-    is_x86_feature_detected!("avx2")
-}
-
 /// `a·x + b·y + c·z`, evaluated as `((a·x + b·y) + c·z)` like the scalar `combine`.
 #[inline(always)]
 unsafe fn combine(x: __m256d, a: f64, y: __m256d, b: f64, z: __m256d, c: f64) -> __m256d {

@@ -44,7 +44,7 @@ impl Chain {
         self.check_batch(q)?;
         let dof = self.dof();
         #[cfg(target_arch = "x86_64")]
-        if self.drives.is_none() && dof > 0 && avx2::available() {
+        if self.drives.is_none() && dof > 0 && crate::cpu::has_avx2() {
             let n = self.segments.len();
             let mut values = vec![[0.0; 4]; n];
             let mut lanes = vec![[0.0; 4]; 6 * n];
@@ -81,7 +81,7 @@ impl Chain {
         self.check_batch(q)?;
         let dof = self.dof();
         #[cfg(target_arch = "x86_64")]
-        if self.drives.is_none() && dof > 0 && avx2::available() {
+        if self.drives.is_none() && dof > 0 && crate::cpu::has_avx2() {
             let mut values = vec![[0.0; 4]; self.segments.len()];
             for (group, rows) in q.chunks(4 * dof).enumerate() {
                 fill_lanes(&mut values, rows, dof);
@@ -114,7 +114,7 @@ impl Chain {
         jacobian: &mut [[f64; 4]],
     ) -> [IsometryMatrix3<f64>; 4] {
         #[cfg(target_arch = "x86_64")]
-        if self.drives.is_none() && avx2::available() {
+        if self.drives.is_none() && crate::cpu::has_avx2() {
             // SAFETY: AVX2 is present (checked just above); without mimic joints there is one
             // segment per joint, so `q` and `jacobian` have the sizes `forward4` needs.
             let poses = unsafe { avx2::forward4(&self.segments, q, Some(jacobian), self.tail()) };
@@ -311,7 +311,7 @@ impl Chain {
     ) {
         let dof = self.dof();
         #[cfg(target_arch = "x86_64")]
-        if self.drives.is_none() && dof > 0 && avx2::available() {
+        if self.drives.is_none() && dof > 0 && crate::cpu::has_avx2() {
             // Without mimic joints there is one segment per joint (at most MAX_JOINTS).
             let n = self.segments.len();
             let mut values = [[0.0; 4]; MAX_JOINTS];

@@ -165,7 +165,7 @@ pub(super) fn forward(
         assert_eq!(j.len(), 6 * segments.len(), "Jacobian storage size");
     }
     #[cfg(target_arch = "x86_64")]
-    if super::avx2::available() {
+    if crate::cpu::has_avx2() {
         // SAFETY: the processor supports AVX2 (checked just above).
         return unsafe { super::avx2::forward(segments, joint_value, jacobian, tail) };
     }
@@ -258,7 +258,7 @@ pub(super) fn link_frames(
 ) {
     assert_eq!(out.len(), slots.len(), "link frame storage size");
     #[cfg(target_arch = "x86_64")]
-    if super::avx2::available() {
+    if crate::cpu::has_avx2() {
         // SAFETY: the processor supports AVX2 (checked just above); `out` has one entry per
         // slot (asserted above).
         unsafe { super::avx2::link_frames(segments, slots, joint_value, out) };

@@ -64,7 +64,7 @@ fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize) -> Chain {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn bit_identical_to_the_scalar_pass() {
-    if !avx2::available() {
+    if !crate::cpu::has_avx2() {
         eprintln!("no AVX2 on this processor: nothing to compare");
         return;
     }
@@ -455,7 +455,7 @@ fn frame_bits(frames: &[IsometryMatrix3<f64>]) -> Vec<u64> {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn link_frame_kernel_is_bit_identical_to_the_scalar_pass() {
-    if !avx2::available() {
+    if !crate::cpu::has_avx2() {
         eprintln!("no AVX2 on this processor: nothing to compare");
         return;
     }

@@ -331,7 +331,7 @@ impl<'a> Kernel<'a> {
         budget: &mut Budget,
     ) -> RunEnd {
         #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
+        if crate::cpu::has_avx2() {
             // SAFETY: the processor has AVX2, checked just above.
             return unsafe {
                 self.run_avx2(target, ws, strategy, max_evaluations, patience, budget)

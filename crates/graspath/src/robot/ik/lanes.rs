@@ -36,8 +36,8 @@ pub(crate) struct Attempt {
     pub cap: usize,
 }
 
-/// How a lane's run ended and its best state: as [`super::run_attempt`] would leave them for a
-/// started attempt, as [`Kernel::run`] would for a resumed run.
+/// How a lane's run ended and its best state: as [`super::attempt::run_attempt`] would leave
+/// them for a started attempt, as [`Kernel::run`] would for a resumed run.
 #[derive(Debug, Clone)]
 pub(crate) struct AttemptEnd {
     pub end: RunEnd,
@@ -260,7 +260,7 @@ impl<'k> Lanes<'k> {
     /// One iteration of every busy lane; the runs that end are appended to `ended`.
     pub(crate) fn advance(&mut self, ended: &mut Vec<(usize, AttemptEnd)>) {
         #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
+        if crate::cpu::has_avx2() {
             // SAFETY: the processor has AVX2, checked just above.
             return unsafe { self.advance_avx2(ended) };
         }
@@ -605,8 +605,8 @@ pub(crate) fn run_in_order(
 
 #[cfg(test)]
 mod tests {
+    use super::super::attempt::run_attempt;
     use super::super::kernel::{Budget, Workspace};
-    use super::super::run_attempt;
     use super::*;
     use crate::robot::builtin::{baxter, Arm};
     use crate::robot::chain::Chain;

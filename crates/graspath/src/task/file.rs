@@ -661,10 +661,10 @@ pub struct IkFile {
     pub iterations: Option<usize>,
     /// `true`: track every branch and keep the one with the best norm (`best_branch`);
     /// `false`: the first feasible branch is scored, others searched only when it fails
-    /// (`first`). Unset: `redundancy` decides (default `first`).
+    /// (`first`). Unset: `redundancy` decides (default `optimize`).
     #[serde(default)]
     pub compare_branches: Option<bool>,
-    /// `first`, `best_branch` or `optimize` (default `first`; `compare_branches: true` is
+    /// `first`, `best_branch` or `optimize` (default `optimize`; `compare_branches: true` is
     /// `best_branch`, `false` is `first`).
     #[serde(default)]
     pub redundancy: Option<String>,

@@ -22,9 +22,10 @@
 //! exactly at every sample, and the path is kept when it collects more than the seed and no
 //! joint moves more than the step bound between samples; otherwise the seed is returned.
 
+use super::trace::{Convergence, Tracer};
 use super::{
-    best_chain, distance, max_difference, Convergence, KeptRows, SampleValue, SelfMotionOptions,
-    SelfMotionPath, State, Traced, Tracer,
+    best_chain, distance, max_difference, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
+    State, Traced,
 };
 use crate::robot::chain::Chain;
 use nalgebra::{DMatrix, DVector, Isometry3, IsometryMatrix3};

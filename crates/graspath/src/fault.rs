@@ -4,7 +4,7 @@
 //!
 //! Every module error implements [`Classify`]. An error that only adds context to its source (a
 //! file that cannot be read: the operating system's error is the source) has no kind of its own:
-//! its kind is its source's. [`crate::Error::fault`] and [`crate::fault_of`] walk an error's
+//! its kind is its source's. `Error::fault` and `fault_of` (the crate root's) walk an error's
 //! [`source`](std::error::Error::source) chain to find the kind, the file and field at fault and
 //! the operating system's error kind.
 

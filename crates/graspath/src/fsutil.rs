@@ -219,8 +219,8 @@ impl OutputError {
 }
 
 impl crate::fault::Classify for OutputError {
-    /// A refused path ([`OutputError::is_refusal`]) is [`ErrorKind::File`](crate::ErrorKind):
-    /// the caller's choice; a failure while writing is [`ErrorKind::Internal`](crate::ErrorKind).
+    /// A refused path ([`OutputError::is_refusal`]) is [`ErrorKind::File`](crate::fault::ErrorKind):
+    /// the caller's choice; a failure while writing is [`ErrorKind::Internal`](crate::fault::ErrorKind).
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         Some(if self.is_refusal() {
             crate::fault::ErrorKind::File

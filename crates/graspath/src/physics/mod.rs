@@ -143,7 +143,7 @@ pub enum PhysicsError {
 }
 
 impl crate::fault::Classify for PhysicsError {
-    /// A cloud over the sphere limit is [`ErrorKind`](crate::ErrorKind)`::Limit`; everything
+    /// A cloud over the sphere limit is [`ErrorKind`](crate::fault::ErrorKind)`::Limit`; everything
     /// else is `Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         Some(match self {

@@ -57,7 +57,7 @@ pub enum PlacementError {
 }
 
 impl crate::fault::Classify for PlacementError {
-    /// An axis's or the task's own kind; too much work is [`ErrorKind`](crate::ErrorKind)`::Limit`.
+    /// An axis's or the task's own kind; too much work is [`ErrorKind`](crate::fault::ErrorKind)`::Limit`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         match self {
             Self::Axis(e) => e.kind(),

@@ -169,7 +169,7 @@ pub enum PairInputError {
 
 impl crate::fault::Classify for PairInputError {
     /// A candidate file's error has its own kind; everything else is
-    /// [`ErrorKind`](crate::ErrorKind)`::Content`.
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         match self {
             Self::Candidates(e) => e.kind(),

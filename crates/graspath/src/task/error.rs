@@ -11,7 +11,7 @@ use std::sync::Arc;
 /// An error in a task: the file (or the name given to the builder), the field's path (empty for
 /// the whole document), what is wrong, and the underlying error when there is one
 /// ([`TaskError::cause`]), which is its [`source`](std::error::Error::source): the message does
-/// not repeat it, an error chain printed in full (`{:#}` of `anyhow`, [`crate::Chain`]) says
+/// not repeat it, an error chain printed in full (`{:#}` of `anyhow`, [`crate::fault::Chain`]) says
 /// it once.
 #[derive(Debug, Clone)]
 pub struct TaskError {
@@ -49,7 +49,11 @@ impl Error for TaskError {
 impl PartialEq for TaskError {
     /// Equal when the file, field, message and the cause's message are.
     fn eq(&self, other: &Self) -> bool {
-        let cause = |e: &Self| e.cause.as_ref().map(|c| crate::Chain(&**c).to_string());
+        let cause = |e: &Self| {
+            e.cause
+                .as_ref()
+                .map(|c| crate::fault::Chain(&**c).to_string())
+        };
         (&self.file, &self.field, &self.message) == (&other.file, &other.field, &other.message)
             && cause(self) == cause(other)
     }
@@ -127,12 +131,15 @@ mod tests {
         let err = TaskError::caused_by("t.yaml", "candidates.file", cause);
         assert_eq!(err.to_string(), "t.yaml: field 'candidates.file'");
         // The whole chain, as an application prints it, names the cause once.
-        let chain = crate::Chain(&err).to_string();
+        let chain = crate::fault::Chain(&err).to_string();
         assert_eq!(chain, "t.yaml: field 'candidates.file': no such file");
         let kept = err.cause.as_ref().expect("the cause is kept");
         assert!(kept.downcast_ref::<std::io::Error>().is_some());
         let read =
             TaskError::with_source("t.yaml", "", "cannot read", std::io::Error::other("disk"));
-        assert_eq!(crate::Chain(&read).to_string(), "t.yaml: cannot read: disk");
+        assert_eq!(
+            crate::fault::Chain(&read).to_string(),
+            "t.yaml: cannot read: disk"
+        );
     }
 }

@@ -135,7 +135,7 @@ impl PathError {
 }
 
 impl crate::fault::Classify for PathError {
-    /// More samples than the limit is [`ErrorKind`](crate::ErrorKind)`::Limit`; everything else
+    /// More samples than the limit is [`ErrorKind`](crate::fault::ErrorKind)`::Limit`; everything else
     /// is `Content`. (The field is [`PathError::field`].)
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         Some(match self {

@@ -65,7 +65,7 @@ pub enum HandError {
 }
 
 impl crate::fault::Classify for HandError {
-    /// A robot error's own kind; everything else is [`ErrorKind`](crate::ErrorKind)`::Content`.
+    /// A robot error's own kind; everything else is [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         match self {
             Self::Robot(e) => e.kind(),
@@ -320,7 +320,7 @@ pub fn hand_from_urdf(
                 urdf_rs::Geometry::Mesh { filename, scale } => {
                     let path = meshes.resolve(filename, robot.source_name(), name)?;
                     let mesh = read_mesh(&path)
-                        .map_err(|e| geometry_error(crate::Chain(&e).to_string()))?;
+                        .map_err(|e| geometry_error(crate::fault::Chain(&e).to_string()))?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
                     let points = mesh
                         .vertices

@@ -45,7 +45,7 @@ macro_rules! bad_input {
 /// library's classification ([`graspath::fault_of`]: an unusable file, bad content, a resource
 /// limit) says the input is at fault; [`INTERNAL`] otherwise.
 pub fn code_of(error: &anyhow::Error) -> u8 {
-    let bad_input = error.chain().any(|cause| cause.is::<BadInput>())
+    let bad_input = error.chain().any(<dyn std::error::Error>::is::<BadInput>)
         || graspath::fault_of(error.as_ref()).is_some_and(|fault| fault.kind.is_bad_input());
     if bad_input {
         BAD_INPUT

@@ -1,13 +1,8 @@
-//! Exit codes, and the classification of errors into them by their type (never by their text).
+//! Exit codes, derived from the library's classification of errors (never from their text),
+//! and the one-line message of a failed run.
 
-use graspath::cloud::CloudError;
-use graspath::fsutil::OutputError;
-use graspath::geometry::PoseError;
-use graspath::grasp::hand::HandError;
-use graspath::grasp::model::ModelError;
-use graspath::grasp::CandidateError;
+use graspath::fsutil::{OutputError, OutputErrorKind};
 use graspath::robot::RobotError;
-use graspath::task::TaskError;
 
 /// Success.
 pub const SUCCESS: u8 = 0;
@@ -46,52 +41,92 @@ macro_rules! bad_input {
     };
 }
 
-/// The exit code of a failed run: the first error in the chain (outermost first) whose type
-/// says what it is; [`INTERNAL`] when none does.
+/// The exit code of a failed run: [`BAD_INPUT`] when the CLI's own [`BadInput`] or the
+/// library's classification ([`graspath::fault_of`]: an unusable file, bad content, a resource
+/// limit) says the input is at fault; [`INTERNAL`] otherwise.
 pub fn code_of(error: &anyhow::Error) -> u8 {
-    for cause in error.chain() {
-        if let Some(output) = cause.downcast_ref::<OutputError>() {
-            return if output.is_refusal() {
-                BAD_INPUT
-            } else {
-                INTERNAL
-            };
-        }
-        if cause.is::<BadInput>()
-            || cause.is::<TaskError>()
-            || cause.is::<CandidateError>()
-            || cause.is::<ModelError>()
-            || cause.is::<CloudError>()
-            || cause.is::<HandError>()
-            || cause.is::<RobotError>()
-            || cause.is::<PoseError>()
-        {
-            return BAD_INPUT;
-        }
+    let bad_input = error.chain().any(<dyn std::error::Error>::is::<BadInput>)
+        || graspath::fault_of(error.as_ref()).is_some_and(|fault| fault.kind.is_bad_input());
+    if bad_input {
+        BAD_INPUT
+    } else {
+        INTERNAL
     }
-    INTERNAL
+}
+
+/// The one-line message of a failed run: each error of the chain, outermost first, joined by
+/// `": "`. Where a library error says what to do in the library's terms, the line says it with
+/// the command line's flags.
+pub fn message(error: &anyhow::Error) -> String {
+    error
+        .chain()
+        .map(|cause| with_flags(cause).unwrap_or_else(|| cause.to_string()))
+        .collect::<Vec<_>>()
+        .join(": ")
+}
+
+/// The message of a library error that the command line has a flag for, in the command line's
+/// words; `None` for the others.
+fn with_flags(error: &(dyn std::error::Error + 'static)) -> Option<String> {
+    if let Some(output) = error.downcast_ref::<OutputError>() {
+        let path = output.path.display();
+        return match &output.kind {
+            OutputErrorKind::FileExists => Some(format!(
+                "{path}: the file exists; use --force to replace it, or choose another path"
+            )),
+            OutputErrorKind::FolderNotEmpty(example) => Some(format!(
+                "{path}: the folder exists and is not empty (it holds '{example}'); use --force \
+                 to replace it and everything in it, or choose another folder"
+            )),
+            _ => None,
+        };
+    }
+    if let Some(RobotError::MjcfNotUrdf { source_name }) = error.downcast_ref::<RobotError>() {
+        return Some(format!(
+            "{source_name}: not a valid URDF: this is a MuJoCo MJCF file (root <mujoco>): give \
+             it as `robot: {{mjcf: FILE}}` in a task file or `--mjcf FILE` on the command line"
+        ));
+    }
+    None
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use anyhow::Context;
+    use graspath::fsutil::Existing;
 
     #[test]
     fn errors_are_classified_by_type_through_their_context() {
         let input: anyhow::Result<()> = Err(bad_input!("--start: 'x' is not a number"));
         assert_eq!(code_of(&input.context("outer").unwrap_err()), BAD_INPUT);
-        let task = TaskError::new("t.yaml", "arms", "unknown arm");
+        let task = graspath::task::TaskError::new("t.yaml", "arms", "unknown arm");
         assert_eq!(code_of(&anyhow::Error::new(task)), BAD_INPUT);
         let io = std::io::Error::other("disk full");
         assert_eq!(code_of(&anyhow::Error::new(io)), INTERNAL);
-        let refused = graspath::fsutil::write_file(
-            std::path::Path::new("/dev/null"),
-            b"",
-            graspath::fsutil::Existing::Replace,
-        )
-        .unwrap_err();
+        let refused =
+            graspath::fsutil::write_file(std::path::Path::new("/dev/null"), b"", Existing::Replace)
+                .unwrap_err();
         assert_eq!(code_of(&anyhow::Error::new(refused)), BAD_INPUT);
         assert_eq!(code_of(&anyhow::anyhow!("unexpected")), INTERNAL);
+    }
+
+    #[test]
+    fn the_message_names_the_flag_that_replaces_an_output() {
+        let dir = std::env::temp_dir().join(format!("graspath-exit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("out.json");
+        std::fs::write(&file, b"{}").unwrap();
+        let refused = graspath::fsutil::check_file_target(&file, Existing::Refuse).unwrap_err();
+        let error = anyhow::Error::new(refused).context("cannot write");
+        assert_eq!(
+            message(&error),
+            format!(
+                "cannot write: {}: the file exists; use --force to replace it, or choose another path",
+                file.display()
+            )
+        );
+        assert_eq!(code_of(&error), BAD_INPUT);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -85,7 +85,7 @@ fn main() -> ExitCode {
         Ok(Finished::Done) => exit::SUCCESS,
         Ok(Finished::NothingSelected) => exit::NOTHING_SELECTED,
         Err(error) => {
-            eprintln!("graspath: error: {error:#}");
+            eprintln!("graspath: error: {}", exit::message(&error));
             exit::code_of(&error)
         }
     })

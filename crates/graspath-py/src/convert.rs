@@ -1,5 +1,5 @@
 //! Conversions between numpy arrays / Python objects and the library's types, and the mapping
-//! of library errors to `graspath.GraspathError`.
+//! of library errors to the exceptions of `graspath/_errors.py` by their kind.
 //!
 //! Arrays come in as anything numpy can turn into `float64` (lists, int arrays, views). A
 //! C-contiguous float64 array is read where it lies; any other layout (Fortran order, strided
@@ -9,9 +9,9 @@
 //! no memory itself but would be copied whole. Complex arrays are refused, never converted
 //! (numpy's cast would drop their imaginary part).
 
-use crate::GraspathError;
 use graspath::geometry::{pose_from_rows, pose_to_rows};
 use graspath::task::JacobianRows;
+use graspath::ErrorKind;
 use nalgebra::Isometry3;
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{
@@ -21,7 +21,6 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use std::borrow::Cow;
-use std::fmt::Display;
 
 /// The largest row-major copy made of an array that is not C-contiguous `float64` (bytes).
 pub const MAX_COPY_BYTES: usize = 1 << 30;
@@ -75,9 +74,67 @@ pub fn index_mode(mode: &str, length_scale: f64) -> PyResult<JacobianRows> {
     }
 }
 
-/// A library error as a `graspath.GraspathError` carrying the library's message.
-pub fn error(e: impl Display) -> PyErr {
-    GraspathError::new_err(e.to_string())
+/// A message of the bindings themselves (an argument with a bad value, type or shape) as a
+/// `graspath.GraspathValueError`.
+pub fn error(message: impl Into<String>) -> PyErr {
+    raise("GraspathValueError", message.into(), None, None, None)
+}
+
+/// A library error as the exception of its kind (`graspath/_errors.py`): the library's whole
+/// message with its causes, the `file` and `field` at fault, and `errno` for a file error that
+/// has one.
+pub fn lib_error(e: impl Into<graspath::Error>) -> PyErr {
+    let e = e.into();
+    let fault = e.fault();
+    let class = match fault.kind {
+        ErrorKind::File if fault.io == Some(std::io::ErrorKind::NotFound) => {
+            "GraspathFileNotFoundError"
+        }
+        ErrorKind::File => "GraspathFileError",
+        ErrorKind::Content | ErrorKind::Limit => "GraspathValueError",
+        _ if fault.io.is_some() => "GraspathFileError",
+        _ => "GraspathError",
+    };
+    let errno = std::iter::successors(Some(&e as &(dyn std::error::Error + 'static)), |e| {
+        e.source()
+    })
+    .find_map(|e| e.downcast_ref::<std::io::Error>()?.raw_os_error());
+    raise(
+        class,
+        graspath::Chain(&e).to_string(),
+        fault.file,
+        fault.field,
+        errno,
+    )
+}
+
+/// An instance of `graspath._errors.<class>` with `message`, `file`, `field` and (when given)
+/// `errno`, as a `PyErr`.
+fn raise(
+    class: &str,
+    message: String,
+    file: Option<&str>,
+    field: Option<&str>,
+    errno: Option<i32>,
+) -> PyErr {
+    Python::attach(|py| {
+        let made = || -> PyResult<Bound<'_, PyAny>> {
+            let exception = py
+                .import("graspath._errors")?
+                .getattr(class)?
+                .call1((message.as_str(),))?;
+            exception.setattr("file", file)?;
+            exception.setattr("field", field)?;
+            if let Some(errno) = errno {
+                exception.setattr("errno", errno)?;
+            }
+            Ok(exception)
+        };
+        match made() {
+            Ok(exception) => PyErr::from_value(exception),
+            Err(e) => e,
+        }
+    })
 }
 
 /// A keyword argument that was renamed: the value given under `new_name`, or the one given
@@ -97,7 +154,7 @@ pub fn renamed_keyword<T>(
             let message = std::ffi::CString::new(format!(
                 "{old_name} is deprecated: use {new_name} (same meaning)"
             ))
-            .map_err(error)?;
+            .map_err(|e| error(e.to_string()))?;
             PyErr::warn(
                 py,
                 &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
@@ -302,7 +359,7 @@ pub fn array<'py>(
     data: Vec<f64>,
     shape: &[usize],
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let array = ArrayD::from_shape_vec(IxDyn(shape), data).map_err(error)?;
+    let array = ArrayD::from_shape_vec(IxDyn(shape), data).map_err(|e| error(e.to_string()))?;
     Ok(array.into_pyarray(py))
 }
 

@@ -8,7 +8,7 @@
 //! `camera_from_object` and `world_from_object`, the generator's gripper frame mapped to the
 //! tool frame by `gripper_from_tool` (default: the format's documented convention).
 
-use crate::convert::{array, error, push_isometry, single_pose, FloatArray};
+use crate::convert::{array, error, lib_error, push_isometry, single_pose, FloatArray};
 use graspath::grasp::{read_grasp_file, GraspFileOptions, GraspFormat, GraspFrame};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -112,7 +112,7 @@ pub fn read_grasps<'py>(
             };
             read_grasp_file(&path, &options)
         })
-        .map_err(error)?;
+        .map_err(lib_error)?;
     let k = candidates.len();
     let mut poses = Vec::with_capacity(16 * k);
     let mut contacts = Vec::with_capacity(3 * k);

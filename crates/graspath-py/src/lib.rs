@@ -24,8 +24,11 @@
 //! * `memory::result_cache` (`graspath.result_cache`): the cache of large result arrays'
 //!   memory, which batch calls write into instead of new memory.
 //!
-//! Every library error becomes a `graspath.GraspathError` (a subclass of `ValueError`) with
-//! the library's message.
+//! Every library error becomes the exception of its kind (`convert::lib_error`, classes in
+//! `python/graspath/_errors.py`, all under `graspath.GraspathError`): a `GraspathFileError`
+//! (`OSError`; `GraspathFileNotFoundError` for a missing input) for a file that cannot be read
+//! or written, a `GraspathValueError` (`ValueError`) for bad content, with the library's whole
+//! message and the `file` and `field` at fault.
 
 mod batch;
 mod convert;
@@ -44,20 +47,11 @@ mod timing;
 
 use pyo3::prelude::*;
 
-pyo3::create_exception!(
-    graspath,
-    GraspathError,
-    pyo3::exceptions::PyValueError,
-    "An error reported by graspath: bad input (a file, a field, an array's shape or values) \
-     with the library's message. A subclass of ValueError."
-);
-
 /// The native module. Python code imports `graspath`, which re-exports everything here.
 #[pymodule]
 #[pyo3(name = "_graspath")]
 fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = module.py();
-    module.add("GraspathError", py.get_type::<GraspathError>())?;
     module.add_class::<robot::PyRobot>()?;
     module.add_class::<task::PyTask>()?;
     module.add_class::<selection::PySelection>()?;

@@ -143,7 +143,8 @@ fn new_array<'py>(
         None => (new_buffer(len), false),
     };
     let owner = Bound::new(py, ResultBuffer { data })?;
-    let view = ArrayView::from_shape(IxDyn(shape), &owner.get().data[..len]).map_err(error)?;
+    let view = ArrayView::from_shape(IxDyn(shape), &owner.get().data[..len])
+        .map_err(|e| error(e.to_string()))?;
     // SAFETY: the array's base is `owner`, which holds the buffer and never touches or
     // reallocates it while it lives; the buffer goes back to the cache only when `owner` is
     // dropped, after every array on it. The array is the only writer of the buffer.

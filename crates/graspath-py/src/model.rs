@@ -4,7 +4,7 @@
 //! Frames and units as in the library: candidates are `object_from_wrist` poses (m) in the
 //! cloud's (object) frame, likelihoods as natural logarithms.
 
-use crate::convert::{array, error};
+use crate::convert::{array, lib_error};
 use graspath::cloud::{load_cloud_filtered, OutlierOptions};
 use graspath::fsutil::{write_file, Existing};
 use graspath::geometry::pose_to_rows;
@@ -29,9 +29,11 @@ pub fn train<'py>(
     out: PathBuf,
     force: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let model = py.detach(|| train_file(&demonstration)).map_err(error)?;
-    let bytes = model.to_json().map_err(error)?;
-    write_file(&out, &bytes, Existing::replace_if(force)).map_err(error)?;
+    let model = py
+        .detach(|| train_file(&demonstration))
+        .map_err(lib_error)?;
+    let bytes = model.to_json().map_err(lib_error)?;
+    write_file(&out, &bytes, Existing::replace_if(force)).map_err(lib_error)?;
     let dict = PyDict::new(py);
     dict.set_item("label", &model.label)?;
     dict.set_item("hand", &model.hand.name)?;
@@ -87,21 +89,19 @@ pub fn generate<'py>(
     };
     let source = cloud.display().to_string();
     let (model, candidates) = py
-        .detach(|| -> Result<_, String> {
-            let model = GraspModel::read(&model).map_err(|e| e.to_string())?;
-            let (points, _) = load_cloud_filtered(&cloud, &OutlierOptions::default())
-                .map_err(|e| e.to_string())?;
-            let mut candidates = run_generate(&model, &points, &options, &source, &|_| {})
-                .map_err(|e| e.to_string())?;
+        .detach(|| -> Result<_, graspath::Error> {
+            let model = GraspModel::read(&model)?;
+            let (points, _) = load_cloud_filtered(&cloud, &OutlierOptions::default())?;
+            let mut candidates = run_generate(&model, &points, &options, &source, &|_| {})?;
             if let Some(n) = max_candidates {
                 candidates.truncate(n);
             }
             Ok((model, candidates))
         })
-        .map_err(error)?;
+        .map_err(lib_error)?;
     if let Some(out) = out {
-        let bytes = candidates_json(&candidates, &model.label).map_err(error)?;
-        write_file(&out, &bytes, Existing::replace_if(force)).map_err(error)?;
+        let bytes = candidates_json(&candidates, &model.label).map_err(lib_error)?;
+        write_file(&out, &bytes, Existing::replace_if(force)).map_err(lib_error)?;
     }
     let k = candidates.len();
     let poses: Vec<f64> = candidates

@@ -2,7 +2,7 @@
 //! apart (the rows of `graspath.select_batch`, for instance the union of its slices' rows, as
 //! `graspath.ray` gathers them from its shards).
 
-use crate::convert::error;
+use crate::convert::{error, lib_error};
 use crate::task::PyTask;
 use graspath::select::pairs_of_eligible;
 use numpy::PyArray1;
@@ -101,7 +101,7 @@ pub fn select_pairs<'py>(
     let count = top_k.map_or(task.selection.pairs, |k| k.min(task.selection.pairs));
     let (pairs, _) = py
         .detach(|| pairs_of_eligible(task, &eligible[0], &eligible[1], count))
-        .map_err(error)?;
+        .map_err(lib_error)?;
     let numpy = py.import("numpy")?;
     let str_type = py.import("builtins")?.getattr("str")?;
     let text = |values: Vec<String>| -> PyResult<Bound<'py, PyAny>> {
@@ -111,7 +111,7 @@ pub fn select_pairs<'py>(
     };
     let int =
         |values: Vec<usize>| PyArray1::from_vec(py, values.into_iter().map(|v| v as i64).collect());
-    let all = task.all_candidates().map_err(error)?;
+    let all = task.all_candidates().map_err(lib_error)?;
     let dict = PyDict::new(py);
     dict.set_item("rank", int((1..=pairs.len()).collect()))?;
     for (arm, side) in ["first", "second"].into_iter().enumerate() {

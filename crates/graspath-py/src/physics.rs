@@ -2,7 +2,7 @@
 //! (`graspath.world_mjcf`, `graspath.robot_mjcf`) and the timed motions of any candidates
 //! (`graspath.candidate_motions`).
 
-use crate::convert::{array, error};
+use crate::convert::{array, error, lib_error};
 use crate::robot::PyRobot;
 use crate::task::PyTask;
 use graspath::physics::{chain_mjcf, world_mjcf as write_world, ArmNames, WorldOptions};
@@ -88,12 +88,15 @@ pub fn candidate_motions<'py>(
     }
     let mut chosen = Vec::with_capacity(candidates.len());
     for index in candidates {
-        let candidate = task.candidate_at(index).map_err(error)?.ok_or_else(|| {
-            error(format!(
-                "candidates: {index} is past the task's {} candidates",
-                task.candidate_count()
-            ))
-        })?;
+        let candidate = task
+            .candidate_at(index)
+            .map_err(lib_error)?
+            .ok_or_else(|| {
+                error(format!(
+                    "candidates: {index} is past the task's {} candidates",
+                    task.candidate_count()
+                ))
+            })?;
         chosen.push(candidate);
     }
     match py.detach(|| motions_of(task, &chosen, period)) {
@@ -148,7 +151,7 @@ pub fn world_mjcf<'py>(
         arm_gravity_compensation,
         ..WorldOptions::default()
     };
-    let world = write_world(&task.get().task, &options).map_err(error)?;
+    let world = write_world(&task.get().task, &options).map_err(lib_error)?;
     let dict = PyDict::new(py);
     dict.set_item("xml", &world.xml)?;
     let arms = world
@@ -174,6 +177,6 @@ pub fn robot_mjcf<'py>(
     robot: &Bound<'py, PyRobot>,
     arm: &str,
 ) -> PyResult<(String, Bound<'py, PyDict>)> {
-    let (xml, names) = chain_mjcf(&robot.get().chain, arm).map_err(error)?;
+    let (xml, names) = chain_mjcf(&robot.get().chain, arm).map_err(lib_error)?;
     Ok((xml, arm_dict(py, &names)?))
 }

@@ -1,7 +1,7 @@
 //! `graspath.placement_map`: a task's selection with the object started at every placement of
 //! a grid, as `graspath map` runs it, returned as the same document as its `map.json`.
 
-use crate::convert::{error, json_to_py};
+use crate::convert::{json_to_py, lib_error};
 use graspath::placement::{placement_map as run_map, FamilyParameter, GridAxis, PlacementGrid};
 use graspath::task::{builder_from_file, TaskFile};
 use graspath_report::placement_map_json;
@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// One axis from `(start, end, count)`; `what` names it in errors.
 fn axis(values: (f64, f64, usize), what: &str) -> PyResult<GridAxis> {
     let (start, end, count) = values;
-    GridAxis::new(start, end, count, what).map_err(error)
+    GridAxis::new(start, end, count, what).map_err(lib_error)
 }
 
 /// The task file at ``task`` run with the object's start moved to every placement of a grid:
@@ -41,14 +41,14 @@ pub fn placement_map<'py>(
             .transpose()?,
     };
     let name = task.display().to_string();
-    let file = TaskFile::load(&task).map_err(error)?;
+    let file = TaskFile::load(&task).map_err(lib_error)?;
     let base_dir = task.parent().map(Path::to_path_buf).unwrap_or_default();
-    let builder = builder_from_file(&file, &name, &base_dir).map_err(error)?;
-    let built = builder.clone().build().map_err(error)?;
+    let builder = builder_from_file(&file, &name, &base_dir).map_err(lib_error)?;
+    let built = builder.clone().build().map_err(lib_error)?;
     let parameter = FamilyParameter::from_task_file(&file, &built.candidates);
     drop(built);
     let map = py
         .detach(|| run_map(&builder, &grid, parameter, &|| {}))
-        .map_err(error)?;
+        .map_err(lib_error)?;
     json_to_py(py, &placement_map_json(&name, &map))
 }

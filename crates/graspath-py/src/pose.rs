@@ -1,7 +1,7 @@
 //! Poses given from Python in the task file's pose syntax (`docs/task-file.md`, "Poses"):
 //! `graspath.pose_matrix`, and `Task.load`'s `object_pose`.
 
-use crate::convert::{array, error, push_isometry, single_pose, FloatArray};
+use crate::convert::{array, error, lib_error, push_isometry, single_pose, FloatArray};
 use graspath::geometry::PoseSpec;
 use graspath::task::TaskError;
 use nalgebra::Isometry3;
@@ -78,11 +78,11 @@ pub fn world_from_object(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Isome
             } else {
                 format!("object_pose.{field}")
             };
-            error(TaskError::new(name, field, message))
+            lib_error(TaskError::new(name, field, message))
         });
     }
     let matrix: FloatArray<'_> = value.extract().map_err(|_| {
-        error(TaskError::new(
+        lib_error(TaskError::new(
             name,
             "object_pose",
             "give a dict in the task file's pose syntax or a 4×4 array".to_string(),

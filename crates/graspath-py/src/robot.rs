@@ -10,8 +10,8 @@
 //! are in [`dynamics`].
 
 use crate::convert::{
-    array, check_finite, error, index_mode, non_finite_error, poses, renamed_keyword, row_major,
-    rows, shape_text, single_pose, trajectories, FloatArray,
+    array, check_finite, error, index_mode, lib_error, non_finite_error, poses, renamed_keyword,
+    row_major, rows, shape_text, single_pose, trajectories, FloatArray,
 };
 use crate::memory::{kinematics_into, new_float_array, split_rows, split_rows_ref, ResultArray};
 use graspath::manipulability::{
@@ -62,7 +62,7 @@ impl PyRobot {
         self.dynamics
             .get_or_init(|| self.chain.dynamics().map_err(|e| e.to_string()))
             .as_ref()
-            .map_err(error)
+            .map_err(|e| error(e.as_str()))
     }
 
     /// A dynamics call's model (with `gravity` when given), states and payload, checked, and
@@ -92,7 +92,7 @@ impl PyRobot {
         let model = if gravity == model.gravity() {
             Cow::Borrowed(model)
         } else {
-            Cow::Owned(model.clone().with_gravity(gravity).map_err(error)?)
+            Cow::Owned(model.clone().with_gravity(gravity).map_err(lib_error)?)
         };
         dynamics::evaluate(py, &model, payload, quantity, &states)
     }
@@ -233,8 +233,8 @@ impl PyRobot {
     #[pyo3(signature = (arm = "left", tool = None))]
     fn baxter(arm: &str, tool: Option<FloatArray<'_>>) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let model = RobotSource::builtin("baxter").load().map_err(error)?;
-        Ok(Self::new(model.named_chain(arm, tool).map_err(error)?))
+        let model = RobotSource::builtin("baxter").load().map_err(lib_error)?;
+        Ok(Self::new(model.named_chain(arm, tool).map_err(lib_error)?))
     }
 
     /// A built-in robot's chain: ``name`` is one of ``baxter``, ``panda``, ``fr3``, ``ur5``,
@@ -246,12 +246,12 @@ impl PyRobot {
     #[pyo3(signature = (name, arm = None, tool = None))]
     fn builtin(name: &str, arm: Option<&str>, tool: Option<FloatArray<'_>>) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let model = RobotSource::builtin(name).load().map_err(error)?;
+        let model = RobotSource::builtin(name).load().map_err(lib_error)?;
         let arm = match arm {
             Some(arm) => arm.to_string(),
             None => model.chain_names().first().cloned().unwrap_or_default(),
         };
-        Ok(Self::new(model.named_chain(&arm, tool).map_err(error)?))
+        Ok(Self::new(model.named_chain(&arm, tool).map_err(lib_error)?))
     }
 
     /// The chain ``base_link`` → ``tip_link`` of a URDF file, optionally with a tool offset
@@ -276,9 +276,9 @@ impl PyRobot {
             xacro_args: xacro_args.unwrap_or_default(),
         }
         .load()
-        .map_err(error)?;
+        .map_err(lib_error)?;
         Ok(Self::new(
-            model.chain(base_link, tip_link, tool).map_err(error)?,
+            model.chain(base_link, tip_link, tool).map_err(lib_error)?,
         ))
     }
 
@@ -294,9 +294,9 @@ impl PyRobot {
         tool: Option<FloatArray<'_>>,
     ) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let model = RobotSource::mjcf(path).load().map_err(error)?;
+        let model = RobotSource::mjcf(path).load().map_err(lib_error)?;
         Ok(Self::new(
-            model.chain(base_body, tip_body, tool).map_err(error)?,
+            model.chain(base_body, tip_body, tool).map_err(lib_error)?,
         ))
     }
 
@@ -311,9 +311,9 @@ impl PyRobot {
         source_name: &str,
     ) -> PyResult<Self> {
         let tool = tool_pose(tool)?;
-        let robot = UrdfRobot::from_xml(xml, source_name).map_err(error)?;
+        let robot = UrdfRobot::from_xml(xml, source_name).map_err(lib_error)?;
         Ok(Self::new(
-            robot.chain(base_link, tip_link, tool).map_err(error)?,
+            robot.chain(base_link, tip_link, tool).map_err(lib_error)?,
         ))
     }
 
@@ -373,7 +373,7 @@ impl PyRobot {
         for (joint, (lower, upper)) in &limits {
             chain = chain
                 .with_joint_range(joint, *lower, *upper)
-                .map_err(error)?;
+                .map_err(lib_error)?;
         }
         Ok(Self::new(chain))
     }
@@ -396,8 +396,8 @@ impl PyRobot {
                 .unbind());
         };
         let flags = PyArray1::<bool>::zeros(py, n, false);
-        let mut guard = flags.try_readwrite().map_err(error)?;
-        let out = guard.as_slice_mut().map_err(error)?;
+        let mut guard = flags.try_readwrite().map_err(|e| error(e.to_string()))?;
+        let out = guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
         let chain = &self.chain;
         py.detach(|| {
             split_rows_ref(&data, dof, n, SCALAR_CHUNK)
@@ -492,7 +492,7 @@ impl PyRobot {
             let mut jacobian = Matrix6xX::zeros(dof);
             chain
                 .pose_and_jacobian_into(&data, &mut jacobian)
-                .map_err(error)?;
+                .map_err(lib_error)?;
             let values = singular_values(&jacobian, part);
             let indices = ClassicalIndices::from_singular_values(&values);
             dict.set_item(names[0], indices.yoshikawa)?;
@@ -510,16 +510,18 @@ impl PyRobot {
         let singular = new_float_array(py, &[n, rows])?;
         let mut guards = columns
             .iter()
-            .map(|c| c.try_readwrite().map_err(error))
+            .map(|c| c.try_readwrite().map_err(|e| error(e.to_string())))
             .collect::<PyResult<Vec<_>>>()?;
-        let mut singular_guard = singular.try_readwrite().map_err(error)?;
+        let mut singular_guard = singular.try_readwrite().map_err(|e| error(e.to_string()))?;
         let [yoshikawa_out, condition_out, squared_out] = match guards.as_mut_slice() {
-            [a, b, c] => [a, b, c].map(|g| g.as_slice_mut().map_err(error)),
+            [a, b, c] => [a, b, c].map(|g| g.as_slice_mut().map_err(|e| error(e.to_string()))),
             _ => return Err(error("three index columns")),
         };
         let (yoshikawa_out, condition_out, squared_out) =
             (yoshikawa_out?, condition_out?, squared_out?);
-        let singular_out = singular_guard.as_slice_mut().map_err(error)?;
+        let singular_out = singular_guard
+            .as_slice_mut()
+            .map_err(|e| error(e.to_string()))?;
         py.detach(|| {
             split_rows_ref(&data, dof, n, INDEX_CHUNK)
                 .into_par_iter()
@@ -601,7 +603,7 @@ impl PyRobot {
         if batch.is_some() {
             return Err(error("joint_origins takes one configuration, shape (dof,)"));
         }
-        let points = self.chain.joint_origins(&data).map_err(error)?;
+        let points = self.chain.joint_origins(&data).map_err(lib_error)?;
         let count = points.len();
         let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
         Ok(array(py, flat, &[count, 3])?.into_any().unbind())
@@ -689,7 +691,7 @@ impl PyRobot {
         let Some(n) = batch else {
             let s = py
                 .detach(|| solve_ik(chain, &targets[0], &starts, &options))
-                .map_err(error)?;
+                .map_err(lib_error)?;
             dict.set_item("q", s.q.clone().map(|q| PyArray1::from_vec(py, q)))?;
             dict.set_item("converged", s.converged())?;
             dict.set_item("position_error", s.position_error)?;
@@ -716,18 +718,36 @@ impl PyRobot {
         let iterations_out = PyArray1::<i64>::zeros(py, n, false);
         let mut reasons: Vec<Option<&'static str>> = vec![None; n];
         {
-            let mut q_guard = q_out.try_readwrite().map_err(error)?;
-            let mut best_guard = best_out.try_readwrite().map_err(error)?;
-            let mut converged_guard = converged_out.try_readwrite().map_err(error)?;
-            let mut position_guard = errors_out[0].try_readwrite().map_err(error)?;
-            let mut rotation_guard = errors_out[1].try_readwrite().map_err(error)?;
-            let mut iterations_guard = iterations_out.try_readwrite().map_err(error)?;
-            let q_rows = q_guard.as_slice_mut().map_err(error)?;
-            let best_rows = best_guard.as_slice_mut().map_err(error)?;
-            let converged = converged_guard.as_slice_mut().map_err(error)?;
-            let position = position_guard.as_slice_mut().map_err(error)?;
-            let rotation = rotation_guard.as_slice_mut().map_err(error)?;
-            let iterations = iterations_guard.as_slice_mut().map_err(error)?;
+            let mut q_guard = q_out.try_readwrite().map_err(|e| error(e.to_string()))?;
+            let mut best_guard = best_out.try_readwrite().map_err(|e| error(e.to_string()))?;
+            let mut converged_guard = converged_out
+                .try_readwrite()
+                .map_err(|e| error(e.to_string()))?;
+            let mut position_guard = errors_out[0]
+                .try_readwrite()
+                .map_err(|e| error(e.to_string()))?;
+            let mut rotation_guard = errors_out[1]
+                .try_readwrite()
+                .map_err(|e| error(e.to_string()))?;
+            let mut iterations_guard = iterations_out
+                .try_readwrite()
+                .map_err(|e| error(e.to_string()))?;
+            let q_rows = q_guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
+            let best_rows = best_guard
+                .as_slice_mut()
+                .map_err(|e| error(e.to_string()))?;
+            let converged = converged_guard
+                .as_slice_mut()
+                .map_err(|e| error(e.to_string()))?;
+            let position = position_guard
+                .as_slice_mut()
+                .map_err(|e| error(e.to_string()))?;
+            let rotation = rotation_guard
+                .as_slice_mut()
+                .map_err(|e| error(e.to_string()))?;
+            let iterations = iterations_guard
+                .as_slice_mut()
+                .map_err(|e| error(e.to_string()))?;
             let failed = py.detach(|| {
                 q_rows
                     .par_chunks_mut(dof.max(1))
@@ -776,7 +796,7 @@ impl PyRobot {
                     .min_by_key(|(k, _)| *k)
             });
             if let Some((_, e)) = failed {
-                return Err(error(e));
+                return Err(lib_error(e));
             }
         }
         dict.set_item("q", q_out)?;
@@ -861,12 +881,12 @@ impl PyRobot {
         let batch_of: Vec<&[Isometry3<f64>]> = trajectories.iter().map(Vec::as_slice).collect();
         let results = py
             .detach(|| solve_trajectories(chain, &batch_of, &q_start, &options))
-            .map_err(error)?;
+            .map_err(lib_error)?;
         let mut dicts = Vec::with_capacity(results.len());
         for (k, result) in results.into_iter().enumerate() {
             let result = match (result, batch) {
                 (Ok(result), _) => result,
-                (Err(e), None) => return Err(error(e)),
+                (Err(e), None) => return Err(lib_error(e)),
                 (Err(e), Some(_)) => return Err(error(format!("targets[{k}]: {e}"))),
             };
             dicts.push(trajectory_dict(py, &result, dof)?);
@@ -902,7 +922,7 @@ impl PyRobot {
         let mut jacobian = Matrix6xX::zeros(self.chain.dof());
         self.chain
             .pose_and_jacobian_into(&q, &mut jacobian)
-            .map_err(error)?;
+            .map_err(lib_error)?;
         let basis = null_space(&jacobian, rows, tolerance);
         let (dof, k) = basis.shape();
         // nalgebra is column-major; numpy wants rows.
@@ -983,7 +1003,7 @@ impl PyRobot {
         // The seed must be a feasible path: on its targets, inside the limits, small steps.
         let (lower, upper) = (self.chain.lower(), self.chain.upper());
         for (i, (q, target)) in seed.iter().zip(&targets).enumerate() {
-            let pose = self.chain.pose(q).map_err(error)?;
+            let pose = self.chain.pose(q).map_err(lib_error)?;
             let off = (pose.translation.vector - target.translation.vector).norm();
             let turn = pose
                 .rotation
@@ -1224,19 +1244,19 @@ impl PyRobot {
             .as_mut()
             .map(|g| g.as_slice_mut())
             .transpose()
-            .map_err(error)?;
+            .map_err(|e| error(e.to_string()))?;
         let jacobian_slice = jacobian_guard
             .as_mut()
             .map(|g| g.as_slice_mut())
             .transpose()
-            .map_err(error)?;
+            .map_err(|e| error(e.to_string()))?;
         let chain = &self.chain;
         py.detach(|| kinematics_into(chain, &data, pose_slice, jacobian_slice, fresh))
             .map_err(|e| match e {
                 RobotError::NonFiniteJoint { index } => {
                     non_finite_error(index, dof, "q", batch.is_some())
                 }
-                e => error(e),
+                e => lib_error(e),
             })?;
         drop((pose_guard, jacobian_guard));
         Ok((
@@ -1294,8 +1314,8 @@ impl PyRobot {
             return Ok(result.into_pyobject(py)?.into_any().unbind());
         };
         let values = new_float_array(py, &[n])?;
-        let mut guard = values.try_readwrite().map_err(error)?;
-        let out = guard.as_slice_mut().map_err(error)?;
+        let mut guard = values.try_readwrite().map_err(|e| error(e.to_string()))?;
+        let out = guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
         py.detach(|| {
             split_rows_ref(&data, dof, n, INDEX_CHUNK)
                 .into_par_iter()

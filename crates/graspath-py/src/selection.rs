@@ -1,7 +1,7 @@
 //! `graspath.select` and `graspath.Selection`: scoring and ranking every candidate of a task,
 //! with the same records the CLI writes (`candidates.json`, `pairs.json`, `summary.json`).
 
-use crate::convert::{array, error, json_to_py};
+use crate::convert::{array, error, json_to_py, lib_error};
 use crate::record::set_numpy_columns;
 use crate::task::PyTask;
 use graspath::fsutil::{write_files, Existing};
@@ -22,7 +22,7 @@ pub struct PySelection {
 
 /// Pretty JSON with a final newline, exactly as `graspath select` writes its files.
 fn pretty(value: &serde_json::Value) -> PyResult<Vec<u8>> {
-    let mut bytes = serde_json::to_vec_pretty(value).map_err(error)?;
+    let mut bytes = serde_json::to_vec_pretty(value).map_err(|e| error(e.to_string()))?;
     bytes.push(b'\n');
     Ok(bytes)
 }
@@ -35,7 +35,7 @@ fn pretty(value: &serde_json::Value) -> PyResult<Vec<u8>> {
 #[pyfunction]
 pub fn select(py: Python<'_>, task: &Bound<'_, PyTask>) -> PyResult<PySelection> {
     let task = task.get().task.clone();
-    task.check_selection_memory().map_err(error)?;
+    task.check_selection_memory().map_err(lib_error)?;
     let selection = py.detach(|| run_selection(&task, &|| {}));
     Ok(PySelection { task, selection })
 }
@@ -193,7 +193,7 @@ impl PySelection {
             trajectory_files(&self.task, &self.selection, period)
                 .map_err(|f| error(format!("cannot time the motion: {f}")))?,
         );
-        write_files(&out_dir, &files, Existing::Refuse).map_err(error)
+        write_files(&out_dir, &files, Existing::Refuse).map_err(lib_error)
     }
 
     /// The norm used for ranking: ``"rms"``, ``"l2"`` or ``"l1"``.

@@ -2,8 +2,8 @@
 //! ranking settings) from a task file, task text, a dict, or numpy arrays.
 
 use crate::convert::{
-    array, check_shape, error, index_mode, poses, push_isometry, renamed_keyword, single_pose,
-    Buffer, FloatArray,
+    array, check_shape, error, index_mode, lib_error, poses, push_isometry, renamed_keyword,
+    single_pose, Buffer, FloatArray,
 };
 use crate::pose::world_from_object;
 use crate::robot::PyRobot;
@@ -142,10 +142,10 @@ impl PyTask {
             .transpose()?;
         if candidates.is_none() && world_from_object.is_none() {
             return Ok(Self {
-                task: Task::load(&path).map_err(error)?,
+                task: Task::load(&path).map_err(lib_error)?,
             });
         }
-        let mut file = TaskFile::load(&path).map_err(error)?;
+        let mut file = TaskFile::load(&path).map_err(lib_error)?;
         if let Some(candidates) = candidates {
             let candidates = std::path::absolute(&candidates)
                 .map_err(|e| error(format!("{}: {e}", candidates.display())))?;
@@ -161,7 +161,7 @@ impl PyTask {
                 .and_then(TaskBuilder::build),
         };
         Ok(Self {
-            task: task.map_err(error)?,
+            task: task.map_err(lib_error)?,
         })
     }
 
@@ -170,10 +170,10 @@ impl PyTask {
     #[staticmethod]
     #[pyo3(signature = (text, format = "yaml", base_dir = None, name = "<task>"))]
     fn parse(text: &str, format: &str, base_dir: Option<PathBuf>, name: &str) -> PyResult<Self> {
-        let file = TaskFile::parse(text, name, format).map_err(error)?;
+        let file = TaskFile::parse(text, name, format).map_err(lib_error)?;
         let base_dir = base_dir.unwrap_or_else(|| PathBuf::from("."));
         Ok(Self {
-            task: Task::from_file(&file, name, &base_dir).map_err(error)?,
+            task: Task::from_file(&file, name, &base_dir).map_err(lib_error)?,
         })
     }
 
@@ -405,7 +405,7 @@ impl PyTask {
                 ..RankedIndex::default()
             })
             .build()
-            .map_err(error)?;
+            .map_err(lib_error)?;
         Ok(Self { task })
     }
 

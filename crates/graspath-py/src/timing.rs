@@ -2,7 +2,7 @@
 //! cubic spline through its samples), the computation every feasible candidate's motion goes
 //! through.
 
-use crate::convert::{array, check_finite, error, Buffer, FloatArray};
+use crate::convert::{array, check_finite, error, lib_error, Buffer, FloatArray};
 use graspath::timing::{Discretization, JointSpline, PathLimits};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -103,7 +103,7 @@ pub fn time_path<'py>(
             };
             Ok((spline, timed, factor))
         })
-        .map_err(error)?;
+        .map_err(lib_error)?;
     let dict = PyDict::new(py);
     dict.set_item("duration", timed.duration())?;
     let knots = spline.knots().to_vec();

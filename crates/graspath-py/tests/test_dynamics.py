@@ -9,7 +9,7 @@ mass matrix (CRBA), with and without a payload at the tool frame.
 * identities that need no oracle: ``τ(q, 0, e_i) − g(q)`` is column ``i`` of ``M(q)``, the
   payload's gravity torques are linear in its mass, a batch equals its rows called alone bit
   for bit, ``M`` of the built-in arms is symmetric positive definite;
-* every bad input is a ``GraspathError`` (a ``ValueError``) naming the argument.
+* every bad input is a ``GraspathValueError`` (a ``ValueError``) naming the argument.
 """
 
 import os
@@ -335,9 +335,9 @@ def test_a_chain_without_joints_gives_empty_results():
 )
 def test_bad_inputs_are_errors_naming_the_argument(call, pattern):
     robot = graspath.Robot.builtin("panda")
-    with pytest.raises(graspath.GraspathError, match=pattern):
+    with pytest.raises(graspath.GraspathValueError, match=pattern):
         call(robot)
-    assert issubclass(graspath.GraspathError, ValueError)
+    assert issubclass(graspath.GraspathValueError, ValueError)
 
 
 def test_signatures_show_the_defaults():

@@ -222,8 +222,13 @@ class TestErrors:
         with pytest.raises(graspath.GraspathError, match="tool: the 3×3 rotation block is not orthonormal"):
             graspath.Robot.baxter("left", tool=tool)
 
-    def test_error_is_a_value_error(self):
-        assert issubclass(graspath.GraspathError, ValueError)
+    def test_bad_input_is_a_value_error(self):
+        tool = np.eye(4)
+        tool[0, 0] = 2.0
+        with pytest.raises(ValueError) as raised:
+            graspath.Robot.baxter("left", tool=tool)
+        assert isinstance(raised.value, graspath.GraspathValueError)
+        assert isinstance(raised.value, graspath.GraspathError)
 
 
 def test_out_arrays_are_filled_and_returned(left):

@@ -40,3 +40,22 @@ def test_signatures_show_their_defaults():
     assert graspath.DEFAULTS, "no defaults exposed"
     for name, value in graspath.DEFAULTS.items():
         assert parameters[name].default == value, name
+
+
+def test_the_exceptions_are_exported_with_their_bases():
+    """The exception classes are typed Python (``_errors.py``), not declared in the native
+    module's stub, and keep ``GraspathError`` as the common base."""
+    from graspath import _errors
+
+    names = {"GraspathError", "GraspathFileError", "GraspathFileNotFoundError", "GraspathValueError"}
+    assert names == set(_errors.__all__)
+    assert names <= set(graspath.__all__)
+    tree = ast.parse(STUB.read_text())
+    assert not names & {n.name for n in tree.body if isinstance(n, ast.ClassDef)}
+    assert issubclass(graspath.GraspathFileNotFoundError, graspath.GraspathFileError)
+    assert issubclass(graspath.GraspathFileNotFoundError, FileNotFoundError)
+    assert issubclass(graspath.GraspathFileError, OSError)
+    assert issubclass(graspath.GraspathValueError, ValueError)
+    for name in names:
+        assert issubclass(getattr(graspath, name), graspath.GraspathError)
+    assert not issubclass(graspath.GraspathError, ValueError)

@@ -96,14 +96,27 @@ impl Existing {
     }
 }
 
-/// Output could not be written: the output path and what is wrong with it.
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {kind}", path.display())]
+/// Output could not be written: the output path and what is wrong with it. Its
+/// [`source`](std::error::Error::source) is the operating system's error when writing failed
+/// ([`OutputErrorKind::Io`]).
+#[derive(Debug)]
 pub struct OutputError {
     /// The output path (the file or folder the caller asked for).
     pub path: PathBuf,
     /// What is wrong.
     pub kind: OutputErrorKind,
+}
+
+impl std::fmt::Display for OutputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.kind)
+    }
+}
+
+impl std::error::Error for OutputError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        std::error::Error::source(&self.kind)
+    }
 }
 
 /// What went wrong with an output path.
@@ -124,16 +137,16 @@ pub enum OutputErrorKind {
         wanted: &'static str,
     },
     /// A regular file exists and replacing was not allowed.
-    #[error("the file exists; use --force to replace it, or choose another path")]
+    #[error("the file exists and replacing it was not allowed; choose another path")]
     FileExists,
     /// A non-empty folder exists and replacing was not allowed.
-    #[error("the folder exists and is not empty (it holds '{0}'); use --force to replace it and everything in it, or choose another folder")]
+    #[error("the folder exists and is not empty (it holds '{0}') and replacing it was not allowed; choose another folder")]
     FolderNotEmpty(String),
     /// Replacing this folder would delete the working folder, one of its ancestors or the home
     /// folder.
     #[error("refusing to replace {0}; choose a new folder")]
     Protected(&'static str),
-    /// The output path is, or holds, an input of the same run (`--force` would delete it).
+    /// The output path is, or holds, an input of the same run (replacing it would delete it).
     #[error("refusing to replace it: it is or holds {}, an input of this run; choose another output", .0.display())]
     HoldsInput(PathBuf),
     /// A component of the path's parent is a file, not a folder.
@@ -145,12 +158,13 @@ pub enum OutputErrorKind {
     /// The same name twice in the set of files.
     #[error("'{0}' is given twice in the set of files")]
     DuplicateName(String),
-    /// An operating-system error while writing.
-    #[error("cannot {action}: {error}")]
+    /// An operating-system error while writing; the error is the source.
+    #[error("cannot {action}")]
     Io {
         /// What was being done, naming the file involved.
         action: String,
         /// The operating system's error.
+        #[source]
         error: std::io::Error,
     },
     /// Replacing an existing folder failed and the old folder could not be put back either.
@@ -201,6 +215,22 @@ impl OutputError {
                 | OutputErrorKind::NotRestored { .. }
                 | OutputErrorKind::OldNotRemoved { .. }
         )
+    }
+}
+
+impl crate::fault::Classify for OutputError {
+    /// A refused path ([`OutputError::is_refusal`]) is [`ErrorKind::File`](crate::fault::ErrorKind):
+    /// the caller's choice; a failure while writing is [`ErrorKind::Internal`](crate::fault::ErrorKind).
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(if self.is_refusal() {
+            crate::fault::ErrorKind::File
+        } else {
+            crate::fault::ErrorKind::Internal
+        })
+    }
+
+    fn file(&self) -> Option<&str> {
+        self.path.to_str()
     }
 }
 
@@ -737,19 +767,6 @@ fn replace_folder(staging: &Path, dir: &Path) -> Result<(), OutputError> {
     }
     std::fs::remove_dir_all(&aside)
         .map_err(|error| OutputError::new(dir, OutputErrorKind::OldNotRemoved { aside, error }))
-}
-
-/// Writes `bytes` to `path` for the library's own file writers (clouds, model and candidate
-/// files): [`write_file`] with [`Existing::Replace`], so an existing regular file is replaced
-/// atomically while links, devices and folders are refused. The error's message does not
-/// repeat the path (callers name it).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    write_file(path, bytes, Existing::Replace).map_err(|e| match e.kind {
-        OutputErrorKind::Io { action, error } => {
-            std::io::Error::new(error.kind(), format!("cannot {action}: {error}"))
-        }
-        kind => std::io::Error::other(kind.to_string()),
-    })
 }
 
 #[cfg(test)]

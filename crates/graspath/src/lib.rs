@@ -35,8 +35,11 @@
 //! 10. [`placement`] — placement maps: the selection run with the object started at every
 //!     placement of a grid (x, y, optionally z and yaw), in parallel, one record per placement.
 //!
-//! Every module has its own error type naming the file and field at fault; [`Error`] gathers
-//! them for applications that handle errors once.
+//! Every module has its own error type naming the file and field at fault, with the error that
+//! caused it kept as its [`source`](std::error::Error::source); [`Error`] gathers them for
+//! applications that handle errors once. Each says what kind of failure it is ([`Classify`],
+//! [`ErrorKind`]: an unusable file, bad content, a resource limit, or internal): the `graspath`
+//! binary's exit codes and the Python exceptions are derived from it.
 //!
 //! Reports (JSON, figures, the HTML 3D view) are in the `graspath-report` crate; the `graspath`
 //! binary and the Python bindings are thin layers over these two.
@@ -74,6 +77,7 @@ pub mod collision;
 mod cpu;
 mod error;
 pub mod failure;
+mod fault;
 pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
@@ -87,4 +91,5 @@ pub mod select;
 pub mod task;
 pub mod timing;
 
-pub use error::{Error, Result};
+pub use error::{fault_of, Error, Result};
+pub use fault::{Chain, Classify, ErrorKind, Fault};

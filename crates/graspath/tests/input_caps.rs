@@ -14,8 +14,9 @@ use std::fs::File;
 use std::path::Path;
 
 /// Makes `name` in `dir` a sparse file one byte over `cap`, reads it with `read`, and checks
-/// that the error names the file and gives the cap.
-fn refused_over_cap<T, E: std::fmt::Display>(
+/// that the error (with its sources) names the file and gives the cap, and that it is
+/// classified as a resource limit.
+fn refused_over_cap<T, E: std::error::Error + 'static>(
     dir: &Path,
     name: &str,
     cap: u64,
@@ -26,7 +27,12 @@ fn refused_over_cap<T, E: std::fmt::Display>(
     let Err(error) = read(&path) else {
         panic!("{name}: a file over the cap was read");
     };
-    let message = error.to_string();
+    let message = graspath::Chain(&error).to_string();
+    assert_eq!(
+        graspath::fault_of(&error).map(|fault| fault.kind),
+        Some(graspath::ErrorKind::Limit),
+        "{message}"
+    );
     assert!(
         message.contains(&path.display().to_string()),
         "the file is not named: {message}"

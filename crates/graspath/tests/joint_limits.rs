@@ -116,7 +116,7 @@ fn a_task_narrows_the_ur_elbow_to_ros_range_and_every_motion_keeps_it() {
 
 fn load_error(joint_limits: &str) -> String {
     let (_dir, path) = ur5e_task(joint_limits).unwrap();
-    Task::load(&path).unwrap_err().to_string()
+    graspath::Chain(&Task::load(&path).unwrap_err()).to_string()
 }
 
 #[test]

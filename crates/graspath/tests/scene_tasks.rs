@@ -237,7 +237,7 @@ fn scene_sections_that_cannot_be_used_name_their_field() {
     .unwrap();
     for (extra, field) in cases {
         let path = task_file(&dir, -0.10, CUBOID, EDGE, extra);
-        let error = Task::load(&path).expect_err(extra).to_string();
+        let error = graspath::Chain(&Task::load(&path).expect_err(extra)).to_string();
         assert!(error.contains(field), "{extra}: {error}");
         assert!(error.contains("task.yaml"), "{extra}: {error}");
     }

@@ -138,7 +138,7 @@ fn the_memory_estimate_bounds_the_selection_and_its_limit_is_checked() {
         .unwrap_err()
         .to_string();
     assert!(
-        message.contains("limits.max_memory_mib") && message.contains("--format jsonl"),
+        message.contains("limits.max_memory_mib") && message.contains("JSON Lines or Parquet"),
         "{message}"
     );
 }

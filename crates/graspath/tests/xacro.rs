@@ -265,8 +265,6 @@ fn a_task_file_gives_xacro_arguments_and_search_paths() {
         "{ urdf: arm.urdf.xacro, search_paths: [share], xacro_args: { 'bad name': 1 }, chains: { arm: { base: base, tip: tip } } }",
     )
     .unwrap_err();
-    assert!(
-        err.to_string().contains("xacro argument 'bad name'"),
-        "{err}"
-    );
+    let err = graspath::Chain(&err).to_string();
+    assert!(err.contains("xacro argument 'bad name'"), "{err}");
 }

@@ -49,7 +49,7 @@ pub struct MapArgs {
 }
 
 fn axis(text: &str, flag: &str) -> Result<GridAxis> {
-    GridAxis::parse(text, flag).map_err(|e| crate::bad_input!("{e}"))
+    Ok(GridAxis::parse(text, flag)?)
 }
 
 fn grid(args: &MapArgs) -> Result<PlacementGrid> {
@@ -89,8 +89,7 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
     drop(task);
     let progress = Progress::new(&args.output, grid.len() as u64, &name, "placements");
     let started = std::time::Instant::now();
-    let map = placement_map(&builder, &grid, parameter, &|| progress.inc())
-        .map_err(|e| crate::bad_input!("{e}"))?;
+    let map = placement_map(&builder, &grid, parameter, &|| progress.inc())?;
     progress.finish();
     let elapsed = started.elapsed();
     let json = placement_map_json(&name, &map);

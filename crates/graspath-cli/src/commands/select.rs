@@ -287,8 +287,9 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
     let trajectories = TrajectoriesArg::or_default_for(args.trajectories, args.format);
     if args.format == Format::Json {
         let task = Task::from_file(&file, &title, &base_dir).context("cannot use the task file")?;
-        task.check_selection_memory()
-            .context("cannot hold the selection in memory")?;
+        task.check_selection_memory().context(
+            "cannot hold the selection in memory (stream it with --format jsonl or parquet)",
+        )?;
         super::print_warnings(&title, &task);
         let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
         let run =

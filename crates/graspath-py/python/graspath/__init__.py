@@ -29,15 +29,24 @@ base frame with Jacobian rows ``[v; ω]``.
   ``N×4×4`` poses, GraspNet / AnyGrasp) as numpy candidates in the object frame.
 * :func:`result_cache` — the cache of large result arrays' memory: batch calls (``Robot.fk``,
   ``fk_jacobian``, ...) write into memory that earlier results freed (at most 1 GiB is kept).
-* :class:`GraspathError` — raised on bad input, a subclass of :class:`ValueError`.
+* :class:`GraspathError` — the base of every exception graspath raises:
+  :class:`GraspathFileError` (an :class:`OSError`; :class:`GraspathFileNotFoundError`, a
+  :class:`FileNotFoundError`, for a missing input) for a file that cannot be read or written,
+  :class:`GraspathValueError` (a :class:`ValueError`) for bad content; each names the ``file``
+  and ``field`` at fault when known.
 
 Grasp generation from point clouds (the learned grasp model) is not offered by this version:
 see the extension point described in ``crates/graspath-py/README.md``.
 """
 
+from ._errors import (
+    GraspathError,
+    GraspathFileError,
+    GraspathFileNotFoundError,
+    GraspathValueError,
+)
 from ._graspath import (
     DEFAULTS,
-    GraspathError,
     Robot,
     Selection,
     Task,
@@ -61,6 +70,9 @@ from ._graspath import (
 __all__ = [
     "DEFAULTS",
     "GraspathError",
+    "GraspathFileError",
+    "GraspathFileNotFoundError",
+    "GraspathValueError",
     "Robot",
     "Selection",
     "Task",

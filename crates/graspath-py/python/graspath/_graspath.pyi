@@ -33,9 +33,6 @@ class Payload(_PayloadMass, total=False):
     com: ArrayLike
     inertia: ArrayLike
 
-class GraspathError(ValueError):
-    """Bad input (a file, a field, an array's shape or values), with the library's message."""
-
 class Robot:
     """A serial kinematic chain from a base link to a tip link (plus an optional tool)."""
 
@@ -102,7 +99,7 @@ class Robot:
     def with_joint_limits(self, limits: Mapping[str, Tuple[float, float]]) -> "Robot":
         """This robot with narrower joint ranges ``{joint: (lower, upper)}`` (rad, or m for a
         prismatic joint), each inside the joint's own range; a continuous joint given a range
-        becomes a revolute one. Raises ``GraspathError`` otherwise."""
+        becomes a revolute one. Raises ``GraspathValueError`` otherwise."""
     def mid_configuration(self) -> FloatArray:
         """The middle of the joint limits ``(dof,)``."""
     @overload
@@ -513,7 +510,7 @@ def pose_matrix(spec: Mapping[str, Sequence[Any]]) -> FloatArray:
     """The 4×4 rigid transform (m) of a pose in the task file's syntax: ``xyz`` (m, default
     zero) with at most one of ``rpy`` (rad, URDF fixed-axis roll-pitch-yaw), ``rpy_deg`` or
     ``quaternion`` ``[x, y, z, w]`` (norm 1 within 0.001), or a ``matrix`` (4×4 rows) alone.
-    Raises :class:`GraspathError` naming the sub-field at fault (``field 'quaternion': …``)."""
+    Raises :class:`GraspathValueError` naming the sub-field at fault (``field 'quaternion': …``)."""
 
 GraspFormatName = Literal[
     "graspath", "graspgen", "acronym", "contact_graspnet", "m2t2", "poses", "graspnet", "anygrasp"

@@ -50,7 +50,7 @@ import re
 from pathlib import Path
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
-from . import GraspathError, Task, pose_matrix
+from . import GraspathError, GraspathValueError, Task, pose_matrix
 
 #: Task file suffixes picked up from a dataset directory.
 TASK_SUFFIXES = (".yaml", ".yml")
@@ -63,8 +63,9 @@ Source = Tuple[str, Optional[str], Optional[Dict[str, List[float]]]]
 the object's start pose (a dict in the task file's pose syntax) or ``None``."""
 
 
-class DatasetError(GraspathError):
-    """A dataset that cannot be read: names the directory, manifest, file or field at fault."""
+class DatasetError(GraspathValueError):
+    """A dataset that cannot be read: names the directory, manifest, file or field at fault (a
+    :class:`ValueError`, as it was before graspath's exceptions had kinds)."""
 
 
 class DatasetObject(NamedTuple):

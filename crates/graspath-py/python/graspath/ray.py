@@ -64,7 +64,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from . import GraspathError, __version__, select_batch, select_pairs
+from . import GraspathError, GraspathFileError, GraspathValueError, __version__, select_batch, select_pairs
 # DatasetError and DatasetObject are part of this module's interface too.
 from .dataset import DatasetError, DatasetObject, Source, dataset_tasks, load_task  # noqa: F401
 
@@ -370,22 +370,22 @@ def select_dataset(
     ``shard_size`` below 1, an existing output) before any work is started."""
     started = time.perf_counter()
     if isinstance(top_k, bool) or not isinstance(top_k, int) or top_k < 1:
-        raise GraspathError(f"top_k must be a positive integer (got {top_k!r})")
+        raise GraspathValueError(f"top_k must be a positive integer (got {top_k!r})")
     if isinstance(shard_size, bool) or not isinstance(shard_size, int) or shard_size < 1:
-        raise GraspathError(f"shard_size must be a positive integer (got {shard_size!r})")
+        raise GraspathValueError(f"shard_size must be a positive integer (got {shard_size!r})")
     if not cpus_per_shard > 0:
-        raise GraspathError(f"cpus_per_shard must be positive (got {cpus_per_shard!r})")
+        raise GraspathValueError(f"cpus_per_shard must be positive (got {cpus_per_shard!r})")
     if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
-        raise GraspathError(f"threads must be a positive integer (got {threads!r})")
+        raise GraspathValueError(f"threads must be a positive integer (got {threads!r})")
     out = Path(out)
     if out.exists() and not overwrite:
-        raise GraspathError(f"{out}: the output exists (pass overwrite=True / --force to replace it)")
+        raise GraspathFileError(f"{out}: the output exists (pass overwrite=True / --force to replace it)")
     if not out.parent.is_dir():
-        raise GraspathError(f"{out.parent}: the output's folder does not exist")
+        raise GraspathFileError(f"{out.parent}: the output's folder does not exist")
     try:
         import pyarrow  # noqa: F401
     except ImportError as e:
-        raise GraspathError(
+        raise GraspathValueError(
             'pyarrow is not installed: pip install pyarrow (or, from a checkout, pip install "./crates/graspath-py[ray]")'
         ) from e
 
@@ -400,7 +400,7 @@ def select_dataset(
         two_arms.append(len(task.arms) == 2)
     pairs_out = pairs_path(out) if any(two_arms) else None
     if pairs_out is not None and pairs_out.exists() and not overwrite:
-        raise GraspathError(f"{pairs_out}: the pairs output exists (pass overwrite=True / --force to replace it)")
+        raise GraspathFileError(f"{pairs_out}: the pairs output exists (pass overwrite=True / --force to replace it)")
     shards = plan_shards(counts, shard_size)
     total = sum(counts)
     log.info("%d objects, %d candidates, %d shards of up to %d candidates", len(objects), total, len(shards), shard_size)
@@ -458,7 +458,7 @@ def _run_on_ray(
     try:
         import ray
     except ImportError as e:
-        raise GraspathError(
+        raise GraspathValueError(
             'ray is not installed: pip install "ray>=2.9" (or, from a checkout, pip install "./crates/graspath-py[ray]"), '
             "or run with local=True / --local"
         ) from e

@@ -6,7 +6,7 @@
 //! in the chain **base frame**; the payload in the **tool frame**; kg, m, kg·m², N·m.
 //! The `#[pymethods]` wrappers are in `robot.rs` (PyO3 wants one block per class).
 
-use crate::convert::{array, check_finite, error, row_major, shape_text, FloatArray};
+use crate::convert::{array, check_finite, error, lib_error, row_major, shape_text, FloatArray};
 use crate::memory::{new_float_array, split_rows};
 use graspath::robot::{Dynamics, DynamicsData, RigidBody, RobotError};
 use graspath::task::{MAX_CENTER_OF_MASS_DISTANCE, MAX_PAYLOAD_MASS};
@@ -274,12 +274,12 @@ pub(super) fn evaluate(
     let tail = tail(quantity, dof);
     let width: usize = tail.iter().product();
     // The payload is checked here, once: the workspaces of the parallel loop cannot fail.
-    let mut workspace = Workspace::new(model, payload).map_err(error)?;
+    let mut workspace = Workspace::new(model, payload).map_err(lib_error)?;
     let Some(n) = states.batch else {
         let mut out = vec![0.0; width];
         workspace
             .evaluate(model, quantity, states, 0, &mut out)
-            .map_err(error)?;
+            .map_err(lib_error)?;
         return Ok(array(py, out, &tail)?.into_any().unbind());
     };
     let shape: Vec<usize> = std::iter::once(n).chain(tail.iter().copied()).collect();
@@ -287,8 +287,8 @@ pub(super) fn evaluate(
     if width == 0 || n == 0 {
         return Ok(result.into_any().unbind());
     }
-    let mut guard = result.try_readwrite().map_err(error)?;
-    let out = guard.as_slice_mut().map_err(error)?;
+    let mut guard = result.try_readwrite().map_err(|e| error(e.to_string()))?;
+    let out = guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
     let failed = py.detach(|| {
         split_rows(out, width, n, DYNAMICS_CHUNK)
             .into_par_iter()

@@ -1,16 +1,31 @@
 //! Errors of reading, writing and sampling clouds. Each names the file (or input) and the
 //! field, line or element at fault.
 
+use crate::fault::{Classify, ErrorKind};
+
 /// An error from point cloud input, output or sampling.
 #[derive(Debug, thiserror::Error)]
 pub enum CloudError {
-    /// The file could not be read or written.
-    #[error("{source_name}: {message}")]
+    /// The file could not be read; the operating system's error is the source.
+    #[error("{source_name}")]
     Io {
         /// The file.
         source_name: String,
-        /// The operating system's message.
-        message: String,
+        /// The operating system's error (or the size cap's, [`crate::input::read`]).
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file could not be written.
+    #[error(transparent)]
+    Output(#[from] crate::fsutil::OutputError),
+    /// A writer failed to encode the cloud in memory (not caused by the input).
+    #[error("{what}")]
+    Encode {
+        /// The writer, e.g. `<ply writer>`.
+        what: &'static str,
+        /// The writer's error.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
     /// The file is malformed.
     #[error("{source_name}: {location}: {message}")]
@@ -107,10 +122,10 @@ impl CloudError {
         }
     }
 
-    pub(crate) fn io(source_name: &str, error: impl std::fmt::Display) -> Self {
+    pub(crate) fn io(source_name: &str, source: std::io::Error) -> Self {
         Self::Io {
             source_name: source_name.to_string(),
-            message: error.to_string(),
+            source,
         }
     }
 
@@ -123,6 +138,47 @@ impl CloudError {
             source_name: source_name.to_string(),
             location: location.into(),
             message: message.into(),
+        }
+    }
+}
+
+impl Classify for CloudError {
+    /// A file that cannot be read has its source's kind; a count over a limit is
+    /// [`ErrorKind::Limit`]; a writer's failure is [`ErrorKind::Internal`]; everything else is
+    /// [`ErrorKind::Content`].
+    fn kind(&self) -> Option<ErrorKind> {
+        match self {
+            Self::Io { .. } => None,
+            Self::Output(e) => e.kind(),
+            Self::Encode { .. } => Some(ErrorKind::Internal),
+            Self::TooLarge { .. } => Some(ErrorKind::Limit),
+            _ => Some(ErrorKind::Content),
+        }
+    }
+
+    fn file(&self) -> Option<&str> {
+        match self {
+            Self::Io { source_name, .. }
+            | Self::Parse { source_name, .. }
+            | Self::MissingField { source_name, .. }
+            | Self::Empty { source_name }
+            | Self::AllInvalid { source_name, .. }
+            | Self::UnknownFormat { source_name, .. }
+            | Self::TooLarge { source_name, .. }
+            | Self::AllFiltered { source_name, .. } => Some(source_name),
+            Self::Output(e) => e.file(),
+            Self::Encode { .. } | Self::BadFilter { .. } | Self::BadOption { .. } => None,
+        }
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::Parse { location, .. } => Some(location),
+            Self::MissingField { field, .. }
+            | Self::TooLarge { field, .. }
+            | Self::BadFilter { field, .. }
+            | Self::BadOption { field, .. } => Some(field),
+            _ => None,
         }
     }
 }

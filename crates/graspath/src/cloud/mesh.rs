@@ -120,20 +120,20 @@ impl TriangleMesh {
 /// A robot link's collision mesh ([`MeshRef`], resolved from its URDF) read and scaled: a
 /// triangle mesh in the collision frame (m). Errors name the robot file, the link and the mesh.
 pub fn load_collision_mesh(mesh: &MeshRef) -> Result<TriMesh, RobotError> {
-    let fail = |message: String| RobotError::MeshLoad {
+    let fail = |source: Box<dyn std::error::Error + Send + Sync>| RobotError::MeshLoad {
         source_name: mesh.source_name.clone(),
         link: mesh.link.clone(),
         path: mesh.path.clone(),
-        message,
+        source,
     };
-    let read = read_mesh(&mesh.path).map_err(|e| fail(e.to_string()))?;
+    let read = read_mesh(&mesh.path).map_err(|e| fail(Box::new(e)))?;
     let s = mesh.scale;
     let vertices = read
         .vertices
         .iter()
         .map(|v| Point3::new(v.x * s[0], v.y * s[1], v.z * s[2]))
         .collect();
-    TriMesh::new(vertices, read.triangles).map_err(|e| fail(e.to_string()))
+    TriMesh::new(vertices, read.triangles).map_err(|e| fail(Box::new(e)))
 }
 
 /// Reads an `.obj` or `.stl` (ascii or binary) mesh.

@@ -296,7 +296,10 @@ pub fn pcd_bytes(cloud: &PointCloud, encoding: PcdEncoding) -> Result<Vec<u8>, C
             })
             .collect(),
     };
-    let fail = |e: pcd_rs::Error| CloudError::io("<pcd writer>", e);
+    let fail = |e: pcd_rs::Error| CloudError::Encode {
+        what: "<pcd writer>",
+        source: Box::new(e),
+    };
     let mut out = Vec::new();
     {
         let mut writer: DynWriter<_> = WriterInit {
@@ -334,8 +337,8 @@ pub fn pcd_bytes(cloud: &PointCloud, encoding: PcdEncoding) -> Result<Vec<u8>, C
 /// Writes `cloud` to a PCD file (through a temporary file renamed at the end).
 pub fn write_pcd(path: &Path, cloud: &PointCloud, encoding: PcdEncoding) -> Result<(), CloudError> {
     let bytes = pcd_bytes(cloud, encoding)?;
-    crate::fsutil::write_atomic(path, &bytes)
-        .map_err(|e| CloudError::io(&path.display().to_string(), e))
+    crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+    Ok(())
 }
 
 #[cfg(test)]

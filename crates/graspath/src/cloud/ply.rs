@@ -270,7 +270,10 @@ pub fn ply_bytes(cloud: &PointCloud, encoding: PlyEncoding) -> Result<Vec<u8>, C
     let mut out = Vec::new();
     ply_rs_bw::writer::Writer::new()
         .write_ply(&mut out, &mut ply)
-        .map_err(|e| CloudError::io("<ply writer>", e))?;
+        .map_err(|e| CloudError::Encode {
+            what: "<ply writer>",
+            source: Box::new(e),
+        })?;
     Ok(out)
 }
 
@@ -278,8 +281,8 @@ pub fn ply_bytes(cloud: &PointCloud, encoding: PlyEncoding) -> Result<Vec<u8>, C
 /// the end, so no partial file is left behind).
 pub fn write_ply(path: &Path, cloud: &PointCloud, encoding: PlyEncoding) -> Result<(), CloudError> {
     let bytes = ply_bytes(cloud, encoding)?;
-    crate::fsutil::write_atomic(path, &bytes)
-        .map_err(|e| CloudError::io(&path.display().to_string(), e))
+    crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+    Ok(())
 }
 
 #[cfg(test)]

@@ -53,6 +53,19 @@ pub enum CollisionError {
     Robot(String),
 }
 
+impl crate::fault::Classify for CollisionError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::BadBody { what, .. } => Some(what),
+            _ => None,
+        }
+    }
+}
+
 /// The two bodies placed in one frame.
 fn placed<'a>(
     a: &'a Body,

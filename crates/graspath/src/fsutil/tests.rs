@@ -53,7 +53,14 @@ fn an_existing_file_is_replaced_only_when_allowed() {
     let err = write_file(&path, b"new", Existing::Refuse).expect_err("refused");
     assert!(matches!(err.kind, OutputErrorKind::FileExists));
     assert!(err.is_refusal());
-    assert!(err.to_string().contains("--force"), "{err}");
+    assert!(
+        err.to_string().contains("replacing it was not allowed"),
+        "{err}"
+    );
+    assert!(
+        !err.to_string().contains("--"),
+        "no command-line flag: {err}"
+    );
     assert!(err.to_string().starts_with(&path.display().to_string()));
     assert_eq!(std::fs::read(&path).expect("read"), b"old");
     write_file(&path, b"new", Existing::Replace).expect("replace");
@@ -175,7 +182,10 @@ fn an_empty_folder_is_filled_and_a_full_one_replaced_only_when_allowed() {
     let err = write_files(&out, &set(&[("candidates.json", "2")]), Existing::Refuse)
         .expect_err("not empty");
     assert!(matches!(err.kind, OutputErrorKind::FolderNotEmpty(_)));
-    assert!(err.to_string().contains("--force"), "{err}");
+    assert!(
+        err.to_string().contains("replacing it was not allowed"),
+        "{err}"
+    );
     assert_eq!(
         std::fs::read(out.join("candidates.json")).expect("read"),
         b"1"
@@ -242,13 +252,16 @@ fn the_working_folder_and_its_ancestors_are_never_replaced() {
 }
 
 #[test]
-fn the_library_writers_replace_files_and_keep_their_messages_short() {
+fn a_failed_write_keeps_the_operating_system_error_as_its_source() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let path = dir.path().join("cloud.ply");
-    write_atomic(&path, b"1").expect("new");
-    write_atomic(&path, b"2").expect("replace");
-    assert_eq!(std::fs::read(&path).expect("read"), b"2");
-    let err = write_atomic(dir.path(), b"x").expect_err("a folder");
-    assert!(!err.to_string().contains(&dir.path().display().to_string()));
-    assert_eq!(tree(dir.path()), ["cloud.ply"]);
+    let err = write_file(&dir.path().join("no/such\0name"), b"x", Existing::Replace)
+        .expect_err("a name with a NUL byte");
+    assert!(matches!(err.kind, OutputErrorKind::Io { .. }), "{err}");
+    let source = std::error::Error::source(&err).expect("the io error");
+    assert!(source.downcast_ref::<std::io::Error>().is_some());
+    assert!(
+        !err.to_string().contains(&source.to_string()),
+        "said once: {err}"
+    );
+    assert_eq!(tree(dir.path()), Vec::<String>::new());
 }

@@ -30,6 +30,12 @@ pub enum PoseError {
     },
 }
 
+impl crate::fault::Classify for PoseError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+}
+
 /// A pose from a 4×4 homogeneous matrix in row-major nested rows (metres).
 ///
 /// The rotation block must be orthonormal to [`ROTATION_TOLERANCE`]; it is then

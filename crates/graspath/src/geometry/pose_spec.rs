@@ -52,6 +52,16 @@ pub struct PoseSpecError {
     pub message: String,
 }
 
+impl crate::fault::Classify for PoseSpecError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn field(&self) -> Option<&str> {
+        Some(self.field)
+    }
+}
+
 impl PoseSpec {
     /// A spec holding exactly `pose` (translation and quaternion).
     pub fn from_isometry(pose: &Isometry3<f64>) -> Self {
@@ -133,6 +143,12 @@ pub enum QuaternionError {
         /// The quaternion's norm.
         norm: f64,
     },
+}
+
+impl crate::fault::Classify for QuaternionError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
 }
 
 /// A unit quaternion from `[x, y, z, w]` (the ROS / Eigen storage order) whose norm is 1 within

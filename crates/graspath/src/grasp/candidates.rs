@@ -80,6 +80,20 @@ pub struct CandidateError {
     pub message: String,
 }
 
+impl crate::fault::Classify for CandidateError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn file(&self) -> Option<&str> {
+        Some(&self.file)
+    }
+
+    fn field(&self) -> Option<&str> {
+        Some(&self.location)
+    }
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Entry {

@@ -75,6 +75,19 @@ pub enum FamilyError {
     },
 }
 
+impl crate::fault::Classify for FamilyError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::AngleOutOfRange { field, .. } => Some(field),
+            _ => None,
+        }
+    }
+}
+
 /// Top grasps along a box's top edge in the object's `y` direction, from the left-most
 /// (`+y`) to the right-most (`−y`) contact, approaching from above (`−z`) with the fingers
 /// closing across `x`; `margin` (m) kept from each end.

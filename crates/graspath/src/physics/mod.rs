@@ -142,6 +142,24 @@ pub enum PhysicsError {
     },
 }
 
+impl crate::fault::Classify for PhysicsError {
+    /// A cloud over the sphere limit is [`ErrorKind`](crate::fault::ErrorKind)`::Limit`; everything
+    /// else is `Content`.
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(match self {
+            Self::TooManySpheres { .. } => crate::fault::ErrorKind::Limit,
+            _ => crate::fault::ErrorKind::Content,
+        })
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::BadOption { field, .. } => Some(field),
+            _ => None,
+        }
+    }
+}
+
 /// One arm's names in a written world.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmNames {

@@ -16,6 +16,16 @@ pub struct AxisError {
     pub message: String,
 }
 
+impl crate::fault::Classify for AxisError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn field(&self) -> Option<&str> {
+        Some(&self.field)
+    }
+}
+
 /// `count` evenly spaced values from `start` to `end`, both included (one value: `start`).
 /// The unit is the axis's: metres for x, y, z; radians for yaw in code, degrees on the command
 /// line.

@@ -56,6 +56,33 @@ pub enum PlacementError {
     },
 }
 
+impl crate::fault::Classify for PlacementError {
+    /// An axis's or the task's own kind; too much work is [`ErrorKind`](crate::fault::ErrorKind)`::Limit`.
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        match self {
+            Self::Axis(e) => e.kind(),
+            Self::Task(e) => e.kind(),
+            Self::TooMuchWork { .. } => Some(crate::fault::ErrorKind::Limit),
+        }
+    }
+
+    fn file(&self) -> Option<&str> {
+        match self {
+            Self::Axis(e) => e.file(),
+            Self::Task(e) => e.file(),
+            Self::TooMuchWork { file, .. } => Some(file),
+        }
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::Axis(e) => e.field(),
+            Self::Task(e) => e.field(),
+            Self::TooMuchWork { .. } => Some("limits.max_work"),
+        }
+    }
+}
+
 /// A scalar that parametrises the candidates when they come from a family, one value per
 /// candidate in candidate order: the contact's `y` in the object frame (m) for the edge
 /// family, the yaw (degrees) for the yaw family.

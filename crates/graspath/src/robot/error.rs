@@ -1,16 +1,19 @@
 //! Errors of robot loading and kinematics. Each names the file (or built-in model) and the
 //! element at fault.
 
+use crate::fault::ErrorKind;
+
 /// An error from loading a robot or evaluating its kinematics.
 #[derive(Debug, thiserror::Error)]
 pub enum RobotError {
-    /// The file could not be read.
-    #[error("{source_name}: cannot read: {message}")]
+    /// The file could not be read; the operating system's error is the source.
+    #[error("{source_name}: cannot read")]
     Io {
         /// The file.
         source_name: String,
-        /// The operating system's message.
-        message: String,
+        /// The operating system's error (or the size cap's, [`crate::input::read`]).
+        #[source]
+        source: std::io::Error,
     },
     /// A `.xacro` file was given and no `xacro` program is installed to expand it.
     #[error("{source_name}: this is a xacro file; {}", xacro_hint(.reason))]
@@ -78,6 +81,12 @@ pub enum RobotError {
         joint: String,
         /// What is wrong and what to do.
         message: String,
+    },
+    /// A MuJoCo MJCF file was given where a URDF is read.
+    #[error("{source_name}: not a valid URDF: this is a MuJoCo MJCF file (root <mujoco>): load it as MJCF (`robot: {{mjcf: FILE}}` in a task file)")]
+    MjcfNotUrdf {
+        /// The file.
+        source_name: String,
     },
     /// The XML is malformed or is not a URDF robot.
     #[error("{source_name}: not a valid URDF: {message}")]
@@ -155,8 +164,9 @@ pub enum RobotError {
         /// The URI.
         uri: String,
     },
-    /// A collision mesh file was found but could not be read.
-    #[error("{source_name}: link '{link}', collision mesh {}: {message}", .path.display())]
+    /// A collision mesh file was found but could not be read or used; the reader's error (a
+    /// [`crate::cloud::CloudError`] or a [`crate::geometry::shape::ShapeError`]) is the source.
+    #[error("{source_name}: link '{link}', collision mesh {}", .path.display())]
     MeshLoad {
         /// The URDF file.
         source_name: String,
@@ -164,8 +174,9 @@ pub enum RobotError {
         link: String,
         /// The mesh file.
         path: std::path::PathBuf,
-        /// The reader's message.
-        message: String,
+        /// The reader's error.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
     /// A built-in robot name that does not exist.
     #[error("unknown built-in robot '{name}' (built in: {}){}", .known.join(", "), suggestion_text(.suggestions))]
@@ -322,6 +333,64 @@ pub enum RobotError {
         /// What is wrong.
         message: String,
     },
+}
+
+impl crate::fault::Classify for RobotError {
+    /// A file that cannot be read, or a mesh that cannot be loaded, has its source's kind; a
+    /// mesh found nowhere is [`ErrorKind::File`]; everything else is [`ErrorKind::Content`].
+    fn kind(&self) -> Option<ErrorKind> {
+        match self {
+            Self::Io { .. } | Self::MeshLoad { .. } => None,
+            Self::MeshNotFound { .. } => Some(ErrorKind::File),
+            _ => Some(ErrorKind::Content),
+        }
+    }
+
+    fn file(&self) -> Option<&str> {
+        match self {
+            Self::Io { source_name, .. }
+            | Self::Xacro { source_name, .. }
+            | Self::XacroMarkup { source_name, .. }
+            | Self::XacroArgument { source_name, .. }
+            | Self::XacroFailed { source_name, .. }
+            | Self::Mjcf { source_name, .. }
+            | Self::MjcfJointInChain { source_name, .. }
+            | Self::MjcfNotUrdf { source_name }
+            | Self::Parse { source_name, .. }
+            | Self::Xml { source_name, .. }
+            | Self::TwoParents { source_name, .. }
+            | Self::BadCollision { source_name, .. }
+            | Self::MeshNotFound { source_name, .. }
+            | Self::MeshScheme { source_name, .. }
+            | Self::MeshOutsidePackage { source_name, .. }
+            | Self::MeshLoad { source_name, .. }
+            | Self::UnknownChain { source_name, .. }
+            | Self::UnknownLink { source_name, .. }
+            | Self::TipNotBelowBase { source_name, .. }
+            | Self::BadJoint { source_name, .. }
+            | Self::NoInertia { source_name, .. } => Some(source_name),
+            Self::UnknownRobot { .. }
+            | Self::WrongDof { .. }
+            | Self::WrongLinkCount { .. }
+            | Self::WrongBufferLength { .. }
+            | Self::NonFiniteJoint { .. }
+            | Self::BadPose { .. }
+            | Self::BadOption { .. }
+            | Self::NotFixedSize { .. }
+            | Self::BadInertia { .. }
+            | Self::BadDynamicsInput { .. } => None,
+        }
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::Mjcf { attribute, .. } => Some(attribute),
+            Self::BadJoint { field, .. } => Some(field),
+            Self::BadOption { name, .. } => Some(name),
+            Self::BadDynamicsInput { what, .. } => Some(what),
+            _ => None,
+        }
+    }
 }
 
 fn suggestion_text(suggestions: &[String]) -> String {

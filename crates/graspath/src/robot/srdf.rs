@@ -70,9 +70,9 @@ impl Srdf {
     pub fn read(path: &Path) -> Result<Self, RobotError> {
         let name = path.display().to_string();
         let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
-            |e| RobotError::Io {
+            |source| RobotError::Io {
                 source_name: name.clone(),
-                message: e.to_string(),
+                source,
             },
         )?;
         Self::parse(&text, &name)

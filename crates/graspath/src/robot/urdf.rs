@@ -38,9 +38,9 @@ impl UrdfRobot {
         }
         let source_name = path.display().to_string();
         let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
-            |e| RobotError::Io {
+            |source| RobotError::Io {
                 source_name: source_name.clone(),
-                message: e.to_string(),
+                source,
             },
         )?;
         Self::from_xml(&text, &source_name)
@@ -53,13 +53,16 @@ impl UrdfRobot {
         let source_name = path.display().to_string();
         // A missing file, or one that is not a regular file (a FIFO would block xacro), is
         // named as such, not as a xacro failure.
-        let io = |message: String| RobotError::Io {
+        let io = |source: std::io::Error| RobotError::Io {
             source_name: source_name.clone(),
-            message,
+            source,
         };
-        let metadata = std::fs::metadata(path).map_err(|e| io(e.to_string()))?;
+        let metadata = std::fs::metadata(path).map_err(io)?;
         if !metadata.is_file() {
-            return Err(io("not a regular file".into()));
+            return Err(io(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file",
+            )));
         }
         let expanded = super::xacro::expand_xacro(path, options)?;
         Self::from_xml(&expanded, &source_name)
@@ -70,9 +73,8 @@ impl UrdfRobot {
     /// named `*.xacro`.
     pub fn from_xml(text: &str, source_name: &str) -> Result<Self, RobotError> {
         if super::mjcf::is_mjcf(text) {
-            return Err(RobotError::Parse {
+            return Err(RobotError::MjcfNotUrdf {
                 source_name: source_name.to_string(),
-                message: "this is a MuJoCo MJCF file (root <mujoco>): give it as `robot: {mjcf: FILE}` in a task file or `--mjcf FILE` on the command line".into(),
             });
         }
         let scan = super::urdf_scan::scan(text, source_name)?;

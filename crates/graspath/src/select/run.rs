@@ -167,6 +167,33 @@ pub enum PairInputError {
     Candidates(#[from] CandidateError),
 }
 
+impl crate::fault::Classify for PairInputError {
+    /// A candidate file's error has its own kind; everything else is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        match self {
+            Self::Candidates(e) => e.kind(),
+            _ => Some(crate::fault::ErrorKind::Content),
+        }
+    }
+
+    fn file(&self) -> Option<&str> {
+        match self {
+            Self::NotTwoArms { task, .. }
+            | Self::OutOfRange { task, .. }
+            | Self::Repeated { task, .. } => Some(task),
+            Self::Candidates(e) => e.file(),
+        }
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::Candidates(e) => e.field(),
+            _ => None,
+        }
+    }
+}
+
 /// The best `count` arm pairs of a two-arm `task`, from each arm's eligible candidates and
 /// their norms found by an earlier scoring — candidate slices scored apart, as
 /// `graspath.ray`'s shards do: `first` and `second` are `(position in the task's candidates,

@@ -239,8 +239,8 @@ impl Task {
             format!(
                 "holding the whole selection ({} arm(s) × {} candidates with their joint \
                  trajectories) takes about {} MiB, more than the limit {} MiB: stream it \
-                 (`graspath select --format jsonl` or `parquet`, Python `select_batch`) or \
-                 raise limits.max_memory_mib",
+                 (JSON Lines or Parquet records, Python `select_batch`) or raise \
+                 limits.max_memory_mib",
                 self.arms.len(),
                 self.candidate_count(),
                 bytes >> 20,

@@ -681,7 +681,7 @@ impl TaskFile {
     pub fn load(path: &Path) -> Result<Self, TaskError> {
         let name = path.display().to_string();
         let text = crate::input::read_to_string(path, crate::input::MAX_TASK_FILE_BYTES)
-            .map_err(|e| TaskError::new(&name, "", format!("cannot read: {e}")))?;
+            .map_err(|e| TaskError::with_source(&name, "", "cannot read", e))?;
         let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         Self::parse(&text, &name, extension)
     }

@@ -371,12 +371,12 @@ fn urdf_gripper(
         Some(path) => {
             let hand_model = RobotSource::urdf(base_dir.join(path))
                 .load()
-                .map_err(|e| err("gripper.urdf", e.to_string()))?;
+                .map_err(|e| TaskError::caused_by(source, "gripper.urdf", e))?;
             hand_from_robot(&hand_model, root)
         }
         None => hand_from_robot(model, root),
     }
-    .map_err(|e| err("gripper.root", e.to_string()))?;
+    .map_err(|e| TaskError::caused_by(source, "gripper.root", e))?;
     let mut open: Vec<f64> = hand.joints.iter().map(|j| j.upper).collect();
     for (name, value) in gripper.open.iter().flatten() {
         let Some(k) = hand.joints.iter().position(|j| j.name == *name) else {

@@ -134,6 +134,17 @@ impl PathError {
     }
 }
 
+impl crate::fault::Classify for PathError {
+    /// More samples than the limit is [`ErrorKind`](crate::fault::ErrorKind)`::Limit`; everything else
+    /// is `Content`. (The field is [`PathError::field`].)
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(match self {
+            Self::TooManySamples { .. } => crate::fault::ErrorKind::Limit,
+            _ => crate::fault::ErrorKind::Content,
+        })
+    }
+}
+
 struct Segment {
     start: Isometry3<f64>,
     step: Step,

@@ -62,6 +62,12 @@ pub enum TimingError {
     Dynamics(String),
 }
 
+impl crate::fault::Classify for TimingError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+}
+
 impl From<RobotError> for TimingError {
     fn from(e: RobotError) -> Self {
         TimingError::Dynamics(e.to_string())

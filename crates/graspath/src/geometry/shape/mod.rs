@@ -89,6 +89,21 @@ pub enum ShapeError {
     },
 }
 
+impl crate::fault::Classify for ShapeError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::NotPositive { field, .. }
+            | Self::NotFinite { field, .. }
+            | Self::Malformed { field, .. }
+            | Self::BadMesh { field, .. } => Some(field),
+        }
+    }
+}
+
 /// The largest distance of `points` from the origin (0 for none).
 fn farthest(points: &[Point3<f64>]) -> f64 {
     points.iter().map(|v| v.coords.norm()).fold(0.0, f64::max)

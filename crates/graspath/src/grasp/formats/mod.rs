@@ -205,6 +205,16 @@ pub struct FramePlacementError {
     pub message: &'static str,
 }
 
+impl crate::fault::Classify for FramePlacementError {
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        Some(crate::fault::ErrorKind::Content)
+    }
+
+    fn field(&self) -> Option<&str> {
+        Some(self.field)
+    }
+}
+
 /// A generator's gripper frame and how it maps to graspath's tool frame (`z` approach, the
 /// fingers closing along `y`, the tool point at the origin).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -64,6 +64,34 @@ pub enum HandError {
     },
 }
 
+impl crate::fault::Classify for HandError {
+    /// A robot error's own kind; everything else is [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
+    fn kind(&self) -> Option<crate::fault::ErrorKind> {
+        match self {
+            Self::Robot(e) => e.kind(),
+            _ => Some(crate::fault::ErrorKind::Content),
+        }
+    }
+
+    fn file(&self) -> Option<&str> {
+        match self {
+            Self::Robot(e) => e.file(),
+            Self::UnknownRoot { source_name, .. }
+            | Self::BadGeometry { source_name, .. }
+            | Self::BadWrist { source_name, .. }
+            | Self::BadJoint { source_name, .. } => Some(source_name),
+        }
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::Robot(e) => e.field(),
+            Self::BadJoint { field, .. } => Some(field),
+            _ => None,
+        }
+    }
+}
+
 fn pose(xyz: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
     Isometry3::from_parts(
         Translation3::new(xyz[0], xyz[1], xyz[2]),
@@ -291,7 +319,8 @@ pub fn hand_from_urdf(
                 }
                 urdf_rs::Geometry::Mesh { filename, scale } => {
                     let path = meshes.resolve(filename, robot.source_name(), name)?;
-                    let mesh = read_mesh(&path).map_err(|e| geometry_error(e.to_string()))?;
+                    let mesh = read_mesh(&path)
+                        .map_err(|e| geometry_error(crate::fault::Chain(&e).to_string()))?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
                     let points = mesh
                         .vertices

@@ -1,6 +1,7 @@
 //! Errors of training, model files and generation; each names the file and the field.
 
 use crate::cloud::CloudError;
+use crate::fault::{Classify, ErrorKind};
 use crate::grasp::hand::HandError;
 
 /// One hand link's nearest approach to the demonstration cloud, for the no-contact error.
@@ -32,13 +33,26 @@ fn clearance_text(links: &[LinkClearance]) -> String {
 /// An error from the grasp model.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
-    /// A file could not be read or written.
-    #[error("{source_name}: {message}")]
+    /// A file could not be read; the operating system's error is the source.
+    #[error("{source_name}")]
     Io {
         /// The file.
         source_name: String,
-        /// The operating system's message.
-        message: String,
+        /// The operating system's error (or the size cap's, [`crate::input::read`]).
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file could not be written.
+    #[error(transparent)]
+    Output(#[from] crate::fsutil::OutputError),
+    /// A model or candidate file could not be encoded as JSON (not caused by the input).
+    #[error("{what}")]
+    Encode {
+        /// What was encoded: `<model>` or `<candidates>`.
+        what: &'static str,
+        /// The encoder's error.
+        #[source]
+        source: serde_json::Error,
     },
     /// A file is malformed or a field has a bad value.
     #[error("{source_name}: field '{field}': {message}")]
@@ -81,19 +95,15 @@ pub enum ModelError {
 }
 
 impl ModelError {
-    /// A read or write failure of `source_name`.
-    pub(crate) fn io(source_name: impl Into<String>, e: impl std::fmt::Display) -> Self {
-        Self::Io {
-            source_name: source_name.into(),
-            message: e.to_string(),
-        }
-    }
-
     /// Reads a whole text file (at most [`crate::input::MAX_MODEL_FILE_BYTES`]); the error
     /// names it.
     pub(crate) fn read_text(path: &std::path::Path) -> Result<String, Self> {
-        crate::input::read_to_string(path, crate::input::MAX_MODEL_FILE_BYTES)
-            .map_err(|e| Self::io(path.display().to_string(), e))
+        crate::input::read_to_string(path, crate::input::MAX_MODEL_FILE_BYTES).map_err(|source| {
+            Self::Io {
+                source_name: path.display().to_string(),
+                source,
+            }
+        })
     }
 
     pub(crate) fn field(
@@ -105,6 +115,46 @@ impl ModelError {
             source_name: source_name.to_string(),
             field: field.into(),
             message: message.into(),
+        }
+    }
+}
+
+impl Classify for ModelError {
+    /// A file that cannot be read has its source's kind, a cloud or hand error its own; an
+    /// encoder's failure is [`ErrorKind::Internal`]; everything else is [`ErrorKind::Content`].
+    fn kind(&self) -> Option<ErrorKind> {
+        match self {
+            Self::Io { .. } => None,
+            Self::Output(e) => e.kind(),
+            Self::Cloud(e) => e.kind(),
+            Self::Hand(e) => e.kind(),
+            Self::Encode { .. } => Some(ErrorKind::Internal),
+            Self::Field { .. } | Self::Version { .. } | Self::NoContact { .. } => {
+                Some(ErrorKind::Content)
+            }
+        }
+    }
+
+    fn file(&self) -> Option<&str> {
+        match self {
+            Self::Io { source_name, .. }
+            | Self::Field { source_name, .. }
+            | Self::Version { source_name, .. }
+            | Self::NoContact { source_name, .. } => Some(source_name),
+            Self::Output(e) => e.file(),
+            Self::Cloud(e) => e.file(),
+            Self::Hand(e) => e.file(),
+            Self::Encode { .. } => None,
+        }
+    }
+
+    fn field(&self) -> Option<&str> {
+        match self {
+            Self::Field { field, .. } => Some(field),
+            Self::Version { .. } => Some("format_version"),
+            Self::Cloud(e) => e.field(),
+            Self::Hand(e) => e.field(),
+            _ => None,
         }
     }
 }

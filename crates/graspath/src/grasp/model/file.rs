@@ -290,7 +290,10 @@ impl GraspModel {
 
     /// The model as JSON bytes.
     pub fn to_json(&self) -> Result<Vec<u8>, ModelError> {
-        let mut bytes = serde_json::to_vec(self).map_err(|e| ModelError::io("<model>", e))?;
+        let mut bytes = serde_json::to_vec(self).map_err(|source| ModelError::Encode {
+            what: "<model>",
+            source,
+        })?;
         bytes.push(b'\n');
         Ok(bytes)
     }
@@ -487,7 +490,7 @@ impl GraspModel {
     /// Writes the model file atomically (temporary file in the same directory, then rename).
     pub fn write(&self, path: &Path) -> Result<(), ModelError> {
         let bytes = self.to_json()?;
-        crate::fsutil::write_atomic(path, &bytes)
-            .map_err(|e| ModelError::io(path.display().to_string(), e))
+        crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+        Ok(())
     }
 }

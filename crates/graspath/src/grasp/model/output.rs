@@ -53,8 +53,10 @@ pub fn candidates_json(candidates: &[Candidate], label: &str) -> Result<Vec<u8>,
             })
             .collect(),
     };
-    let mut bytes =
-        serde_json::to_vec_pretty(&file).map_err(|e| ModelError::io("<candidates>", e))?;
+    let mut bytes = serde_json::to_vec_pretty(&file).map_err(|source| ModelError::Encode {
+        what: "<candidates>",
+        source,
+    })?;
     bytes.push(b'\n');
     Ok(bytes)
 }
@@ -65,6 +67,7 @@ pub fn write_candidates(
     candidates: &[Candidate],
     label: &str,
 ) -> Result<(), ModelError> {
-    crate::fsutil::write_atomic(path, &candidates_json(candidates, label)?)
-        .map_err(|e| ModelError::io(path.display().to_string(), e))
+    let bytes = candidates_json(candidates, label)?;
+    crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+    Ok(())
 }

@@ -126,9 +126,9 @@ impl MjcfRobot {
     pub fn from_file(path: &Path) -> Result<Self, RobotError> {
         let source_name = path.display().to_string();
         let text = crate::input::read_to_string(path, crate::input::MAX_ROBOT_FILE_BYTES).map_err(
-            |e| RobotError::Io {
+            |source| RobotError::Io {
                 source_name: source_name.clone(),
-                message: e.to_string(),
+                source,
             },
         )?;
         let folder = path.parent().unwrap_or(Path::new("."));

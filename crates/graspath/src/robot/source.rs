@@ -40,11 +40,12 @@ pub const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
 /// Where a robot comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum RobotSource {
-    /// A built-in model by name (`baxter`, `panda`, `ur5e`, …: [`BUILTIN_ROBOTS`]).
+    /// A built-in model by name (`baxter`, `panda`, `ur5e`, …: the robots of
+    /// [`crate::robot::builtin`]).
     Builtin(String),
     /// A URDF file; `search_paths` are tried first when resolving `package://` and
     /// `model://` mesh URIs (then `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH`, the file's folder).
-    /// A file named `*.xacro` is expanded first (see [`super::xacro`]: xacro runs code), with
+    /// A file named `*.xacro` is expanded first (xacro runs code: only expand files you trust), with
     /// `xacro_args` and with `$(find PKG)` looked up in the same folders as `package://PKG`.
     Urdf {
         /// The URDF (or `*.xacro`) file.

@@ -124,7 +124,7 @@ impl RigidBody {
     }
 
     /// Whether every number is finite, the mass non-negative and the inertia symmetric
-    /// (to 1e-9 relative) with non-negative diagonal, down to [`INERTIA_ROUNDING`] below zero
+    /// (to 1e-9 relative) with non-negative diagonal, down to `INERTIA_ROUNDING` (1e-15 kg·m²) below zero
     /// (iCub's URDF writes a zero moment as −5.4e−20 kg·m², which Pinocchio and urdfdom
     /// accept). Physical consistency (the triangle inequality of the principal moments) is
     /// not required: published models break it.

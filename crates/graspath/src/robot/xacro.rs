@@ -123,7 +123,7 @@ pub struct XacroOptions {
     /// `package://PKG`). `None`: `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH` and the file's folders.
     pub packages: Option<MeshResolver>,
     /// How long the run may take before it is stopped, every process it started included
-    /// (default [`TIMEOUT`]).
+    /// (default `TIMEOUT`, 120 s).
     pub timeout: Duration,
 }
 

@@ -477,7 +477,7 @@ impl TaskBuilder {
     }
 
     /// Warnings about how the task was written (the loader's: units and conventions, see
-    /// [`super::plausibility`]); [`TaskBuilder::build`] adds those about the world at the
+    /// `task::plausibility`); [`TaskBuilder::build`] adds those about the world at the
     /// start.
     pub fn warnings(mut self, warnings: Vec<TaskWarning>) -> Self {
         self.warnings = warnings;

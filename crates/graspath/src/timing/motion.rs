@@ -124,7 +124,7 @@ impl PathLimits<'_> {
     /// Joint velocities and accelerations are bounded exactly over each grid interval: there
     /// `x = ṡ²` is linear in `s`, `q'` quadratic and `q''` linear (one cubic piece of a C²
     /// spline), so `q̈ = q' u + q'' x` is a quadratic and `q̇² = q'² x` a quintic whose
-    /// extrema are closed-form ([`quadratic_peak`], [`speed_peak`]). The carried object's
+    /// extrema are closed-form (`quadratic_peak`, `speed_peak`). The carried object's
     /// speeds are checked at the eighth points of every interval, torques at its middle. A
     /// uniform slow-down by `k` divides velocities by `k` and accelerations by `k²`, and moves
     /// each torque to `g + (τ − g)/k²` ([`TimedPath::slowed`]).

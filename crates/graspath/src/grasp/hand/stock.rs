@@ -31,7 +31,7 @@ use super::baxter;
 use super::{baxter_electric_gripper, parallel_jaw_hand, Hand, LinkShape, Shape};
 use nalgebra::Isometry3;
 
-/// A stock gripper ([module documentation](self)).
+/// A stock gripper: its geometry and its tool centre point, from the makers' models.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum StockGripper {
     /// Baxter's electric parallel gripper (`baxter`).

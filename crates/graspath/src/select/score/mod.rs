@@ -230,7 +230,7 @@ impl WorldSetup<'_> {
 /// Scores every candidate for one arm and hands each result to `consume` as soon as its chunk
 /// of [`STREAM_CHUNK`] candidates is done, in candidate order, so a consumer can write results
 /// out without holding them all. A chunk's candidates are scored in parallel (rayon), in
-/// groups whose first IK solves are batched (at most [`SOLVE_GROUP`] candidates, fewer when
+/// groups whose first IK solves are batched (at most `SOLVE_GROUP` candidates, fewer when
 /// there are many threads); the results depend neither on the thread count nor on the
 /// grouping. `progress` is called once per candidate, as its group finishes.
 ///
@@ -241,9 +241,10 @@ impl WorldSetup<'_> {
 /// are up to `ik.branches` distinct initial solutions searched and tracked. With
 /// [`Redundancy::BestBranch`], every branch is tracked and the one with the best norm is kept
 /// (slower, and the ranking then reflects the best redundancy resolution rather than the first
-/// one found); with [`Redundancy::Optimize`], the self-motion around the branches is then
-/// searched for the whole motion whose `μ_l2` is largest ([`optimize_self_motion`]), which is
-/// kept when it is collision-free (else the best branch).
+/// one found); with [`Redundancy::Optimize`], the arm's place in the self-motion around the
+/// best branch is then chosen as a smooth function of the path's time for the largest ranked
+/// norm ([`crate::robot::optimize_smooth_self_motion`]), kept when it ranks higher and passes
+/// the branch checks (else the best branch).
 pub fn for_each_score(
     setup: &ScoringSetup<'_>,
     candidates: &[Arc<Candidate>],

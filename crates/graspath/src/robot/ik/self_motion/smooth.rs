@@ -47,10 +47,10 @@ pub struct SmoothSelfMotion<'a> {
 
 /// Control points of the default smooth search: enough for the arm to move through its
 /// self-motion and back twice over a motion, few enough that `α` cannot follow one sample.
-pub const DEFAULT_CONTROL_POINTS: usize = 8;
+const DEFAULT_CONTROL_POINTS: usize = 8;
 
 impl<'a> SmoothSelfMotion<'a> {
-    /// The smooth search over `times` with `weights` and [`DEFAULT_CONTROL_POINTS`].
+    /// The smooth search over `times` with `weights` and 8 control points.
     pub fn new(times: &'a [f64], weights: &'a [f64]) -> Self {
         Self {
             times,

@@ -107,10 +107,7 @@ pub fn optimize_self_motion(
     if paths.is_empty() || n == 0 {
         return None;
     }
-    let targets: Vec<IsometryMatrix3<f64>> = base_from_targets
-        .iter()
-        .map(|t| nalgebra::convert(*t))
-        .collect();
+    let targets = rotation_matrix_poses(base_from_targets);
     let mut tracer = Tracer::new(chain, rows, options);
     let mut traced = tracer.trace_along(&targets, paths[0], value);
     for (i, at) in traced.iter_mut().enumerate() {
@@ -297,6 +294,11 @@ fn best_chain(traced: &[Traced], max_joint_step: f64) -> Option<Chosen> {
         worst_total,
         best_total,
     })
+}
+
+/// The target poses with rotation matrices, as the tracer compares them with the chain's.
+fn rotation_matrix_poses(poses: &[Isometry3<f64>]) -> Vec<IsometryMatrix3<f64>> {
+    poses.iter().map(|t| nalgebra::convert(*t)).collect()
 }
 
 /// The joint-space (Euclidean) distance between two configurations (rad / m).

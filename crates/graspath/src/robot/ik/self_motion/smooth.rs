@@ -24,8 +24,8 @@
 
 use super::trace::{Convergence, Tracer};
 use super::{
-    best_chain, distance, max_difference, KeptRows, SampleValue, SelfMotionOptions, SelfMotionPath,
-    State, Traced,
+    best_chain, distance, max_difference, rotation_matrix_poses, KeptRows, SampleValue,
+    SelfMotionOptions, SelfMotionPath, State, Traced,
 };
 use crate::robot::chain::Chain;
 use nalgebra::{DMatrix, DVector, Isometry3, IsometryMatrix3};
@@ -86,10 +86,7 @@ pub fn optimize_smooth_self_motion(
     {
         return None;
     }
-    let targets: Vec<IsometryMatrix3<f64>> = base_from_targets
-        .iter()
-        .map(|t| nalgebra::convert(*t))
-        .collect();
+    let targets = rotation_matrix_poses(base_from_targets);
     let mut tracer = Tracer::new(chain, rows, options);
     let traced = tracer.trace_along(&targets, seed, value);
     if traced.iter().any(|t| t.curve == 0) {

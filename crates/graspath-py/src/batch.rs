@@ -134,7 +134,7 @@ fn task_slices(
 ///   singular path), ``mu_l1``, ``mu_rms`` (float64, the norms of the ranked per-sample index — ``M_T`` in
 ///   the units of the task's index mode — NaN when infeasible); ``yoshikawa_at_grasp``,
 ///   ``clearance`` (m, the smallest distance to the scene), ``torque_margin`` and
-///   ``payload_capacity`` (kg; with the object's mass), ``duration`` (s; when motions are
+///   ``payload_capacity`` (kg; with the object's mass), ``dynamic_manipulability`` ((m/s²)²; with the object's mass or ``measure="dynamic"``), ``duration`` (s; when motions are
 ///   timed) (float64, NaN where absent);
 /// * ``score`` (float64, the ranking score: the norm combined with the likelihood relative to
 ///   the task's most likely candidate; NaN when not ranked) and ``rank`` (float64, 1 for the

@@ -37,6 +37,7 @@ use std::time::Duration;
 
 mod dynamics;
 
+pub(crate) use dynamics::payload_body;
 use dynamics::{Quantity, States};
 
 /// A serial kinematic chain from a base link to a tip link.
@@ -88,7 +89,7 @@ impl PyRobot {
             batch,
         };
         let gravity = dynamics::gravity_vector(gravity, model.gravity())?;
-        let payload = dynamics::payload_body(payload)?;
+        let payload = payload_body(payload, "tool")?;
         let model = if gravity == model.gravity() {
             Cow::Borrowed(model)
         } else {

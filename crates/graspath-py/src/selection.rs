@@ -86,7 +86,7 @@ impl PySelection {
     /// ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
     /// ``limit_distance_min`` (rad or m, the path's closest approach to a joint limit),
     /// ``clearance`` (m, the smallest distance to the scene along the motion),
-    /// ``torque_margin`` and ``payload_capacity`` (kg; with the object's mass) (float64, NaN
+    /// ``torque_margin`` and ``payload_capacity`` (kg; with the object's mass), ``dynamic_manipulability`` ((m/s²)²; with the object's mass or ``measure="dynamic"``) (float64, NaN
     /// where absent), ``hugs_limit`` (bool), ``contact`` ``(k, 3)``, ``m_t`` ``(k, n)`` and
     /// ``ranked_index`` ``(k, n)`` (the ranked per-sample index: ``m_t`` unless the task sets
     /// ``measure`` or ``joint_limit_penalty``) (NaN where absent: infeasible, or the object

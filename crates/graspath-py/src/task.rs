@@ -209,9 +209,15 @@ impl PyTask {
     ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``redundancy``
     ///   (``"first"``, ``"best_branch"`` or ``"optimize"``: the task file's ``ik.redundancy``)
     ///   and its older form ``compare_branches`` (``True`` is ``"best_branch"``); ``measure``
-    ///   (``"task_relevant"`` or ``"velocity_ratio"``) and ``joint_limit_penalty`` (Tsai's
+    ///   (``"task_relevant"``, ``"velocity_ratio"``, ``"duration"`` or ``"dynamic"``: the
+    ///   last needs the robot's inertial data and effort limits) and ``joint_limit_penalty`` (Tsai's
     ///   penalty gain ``k``, e.g. 50; ``None``: none), the task file's ``index.measure`` and
-    ///   ``index.joint_limit_penalty``. ``ik_seed`` is
+    ///   ``index.joint_limit_penalty``; ``payload``, the carried object's mass properties
+    ///   ``{"mass": kg, "com": [x, y, z] (object frame, m), "inertia": 3x3 or [ixx, iyy, izz]
+    ///   (kg·m² about the centre of mass)}`` (the task file's ``object.mass``,
+    ///   ``center_of_mass`` and ``inertia``): the joint torques are then checked along the task
+    ///   and the ``torque_margin``, ``payload_capacity`` and ``dynamic_manipulability`` columns
+    ///   reported (``docs/dynamics.md``). ``ik_seed`` is
     ///   the deprecated earlier name of ``ik_random_seed``.
     #[staticmethod]
     #[pyo3(signature = (
@@ -240,6 +246,7 @@ impl PyTask {
         redundancy = None,
         measure = "task_relevant",
         joint_limit_penalty = None,
+        payload = None,
         name = "<arrays>",
         robot_name = "robot",
         ik_seed = None
@@ -270,6 +277,7 @@ impl PyTask {
         redundancy: Option<&str>,
         measure: &str,
         joint_limit_penalty: Option<f64>,
+        payload: Option<&Bound<'_, PyAny>>,
         name: &str,
         robot_name: &str,
         ik_seed: Option<u64>,
@@ -378,6 +386,9 @@ impl PyTask {
                 .collect(),
             step_labels: vec!["path".to_string()],
         };
+        if let Some(body) = crate::robot::payload_body(payload, "object")? {
+            builder = builder.payload(body);
+        }
         let task = builder
             .candidates(candidates)
             .object_path(path)
@@ -397,7 +408,8 @@ impl PyTask {
             .ranked(RankedIndex {
                 measure: IndexMeasure::from_name(measure).ok_or_else(|| {
                     error(format!(
-                        "measure: '{measure}' is not one of task_relevant, velocity_ratio"
+                        "measure: '{measure}' is not one of {}",
+                        IndexMeasure::spellings()
                     ))
                 })?,
                 joint_limit_penalty,

@@ -353,3 +353,53 @@ def test_signatures_show_the_defaults():
     robot = graspath.Robot.builtin("ur5")
     q = np.full(6, 0.3)
     assert np.array_equal(robot.gravity_torques(q), robot.gravity_torques(q, gravity=(0.0, 0.0, -9.81)))
+
+
+def test_a_task_with_a_payload_ranks_by_the_dynamic_manipulability():
+    """Task.from_arrays(payload=..., measure="dynamic"): each sample's ranked value is
+    ‖H M⁻¹ Jᵀ u‖² written out in numpy from the robot's own Jacobian, gravity torques, mass
+    matrix (the object's mass moved to the tool by the grasp) and effort limits, with H the
+    effort limits less the gravity torques; the task's torque columns come with it."""
+    left = graspath.Robot.baxter("left")
+    start = np.eye(4)
+    start[:3, 3] = [0.75, 0.35, 0.0]
+    poses = np.repeat(start[None], 11, axis=0)
+    poses[:, 2, 3] += np.linspace(0.0, 0.2, 11)
+    candidates = []
+    for yaw in np.linspace(-0.6, 0.6, 5):
+        c = np.eye(4)
+        c[:3, :3] = np.array(
+            [[np.cos(yaw), -np.sin(yaw), 0], [np.sin(yaw), np.cos(yaw), 0], [0, 0, 1]]
+        ) @ np.diag([1.0, -1.0, -1.0])
+        c[2, 3] = 0.05
+        candidates.append(c)
+    payload = {"mass": 0.5, "com": [0.0, 0.02, 0.0]}
+    task = graspath.Task.from_arrays(
+        {"left": left}, poses, np.array(candidates), payload=payload, measure="dynamic",
+        redundancy="first",
+    )
+    selection = graspath.select(task)
+    values = selection.arrays("left")
+    assert values["feasible"].sum() >= 3
+    effort = left.effort_limits
+    # The object moves straight up in the world (= the base frame here): u = +z.
+    u = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+    for row in np.flatnonzero(values["feasible"]):
+        wrist_from_object = np.linalg.inv(candidates[row])
+        com = (wrist_from_object @ np.array([*payload["com"], 1.0]))[:3]
+        tool_payload = {"mass": payload["mass"], "com": com}
+        q = selection.joint_trajectory("left", int(row))
+        expected = []
+        for qi in q:
+            jac = left.jacobian(qi)
+            g = left.gravity_torques(qi, payload=tool_payload)
+            mass = left.mass_matrix(qi, payload=tool_payload)
+            headroom = np.maximum(effort - np.abs(g), 0.0)
+            expected.append(np.sum((headroom * np.linalg.solve(mass, jac.T @ u)) ** 2))
+        np.testing.assert_allclose(values["ranked_index"][row], expected, rtol=1e-9)
+        assert np.isfinite(values["torque_margin"][row])
+        assert np.isfinite(values["dynamic_manipulability"][row])
+    with pytest.raises(graspath.GraspathError, match=r"payload\['com'\].*object frame"):
+        graspath.Task.from_arrays(
+            {"left": left}, poses, np.array(candidates), payload={"mass": 1.0, "com": [0.0, 0.0]}
+        )

@@ -282,8 +282,9 @@ class Task:
         ik_iterations: int = 200,
         compare_branches: Optional[bool] = None,
         redundancy: Optional[Literal["first", "best_branch", "optimize"]] = None,
-        measure: Literal["task_relevant", "velocity_ratio"] = "task_relevant",
+        measure: Literal["task_relevant", "velocity_ratio", "duration", "dynamic"] = "task_relevant",
         joint_limit_penalty: Optional[float] = None,
+        payload: Optional[Dict[str, Any]] = None,
         name: str = "<arrays>",
         robot_name: str = "robot",
         ik_seed: Optional[int] = None,
@@ -356,7 +357,7 @@ class Selection:
         ``mu_linf``, ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
         ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
         ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``torque_margin`` and
-        ``payload_capacity`` (kg; with the object's mass), ``duration``,
+        ``payload_capacity`` (kg; with the object's mass), ``dynamic_manipulability`` ((m/s²)²; with the object's mass or ``measure="dynamic"``), ``duration``,
         ``approach_duration``, ``carry_duration``, ``retreat_duration`` (s),
         ``spline_deviation`` and ``limit_excursion`` (rad; when motions are timed),
         ``contact`` ``(k, 3)``, ``m_t``
@@ -465,7 +466,7 @@ def select_batch(
     (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
     or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
     ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``torque_margin`` and
-    ``payload_capacity`` (kg; with the object's mass), ``duration`` (s; timed motions),
+    ``payload_capacity`` (kg; with the object's mass), ``dynamic_manipulability`` ((m/s²)²; with the object's mass or ``measure="dynamic"``), ``duration`` (s; timed motions),
     ``score`` and ``rank`` (float64, 1 for
     the best; NaN wherever absent: infeasible, not ranked, no scene): besides ``object``,
     ``arm_index`` and ``candidate``, the record columns marked ``select_batch`` in

@@ -88,9 +88,13 @@ pub(super) fn gravity_vector(
 }
 
 /// A payload from `None` or a dict `{"mass": kg, "com": (3,) m, "inertia": (3, 3) or (3,)
-/// kg·m²}` (tool frame; `com` defaults to the tool frame's origin, `inertia` to zero: a point
-/// mass). Every value is checked; errors name the key.
-pub(super) fn payload_body(payload: Option<&Bound<'_, PyAny>>) -> PyResult<Option<RigidBody>> {
+/// kg·m²}` in the frame named `frame` (`tool` for a robot's dynamics calls, `object` for a
+/// task's carried object; `com` defaults to its origin, `inertia` to zero: a point mass). Every
+/// value is checked; errors name the key.
+pub(crate) fn payload_body(
+    payload: Option<&Bound<'_, PyAny>>,
+    frame: &str,
+) -> PyResult<Option<RigidBody>> {
     let Some(payload) = payload else {
         return Ok(None);
     };
@@ -98,10 +102,10 @@ pub(super) fn payload_body(payload: Option<&Bound<'_, PyAny>>) -> PyResult<Optio
         return Ok(None);
     }
     let dict = payload.cast::<PyDict>().map_err(|_| {
-        error(
-            "payload must be None or a dict {'mass': kg, 'com': [x, y, z] (tool frame, m), \
-             'inertia': 3x3 or [ixx, iyy, izz] (kg·m² about the centre of mass)}",
-        )
+        error(format!(
+            "payload must be None or a dict {{'mass': kg, 'com': [x, y, z] ({frame} frame, m), \
+             'inertia': 3x3 or [ixx, iyy, izz] (kg·m² about the centre of mass)}}"
+        ))
     })?;
     for key in dict.keys() {
         let known = key
@@ -135,15 +139,19 @@ pub(super) fn payload_body(payload: Option<&Bound<'_, PyAny>>) -> PyResult<Optio
     let com = match dict.get_item("com")? {
         None => Vector3::zeros(),
         Some(value) => {
-            let (values, _) =
-                float_values(&value, "payload['com']", &[&[3]], "(3,) (tool frame, m)")?;
+            let (values, _) = float_values(
+                &value,
+                "payload['com']",
+                &[&[3]],
+                &format!("(3,) ({frame} frame, m)"),
+            )?;
             check_finite(&values, 3, "payload['com']", false)?;
             Vector3::from_column_slice(&values)
         }
     };
     if com.norm() > MAX_CENTER_OF_MASS_DISTANCE {
         return Err(error(format!(
-            "payload['com'] is {:.3} m from the tool frame's origin, more than \
+            "payload['com'] is {:.3} m from the {frame} frame's origin, more than \
              {MAX_CENTER_OF_MASS_DISTANCE} m: is it in millimetres? Give metres",
             com.norm()
         )));

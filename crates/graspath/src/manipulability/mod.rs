@@ -10,13 +10,18 @@
 //! * the velocity transmission ratio `1/sqrt(uᵀ (J Jᵀ)⁻¹ u)`;
 //! * the distance to the nearest joint limit and Tsai's joint-limit penalty
 //!   `P(q) = 1 − exp(−k Π (q−l)(u−q)/(u−l)²)`, a multiplier of any of the above;
+//! * the dynamic task-relevant manipulability `M_D = ‖H M⁻¹ J'ᵀ u‖²`: the square of the largest
+//!   acceleration along `u` with each joint's torque within its headroom after gravity
+//!   ([`DynamicManipulability`]; not in the paper);
 //! * over a path: `μ_l2 = ‖M‖₂`, `μ_l∞ = max_i 1/M_i`, `μ_l1 = ½ Σ (M_i + M_{i+1}) Δt_i`.
 
+mod dynamic;
 mod indices;
 mod limits;
 mod norms;
 mod tangent;
 
+pub use dynamic::DynamicManipulability;
 pub use indices::{
     classical_indices, inverse_condition, inverse_condition_squared, singular_values,
     task_relevant, velocity_transmission_ratio, yoshikawa, ClassicalIndices, Direction,

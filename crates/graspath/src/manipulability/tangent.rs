@@ -1,5 +1,6 @@
 //! The unit tangent of a wrist path at a sample, in the base frame, for the task-relevant index.
 
+use super::dynamic::DynamicManipulability;
 use super::indices::{task_relevant, velocity_transmission_ratio, Direction};
 use super::limits::joint_limit_penalty;
 use crate::geometry::se3_log;
@@ -92,6 +93,25 @@ impl JacobianRows {
         }
     }
 
+    /// `J'ᵀ u` into `out` (one entry per column of `jacobian`), with `J'` as in
+    /// [`JacobianRows::task_relevant`]: its squared norm is `M_T`.
+    pub fn projection_into<C: Dim, S: Storage<f64, U6, C>>(
+        &self,
+        jacobian: &Matrix<f64, U6, C, S>,
+        direction: &Direction,
+        out: &mut [f64],
+    ) {
+        let mut weights = direction.as_full();
+        if let (JacobianRows::Twist { length_scale }, Direction::Full(_)) = (*self, direction) {
+            for w in weights.iter_mut().skip(3) {
+                *w *= length_scale;
+            }
+        }
+        for (c, entry) in out.iter_mut().enumerate().take(jacobian.ncols()) {
+            *entry = (0..6).map(|r| jacobian[(r, c)] * weights[r]).sum();
+        }
+    }
+
     /// The velocity transmission ratio `1 / √(uᵀ (J' J'ᵀ)⁻¹ u)` in this mode for the unit
     /// `direction` from [`wrist_tangent`], with `J'` as in [`JacobianRows::task_relevant`].
     pub fn velocity_ratio<C: Dim, S: Storage<f64, U6, C>>(
@@ -114,19 +134,25 @@ impl JacobianRows {
 impl RankedIndex {
     /// The ranked value at configuration `q` (joint limits `lower`, `upper`) with Jacobian
     /// `jacobian` (base frame, rows `[v; ω]`), for the unit `direction` of motion measured in
-    /// `rows`: the measure, times the joint-limit penalty when one is set.
+    /// `rows`: the measure, times the joint-limit penalty when one is set. The dynamic measure
+    /// is evaluated with `dynamic` (the arm's model with what it holds at `q`); without it
+    /// that measure is NaN.
     pub fn value<C: Dim, S: Storage<f64, U6, C>>(
         &self,
         rows: JacobianRows,
         jacobian: &Matrix<f64, U6, C, S>,
         direction: &Direction,
         [q, lower, upper]: [&[f64]; 3],
+        dynamic: Option<&mut DynamicManipulability<'_>>,
     ) -> f64 {
         let measure = match self.measure {
             IndexMeasure::TaskRelevant | IndexMeasure::Duration => {
                 rows.task_relevant(jacobian, direction)
             }
             IndexMeasure::VelocityRatio => rows.velocity_ratio(jacobian, direction),
+            IndexMeasure::Dynamic => {
+                dynamic.map_or(f64::NAN, |d| d.task_relevant(rows, jacobian, direction, q))
+            }
         };
         match self.joint_limit_penalty {
             None => measure,

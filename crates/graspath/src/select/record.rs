@@ -602,6 +602,17 @@ pub static COLUMNS: &[Column] = &[
     )
     .omitted_when_absent(),
     column(
+        "dynamic_manipulability",
+        Kind::Float,
+        "(m/s²)²",
+        "with the object's mass or index.measure dynamic: the task's norm of M_D, the squared \
+         largest acceleration along the path's tangent within the joints' torque headroom, \
+         along the chosen path",
+        FILES | ARRAYS | BATCH,
+        |r| Cell::Float(r.score.dynamic_manipulability),
+    )
+    .omitted_when_absent(),
+    column(
         "duration",
         Kind::Float,
         "s",

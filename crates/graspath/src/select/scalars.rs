@@ -141,6 +141,8 @@ pub struct CandidateScalars {
     pub torque_margin: Option<f64>,
     /// See [`CandidateScore::payload_capacity`] (kg).
     pub payload_capacity: Option<f64>,
+    /// See [`CandidateScore::dynamic_manipulability`] ((m/s²)²).
+    pub dynamic_manipulability: Option<f64>,
     /// See [`CandidateScore::durations`].
     pub durations: Option<MotionDurations>,
     /// See [`CandidateScore::limit_distance_min`] (rad or m).
@@ -173,6 +175,7 @@ impl CandidateScalars {
             self_motion: score.self_motion,
             torque_margin: score.torque_margin,
             payload_capacity: score.payload_capacity,
+            dynamic_manipulability: score.dynamic_manipulability,
             durations: score.durations,
             limit_distance_min: score.limit_distance_min(),
             candidate: None,

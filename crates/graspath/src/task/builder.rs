@@ -36,7 +36,8 @@ pub struct ArmSetup {
     pub world_from_base: Isometry3<f64>,
     /// The arm's bodies (links and hand) when the task checks collisions.
     pub bodies: Option<Arc<ArmBodies>>,
-    /// The arm's dynamics model, gravity in its base frame, when the task carries a payload.
+    /// The arm's dynamics model, gravity in its base frame, when the task carries a payload or
+    /// ranks by the dynamic manipulability.
     pub dynamics: Option<Arc<Dynamics>>,
 }
 
@@ -943,10 +944,44 @@ impl TaskBuilder {
         if let Some(payload) = &self.payload {
             super::payload::check_payload(payload).map_err(|m| err("object.mass", m))?;
             for arm in &mut arms {
-                let model =
-                    super::payload::arm_dynamics(&arm.name, &arm.chain, &arm.world_from_base)
-                        .map_err(|m| err("object.mass", m))?;
+                let model = super::payload::arm_dynamics(
+                    &arm.name,
+                    &arm.chain,
+                    &arm.world_from_base,
+                    "the object's mass asks for the joint torques along the task",
+                )
+                .map_err(|m| err("object.mass", m))?;
                 arm.dynamics = Some(Arc::new(model));
+            }
+        }
+        if self.ranked.measure == IndexMeasure::Dynamic {
+            for arm in &mut arms {
+                let why = "index.measure dynamic weighs the joints by their torques";
+                if arm.dynamics.is_none() {
+                    let model = super::payload::arm_dynamics(
+                        &arm.name,
+                        &arm.chain,
+                        &arm.world_from_base,
+                        why,
+                    )
+                    .map_err(|m| err("index.measure", m))?;
+                    arm.dynamics = Some(Arc::new(model));
+                }
+                let unlimited = arm
+                    .chain
+                    .motion_limits()
+                    .iter()
+                    .zip(arm.chain.joint_names())
+                    .find(|(l, _)| !l.effort.is_some_and(|e| e.is_finite() && e > 0.0));
+                if let Some((_, joint)) = unlimited {
+                    return Err(err(
+                        "index.measure",
+                        format!(
+                            "arm '{}': joint '{joint}' has no effort limit; {why}",
+                            arm.name
+                        ),
+                    ));
+                }
             }
         }
         let object_body = (collisions.is_some() || self.gripper.is_some())

@@ -501,8 +501,8 @@ pub struct IndexFile {
     /// The characteristic length L (m) of `twist` mode (default 1, the paper's raw J).
     #[serde(default)]
     pub length_scale: Option<f64>,
-    /// What is measured and ranked: `task_relevant` (default, the paper's `M_T`) or
-    /// `velocity_ratio`.
+    /// What is measured and ranked: `task_relevant` (default, the paper's `M_T`),
+    /// `velocity_ratio`, `duration` or `dynamic` ([`IndexMeasure`](super::IndexMeasure)).
     #[serde(default)]
     pub measure: Option<String>,
     /// Multiply the ranked index by Tsai's joint-limit penalty: `true` (gain 50) or the gain.

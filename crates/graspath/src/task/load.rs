@@ -142,7 +142,7 @@ fn builder_with(
         Some(name) => IndexMeasure::from_name(name).ok_or_else(|| {
             err(
                 "index.measure",
-                format!("'{name}' is not one of task_relevant, velocity_ratio, duration"),
+                format!("'{name}' is not one of {}", IndexMeasure::spellings()),
             )
         })?,
     };

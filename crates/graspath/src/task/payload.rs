@@ -134,19 +134,17 @@ pub(super) fn check_payload(body: &RigidBody) -> Result<(), String> {
 }
 
 /// The dynamics model of arm `name` (`chain`, its base at `world_from_base`) with the world's
-/// gravity (9.81 m/s² along the world's −z) in the arm's base frame.
+/// gravity (9.81 m/s² along the world's −z) in the arm's base frame; `why` (e.g. "the object's
+/// mass asks for the joint torques along the task") ends the message when it cannot be built.
 pub(super) fn arm_dynamics(
     name: &str,
     chain: &Chain,
     world_from_base: &Isometry3<f64>,
+    why: &str,
 ) -> Result<Dynamics, String> {
     let gravity = world_from_base.inverse().rotation * Vector3::new(0.0, 0.0, -STANDARD_GRAVITY);
     chain
         .dynamics()
         .and_then(|d| d.with_gravity(gravity))
-        .map_err(|e| {
-            format!(
-                "arm '{name}': {e}; the object's mass asks for the joint torques along the task"
-            )
-        })
+        .map_err(|e| format!("arm '{name}': {e}; {why}"))
 }

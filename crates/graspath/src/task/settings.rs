@@ -54,23 +54,41 @@ pub enum IndexMeasure {
     /// candidates are ranked by its inverse, the task's rate); needs timing. The per-sample
     /// series is `M_T`, as with [`IndexMeasure::TaskRelevant`].
     Duration,
+    /// The dynamic task-relevant manipulability `M_D = ‖H M⁻¹ J'ᵀ u‖²`: the square of the
+    /// largest acceleration along `u` the joints' torques can still produce, each within its
+    /// effort limit less what gravity takes (the arm and, while held, the object; see
+    /// [`crate::manipulability::DynamicManipulability`]). Needs the arm's inertial data and
+    /// every joint's effort limit. Not the paper's index.
+    Dynamic,
 }
 
 impl IndexMeasure {
-    /// The task-file spelling: `task_relevant`, `velocity_ratio`, `duration`.
+    /// The task-file spelling: `task_relevant`, `velocity_ratio`, `duration`, `dynamic`.
     pub fn as_str(self) -> &'static str {
         match self {
             IndexMeasure::TaskRelevant => "task_relevant",
             IndexMeasure::VelocityRatio => "velocity_ratio",
             IndexMeasure::Duration => "duration",
+            IndexMeasure::Dynamic => "dynamic",
         }
     }
 
+    /// Every measure, in the order the docs list them.
+    pub const ALL: [Self; 4] = [
+        Self::TaskRelevant,
+        Self::VelocityRatio,
+        Self::Duration,
+        Self::Dynamic,
+    ];
+
     /// The variant spelled `name`, if any.
     pub fn from_name(name: &str) -> Option<Self> {
-        [Self::TaskRelevant, Self::VelocityRatio, Self::Duration]
-            .into_iter()
-            .find(|m| m.as_str() == name)
+        Self::ALL.into_iter().find(|m| m.as_str() == name)
+    }
+
+    /// Every spelling, comma-separated, for messages.
+    pub fn spellings() -> String {
+        Self::ALL.map(Self::as_str).join(", ")
     }
 }
 

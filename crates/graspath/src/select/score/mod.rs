@@ -3,6 +3,7 @@
 //! the grasp for comparison.
 
 mod branch_checks;
+mod dynamic_index;
 mod grasp_checks;
 mod path;
 mod self_motion;
@@ -23,10 +24,11 @@ use crate::robot::{
     solve_trajectories, solve_trajectory, RigidBody, TrajectoryIkOptions, TrajectoryIkResult,
 };
 use crate::task::{
-    defaults, ArmSetup, Collisions, Gripper, JacobianRows, Norm, ObjectPath, RankedIndex,
-    Redundancy, Stroke, TimingSettings, WholeMotionPlan,
+    defaults, ArmSetup, Collisions, Gripper, IndexMeasure, JacobianRows, Norm, ObjectPath,
+    RankedIndex, Redundancy, Stroke, TimingSettings, WholeMotionPlan,
 };
 use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
+use dynamic_index::{dynamic_norm, dynamic_workspace};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
 use nalgebra::{Isometry3, Matrix6xX};
 use path::{counted_samples, index_along, IndexSeries, ObjectMotion};
@@ -94,6 +96,10 @@ pub struct CandidateScore {
     /// With the object's mass: the largest object mass (kg) the chosen motion can carry within
     /// the effort limits (`None` when no limited joint bears the object).
     pub payload_capacity: Option<f64>,
+    /// With the object's mass or `index.measure: dynamic`: the task's norm of the dynamic
+    /// task-relevant manipulability `M_D` along the chosen path
+    /// ([`crate::manipulability::DynamicManipulability`]; `(m/s²)²` per sample).
+    pub dynamic_manipulability: Option<f64>,
     /// When the task times motions: how long the chosen motion takes (its approach, carry and
     /// retreat), fastest within the joints' limits.
     pub durations: Option<MotionDurations>,
@@ -133,6 +139,7 @@ impl CandidateScore {
             self_motion: None,
             torque_margin: None,
             payload_capacity: None,
+            dynamic_manipulability: None,
             durations: None,
         }
     }
@@ -540,6 +547,8 @@ fn score_solved(
     let mut score = CandidateScore::unscored(Arc::clone(candidate));
     let located = |failure: Failure| scoring.located(failure);
     let checks = branch_checks(&scoring);
+    let mut dynamic = dynamic_workspace(&scoring);
+    let ranks_dynamic = ranked.measure == IndexMeasure::Dynamic;
     // One branch tracked first; more are searched only when it fails or collides, or when
     // every branch is to be compared.
     let mut tries = vec![Scoring::first_try(scoring.setup)];
@@ -584,6 +593,7 @@ fn score_solved(
                 path_q,
                 (mode, ranked),
                 &mut jacobian,
+                dynamic.as_mut().filter(|_| ranks_dynamic),
             );
             let norms = series.norms(times, &counted);
             if redundancy == Redundancy::Optimize && first_branch.is_none() && attempt == 0 {
@@ -635,7 +645,11 @@ fn score_solved(
             path: before..before + n,
             checks: &checks,
         };
-        score.self_motion = search.improve(chosen, first_branch.as_ref());
+        score.self_motion = search.improve(
+            chosen,
+            first_branch.as_ref(),
+            dynamic.as_mut().filter(|_| ranks_dynamic),
+        );
     }
     let grasp_reached = match best {
         Some(ChosenBranch {
@@ -650,6 +664,15 @@ fn score_solved(
             score.clearance = findings.clearance;
             score.torque_margin = findings.torque_margin;
             score.payload_capacity = findings.payload_capacity;
+            score.dynamic_manipulability = dynamic.as_mut().and_then(|workspace| {
+                dynamic_norm(
+                    &scoring,
+                    workspace,
+                    motion,
+                    &q[before..before + n],
+                    (times, &counted),
+                )
+            });
             score.durations = findings.durations;
             score.approach = q[..before].to_vec();
             score.retreat = q[before + n..].to_vec();

@@ -2,7 +2,7 @@
 //! trajectory and tangent of one grasp, and the index series along a joint path with its norms.
 
 use crate::geometry::se3_log;
-use crate::manipulability::{Direction, PathNorms, SampleIndex};
+use crate::manipulability::{Direction, DynamicManipulability, PathNorms, SampleIndex};
 use crate::robot::Chain;
 use crate::task::{JacobianRows, NormSamples, ObjectPath, RankedIndex};
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
@@ -117,7 +117,8 @@ pub(super) fn counted_samples(path: &ObjectPath, over: NormSamples) -> Vec<bool>
         .collect()
 }
 
-/// `M_T` and the ranked index at every sample along one joint path.
+/// `M_T` and the ranked index at every sample along one joint path; `dynamic` evaluates the
+/// dynamic measure (the arm holding the object).
 pub(super) fn index_along(
     chain: &Chain,
     motion: &ObjectMotion,
@@ -125,6 +126,7 @@ pub(super) fn index_along(
     joints: &[Vec<f64>],
     (mode, ranked): (JacobianRows, RankedIndex),
     jacobian: &mut Matrix6xX<f64>,
+    mut dynamic: Option<&mut DynamicManipulability<'_>>,
 ) -> IndexSeries {
     let mut m_t = Vec::with_capacity(joints.len());
     let mut values = Vec::with_capacity(joints.len());
@@ -134,9 +136,15 @@ pub(super) fn index_along(
             .filter(|_| chain.pose_and_jacobian_into(q, jacobian).is_ok());
         m_t.push(at.map(|d| mode.task_relevant(jacobian, &d)));
         if !ranked.series_is_m_t() {
-            values.push(
-                at.map(|d| ranked.value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])),
-            );
+            values.push(at.map(|d| {
+                ranked.value(
+                    mode,
+                    jacobian,
+                    &d,
+                    [q, chain.lower(), chain.upper()],
+                    dynamic.as_deref_mut(),
+                )
+            }));
         }
     }
     IndexSeries {

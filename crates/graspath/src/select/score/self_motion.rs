@@ -7,9 +7,11 @@ use super::branch_checks::{check_branch, BranchCheck, BranchFindings};
 use super::path::{index_along, ObjectMotion};
 use super::{ChosenBranch, ScoringSetup, SelfMotionScores};
 use crate::grasp::Candidate;
+use crate::manipulability::DynamicManipulability;
 use crate::robot::{optimize_smooth_self_motion, KeptRows, SelfMotionOptions, SmoothSelfMotion};
 use crate::task::Norm;
 use nalgebra::{Isometry3, Matrix6xX};
+use std::sync::{Mutex, PoisonError};
 
 /// The self-motion search of one candidate ([`Redundancy::Optimize`]).
 pub(super) struct SelfMotionSearch<'a> {
@@ -33,10 +35,12 @@ impl SelfMotionSearch<'_> {
     /// path's time for `μ_rms` and `μ_l1`, 1 for `μ_l2`); replaces `chosen` when that motion
     /// ranks higher by the task's norm and passes the branch checks. Returns the range of
     /// `μ_l2` over the self-motion.
+    /// `dynamic` evaluates the dynamic measure when the task ranks by it.
     pub(super) fn improve(
         &self,
         chosen: &mut ChosenBranch,
         first_branch: Option<&(Vec<Vec<f64>>, f64)>,
+        dynamic: Option<&mut DynamicManipulability<'_>>,
     ) -> Option<SelfMotionScores> {
         let ScoringSetup {
             arm,
@@ -47,6 +51,9 @@ impl SelfMotionSearch<'_> {
         } = *self.setup;
         let chain = &arm.chain;
         let path = self.path.clone();
+        // The search evaluates through a shared reference; the dynamic workspace is its
+        // one piece of mutable state (never contended: one candidate, one thread).
+        let dynamic = Mutex::new(dynamic);
         let value = |i: usize, q: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
             if !path.contains(&i) {
                 return 0.0;
@@ -55,7 +62,16 @@ impl SelfMotionSearch<'_> {
                 .tangent(i - path.start, &self.candidate.object_from_wrist, mode)
                 .map_or(0.0, |d| {
                     ranked
-                        .value(mode, jacobian, &d, [q, chain.lower(), chain.upper()])
+                        .value(
+                            mode,
+                            jacobian,
+                            &d,
+                            [q, chain.lower(), chain.upper()],
+                            dynamic
+                                .lock()
+                                .unwrap_or_else(PoisonError::into_inner)
+                                .as_deref_mut(),
+                        )
                         .powi(2)
                 })
         };
@@ -84,6 +100,7 @@ impl SelfMotionSearch<'_> {
             &found.q[self.path.clone()],
             (mode, ranked),
             &mut jacobian,
+            dynamic.into_inner().unwrap_or_else(PoisonError::into_inner),
         );
         let norms = series.norms(self.times, self.counted);
         let first_branch_l2 = first_branch.map_or(chosen.norms.l2, |(_, l2)| *l2);

@@ -396,7 +396,71 @@ fn every_example_task_loads_and_the_demo_runs() {
     assert!(stdout.contains("paper:") && stdout.contains("ours:"));
     readme_table_matches(&findings);
     readme_placements_match(&findings);
+    readme_heavy_matches(&findings[0]["heavy"]);
     readme_figures_match(&out);
+}
+
+/// The README's "The same bar, heavier" table and statements against `findings.json`'s
+/// `heavy` (the cuboid Pick-and-Place with the bar given a mass), and the finding's own
+/// consistency: the failures per joint add up, the first mass with nothing feasible is named.
+fn readme_heavy_matches(heavy: &serde_json::Value) {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let section = &readme[readme.find("### The same bar, heavier").unwrap()..];
+    let section = &section[..section.find("\n### ").unwrap()];
+    let masses = heavy["masses"].as_array().unwrap();
+    let mut first_empty = None;
+    for m in masses {
+        let joints = m["out_of_torque_at"].as_object().unwrap();
+        let total: u64 = joints.values().map(|n| n.as_u64().unwrap()).sum();
+        assert_eq!(total, m["torque_limit"].as_u64().unwrap());
+        let feasible = m["feasible"].as_u64().unwrap();
+        if feasible == 0 && first_empty.is_none() {
+            first_empty = m["mass_kg"].as_f64();
+        }
+        let name = |key: &str| m[key].as_str().unwrap_or("none").to_string();
+        let joint_text: Vec<String> = joints.iter().map(|(j, n)| format!("`{j}` ×{n}")).collect();
+        let capacity = match m["largest_capacity"].as_object() {
+            Some(c) => format!(
+                "{:.2} (`{}`)",
+                c["kg"].as_f64().unwrap(),
+                c["label"].as_str().unwrap()
+            ),
+            None => "–".into(),
+        };
+        let row = format!(
+            "| {} | {feasible} | {} ({}) | `{}` | `{}` | {capacity} |",
+            m["mass_kg"].as_f64().unwrap(),
+            m["torque_limit"],
+            joint_text.join(", "),
+            name("best"),
+            name("best_by_dynamic_manipulability"),
+        );
+        assert!(section.contains(&row), "the README lacks the row {row}");
+        if feasible > 0 {
+            // "picks another contact than the kinematic index at every mass"
+            assert_ne!(name("best"), name("best_by_dynamic_manipulability"));
+            // "with any mass that grasp fails"
+            assert_eq!(m["best_without_mass_feasible"], serde_json::json!(false));
+        }
+        // "every failure is the shoulder's"
+        assert!(joints.keys().all(|j| j == "left_s1"), "{joints:?}");
+    }
+    assert_eq!(heavy["nothing_feasible_from_kg"].as_f64(), first_empty);
+    let from = format!(
+        "from {} kg no contact can do the task",
+        first_empty.unwrap()
+    );
+    assert!(section.contains(&from), "the README lacks: {from}");
+    let best = format!(
+        "the index picks `{}`",
+        heavy["best_without_mass"].as_str().unwrap()
+    );
+    assert!(section.contains(&best), "the README lacks: {best}");
+    let moves = format!(
+        "The best grasp moves from {} kg on",
+        heavy["best_moves_at_kg"].as_f64().unwrap()
+    );
+    assert!(section.contains(&moves), "the README lacks: {moves}");
 }
 
 /// The figures the README and docs/report.md show (`docs/images/`) are the demo's, byte for

@@ -10,6 +10,7 @@
 //! `findings.json` (`sampling` says which reading is which).
 
 mod evidence;
+mod heavy;
 mod timing;
 
 use super::select::run_task;
@@ -45,6 +46,9 @@ struct Experiment {
     task_yaml: &'static str,
     paper_finding: &'static str,
 }
+
+/// The experiment whose bar is also carried with a mass ([`heavy`]).
+const HEAVY_EXPERIMENT: &str = "pick_and_place_left";
 
 const EXPERIMENTS: [Experiment; 6] = [
     Experiment {
@@ -235,6 +239,18 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         let timed = timing::timing_finding(&selection);
         if !timed.is_null() {
             finding["timing"] = timed;
+        }
+        if experiment.name == HEAVY_EXPERIMENT {
+            let light_best = selection.arms[0].best().map(|i| label_of(&selection, 0, i));
+            let heavy = heavy::heavy_finding(&file, &source, light_best)
+                .with_context(|| format!("experiment {}: the heavy bar", experiment.name))?;
+            if !args.output.quiet && !args.output.json {
+                crate::say!(
+                    "  ours with the bar heavier: {}\n",
+                    heavy::summarise(&heavy)
+                );
+            }
+            finding["heavy"] = heavy;
         }
         if let Some(judge) = evidence::cuboid_judge(experiment.name) {
             finding["where_it_holds"] = evidence::cuboid_where_it_holds(&file, &source, judge)

@@ -1,5 +1,5 @@
 //! The dynamics kernels per call: gravity torques `g(q)`, inverse dynamics (RNEA) and the mass
-//! matrix (CRBA), beside FK + Jacobian and `g(q)` + Jacobian, on the built-in Panda and
+//! matrix (CRBA), beside FK + Jacobian and `g(q)` + Jacobian (fused, and the two kernels apart), on the built-in Panda and
 //! Baxter left arm; RNEA and gravity also with a payload at the tool. The configurations are
 //! the kinematics bench's (64 spread inside the limits); the velocities and accelerations a
 //! fixed pattern. `examples/peers/pinocchio_dynamics.cpp` times Pinocchio on the same states.
@@ -75,6 +75,20 @@ fn bench_chain(c: &mut Criterion, name: &str, chain: &Chain) {
         });
     });
     c.bench_function(&format!("gravity_jacobian/{name}"), |b| {
+        b.iter(|| {
+            k = (k + 1) % 64;
+            dynamics
+                .gravity_torques_and_jacobian_into(
+                    &mut data,
+                    black_box(&qs[k]),
+                    &mut tau,
+                    &mut jacobian,
+                )
+                .expect("valid configuration");
+            black_box((&tau, &jacobian));
+        });
+    });
+    c.bench_function(&format!("gravity_then_jacobian/{name}"), |b| {
         b.iter(|| {
             k = (k + 1) % 64;
             dynamics

@@ -6,14 +6,18 @@
 //! `(m, h = m·c, I_O)`, mapping `(ω, v)` to `(I_O ω + h × v, m v − h × ω)`.
 //!
 //! Every pass starts with the forward kinematics of the segment frames (the FK kernel's
-//! operations: `p += R t`, `R = R · E`, a turn about `z` or a slide along it), then:
+//! operations: `p += R t`, `R = R · E`, a turn about `z` or a slide along it); a payload is
+//! part of the last segment's body (joined once, by `DynamicsData::set_payload`). Then:
 //! * gravity: backward sums of mass and first moment; `τᵢ = zᵢ · ((Cᵢ − Mᵢ pᵢ) × (−g))`;
 //! * RNEA: `Vᵢ = Vᵢ₋₁ + Sᵢ q̇ᵢ`, `Aᵢ = Aᵢ₋₁ + Sᵢ q̈ᵢ + Vᵢ × Sᵢ q̇ᵢ` from `A₀ = (0, −g)`,
-//!   `Fᵢ = Yᵢ Aᵢ + Vᵢ ×* Yᵢ Vᵢ`, then `τᵢ = Sᵢ · Σⱼ≥ᵢ Fⱼ`;
+//!   `Fᵢ = Yᵢ Aᵢ + Vᵢ ×* Yᵢ Vᵢ` evaluated as Newton–Euler at the centre of mass `c`
+//!   (`f = m (v̇ + ω̇ × c + ω × (v + ω × c))`, `n_c = R (I ω̇_b + ω_b × I ω_b)` with the body's
+//!   own inertia `I` and `ω_b = Rᵀ ω`, `n = n_c + c × f`), then `τᵢ = Sᵢ · Σⱼ≥ᵢ Fⱼ`;
 //! * CRBA: composite inertias `Yᶜᵢ = Σⱼ≥ᵢ Yⱼ`, `Mₖᵢ = Sₖ · Yᶜᵢ Sᵢ` for `k ≤ i`.
 
 use super::{Dynamics, DynamicsData, WorldBody};
 use crate::robot::chain::MotionKind;
+use crate::robot::spec::RigidBody;
 use nalgebra::{Matrix3, Vector3};
 
 /// `(I_O ω + h × v, m v − h × ω)`: a body's spatial inertia times a motion `(ω, v)`.
@@ -34,31 +38,26 @@ fn world_body(
     inertia: &Matrix3<f64>,
     rotation: &Matrix3<f64>,
     origin: &Vector3<f64>,
-    rotational: bool,
 ) -> WorldBody {
     let c = origin + rotation * com;
+    let mut turned = symmetric_sandwich(rotation, inertia);
+    let (x, y, z) = (c[0], c[1], c[2]);
+    let (mx, my, mz) = (mass * x, mass * y, mass * z);
+    // + m (‖c‖² 1 − c cᵀ)
+    turned[(0, 0)] += my * y + mz * z;
+    turned[(1, 1)] += mx * x + mz * z;
+    turned[(2, 2)] += mx * x + my * y;
+    let (xy, xz, yz) = (mx * y, mx * z, my * z);
+    turned[(0, 1)] -= xy;
+    turned[(1, 0)] -= xy;
+    turned[(0, 2)] -= xz;
+    turned[(2, 0)] -= xz;
+    turned[(1, 2)] -= yz;
+    turned[(2, 1)] -= yz;
     WorldBody {
         mass,
         first_moment: c * mass,
-        rotational: if rotational {
-            let mut turned = symmetric_sandwich(rotation, inertia);
-            let (x, y, z) = (c[0], c[1], c[2]);
-            let (mx, my, mz) = (mass * x, mass * y, mass * z);
-            // + m (‖c‖² 1 − c cᵀ)
-            turned[(0, 0)] += my * y + mz * z;
-            turned[(1, 1)] += mx * x + mz * z;
-            turned[(2, 2)] += mx * x + my * y;
-            let (xy, xz, yz) = (mx * y, mx * z, my * z);
-            turned[(0, 1)] -= xy;
-            turned[(1, 0)] -= xy;
-            turned[(0, 2)] -= xz;
-            turned[(2, 0)] -= xz;
-            turned[(1, 2)] -= yz;
-            turned[(2, 1)] -= yz;
-            turned
-        } else {
-            Matrix3::zeros()
-        },
+        rotational: turned,
     }
 }
 
@@ -79,17 +78,6 @@ fn symmetric_sandwich(r: &Matrix3<f64>, inertia: &Matrix3<f64>) -> Matrix3<f64> 
     Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
 }
 
-/// Which bodies the forward pass places about the base origin.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Bodies {
-    /// None (the caller places them itself).
-    None,
-    /// Masses and first moments (enough for gravity).
-    FirstMoments,
-    /// Masses, first moments and rotational inertias.
-    Full,
-}
-
 impl Dynamics {
     /// Segment `i`'s joint value, rate and acceleration from the independent ones.
     #[inline(always)]
@@ -102,12 +90,10 @@ impl Dynamics {
         }
     }
 
-    /// The forward pass shared by every kernel: each segment's aligned frame by the FK
-    /// kernel's link-frame pass (AVX2 when the processor has it), then its joint origin and
-    /// axis, motion subspace and, as far as `bodies` asks, its body about the base origin,
-    /// the payload joined to the last segment's body. The tool frame is always placed.
+    /// Each segment's aligned frame (base frame) by the FK kernel's link-frame pass (AVX2 when
+    /// the processor has it).
     #[inline(always)]
-    fn place(&self, data: &mut DynamicsData, q: &[f64], bodies: Bodies) {
+    fn place(&self, data: &mut DynamicsData, q: &[f64]) {
         if self.has_mimic {
             let segments = &self.segments;
             self.frames.frames_into(
@@ -117,47 +103,43 @@ impl Dynamics {
         } else {
             self.frames.frames_into(|i| q[i], &mut data.frames);
         }
+    }
+
+    /// Each segment's motion subspace `S = (z, p × z)` (revolute) or `(0, z)` (prismatic)
+    /// about the base origin, from the placed frames.
+    #[inline(always)]
+    fn place_motions(&self, data: &mut DynamicsData) {
         let placed = self
             .segments
             .iter()
             .zip(&data.frames)
-            .zip(data.origin.iter_mut().zip(data.axis.iter_mut()))
-            .zip(data.motion_w.iter_mut().zip(data.motion_v.iter_mut()))
-            .zip(data.body.iter_mut());
-        for ((((s, frame), (origin, axis)), (motion_w, motion_v)), body) in placed {
-            let r = frame.rotation.matrix();
-            let p = frame.translation.vector;
-            let z = r.column(2).into_owned();
-            *origin = p;
-            *axis = z;
+            .zip(data.motion_w.iter_mut().zip(data.motion_v.iter_mut()));
+        for ((s, frame), (motion_w, motion_v)) in placed {
+            let z = frame.rotation.matrix().column(2).into_owned();
             (*motion_w, *motion_v) = match s.kind {
-                MotionKind::Revolute => (z, p.cross(&z)),
+                MotionKind::Revolute => (z, frame.translation.vector.cross(&z)),
                 MotionKind::Prismatic => (Vector3::zeros(), z),
             };
-            if bodies != Bodies::None {
-                *body = world_body(s.mass, &s.com, &s.inertia, r, &p, bodies == Bodies::Full);
+        }
+    }
+
+    /// Segment `i`'s body in its aligned frame: mass (kg), centre of mass (m), inertia about
+    /// it (kg·m²); the last segment's is `loaded_last` when a payload is joined to it
+    /// (`DynamicsData::loaded_last`).
+    #[inline(always)]
+    fn body<'a>(
+        &'a self,
+        loaded_last: Option<&'a RigidBody>,
+        i: usize,
+    ) -> (f64, &'a Vector3<f64>, &'a Matrix3<f64>) {
+        match loaded_last {
+            Some(loaded) if i + 1 == self.segments.len() => {
+                (loaded.mass, &loaded.com, &loaded.inertia)
             }
-        }
-        if let Some(last) = data.frames.last() {
-            let r = last.rotation.matrix();
-            data.tool_rotation = r * self.tail_rotation;
-            data.tool_origin = last.translation.vector + r * self.tail_translation;
-        }
-        if bodies == Bodies::None {
-            return;
-        }
-        if let (Some(payload), Some(last)) = (&data.payload, data.body.last_mut()) {
-            let extra = world_body(
-                payload.mass,
-                &payload.com,
-                &payload.inertia,
-                &data.tool_rotation,
-                &data.tool_origin,
-                bodies == Bodies::Full,
-            );
-            last.mass += extra.mass;
-            last.first_moment += extra.first_moment;
-            last.rotational += extra.rotational;
+            _ => {
+                let s = &self.segments[i];
+                (s.mass, &s.com, &s.inertia)
+            }
         }
     }
 
@@ -175,25 +157,67 @@ impl Dynamics {
         }
     }
 
-    /// `g(q)` without checks.
+    /// `g(q)` without checks: one backward sum of masses and first moments over the placed
+    /// frames.
     pub(super) fn gravity_unchecked(&self, data: &mut DynamicsData, q: &[f64], tau: &mut [f64]) {
-        self.place(data, q, Bodies::FirstMoments);
+        self.place(data, q);
         let lift = -self.gravity;
         let mut mass = 0.0;
         let mut moment = Vector3::<f64>::zeros();
         for i in (0..self.segments.len()).rev() {
-            mass += data.body[i].mass;
-            moment += data.body[i].first_moment;
-            let z = &data.axis[i];
+            let (m, com, _) = self.body(data.loaded_last.as_ref(), i);
+            let frame = &data.frames[i];
+            let r = frame.rotation.matrix();
+            let p = &frame.translation.vector;
+            mass += m;
+            moment += (p + r * com) * m;
+            let z = r.column(2);
             data.segment_tau[i] = match self.segments[i].kind {
-                MotionKind::Revolute => z.dot(&(moment - data.origin[i] * mass).cross(&lift)),
+                MotionKind::Revolute => z.dot(&(moment - p * mass).cross(&lift)),
                 MotionKind::Prismatic => z.dot(&lift) * mass,
             };
         }
         self.gather(data, tau);
     }
 
-    /// `τ(q, q̇, q̈)` without checks.
+    /// `g(q)` and the tool frame's geometric Jacobian (6 × dof column-major storage `jacobian`,
+    /// rows `[v; ω]`, base frame) from one placement of the frames, without checks.
+    pub(super) fn gravity_and_jacobian_unchecked(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        tau: &mut [f64],
+        jacobian: &mut [f64],
+    ) {
+        self.gravity_unchecked(data, q, tau);
+        let Some(last) = data.frames.last() else {
+            return;
+        };
+        let tool = last.translation.vector + last.rotation.matrix() * self.tail_translation;
+        if self.has_mimic {
+            jacobian.fill(0.0);
+        }
+        for (s, frame) in self.segments.iter().zip(&data.frames) {
+            let z = frame.rotation.matrix().column(2).into_owned();
+            let (linear, angular) = match s.kind {
+                MotionKind::Revolute => (z.cross(&(tool - frame.translation.vector)), z),
+                MotionKind::Prismatic => (z, Vector3::zeros()),
+            };
+            let column = &mut jacobian[6 * s.source..6 * s.source + 6];
+            let m = if self.has_mimic { s.multiplier } else { 1.0 };
+            for (entry, value) in column.iter_mut().zip(linear.iter().chain(angular.iter())) {
+                if self.has_mimic {
+                    *entry += m * value;
+                } else {
+                    *entry = *value;
+                }
+            }
+        }
+    }
+
+    /// `τ(q, q̇, q̈)` without checks. Velocities and accelerations are propagated about the
+    /// base origin; each body's force is Newton–Euler's at its centre of mass (the rotational
+    /// part in the body's own frame, where its inertia is constant), moved to the base origin.
     pub(super) fn rnea_unchecked(
         &self,
         data: &mut DynamicsData,
@@ -202,7 +226,8 @@ impl Dynamics {
         qdd: &[f64],
         tau: &mut [f64],
     ) {
-        self.place(data, q, Bodies::Full);
+        self.place(data, q);
+        self.place_motions(data);
         let n = self.segments.len();
         let (mut w, mut v) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
         let (mut dw, mut dv) = (Vector3::<f64>::zeros(), -self.gravity);
@@ -216,12 +241,17 @@ impl Dynamics {
             // A += S q̈ + V × (S q̇).
             dw += sw * accel + w.cross(&jw);
             dv += sv * accel + w.cross(&jv) + v.cross(&jw);
-            let body = &data.body[i];
-            let (n_a, f_a) = apply(body, &dw, &dv);
-            let (n_v, f_v) = apply(body, &w, &v);
-            // F = Y A + V ×* (Y V).
-            data.force_n[i] = n_a + w.cross(&n_v) + v.cross(&f_v);
-            data.force_f[i] = f_a + w.cross(&f_v);
+            let (mass, com, inertia) = self.body(data.loaded_last.as_ref(), i);
+            let frame = &data.frames[i];
+            let r = frame.rotation.matrix();
+            let c = frame.translation.vector + r * com;
+            // The centre of mass's classical acceleration (gravity included through A₀).
+            let velocity = v + w.cross(&c);
+            let f = (dv + dw.cross(&c) + w.cross(&velocity)) * mass;
+            let (w_body, dw_body) = (r.tr_mul(&w), r.tr_mul(&dw));
+            let n_body = inertia * dw_body + w_body.cross(&(inertia * w_body));
+            data.force_n[i] = r * n_body + c.cross(&f);
+            data.force_f[i] = f;
         }
         let (mut sum_n, mut sum_f) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
         for i in (0..n).rev() {
@@ -235,45 +265,31 @@ impl Dynamics {
     /// `M(q)` without checks; `out` is the column-major dof × dof storage. The bodies are
     /// placed about the base origin in the backward sweep that sums them.
     pub(super) fn crba_unchecked(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
-        self.place(data, q, Bodies::None);
+        self.place(data, q);
+        self.place_motions(data);
         let n = self.segments.len();
         let mut composite = WorldBody::ZERO;
         let stride = if self.has_mimic { n } else { self.dof };
+        let loaded_last = data.loaded_last.as_ref();
+        let target: &mut [f64] = if self.has_mimic {
+            &mut data.segment_mass
+        } else {
+            out
+        };
         for i in (0..n).rev() {
-            let s = &self.segments[i];
+            let (mass, com, inertia) = self.body(loaded_last, i);
             let frame = &data.frames[i];
             let body = world_body(
-                s.mass,
-                &s.com,
-                &s.inertia,
+                mass,
+                com,
+                inertia,
                 frame.rotation.matrix(),
                 &frame.translation.vector,
-                true,
             );
             composite.mass += body.mass;
             composite.first_moment += body.first_moment;
             composite.rotational += body.rotational;
-            if i + 1 == n {
-                if let Some(payload) = &data.payload {
-                    let extra = world_body(
-                        payload.mass,
-                        &payload.com,
-                        &payload.inertia,
-                        &data.tool_rotation,
-                        &data.tool_origin,
-                        true,
-                    );
-                    composite.mass += extra.mass;
-                    composite.first_moment += extra.first_moment;
-                    composite.rotational += extra.rotational;
-                }
-            }
             let (fn_, ff) = apply(&composite, &data.motion_w[i], &data.motion_v[i]);
-            let target: &mut [f64] = if self.has_mimic {
-                &mut data.segment_mass
-            } else {
-                out
-            };
             for (k, (kw, kv)) in data.motion_w[..=i]
                 .iter()
                 .zip(&data.motion_v[..=i])

@@ -39,7 +39,7 @@ mod tests;
 use super::chain::{Chain, MotionKind, SegmentFrames};
 use super::error::RobotError;
 use super::spec::{MotionLimits, RigidBody};
-use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Vector3};
+use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Matrix6xX, Vector3};
 
 /// Standard gravity (m/s²).
 pub const STANDARD_GRAVITY: f64 = 9.81;
@@ -100,25 +100,25 @@ impl WorldBody {
 #[derive(Debug, Clone)]
 pub struct DynamicsData {
     payload: Option<RigidBody>,
+    /// The last segment's body with the payload joined to it (its aligned frame), when a
+    /// payload is attached: the kernels use it in place of the segment's own body.
+    loaded_last: Option<RigidBody>,
+    /// The last segment's own body and the tool frame in its aligned frame (rotation,
+    /// origin), from the model, to join a payload to it.
+    last_segment: Option<RigidBody>,
+    tail_rotation: Matrix3<f64>,
+    tail_translation: Vector3<f64>,
     /// Each segment's aligned frame (base frame), from the FK kernel's link-frame pass.
     frames: Vec<IsometryMatrix3<f64>>,
-    /// Joint origin and unit axis of each segment, base frame.
-    origin: Vec<Vector3<f64>>,
-    axis: Vec<Vector3<f64>>,
     /// Each segment's motion subspace `S = (ω, v)` (about the base origin).
     motion_w: Vec<Vector3<f64>>,
     motion_v: Vec<Vector3<f64>>,
     /// Each segment's spatial force `(n, f)` in the RNEA (about the base origin).
     force_n: Vec<Vector3<f64>>,
     force_f: Vec<Vector3<f64>>,
-    /// Each segment's body (payload included on the last), about the base origin.
-    body: Vec<WorldBody>,
     /// Segment torques, and the segment-level mass matrix for chains with mimic joints.
     segment_tau: Vec<f64>,
     segment_mass: Vec<f64>,
-    /// Tool frame of the last evaluation (rotation, origin; base frame).
-    tool_rotation: Matrix3<f64>,
-    tool_origin: Vector3<f64>,
 }
 
 impl DynamicsData {
@@ -130,6 +130,18 @@ impl DynamicsData {
             check_body(body, "payload")?;
         }
         self.payload = payload;
+        self.loaded_last = match (payload, self.last_segment) {
+            (Some(p), Some(last)) => {
+                let r = self.tail_rotation;
+                let in_last = RigidBody::new(
+                    p.mass,
+                    r * p.com + self.tail_translation,
+                    r * p.inertia * r.transpose(),
+                );
+                Some(last.combined(&in_last))
+            }
+            _ => None,
+        };
         Ok(())
     }
 
@@ -244,22 +256,24 @@ impl Dynamics {
         let n = self.segments.len();
         DynamicsData {
             payload: None,
+            loaded_last: None,
+            last_segment: self
+                .segments
+                .last()
+                .map(|s| RigidBody::new(s.mass, s.com, s.inertia)),
+            tail_rotation: self.tail_rotation,
+            tail_translation: self.tail_translation,
             frames: vec![IsometryMatrix3::identity(); n],
-            origin: vec![Vector3::zeros(); n],
-            axis: vec![Vector3::zeros(); n],
             motion_w: vec![Vector3::zeros(); n],
             motion_v: vec![Vector3::zeros(); n],
             force_n: vec![Vector3::zeros(); n],
             force_f: vec![Vector3::zeros(); n],
-            body: vec![WorldBody::ZERO; n],
             segment_tau: vec![0.0; n],
             segment_mass: if self.has_mimic {
                 vec![0.0; n * n]
             } else {
                 Vec::new()
             },
-            tool_rotation: Matrix3::identity(),
-            tool_origin: Vector3::zeros(),
         }
     }
 
@@ -350,7 +364,15 @@ impl Dynamics {
     }
 
     fn check_data(&self, data: &DynamicsData) -> Result<(), RobotError> {
-        if data.frames.len() != self.segments.len()
+        let same_tool = data.tail_rotation == self.tail_rotation
+            && data.tail_translation == self.tail_translation
+            && data.last_segment
+                == self
+                    .segments
+                    .last()
+                    .map(|s| RigidBody::new(s.mass, s.com, s.inertia));
+        if !same_tool
+            || data.frames.len() != self.segments.len()
             || data.segment_mass.len()
                 != if self.has_mimic {
                     self.segments.len().pow(2)
@@ -382,6 +404,29 @@ impl Dynamics {
         self.check_q(q)?;
         self.check_out(tau.len())?;
         self.gravity_unchecked(data, q, tau);
+        Ok(())
+    }
+
+    /// The gravity torques `g(q)` into `tau` (as [`Dynamics::gravity_torques_into`]) and the
+    /// tool frame's geometric Jacobian into `jacobian` (6 × dof, rows `[v; ω]`, base frame:
+    /// the Jacobian of [`Chain::pose_and_jacobian_into`]), from one placement of the segment
+    /// frames: what a torque check and a manipulability index need at a sample, at little more
+    /// than the cost of either. `jacobian` is resized once if its shape is wrong; with the
+    /// right shape nothing is allocated.
+    pub fn gravity_torques_and_jacobian_into(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        tau: &mut [f64],
+        jacobian: &mut Matrix6xX<f64>,
+    ) -> Result<(), RobotError> {
+        self.check_data(data)?;
+        self.check_q(q)?;
+        self.check_out(tau.len())?;
+        if jacobian.ncols() != self.dof {
+            *jacobian = Matrix6xX::zeros(self.dof);
+        }
+        self.gravity_and_jacobian_unchecked(data, q, tau, jacobian.as_mut_slice());
         Ok(())
     }
 

@@ -453,3 +453,37 @@ fn bad_inputs_are_errors() {
         Err(RobotError::BadInertia { .. })
     ));
 }
+
+/// Oracle: `gravity_torques_into` and the FK kernel's `pose_and_jacobian_into`, called apart,
+/// on random chains with prismatic and mimic joints and a tool offset, with a payload.
+#[test]
+fn the_fused_gravity_and_jacobian_equal_the_two_kernels_apart() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(23);
+    for trial in 0..40 {
+        let spec = random_chain(&mut rng, 2 + trial % 8, trial % 2 == 1);
+        let chain = Chain::from_spec(&spec).unwrap();
+        let dynamics = chain.dynamics().unwrap();
+        let n = dynamics.dof();
+        let mut data = dynamics.data();
+        data.set_payload(Some(RigidBody::point(0.7, Vector3::new(0.01, 0.02, 0.05))))
+            .unwrap();
+        let q = random_vector(&mut rng, n, 2.0);
+        let (mut apart, mut fused) = (vec![0.0; n], vec![0.0; n]);
+        dynamics
+            .gravity_torques_into(&mut data, &q, &mut apart)
+            .unwrap();
+        let mut expected = nalgebra::Matrix6xX::zeros(n);
+        chain.pose_and_jacobian_into(&q, &mut expected).unwrap();
+        // A wrong-sized Jacobian is resized.
+        let mut jacobian = nalgebra::Matrix6xX::zeros(0);
+        dynamics
+            .gravity_torques_and_jacobian_into(&mut data, &q, &mut fused, &mut jacobian)
+            .unwrap();
+        assert_eq!(apart, fused, "trial {trial}: the same gravity torques");
+        let scale = expected.amax().max(1.0);
+        assert!(
+            (&jacobian - &expected).amax() <= 1e-12 * scale,
+            "trial {trial}: {jacobian} vs {expected}"
+        );
+    }
+}

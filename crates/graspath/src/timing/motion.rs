@@ -139,7 +139,7 @@ impl PathLimits<'_> {
             }
             _ => None,
         };
-        let [mut q, mut qd, mut qdd, mut tau, mut g, zero] =
+        let [mut q, mut qd, mut qdd, mut tau, mut g, mut a, mut b] =
             std::array::from_fn(|_| vec![0.0; dof]);
         // The path `q'`, `q''` at an interval's start, middle (with `q`) and end.
         let [mut dq0, mut ddq0, mut qm, mut dqm, mut ddqm, mut dq1, mut ddq1] =
@@ -196,13 +196,11 @@ impl PathLimits<'_> {
             }
             if let Some((model, data)) = dynamics.as_mut() {
                 let x = 0.5 * (x0 + x1);
-                let sd = x.sqrt();
+                // τ = a s̈ + b ṡ² + g with s̈ = u and ṡ² = x.
+                model.path_torques_into(data, &qm, &dqm, &ddqm, &mut g, &mut a, &mut b)?;
                 for j in 0..dof {
-                    qd[j] = dqm[j] * sd;
-                    qdd[j] = dqm[j] * u + ddqm[j] * x;
+                    tau[j] = a[j] * u + b[j] * x + g[j];
                 }
-                model.inverse_dynamics_into(data, &qm, &zero, &zero, &mut g)?;
-                model.inverse_dynamics_into(data, &qm, &qd, &qdd, &mut tau)?;
                 for &(j, limit) in &torqued {
                     // g + (τ − g)/k² within ±limit, with g itself within it.
                     let bound = if tau[j] > limit {
@@ -246,8 +244,7 @@ impl PathLimits<'_> {
             }
             None => None,
         };
-        let [mut q, mut dq, mut ddq, mut g, mut tau_a, mut tau_b, zero] =
-            std::array::from_fn(|_| vec![0.0; dof]);
+        let [mut q, mut dq, mut ddq, mut g, mut a, mut b] = std::array::from_fn(|_| vec![0.0; dof]);
         let mut jacobian = Matrix6xX::zeros(dof);
         for &s in &grid {
             spline.evaluate_into(
@@ -276,13 +273,12 @@ impl PathLimits<'_> {
                 });
             }
             if let Some((model, data)) = dynamics.as_mut() {
-                model.inverse_dynamics_into(data, &q, &zero, &zero, &mut g)?;
-                model.inverse_dynamics_into(data, &q, &zero, &dq, &mut tau_a)?;
-                model.inverse_dynamics_into(data, &q, &dq, &ddq, &mut tau_b)?;
+                // τ = a s̈ + b ṡ² + g.
+                model.path_torques_into(data, &q, &dq, &ddq, &mut g, &mut a, &mut b)?;
                 for &(j, limit) in &torqued {
                     rows.push(Row {
-                        a: tau_a[j] - g[j],
-                        b: tau_b[j] - g[j],
+                        a: a[j],
+                        b: b[j],
                         lo: -limit - g[j],
                         hi: limit - g[j],
                         limit: Limit::Torque(j),

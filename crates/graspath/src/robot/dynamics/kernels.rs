@@ -161,6 +161,12 @@ impl Dynamics {
     /// frames.
     pub(super) fn gravity_unchecked(&self, data: &mut DynamicsData, q: &[f64], tau: &mut [f64]) {
         self.place(data, q);
+        self.gravity_sweep(data, tau);
+    }
+
+    /// `g(q)` into `tau` from the frames already placed.
+    #[inline(always)]
+    fn gravity_sweep(&self, data: &mut DynamicsData, tau: &mut [f64]) {
         let lift = -self.gravity;
         let mut mass = 0.0;
         let mut moment = Vector3::<f64>::zeros();
@@ -215,9 +221,7 @@ impl Dynamics {
         }
     }
 
-    /// `τ(q, q̇, q̈)` without checks. Velocities and accelerations are propagated about the
-    /// base origin; each body's force is Newton–Euler's at its centre of mass (the rotational
-    /// part in the body's own frame, where its inertia is constant), moved to the base origin.
+    /// `τ(q, q̇, q̈)` without checks.
     pub(super) fn rnea_unchecked(
         &self,
         data: &mut DynamicsData,
@@ -228,24 +232,62 @@ impl Dynamics {
     ) {
         self.place(data, q);
         self.place_motions(data);
-        let n = self.segments.len();
+        self.newton_euler_forces(data, Some(qd), qdd, -self.gravity);
+        self.joint_torques(data, tau);
+    }
+
+    /// Along a path `q(s)` at `q` with `dq = q'(s)` and `ddq = q''(s)`, without checks: `g(q)`,
+    /// `M(q) q'` and `M(q) q'' + C(q, q') q'`, from one placement of the frames.
+    pub(super) fn path_torques_unchecked(
+        &self,
+        data: &mut DynamicsData,
+        [q, dq, ddq]: [&[f64]; 3],
+        [g, a, b]: [&mut [f64]; 3],
+    ) {
+        self.place(data, q);
+        self.place_motions(data);
+        self.gravity_sweep(data, g);
+        self.newton_euler_forces(data, None, dq, Vector3::zeros());
+        self.joint_torques(data, a);
+        self.newton_euler_forces(data, Some(dq), ddq, Vector3::zeros());
+        self.joint_torques(data, b);
+    }
+
+    /// Each body's spatial force about the base origin into `data.force_n` / `force_f`, for
+    /// joint rates `qd` (`None`: at rest) and accelerations `qdd`, the base accelerating at
+    /// `base` (`−g` for gravity). Velocities and accelerations are propagated about the base
+    /// origin; each body's force is Newton–Euler's at its centre of mass (the rotational part
+    /// in the body's own frame, where its inertia is constant), moved to the base origin.
+    #[inline(always)]
+    fn newton_euler_forces(
+        &self,
+        data: &mut DynamicsData,
+        qd: Option<&[f64]>,
+        qdd: &[f64],
+        base: Vector3<f64>,
+    ) {
         let (mut w, mut v) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
-        let (mut dw, mut dv) = (Vector3::<f64>::zeros(), -self.gravity);
-        for i in 0..n {
-            let rate = self.drive(i, qd, false);
+        let (mut dw, mut dv) = (Vector3::<f64>::zeros(), base);
+        for i in 0..self.segments.len() {
             let accel = self.drive(i, qdd, false);
             let (sw, sv) = (data.motion_w[i], data.motion_v[i]);
-            let (jw, jv) = (sw * rate, sv * rate);
-            w += jw;
-            v += jv;
-            // A += S q̈ + V × (S q̇).
-            dw += sw * accel + w.cross(&jw);
-            dv += sv * accel + w.cross(&jv) + v.cross(&jw);
+            if let Some(qd) = qd {
+                let rate = self.drive(i, qd, false);
+                let (jw, jv) = (sw * rate, sv * rate);
+                w += jw;
+                v += jv;
+                // A += S q̈ + V × (S q̇).
+                dw += sw * accel + w.cross(&jw);
+                dv += sv * accel + w.cross(&jv) + v.cross(&jw);
+            } else {
+                dw += sw * accel;
+                dv += sv * accel;
+            }
             let (mass, com, inertia) = self.body(data.loaded_last.as_ref(), i);
             let frame = &data.frames[i];
             let r = frame.rotation.matrix();
             let c = frame.translation.vector + r * com;
-            // The centre of mass's classical acceleration (gravity included through A₀).
+            // The centre of mass's classical acceleration (gravity included through the base).
             let velocity = v + w.cross(&c);
             let f = (dv + dw.cross(&c) + w.cross(&velocity)) * mass;
             let (w_body, dw_body) = (r.tr_mul(&w), r.tr_mul(&dw));
@@ -253,8 +295,13 @@ impl Dynamics {
             data.force_n[i] = r * n_body + c.cross(&f);
             data.force_f[i] = f;
         }
+    }
+
+    /// The joint torques `τᵢ = Sᵢ · Σⱼ≥ᵢ Fⱼ` of the forces in `data` into `tau`.
+    #[inline(always)]
+    fn joint_torques(&self, data: &mut DynamicsData, tau: &mut [f64]) {
         let (mut sum_n, mut sum_f) = (Vector3::<f64>::zeros(), Vector3::<f64>::zeros());
-        for i in (0..n).rev() {
+        for i in (0..self.segments.len()).rev() {
             sum_n += data.force_n[i];
             sum_f += data.force_f[i];
             data.segment_tau[i] = data.motion_w[i].dot(&sum_n) + data.motion_v[i].dot(&sum_f);

@@ -430,6 +430,33 @@ impl Dynamics {
         Ok(())
     }
 
+    /// The torques along a path `q(s)` at `q`, with the path's derivatives `dq = q'(s)` and
+    /// `ddq = q''(s)`: `g(q)` into `g`, `M(q) q'` into `a` and `M(q) q'' + C(q, q') q'` into
+    /// `b`, so that a motion along the path with path speed `ṡ` and acceleration `s̈` needs
+    /// `τ = a s̈ + b ṡ² + g` (what time-optimal timing constrains). One placement of the
+    /// segment frames for the three; payload included. Nothing is allocated.
+    #[allow(clippy::too_many_arguments)]
+    pub fn path_torques_into(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        dq: &[f64],
+        ddq: &[f64],
+        g: &mut [f64],
+        a: &mut [f64],
+        b: &mut [f64],
+    ) -> Result<(), RobotError> {
+        self.check_data(data)?;
+        self.check_q(q)?;
+        self.check_vector("dq", dq)?;
+        self.check_vector("ddq", ddq)?;
+        for out in [&*g, &*a, &*b] {
+            self.check_out(out.len())?;
+        }
+        self.path_torques_unchecked(data, [q, dq, ddq], [g, a, b]);
+        Ok(())
+    }
+
     /// Inverse dynamics by the recursive Newton–Euler algorithm: the joint torques
     /// `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` (N·m or N) into `tau`, payload included.
     /// Nothing is allocated.

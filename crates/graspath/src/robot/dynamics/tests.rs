@@ -487,3 +487,51 @@ fn the_fused_gravity_and_jacobian_equal_the_two_kernels_apart() {
         );
     }
 }
+
+/// Oracle: three inverse dynamics calls, `g = τ(q, 0, 0)`, `M q' = τ(q, 0, q') − g` and
+/// `M q'' + C(q, q') q' = τ(q, q', q'') − g`, on random chains with a payload.
+#[test]
+fn path_torques_equal_three_inverse_dynamics_calls() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(29);
+    for trial in 0..40 {
+        let chain =
+            Chain::from_spec(&random_chain(&mut rng, 2 + trial % 8, trial % 2 == 1)).unwrap();
+        let dynamics = chain.dynamics().unwrap();
+        let n = dynamics.dof();
+        let mut data = dynamics.data();
+        data.set_payload(Some(RigidBody::new(
+            1.3,
+            Vector3::new(0.02, -0.01, 0.04),
+            Matrix3::from_diagonal(&Vector3::new(0.01, 0.02, 0.015)),
+        )))
+        .unwrap();
+        let q = random_vector(&mut rng, n, 2.0);
+        let dq = random_vector(&mut rng, n, 1.5);
+        let ddq = random_vector(&mut rng, n, 3.0);
+        let zero = vec![0.0; n];
+        let [mut g, mut a, mut b, mut rest, mut tau_a, mut tau_b] =
+            std::array::from_fn(|_| vec![0.0; n]);
+        dynamics
+            .path_torques_into(&mut data, &q, &dq, &ddq, &mut g, &mut a, &mut b)
+            .unwrap();
+        dynamics
+            .inverse_dynamics_into(&mut data, &q, &zero, &zero, &mut rest)
+            .unwrap();
+        dynamics
+            .inverse_dynamics_into(&mut data, &q, &zero, &dq, &mut tau_a)
+            .unwrap();
+        dynamics
+            .inverse_dynamics_into(&mut data, &q, &dq, &ddq, &mut tau_b)
+            .unwrap();
+        let scale = rest
+            .iter()
+            .chain(&tau_a)
+            .chain(&tau_b)
+            .fold(1.0_f64, |m, v| m.max(v.abs()));
+        for j in 0..n {
+            close(g[j], rest[j], 1e-12 * scale, "g");
+            close(a[j], tau_a[j] - rest[j], 1e-11 * scale, "M q'");
+            close(b[j], tau_b[j] - rest[j], 1e-11 * scale, "M q'' + C q'");
+        }
+    }
+}

@@ -15,6 +15,13 @@
 //! result its `clearance` and `collision`, the reproduced first collision of an infeasible
 //! candidate (see `witness`). A task that says nothing about its world gets exactly the data
 //! it had before.
+//!
+//! A task that times motions (`timing`, on by default) adds per result its `duration` (s, the
+//! records' `duration`; `null` when not timed), per motion `sample_times` (s from the start of
+//! the approach: when the candidate's time-optimal motion reaches each whole-motion sample —
+//! approach, path, retreat — so that the viewer plays it in real time) and
+//! `pair_sample_times` (the best pair's two motions on their shared timeline). A task without
+//! timing gets none of these keys.
 
 use crate::witness::{first_collision, Witness};
 use crate::world::{
@@ -25,7 +32,7 @@ use graspath::failure::Phase;
 use graspath::geometry::shape::{Shape, Stem};
 use graspath::grasp::Candidate;
 use graspath::robot::Chain;
-use graspath::select::{ArmResult, CandidateScore, Selection};
+use graspath::select::{scoring_setup, timed_together, ArmResult, CandidateScore, Selection};
 use graspath::task::{ArmSetup, Task};
 use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
 use serde_json::{json, Map, Value};
@@ -143,6 +150,30 @@ fn wrist_tangents(task: &Task, object_from_wrist: &Isometry3<f64>) -> Vec<Value>
         .collect()
 }
 
+/// When `task` times motions: per member (one candidate of each arm of the task, in order),
+/// the time (s from the start of its approach, rounded to 1 ns) at which its timed motion
+/// reaches each whole-motion sample (approach, path, retreat), the members on one timeline as
+/// `graspath select` times them ([`timed_together`]). `None` without timing, for an
+/// infeasible member, or where the timing fails (the view then plays per sample).
+fn sample_times(task: &Task, members: &[(&ArmSetup, &CandidateScore)]) -> Option<Vec<Vec<f64>>> {
+    let members: Vec<_> = members
+        .iter()
+        .map(|(arm, score)| (scoring_setup(task, arm), *score))
+        .collect();
+    let motions = timed_together(&members, None)?.ok()?;
+    Some(
+        motions
+            .iter()
+            .map(|m| {
+                m.sample_times
+                    .iter()
+                    .map(|&t| (t * 1e9).round() / 1e9)
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
 fn finite(v: Option<f64>) -> Option<f64> {
     v.filter(|v| v.is_finite())
 }
@@ -255,6 +286,9 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
                         let frames = links.as_deref().filter(|_| has_frames[i]);
                         world_motion(setup, s, frames, &mut m);
                     }
+                    if let Some(mut times) = sample_times(task, &[(setup, s)]) {
+                        m.insert("sample_times".into(), json!(times.swap_remove(0)));
+                    }
                     Value::Object(m)
                 });
             let status = match (&s.failure, &r.rejected) {
@@ -280,6 +314,9 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
                 "status": status,
                 "motion": motion,
             });
+            if task.timing.is_some() {
+                result["duration"] = json!(s.durations.map(|d| d.total()));
+            }
             if world {
                 let witness = (witnesses < MAX_WITNESSES_PER_ARM)
                     .then(|| first_collision(task, setup, s))
@@ -346,6 +383,21 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
             json!([index(&p.first), index(&p.second)])
         }),
     });
+    // The best pair's motions on their shared timeline (each part the slower arm's time).
+    let pair_times = selection.pairs.first().and_then(|p| {
+        let members: Option<Vec<_>> = [&p.first, &p.second]
+            .into_iter()
+            .zip(task.arms.iter().zip(&selection.arms))
+            .map(|(c, (setup, arm))| {
+                let score = arm.scores.iter().find(|s| Arc::ptr_eq(&s.candidate, c))?;
+                Some((setup, score))
+            })
+            .collect();
+        sample_times(task, &members?)
+    });
+    if let Some(times) = pair_times {
+        view["pair_sample_times"] = json!(times);
+    }
     if has_world(task) {
         view["world"] = json!({
             "bodies": scene_bodies(task),

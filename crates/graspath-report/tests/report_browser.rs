@@ -5,8 +5,11 @@
 //! the collision shapes move and a collision is shown with its bodies highlighted. Every report
 //! also checks the staging: the "loading" text is shown until the scene is ready and then
 //! hidden, the camera as placed on load sees the whole box of the robot and the task, the legend
-//! names each arm in its colour, the torso is drawn, and the side panel follows the slider. Screenshots
-//! are saved to `target/test-artifacts/report.png` and `report-scene.png`.
+//! names each arm in its colour, the torso is drawn, and the side panel follows the slider. A
+//! task that times motions plays them in real time (each arm at an IK sample when its timed
+//! motion reaches it, half a motion second per second at 0.5×, durations shown); one with
+//! `timing: false` plays per sample. Screenshots are saved to `target/test-artifacts/report.png`
+//! and `report-scene.png`.
 //!
 //! Skipped with a message when Chromium is not installed, except under CI (`CI` set), where
 //! `.ci/run` installs it and its absence is a failure.
@@ -162,6 +165,9 @@ fn the_report_of_a_scene_passes_its_self_test_in_headless_chromium() {
         "PASS camera fits the robot and the task",
         "PASS legend names every arm in its colour",
         "PASS side panel follows the slider",
+        "PASS the arm is at each sample when its timed motion reaches it",
+        "PASS plays in real time",
+        "PASS durations in the table and the side panel",
         "PASS no errors",
     ] {
         assert!(result.contains(check), "missing '{check}' in:\n{result}");
@@ -195,6 +201,9 @@ fn the_report_passes_its_self_test_in_headless_chromium() {
         "PASS legend names every arm in its colour",
         "PASS torso drawn",
         "PASS side panel follows the slider",
+        "PASS the arm is at each sample when its timed motion reaches it",
+        "PASS plays in real time",
+        "PASS durations in the table and the side panel",
         "PASS no errors",
     ] {
         assert!(result.contains(check), "missing '{check}' in:\n{result}");
@@ -227,4 +236,30 @@ fn screenshot(browser: &Path, url: &str, name: &str) {
     let reader = decoder.read_info().expect("the screenshot is a PNG");
     assert_eq!((reader.info().width, reader.info().height), (1280, 1000));
     println!("screenshot: {}", shot.display());
+}
+
+#[test]
+fn the_report_of_an_untimed_task_plays_per_sample_in_headless_chromium() {
+    let Some(browser) = browser_or_skip() else {
+        return;
+    };
+    let example =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/pick_and_place_left.yaml");
+    let text = std::fs::read_to_string(&example).unwrap() + "timing: false\n";
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("untimed.yaml");
+    std::fs::write(&path, text).unwrap();
+    let task = Task::load(&path).unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let result = self_test(&browser, &task, &out);
+    for check in [
+        "PASS plays per sample",
+        "PASS animation advances",
+        "PASS side panel follows the slider",
+        "PASS no errors",
+    ] {
+        assert!(result.contains(check), "missing '{check}' in:\n{result}");
+    }
+    assert!(!result.contains("real time"), "{result}");
 }

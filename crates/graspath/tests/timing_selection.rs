@@ -268,6 +268,60 @@ fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
 }
 
 #[test]
+fn the_motion_passes_each_ik_sample_at_its_sample_time() {
+    for extra in ["", "timing: { stops: false }"] {
+        let task = task(extra);
+        let selection = select(&task, &|| {});
+        let chosen = best(&selection);
+        let duration = chosen.durations.expect("the task times motions").total();
+        let motion = &selected_motions(&task, &selection, None)
+            .expect("timed")
+            .expect("feasible")[0];
+        let samples: Vec<&Vec<f64>> = chosen
+            .approach
+            .iter()
+            .chain(&chosen.joint_trajectory)
+            .chain(&chosen.retreat)
+            .collect();
+        let times = &motion.sample_times;
+        assert_eq!(times.len(), samples.len(), "{extra}");
+        assert_eq!(times[0], 0.0, "{extra}");
+        assert!((times[times.len() - 1] - duration).abs() < 1e-9, "{extra}");
+        for (k, (q, t)) in samples.iter().zip(times).enumerate() {
+            // Oracle: the motion sampled at the timing grid's points (through the forward
+            // map from time to path parameter) is at sample k's configuration at time t.
+            let point = motion
+                .trajectory
+                .points
+                .iter()
+                .find(|p| (p.time - t).abs() < 1e-9)
+                .unwrap_or_else(|| panic!("{extra}: no grid point at {t} s (sample {k})"));
+            assert!(
+                point
+                    .positions
+                    .iter()
+                    .zip(q.iter())
+                    .all(|(a, b)| (a - b).abs() < 1e-9),
+                "{extra}: sample {k} at {t} s: {:?} vs {q:?}",
+                point.positions
+            );
+            if k > 0 {
+                // Later samples later; samples that coincide at once.
+                let previous = times[k - 1];
+                if samples[k] == samples[k - 1] {
+                    assert_eq!(*t, previous, "{extra}: sample {k}");
+                } else {
+                    assert!(
+                        *t > previous,
+                        "{extra}: sample {k} at {t} s after {previous} s"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn the_grasp_and_place_times_are_where_the_tool_holds_the_object_at_its_first_and_last_pose() {
     let task = task("");
     let selection = select(&task, &|| {});

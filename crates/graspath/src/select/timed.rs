@@ -23,6 +23,9 @@ pub struct SelectedMotion {
     pub grasp_time: f64,
     /// When the object reaches the place (s from the start): where the gripper opens.
     pub place_time: f64,
+    /// When the motion reaches each IK sample of the approach, the path and the retreat
+    /// (s from the start; see [`super::TimedMotion::sample_times`]).
+    pub sample_times: Vec<f64>,
 }
 
 /// The selected motions of `selection` (a selection of `task`), timed as the task times
@@ -88,6 +91,7 @@ pub fn candidate_motions(
                 trajectory: motion.trajectory,
                 grasp_time: motion.grasp_time,
                 place_time: motion.place_time,
+                sample_times: motion.sample_times,
             })
             .collect()
     }))

@@ -47,22 +47,24 @@ impl JointSpline {
     /// length zero.
     pub fn through(samples: &[Vec<f64>]) -> Result<Self, TimingError> {
         let dof = check_samples(samples)?;
-        let mut kept: Vec<&[f64]> = Vec::with_capacity(samples.len());
-        let mut knots = Vec::with_capacity(samples.len());
-        for q in samples {
-            match kept.last() {
-                None => knots.push(0.0),
-                Some(last) => {
-                    let step = distance(last, q);
-                    if step <= REPEATED_SAMPLE {
-                        continue;
-                    }
-                    knots.push(knots.last().copied().unwrap_or(0.0) + step);
-                }
-            }
-            kept.push(q);
-        }
+        let (kept, knots): (Vec<&[f64]>, Vec<f64>) = samples
+            .iter()
+            .zip(chord_parameters(samples))
+            .filter(|(_, (_, new))| *new)
+            .map(|(q, (s, _))| (q.as_slice(), s))
+            .unzip();
         Self::build(dof, knots, &kept)
+    }
+
+    /// The path parameter `s` (rad or m) at which the spline [`JointSpline::through`] builds
+    /// from `samples` passes each of them: its knot, the joint-space distance along the
+    /// samples from the first. A sample within [`REPEATED_SAMPLE`] of the last distinct one
+    /// shares that sample's knot.
+    pub fn sample_parameters(samples: &[Vec<f64>]) -> Vec<f64> {
+        chord_parameters(samples)
+            .into_iter()
+            .map(|(s, _)| s)
+            .collect()
     }
 
     /// The spline through `samples` at the given strictly increasing `knots` (one per sample).
@@ -254,6 +256,30 @@ fn check_samples(samples: &[Vec<f64>]) -> Result<usize, TimingError> {
         }
     }
     Ok(dof)
+}
+
+/// Per sample, its chord-length parameter and whether it is a knot of its own (the first
+/// sample, and each farther than [`REPEATED_SAMPLE`] from the last such sample; the others
+/// share that sample's parameter).
+fn chord_parameters(samples: &[Vec<f64>]) -> Vec<(f64, bool)> {
+    let mut out = Vec::with_capacity(samples.len());
+    let mut last: Option<(&[f64], f64)> = None;
+    for q in samples {
+        let s = match last {
+            None => 0.0,
+            Some((previous, s)) => {
+                let step = distance(previous, q);
+                if step <= REPEATED_SAMPLE {
+                    out.push((s, false));
+                    continue;
+                }
+                s + step
+            }
+        };
+        out.push((s, true));
+        last = Some((q, s));
+    }
+    out
 }
 
 /// The Euclidean distance between two configurations.

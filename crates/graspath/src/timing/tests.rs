@@ -169,3 +169,56 @@ fn a_spline_through_samples_on_a_limit_overshoots_it_by_the_reported_excursion()
     // Inside a wider range there is none.
     assert_eq!(spline.range_excursion(&[-2.0, -2.0], &[2.0, 2.0]), 0.0);
 }
+
+#[test]
+fn each_sample_parameter_is_its_knot_where_the_spline_passes_through_it() {
+    // Samples 1 and 2 coincide (the object still): they share one knot.
+    let q = vec![
+        vec![0.0, 0.0],
+        vec![3.0, 4.0],
+        vec![3.0, 4.0],
+        vec![3.0, 6.0],
+        vec![0.0, 6.0],
+    ];
+    let spline = JointSpline::through(&q).unwrap();
+    let parameters = JointSpline::sample_parameters(&q);
+    // Oracle: the cumulative joint-space distance between the samples, by hand.
+    assert_eq!(parameters, vec![0.0, 5.0, 5.0, 7.0, 10.0]);
+    assert_eq!(spline.knots(), &[0.0, 5.0, 7.0, 10.0]);
+    let (mut p, mut d, mut dd) = (vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]);
+    for (sample, s) in q.iter().zip(&parameters) {
+        let point = PathPoint {
+            q: &mut p,
+            dq: &mut d,
+            ddq: &mut dd,
+        };
+        spline.evaluate_into(*s, point);
+        assert!(
+            p.iter().zip(sample).all(|(a, b)| (a - b).abs() < 1e-12),
+            "{p:?} vs {sample:?}"
+        );
+    }
+}
+
+#[test]
+fn the_time_at_a_path_parameter_inverts_the_state_at_a_time() {
+    let timed = one_joint(1.5, 11, 1.0, 2.0, 3);
+    // At the grid points: their times exactly.
+    for (s, t) in timed.grid.iter().zip(&timed.times) {
+        assert_eq!(timed.time_at(*s), *t);
+    }
+    // Between them: the motion's path parameter at that time is `s` again (oracle: the
+    // forward map `state_at`), and time grows with `s`.
+    let mut previous = 0.0;
+    for k in 1..300 {
+        let s = 1.5 * k as f64 / 300.0;
+        let t = timed.time_at(s);
+        assert!(t > previous, "time {t} at s = {s} after {previous}");
+        let (back, _, _) = timed.state_at(t);
+        assert!((back - s).abs() < 1e-9, "s = {s}: state_at({t}) = {back}");
+        previous = t;
+    }
+    // Clamped to the path.
+    assert_eq!(timed.time_at(-1.0), 0.0);
+    assert_eq!(timed.time_at(2.0), timed.duration());
+}

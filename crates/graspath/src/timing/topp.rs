@@ -128,6 +128,31 @@ impl TimedPath {
         let s = (self.grid[i] + sd0 * tau + 0.5 * u * tau * tau).min(self.grid[i + 1]);
         (s, (sd0 + u * tau).max(0.0), u)
     }
+
+    /// The time (s, from `0`) at which the motion passes path parameter `s` (clamped to the
+    /// grid's range): the inverse of [`TimedPath::state_at`]. At a grid point it is that
+    /// point's time exactly; between grid points, at constant `s̈ = u` from `ṡ_i`, the
+    /// interval's `Δs = s − s_i` takes `2 Δs / (ṡ_i + ṡ(s))` with `ṡ(s)² = ṡ_i² + 2 u Δs`.
+    pub fn time_at(&self, s: f64) -> f64 {
+        let n = self.grid.len();
+        if n < 2 {
+            return 0.0;
+        }
+        let s = s.clamp(self.grid[0], self.grid[n - 1]);
+        // The interval [grid[i], grid[i + 1]) that holds `s` (the last one for its end).
+        let i = self.grid.partition_point(|&g| g <= s).clamp(1, n - 1) - 1;
+        let delta = s - self.grid[i];
+        if delta <= 0.0 {
+            return self.times[i];
+        }
+        if s >= self.grid[i + 1] {
+            return self.times[i + 1];
+        }
+        let x0 = self.sd_squared[i];
+        let u = (self.sd_squared[i + 1] - x0) / (2.0 * (self.grid[i + 1] - self.grid[i]));
+        let speeds = x0.sqrt() + (x0 + 2.0 * u * delta).max(0.0).sqrt();
+        (self.times[i] + 2.0 * delta / speeds).min(self.times[i + 1])
+    }
 }
 
 /// Relative slack accepted on a constraint (rounding in the rows and in the Newton steps).

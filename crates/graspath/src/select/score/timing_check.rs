@@ -153,6 +153,7 @@ impl<'a> TimingCheck<'a> {
         Ok(Some(TimedSegment {
             spline,
             timed,
+            parameters: JointSpline::sample_parameters(samples),
             carried: carrying.then_some((0.0, f64::INFINITY)),
             hold: 0.0,
         }))
@@ -161,10 +162,8 @@ impl<'a> TimingCheck<'a> {
     /// The whole motion as one, the payload's torques only on the carry's grid points.
     fn time_whole(&self, q: &[Vec<f64>]) -> Result<TimedSegment, Failure> {
         let spline = JointSpline::through(q).map_err(|e| self.failure(0, &e))?;
-        let (grasp, place) = (
-            parameter_of(q, self.carry.start),
-            parameter_of(q, self.carry.end - 1),
-        );
+        let parameters = JointSpline::sample_parameters(q);
+        let (grasp, place) = (parameters[self.carry.start], parameters[self.carry.end - 1]);
         let empty = self.limits(false).constraints(&spline);
         let loaded = self.limits(true).constraints(&spline);
         let constraints = match (empty, loaded) {
@@ -173,10 +172,11 @@ impl<'a> TimingCheck<'a> {
         };
         let timed =
             crate::timing::time_optimal(&constraints).map_err(|e| self.timing_failure(&e, q, 0))?;
-        let carried = Some((time_at(&timed, grasp), time_at(&timed, place)));
+        let carried = Some((timed.time_at(grasp), timed.time_at(place)));
         Ok(TimedSegment {
             spline,
             timed,
+            parameters,
             carried,
             hold: 0.0,
         })
@@ -211,8 +211,18 @@ impl<'a> TimingCheck<'a> {
         let dynamics = self.scoring.setup.arm.dynamics.as_deref();
         // The first and last instants the object is carried (s from the start).
         let mut carry: Option<(f64, f64)> = None;
+        let mut sample_times: Vec<f64> = Vec::with_capacity(self.scoring.targets.len());
         for segment in segments {
             let offset = trajectory.duration();
+            // A segment's first sample is the previous one's last: it is reached when this
+            // segment starts (after the previous one's wait for the other arms, if any).
+            sample_times.pop();
+            sample_times.extend(
+                segment
+                    .parameters
+                    .iter()
+                    .map(|&s| offset + segment.timed.time_at(s)),
+            );
             let sample = |payload: Option<RigidBody>| {
                 TimedTrajectory::sample(
                     names,
@@ -271,10 +281,15 @@ impl<'a> TimingCheck<'a> {
             }
         }
         let (grasp_time, place_time) = carry.unwrap_or((0.0, trajectory.duration()));
+        if sample_times.is_empty() {
+            // A motion of one sample has no segment: it is there from the start.
+            sample_times = vec![0.0; self.scoring.targets.len()];
+        }
         Ok(TimedMotion {
             trajectory,
             grasp_time,
             place_time,
+            sample_times,
         })
     }
 
@@ -293,7 +308,12 @@ impl<'a> TimingCheck<'a> {
             Some(Limit::ObjectTurnRate) => "the object's turn-rate limit".into(),
             None => "the limits".into(),
         };
-        let sample = first + sample_at(samples, *s);
+        let sample = first
+            + JointSpline::sample_parameters(samples)
+                .iter()
+                .take_while(|&&p| p <= *s)
+                .count()
+                .saturating_sub(1);
         self.scoring.located(Failure {
             reason: FailureReason::TimingInfeasible,
             phase: Phase::Path,
@@ -373,6 +393,8 @@ impl BranchCheck for TimingCheck<'_> {
 pub(super) struct TimedSegment {
     spline: JointSpline,
     timed: TimedPath,
+    /// The path parameter of each of its IK samples (a knot, shared by samples that coincide).
+    parameters: Vec<f64>,
     carried: Option<(f64, f64)>,
     /// How long the segment lasts when it does not move (0) while another arm's does (s).
     hold: f64,
@@ -388,6 +410,12 @@ pub struct TimedMotion {
     pub grasp_time: f64,
     /// When the carry ends at the place (s from the start): where a gripper opens.
     pub place_time: f64,
+    /// When the motion reaches each of its IK samples (s from the start): the approach's,
+    /// the path's and the retreat's, in order, one per whole-motion sample (the timed
+    /// path passes through each at its knot). Samples that coincide share a time; where a
+    /// part of an arm's motion waits for another arm, the sample it waits at takes the time
+    /// it moves on.
+    pub sample_times: Vec<f64>,
 }
 
 /// Puts the timed motions of arms that move the object together on one timeline: each
@@ -412,38 +440,6 @@ pub(super) fn synchronise(motions: &mut [Vec<TimedSegment>]) {
             }
         }
     }
-}
-
-/// The chord-length parameter of sample `k` of `samples` (as [`JointSpline::through`] sets it).
-fn parameter_of(samples: &[Vec<f64>], k: usize) -> f64 {
-    samples[..=k]
-        .windows(2)
-        .map(|w| {
-            w[0].iter()
-                .zip(&w[1])
-                .map(|(a, b)| (a - b) * (a - b))
-                .sum::<f64>()
-                .sqrt()
-        })
-        .filter(|d| *d > crate::timing::REPEATED_SAMPLE)
-        .sum()
-}
-
-/// The last sample of `samples` whose chord-length parameter is at most `s`.
-fn sample_at(samples: &[Vec<f64>], s: f64) -> usize {
-    (0..samples.len())
-        .take_while(|&k| parameter_of(samples, k) <= s)
-        .last()
-        .unwrap_or(0)
-}
-
-/// The time at which `timed` passes path parameter `s` (a grid point: a knot).
-fn time_at(timed: &TimedPath, s: f64) -> f64 {
-    let i = timed
-        .grid
-        .partition_point(|&g| g < s)
-        .min(timed.grid.len() - 1);
-    timed.times[i]
 }
 
 /// `empty`'s constraints with the rows of `loaded` at the grid points in `[from, to]`.

@@ -227,14 +227,15 @@ pub struct ArmPair {
     pub first: Arc<Candidate>,
     /// The second arm's candidate.
     pub second: Arc<Candidate>,
-    /// The sum of the two arms' norms.
+    /// The pair's score ([`PairScore`]): the sum of the two arms' norms, or with
+    /// `index.measure: duration` the slower arm's rate (1/s).
     pub score: f64,
     /// 1-based rank.
     pub rank: usize,
 }
 
 /// The best `options.pairs` pairs of eligible candidates of two arms, scored by the sum of the
-/// arms' norms, best first (ties: the earlier first-arm candidate, then the earlier second-arm
+/// arms' norms (the slower arm's rate when ranked by duration, [`PairScore`]), best first (ties: the earlier first-arm candidate, then the earlier second-arm
 /// one), among those whose grasps do not overlap (closer than `min_separation`) and that
 /// `compatible` accepts. Returns the pairs and how many better pairs `compatible` refused.
 /// [`best_pairs`] on the full scores, with each pair's candidates.
@@ -288,15 +289,46 @@ pub fn best_pairs<S: Scored>(
             eligible: eligible(second.0, second.1),
             grasp_point: &|j| second.0[j].grasp_point(),
         },
-        options.min_separation,
-        options.pairs,
+        (options.min_separation, options.pairs),
+        PairScore::of_options(options),
         compatible,
     )
 }
 
 /// A pair found by [`best_pairs`] or [`best_pairs_of`]: `(first-arm position, second-arm
-/// position, score)`, positions in the task's candidates, the score the sum of the two norms.
+/// position, score)`, positions in the task's candidates, the score as [`PairScore`] says.
 pub type PositionPair = (usize, usize, f64);
+
+/// How a pair's score comes from its two arms' values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PairScore {
+    /// The sum of the two arms' norms (the paper's two-arm score).
+    Sum,
+    /// The slower arm's: the smaller of the two rates (1 / duration) when candidates are ranked
+    /// by the duration of their motion. Two arms carrying one object share one timeline, so
+    /// the pair takes at least the slower arm's time.
+    Slower,
+}
+
+impl PairScore {
+    /// The score of a pair whose arms have the values `a` and `b`.
+    pub fn of(self, a: f64, b: f64) -> f64 {
+        match self {
+            PairScore::Sum => a + b,
+            PairScore::Slower => a.min(b),
+        }
+    }
+
+    /// The pair score of a task ranked with `options`: [`PairScore::Slower`] when it ranks by
+    /// the duration, else [`PairScore::Sum`].
+    pub fn of_options(options: &SelectionOptions) -> Self {
+        if options.by_duration {
+            PairScore::Slower
+        } else {
+            PairScore::Sum
+        }
+    }
+}
 
 /// One arm's side of a pair search ([`best_pairs_of`]).
 pub struct PairArm<'a> {
@@ -310,20 +342,22 @@ pub struct PairArm<'a> {
 }
 
 /// The best `count` pairs of one eligible candidate of each arm, as `(first-arm position,
-/// second-arm position, score)` with the score the sum of the two norms, best first (ties:
-/// the earlier first-arm candidate, then the earlier second-arm one), among the pairs whose
+/// second-arm position, score)` with the score `pair_score` of the two values, best first (ties:
+/// with [`PairScore::Sum`] the earlier first-arm candidate, then the earlier second-arm one;
+/// with [`PairScore::Slower`] the first-arm candidate with the larger value, then the
+/// second-arm one, candidate order among equal values), among the pairs whose
 /// grasp points are at least `min_separation` (m) apart and that `compatible` (given the two
 /// positions) accepts; and how many better pairs `compatible` refused.
 ///
-/// Best-first over each arm's candidates sorted by norm: a pair is visited only after the pairs
-/// that beat it in both arms, so the work grows with the pairs visited, not with the product
+/// Best-first over each arm's candidates sorted by norm (both scores grow with each arm's
+/// value): a pair is visited only after the pairs that beat it in both arms, so the work grows with the pairs visited, not with the product
 /// of the two candidate counts, and `compatible` is asked only about the pairs visited, in
 /// order. The pairs depend only on the sets given, not on their order.
 pub fn best_pairs_of(
     first: PairArm<'_>,
     second: PairArm<'_>,
-    min_separation: f64,
-    count: usize,
+    (min_separation, count): (f64, usize),
+    pair_score: PairScore,
     compatible: &dyn Fn(usize, usize) -> bool,
 ) -> (Vec<PositionPair>, usize) {
     // Each arm's eligible candidates, by norm (best first), then candidate order.
@@ -345,8 +379,16 @@ pub fn best_pairs_of(
     let mut frontier = BinaryHeap::new();
     let push = |frontier: &mut BinaryHeap<Frontier>, x: usize, y: usize| {
         if x < a.len() && y < b.len() {
+            // Ties: by candidate order for sums (rare, and every tied pair is then in the
+            // frontier together); by the arms' own order for the slower arm's minimum, whose
+            // many ties reach the frontier one after the other along each arm's list.
+            let tie = match pair_score {
+                PairScore::Sum => (a[x].0, b[y].0),
+                PairScore::Slower => (x, y),
+            };
             frontier.push(Frontier {
-                score: a[x].1 + b[y].1,
+                score: pair_score.of(a[x].1, b[y].1),
+                tie,
                 first: a[x].0,
                 second: b[y].0,
                 at: (x, y),
@@ -377,11 +419,12 @@ pub fn best_pairs_of(
     (kept, refused)
 }
 
-/// A pair waiting in the best-first search: ordered by score, then by candidate order (the
-/// earlier pair is the greater, so the max-heap yields it first).
+/// A pair waiting in the best-first search: ordered by score, then by `tie` (the smaller is
+/// the greater, so the max-heap yields it first).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Frontier {
     score: f64,
+    tie: (usize, usize),
     first: usize,
     second: usize,
     /// Positions in the two sorted lists.
@@ -400,7 +443,7 @@ impl Ord for Frontier {
     fn cmp(&self, other: &Self) -> Ordering {
         self.score
             .total_cmp(&other.score)
-            .then((other.first, other.second).cmp(&(self.first, self.second)))
+            .then(other.tie.cmp(&self.tie))
     }
 }
 
@@ -491,6 +534,69 @@ mod tests {
                 .iter()
                 .map(|p| (p.first.id, p.second.id, p.score))
                 .collect();
+            assert_eq!(got, expected, "seed {seed}");
+            assert_eq!(refused, expected_refused, "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn the_slower_arm_s_pairs_equal_sorting_every_pair() {
+        // Oracle: every pair materialised and sorted by (min of the two values desc, the first
+        // arm's order, the second arm's order), each arm's order by value then candidate.
+        for seed in 0..20 {
+            let values = |n: usize, stream: u64| -> Vec<(usize, f64)> {
+                (0..n)
+                    .map(|i| {
+                        let r = crate::random::derive_seed(seed, stream, i as u64);
+                        (i, 0.2 + (r % 7) as f64 * 0.05)
+                    })
+                    .collect()
+            };
+            let (a, b) = (values(13, 1), values(9, 2));
+            let point = |i: usize| nalgebra::Point3::new(0.0, (i % 4) as f64 * 0.05, 0.0);
+            let compatible = |i: usize, j: usize| !(i + j).is_multiple_of(4);
+            let (got, refused) = best_pairs_of(
+                PairArm {
+                    eligible: a.clone(),
+                    grasp_point: &point,
+                },
+                PairArm {
+                    eligible: b.clone(),
+                    grasp_point: &point,
+                },
+                (0.04, 10),
+                PairScore::Slower,
+                &compatible,
+            );
+            // Each arm's order: larger value first, then candidate order.
+            let order = |list: &[(usize, f64)], i: usize| {
+                list.iter()
+                    .filter(|(k, v)| *v > list[i].1 || (*v == list[i].1 && *k < i))
+                    .count()
+            };
+            let mut all = Vec::new();
+            for &(i, x) in &a {
+                for &(j, y) in &b {
+                    if (point(i) - point(j)).norm() >= 0.04 {
+                        all.push((i, j, x.min(y)));
+                    }
+                }
+            }
+            all.sort_by(|p, q| {
+                q.2.total_cmp(&p.2)
+                    .then((order(&a, p.0), order(&b, p.1)).cmp(&(order(&a, q.0), order(&b, q.1))))
+            });
+            let (mut expected, mut expected_refused) = (Vec::new(), 0);
+            for (i, j, score) in all {
+                if expected.len() == 10 {
+                    break;
+                }
+                if compatible(i, j) {
+                    expected.push((i, j, score));
+                } else {
+                    expected_refused += 1;
+                }
+            }
             assert_eq!(got, expected, "seed {seed}");
             assert_eq!(refused, expected_refused, "seed {seed}");
         }

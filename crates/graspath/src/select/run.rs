@@ -1,7 +1,7 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
 use super::rank::{
-    best_pairs_of, rank_candidates, rank_pairs, ArmPair, PairArm, PositionPair, Ranking,
+    best_pairs_of, rank_candidates, rank_pairs, ArmPair, PairArm, PairScore, PositionPair, Ranking,
 };
 use super::scalars::Scored;
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
@@ -273,8 +273,8 @@ pub fn pairs_of_eligible(
             eligible: second.to_vec(),
             grasp_point: &|j| all[j].grasp_point(),
         },
-        task.selection.min_separation,
-        count,
+        (task.selection.min_separation, count),
+        PairScore::of_options(&task.selection),
         &apart,
     ))
 }

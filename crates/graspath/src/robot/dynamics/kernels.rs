@@ -310,8 +310,32 @@ impl Dynamics {
     }
 
     /// `M(q)` without checks; `out` is the column-major dof × dof storage. The bodies are
-    /// placed about the base origin in the backward sweep that sums them.
+    /// placed about the base origin in the backward sweep that sums them. On a processor with
+    /// AVX2 the same code is compiled for it (three-operand instructions, no fused
+    /// multiply–add: the same IEEE operations, the same bits).
     pub(super) fn crba_unchecked(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::has_avx2() {
+            // SAFETY: the processor supports AVX2 (checked just above).
+            unsafe { self.crba_avx2(data, q, out) };
+            return;
+        }
+        self.crba_portable(data, q, out);
+    }
+
+    /// [`Dynamics::crba_portable`] compiled for AVX2.
+    ///
+    /// # Safety
+    /// The processor must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn crba_avx2(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
+        self.crba_portable(data, q, out);
+    }
+
+    /// The CRBA sweep (see [`Dynamics::crba_unchecked`]).
+    #[inline(always)]
+    pub(super) fn crba_portable(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
         self.place(data, q);
         self.place_motions(data);
         let n = self.segments.len();

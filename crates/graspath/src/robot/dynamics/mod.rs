@@ -64,8 +64,11 @@ struct Segment {
 /// The dynamics model of one chain: per moving segment its placement, joint axis and mass
 /// properties, the tool frame, the gravity vector and the joints' motion limits. Built by
 /// [`Chain::dynamics`]; evaluated with a [`DynamicsData`] workspace.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Dynamics {
+    /// Which model this is (unique per [`Chain::dynamics`] call, kept by clones), so a
+    /// workspace made for another model is refused in one comparison.
+    id: u64,
     chain: String,
     dof: usize,
     segments: Vec<Segment>,
@@ -77,6 +80,25 @@ pub struct Dynamics {
     gravity: Vector3<f64>,
     motion_limits: Vec<MotionLimits>,
 }
+
+impl PartialEq for Dynamics {
+    /// Equal models: the same chain, segments, tool frame, gravity and limits (whichever
+    /// `Chain::dynamics` call built them).
+    fn eq(&self, other: &Self) -> bool {
+        self.chain == other.chain
+            && self.dof == other.dof
+            && self.segments == other.segments
+            && self.frames == other.frames
+            && self.has_mimic == other.has_mimic
+            && self.tail_rotation == other.tail_rotation
+            && self.tail_translation == other.tail_translation
+            && self.gravity == other.gravity
+            && self.motion_limits == other.motion_limits
+    }
+}
+
+/// The source of [`Dynamics`] ids.
+static NEXT_MODEL_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
 /// A spatial inertia about the base origin, base axes: mass (kg), first moment `h = m·c`
 /// (kg·m) and rotational inertia about the origin (kg·m²).
@@ -99,6 +121,8 @@ impl WorldBody {
 /// buffers sized once by [`Dynamics::data`], and the optional payload at the tool.
 #[derive(Debug, Clone)]
 pub struct DynamicsData {
+    /// The id of the model it was made for.
+    model: u64,
     payload: Option<RigidBody>,
     /// The last segment's body with the payload joined to it (its aligned frame), when a
     /// payload is attached: the kernels use it in place of the segment's own body.
@@ -222,6 +246,7 @@ impl Chain {
             });
         }
         Ok(Dynamics {
+            id: NEXT_MODEL_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             chain: self.name(),
             dof: self.dof(),
             segments,
@@ -255,6 +280,7 @@ impl Dynamics {
     pub fn data(&self) -> DynamicsData {
         let n = self.segments.len();
         DynamicsData {
+            model: self.id,
             payload: None,
             loaded_last: None,
             last_segment: self
@@ -364,22 +390,7 @@ impl Dynamics {
     }
 
     fn check_data(&self, data: &DynamicsData) -> Result<(), RobotError> {
-        let same_tool = data.tail_rotation == self.tail_rotation
-            && data.tail_translation == self.tail_translation
-            && data.last_segment
-                == self
-                    .segments
-                    .last()
-                    .map(|s| RigidBody::new(s.mass, s.com, s.inertia));
-        if !same_tool
-            || data.frames.len() != self.segments.len()
-            || data.segment_mass.len()
-                != if self.has_mimic {
-                    self.segments.len().pow(2)
-                } else {
-                    0
-                }
-        {
+        if data.model != self.id {
             return Err(RobotError::BadDynamicsInput {
                 what: "data",
                 message: format!(

@@ -27,7 +27,8 @@ fn column<'py, T: FromPyObjectOwned<'py>>(
 
 /// The best arm pairs of a two-arm ``task`` from its candidates' scores found apart:
 /// ``rows`` holds the columns ``arm_index``, ``candidate``, ``score`` and the task's ranked
-/// norm (``mu_rms``, ``mu_l2`` or ``mu_l1``) of :func:`select_batch` for this task (other columns are ignored), and every ranked row
+/// norm (``mu_rms``, ``mu_l2`` or ``mu_l1``; ``duration`` for a task ranked by it) of
+/// :func:`select_batch` for this task (other columns are ignored), and every ranked row
 /// (``score`` not NaN) of both arms must be among them, each once — the rows of the whole
 /// task, or the union of its slices' rows (slices need no ``top_k``: pairs are formed from
 /// each arm's whole list). Rows without a score are ignored.
@@ -37,7 +38,7 @@ fn column<'py, T: FromPyObjectOwned<'py>>(
 /// ``second_candidate`` (int64, positions in the task's candidates), ``first_id``,
 /// ``second_id`` (int64), ``first_label``, ``second_label`` (str) and ``score`` (float64, the
 /// sum of the two arms' ranked norms: ``μ_rms`` by default, ``μ_l2`` or ``μ_l1`` with the
-/// task's ``norm``). They are
+/// task's ``norm``; with ``measure: duration`` the slower arm's rate, 1/s). They are
 /// the first ``top_k`` of :func:`select`'s pairs on the task (default: all of them, the task's
 /// ``pairs``), in the same order with the same scores: the same best-first search, and the
 /// check between the arms (a scene with ``collision.between_arms``) scores again only the
@@ -59,7 +60,16 @@ pub fn select_pairs<'py>(
     let arm_index: Vec<i64> = column(rows, "arm_index")?;
     let candidate: Vec<i64> = column(rows, "candidate")?;
     let score: Vec<f64> = column(rows, "score")?;
-    let norm: Vec<f64> = column(rows, task.selection.norm.field())?;
+    // What each arm's candidates are paired by: the ranked norm, or with `measure: duration`
+    // the rate 1 / duration (the pair then takes the slower arm's, as in `select`).
+    let norm: Vec<f64> = if task.selection.by_duration {
+        column::<f64>(rows, "duration")?
+            .into_iter()
+            .map(|d| 1.0 / d)
+            .collect()
+    } else {
+        column(rows, task.selection.norm.field())?
+    };
     let n = arm_index.len();
     if [candidate.len(), score.len(), norm.len()] != [n; 3] {
         return Err(error(format!(

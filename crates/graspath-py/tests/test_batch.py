@@ -189,11 +189,22 @@ def pair_rows(columns):
     return list(zip(*(columns[c].tolist() for c in ("first_id", "second_id", "first_label", "second_label", "score", "rank"))))
 
 
-@pytest.mark.parametrize("path", [BOTH, EXAMPLES / "pick_rotate_place_both.yaml", EXAMPLES / "scene" / "pick_and_place_both_on_table.yaml"])
-def test_pairs_from_slices_equal_select(path):
+def by_duration(tmp_path_factory):
+    """``pick_and_place_both.yaml`` ranked by its motions' duration (pairs: the slower arm's)."""
+    text = BOTH.read_text().replace("index: { mode: twist,", "index: { measure: duration, mode: twist,")
+    assert "measure: duration" in text
+    path = tmp_path_factory.mktemp("duration") / "pick_and_place_both_duration.yaml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("path", [BOTH, EXAMPLES / "pick_rotate_place_both.yaml", EXAMPLES / "scene" / "pick_and_place_both_on_table.yaml", "by_duration"])
+def test_pairs_from_slices_equal_select(path, tmp_path_factory):
     """``select_pairs`` on the union of slices' rows gives ``select``'s pairs (the same pairs,
     order and scores), for every cut of the candidates and any ``top_k``; on the table the check
     between the arms refuses pairs, so the candidates it re-scores decide the result."""
+    if path == "by_duration":
+        path = by_duration(tmp_path_factory)
     task = graspath.Task.load(path)
     selection = graspath.select(task)
     if "on_table" in path.name:
@@ -203,7 +214,7 @@ def test_pairs_from_slices_equal_select(path):
     for cuts in ([0, n], [0, 7, n], [0, 1, 5, 13, 20, n]):
         parts = [graspath.select_batch([task], slices=[(a, b)]) for a, b in zip(cuts, cuts[1:])]
         # Reversed: the rows' order does not matter.
-        rows = {c: np.concatenate([p[c] for p in parts][::-1]) for c in ("arm_index", "candidate", "score", "mu_l2", "mu_l1")}
+        rows = {c: np.concatenate([p[c] for p in parts][::-1]) for c in ("arm_index", "candidate", "score", "mu_l2", "mu_l1", "duration")}
         for top_k in (None, 1, 4, 25):
             got = graspath.select_pairs(task, rows, top_k=top_k)
             assert pair_rows(got) == pairs_of(selection, task, 10 if top_k is None else top_k), (cuts, top_k)

@@ -20,7 +20,8 @@ after the other in this process, without Ray; the file is the same, byte for byt
 Arm pairs: for a task with two arms, each shard also returns, for every ranked candidate of its
 slices and each arm, the candidate's position and norms (:data:`PAIR_INPUT`: about 50 bytes a
 candidate and arm, held by the driver until the pairs are formed — a pair's score is the sum of
-the arms' norms, so a pair may join candidates that are in neither arm's top ``k``). Once every
+the arms' norms (the slower arm's rate for a task ranked by duration), so a pair may join
+candidates that are in neither arm's top ``k``). Once every
 shard is done, one more task per two-arm object (a Ray task, or in this process with
 ``local=True``) loads the object's task and forms its best pairs with
 :func:`graspath.select_pairs`: the best-first search of :func:`graspath.select` over each arm's
@@ -105,12 +106,12 @@ PAIR_COLUMNS: Tuple[Tuple[str, str, bool, str], ...] = (
     ("second_candidate", "int64", False, "the second arm's candidate: position in the task's candidates"),
     ("second_id", "int64", False, "the second arm's candidate's id"),
     ("second_label", "string", False, "the second arm's candidate's label"),
-    ("score", "float64", False, "the sum of the two arms' ranked norms (mu_rms by default, mu_l2 or mu_l1 with the task's norm)"),
+    ("score", "float64", False, "the sum of the two arms' ranked norms (mu_rms by default, mu_l2 or mu_l1 with the task's norm; the slower arm's rate, 1/s, when ranked by duration)"),
 )
 
 #: The columns of :func:`graspath.select_batch` a shard keeps, for every ranked candidate and
 #: arm of a two-arm task, to form the object's pairs (:func:`graspath.select_pairs`).
-PAIR_INPUT = ("object", "arm_index", "candidate", "score", "mu_l2", "mu_l1", "mu_rms")
+PAIR_INPUT = ("object", "arm_index", "candidate", "score", "mu_l2", "mu_l1", "mu_rms", "duration")
 
 Piece = Tuple[int, int, int]
 """``(object, start, stop)``: candidates ``start:stop`` of one object."""

@@ -553,7 +553,7 @@ mod tests {
                     .collect()
             };
             let (a, b) = (values(13, 1), values(9, 2));
-            let point = |i: usize| nalgebra::Point3::new(0.0, (i % 4) as f64 * 0.05, 0.0);
+            let point = |i: usize| Point3::new(0.0, (i % 4) as f64 * 0.05, 0.0);
             let compatible = |i: usize, j: usize| !(i + j).is_multiple_of(4);
             let (got, refused) = best_pairs_of(
                 PairArm {

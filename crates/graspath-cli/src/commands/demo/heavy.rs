@@ -5,7 +5,7 @@
 
 use anyhow::Result;
 use graspath::failure::FailureReason;
-use graspath::select::{select, ArmResult};
+use graspath::select::{select, ArmResult, CandidateScore};
 use graspath::task::{Task, TaskFile};
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -46,7 +46,7 @@ fn at_mass(mass: f64, arm: &ArmResult, light_best: Option<&str>) -> Value {
             .scores
             .iter()
             .find(|s| Some(s.candidate.label.as_str()) == light_best)
-            .map(|s| s.feasible()),
+            .map(CandidateScore::feasible),
         "best_by_dynamic_manipulability": arm.best_by(|s| s.dynamic_manipulability).map(label),
         "torque_limit": torque_failures,
         "out_of_torque_at": Value::Object(joints.into_iter().map(|(j, n)| (j, json!(n))).collect::<Map<_, _>>()),

@@ -99,6 +99,7 @@ fn expected_row(record: &Value) -> Map<String, Value> {
         "clearance",
         "torque_margin",
         "payload_capacity",
+        "dynamic_manipulability",
         "duration",
         "approach_duration",
         "carry_duration",

@@ -10,8 +10,9 @@ macro_rules! say {
 }
 
 use clap::Args;
+use graspath::defaults;
 use graspath::select::{Scored, Selection, NAMED_BEST};
-use graspath::task::{defaults, Task};
+use graspath::task::Task;
 use graspath_report::{findings_sentences, nothing_selected};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;

@@ -367,120 +367,59 @@ fn generate_flags_remove_outliers_and_report_them() {
     fails(&args, "outlier removal", "statistical.neighbours", &bad);
 }
 
-/// `--seeds` is the deprecated spelling of `--initial-grasps`: the same count gives the same
-/// bytes under either spelling, and another count other bytes (the flag is read).
+/// The earlier spellings `--seeds`, `candidates.generate.seeds` and `ik.seed` are gone: each is
+/// refused by name, before anything runs, and nothing is written.
 #[test]
-fn the_deprecated_seeds_flag_is_the_initial_grasp_count() {
+fn the_removed_seed_spellings_are_refused_by_name() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let model = trained(dir.path());
     let cylinder = examples().join("cylinder.json");
-    let run = |name: &str, count_flag: &str, count: &str| {
-        let out = dir.path().join(name);
-        let o = graspath(&[
-            "generate",
-            "--model",
-            s(&model),
-            "--cloud",
-            s(&cylinder),
-            "--out",
-            s(&out),
-            count_flag,
-            count,
-            "--steps",
-            "60",
-            "--query-kernels",
-            "1000",
-            "--seed",
-            "5",
-            "--quiet",
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        std::fs::read(&out).expect("candidates")
-    };
-    let new = run("new.json", "--initial-grasps", "1200");
-    assert_eq!(new, run("old.json", "--seeds", "1200"));
-    assert_ne!(new, run("fewer.json", "--initial-grasps", "600"));
-}
-
-/// A task file with the deprecated spellings (`candidates.generate.seeds`, `ik.seed`) selects
-/// exactly what the same task with `initial_grasps` and `ik.random_seed` selects: every output
-/// file is byte-identical.
-#[test]
-fn deprecated_task_spellings_give_byte_identical_outputs() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let model = trained(dir.path());
-    let cylinder = examples().join("cylinder.json");
-    let run = |name: &str, count_key: &str, ik_key: &str| {
-        // The same task path for both spellings: summary.json names the task file.
+    let out = dir.path().join("c.json");
+    let o = graspath(&[
+        "generate",
+        "--model",
+        "model.json",
+        "--cloud",
+        s(&cylinder),
+        "--out",
+        s(&out),
+        "--seeds",
+        "1200",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--seeds"), "{}", stderr(&o));
+    assert!(!out.exists());
+    for (field, yaml) in [
+        (
+            "candidates.generate.seeds",
+            "candidates:\n  generate: { model: m.json, cloud: c.ply, seeds: 800 }\n",
+        ),
+        (
+            "ik.seed",
+            "candidates: { family: { edge: { count: 2 } } }\nik: { seed: 1 }\n",
+        ),
+    ] {
         let task = dir.path().join("task.yaml");
         std::fs::write(
             &task,
             format!(
-                r#"
-robot: {{ builtin: baxter }}
-arms: left
-object: {{ pose: {{ xyz: [0.70, 0.25, -0.10] }} }}
-candidates:
-  generate: {{ model: {}, cloud: {}, seed: 3, {count_key}: 800, steps: 60, query_kernels: 1000, max_candidates: 8 }}
-ik: {{ {ik_key}: 2 }}
-trajectory:
-  samples_per_step: 4
-  steps: [ {{ lift: 0.2 }}, {{ move: [0, 0.2, 0] }} ]
-"#,
-                s(&model),
-                s(&cylinder)
+                "robot: {{ builtin: baxter }}\narms: left\nobject: {{ pose: {{ xyz: [0.7, 0.25, -0.1] }} }}\n\
+                 {yaml}trajectory: {{ steps: [ {{ lift: 0.2 }} ] }}\n"
             ),
         )
         .expect("write task");
-        let out = dir.path().join(name);
+        let out = dir.path().join("out");
         let o = graspath(&["select", "--task", s(&task), "--out", s(&out), "--quiet"]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&out)
-            .expect("out dir")
-            .map(|e| {
-                let path = e.expect("entry").path();
-                let name = path
-                    .file_name()
-                    .expect("name")
-                    .to_string_lossy()
-                    .into_owned();
-                (name, std::fs::read(&path).expect("file"))
-            })
-            .collect();
-        files.sort();
-        assert!(!files.is_empty());
-        files
-    };
-    let new = run("new", "initial_grasps", "random_seed");
-    let old = run("old", "seeds", "seed");
-    assert_eq!(
-        new.iter().map(|(n, _)| n).collect::<Vec<_>>(),
-        old.iter().map(|(n, _)| n).collect::<Vec<_>>()
-    );
-    for ((name, a), (_, b)) in new.iter().zip(&old) {
-        assert!(a == b, "{name} differs between the spellings");
+        assert!(!o.status.success());
+        let message = stderr(&o);
+        let unknown = field.rsplit('.').next().expect("a key");
+        assert!(
+            message.contains(&format!("unknown field `{unknown}`")),
+            "{message}"
+        );
+        assert!(
+            message.contains(field.rsplit_once('.').expect("a parent").0),
+            "{message}"
+        );
+        assert!(!out.exists());
     }
-    // Both spellings at once are refused: which one is meant would be a guess.
-    let task = dir.path().join("both.yaml");
-    std::fs::write(
-        &task,
-        "robot: { builtin: baxter }\narms: left\nobject: { pose: { xyz: [0.7, 0.25, -0.1] } }\n\
-         candidates: { family: { edge: { count: 2 } } }\nik: { seed: 1, random_seed: 1 }\n\
-         trajectory: { steps: [ { lift: 0.2 } ] }\n",
-    )
-    .expect("write task");
-    let o = graspath(&[
-        "select",
-        "--task",
-        s(&task),
-        "--out",
-        s(&dir.path().join("both")),
-        "--quiet",
-    ]);
-    assert!(!o.status.success());
-    assert!(
-        stderr(&o).contains("duplicate field `random_seed`"),
-        "{}",
-        stderr(&o)
-    );
 }

@@ -272,7 +272,7 @@ fn yaml_shape() -> impl Strategy<Value = String> {
         (size(), size())
             .prop_map(|(r, l)| format!("{{ cylinder: {{ radius: {r}, length: {l} }} }}")),
         (size(), size(), size(), size(), size()).prop_map(|(a, b, c, r, l)| format!(
-            "{{ t_shape: {{ bar: [{a}, {b}, {c}], handle_radius: {r}, handle_length: {l} }} }}"
+            "{{ t_shape: {{ bar: [{a}, {b}, {c}], stem: {{ cylinder: {{ radius: {r}, length: {l} }} }} }} }}"
         )),
     ]
 }
@@ -446,7 +446,10 @@ pub fn task_yaml() -> impl Strategy<Value = String> {
                 if let Some(d) = separation {
                     s.push_str(&format!(", min_separation: {d}"));
                 }
-                s.push_str(&format!(" }}\nik: {{ compare_branches: {compare}"));
+                s.push_str(&format!(
+                    " }}\nik: {{ redundancy: {}",
+                    if compare { "best_branch" } else { "first" }
+                ));
                 if let Some(v) = joint_step {
                     s.push_str(&format!(", max_joint_step: {v}"));
                 }

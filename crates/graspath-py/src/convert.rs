@@ -10,7 +10,8 @@
 //! (numpy's cast would drop their imaginary part).
 
 use graspath::geometry::{pose_from_rows, pose_to_rows};
-use graspath::task::JacobianRows;
+use graspath::manipulability::JacobianRows;
+use graspath::spelling::Spelled;
 use graspath::ErrorKind;
 use nalgebra::Isometry3;
 use numpy::ndarray::{ArrayD, IxDyn};
@@ -64,14 +65,13 @@ impl<'a, 'py> FromPyObject<'a, 'py> for FloatArray<'py> {
 /// Parses an index mode (`mode`, `length_scale` of `Task.from_arrays` and
 /// `Robot.optimize_self_motion`), as a task file's `index`.
 pub fn index_mode(mode: &str, length_scale: f64) -> PyResult<JacobianRows> {
-    match mode {
-        "twist" => Ok(JacobianRows::Twist { length_scale }),
-        "translation" => Ok(JacobianRows::Translation),
-        "rotation" => Ok(JacobianRows::Rotation),
-        other => Err(error(format!(
-            "mode '{other}' is not one of 'twist', 'translation', 'rotation'"
-        ))),
-    }
+    JacobianRows::from_mode(mode, length_scale).map_err(|m| error(format!("mode: {m}")))
+}
+
+/// Reads the setting `name` (`norm`, `measure`, `redundancy`, …) spelled `value`, with the
+/// library's spelling table; a bad value names the argument and every spelling.
+pub fn spelled<T: Spelled>(name: &str, value: &str) -> PyResult<T> {
+    T::parse(value).map_err(|m| error(format!("{name}: {m}")))
 }
 
 /// A message of the bindings themselves (an argument with a bad value, type or shape) as a
@@ -135,36 +135,6 @@ fn raise(
             Err(e) => e,
         }
     })
-}
-
-/// A keyword argument that was renamed: the value given under `new_name`, or the one given
-/// under the deprecated `old_name` (with a `DeprecationWarning`); both at once is an error.
-pub fn renamed_keyword<T>(
-    py: Python<'_>,
-    new: Option<T>,
-    new_name: &str,
-    old: Option<T>,
-    old_name: &str,
-) -> PyResult<Option<T>> {
-    match (new, old) {
-        (Some(_), Some(_)) => Err(error(format!(
-            "give {new_name} only ({old_name} is its deprecated earlier name)"
-        ))),
-        (None, Some(value)) => {
-            let message = std::ffi::CString::new(format!(
-                "{old_name} is deprecated: use {new_name} (same meaning)"
-            ))
-            .map_err(|e| error(e.to_string()))?;
-            PyErr::warn(
-                py,
-                &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
-                &message,
-                1,
-            )?;
-            Ok(Some(value))
-        }
-        (new, None) => Ok(new),
-    }
 }
 
 /// A contiguous row-major copy of an array and its shape.

@@ -8,8 +8,9 @@
 //! `camera_from_object` and `world_from_object`, the generator's gripper frame mapped to the
 //! tool frame by `gripper_from_tool` (default: the format's documented convention).
 
-use crate::convert::{array, error, lib_error, push_isometry, single_pose, FloatArray};
+use crate::convert::{array, lib_error, push_isometry, single_pose, spelled, FloatArray};
 use graspath::grasp::{read_grasp_file, GraspFileOptions, GraspFormat, GraspFrame};
+use graspath::spelling::Spelled;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -62,23 +63,10 @@ pub fn read_grasps<'py>(
     world_from_object: Option<FloatArray<'py>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = format
-        .map(|name| {
-            GraspFormat::from_name(name).ok_or_else(|| {
-                error(format!(
-                    "format '{name}' is not one of {}",
-                    GraspFormat::NAMES
-                ))
-            })
-        })
+        .map(|name| spelled::<GraspFormat>("format", name))
         .transpose()?;
     let frame = frame
-        .map(|name| {
-            GraspFrame::from_name(name).ok_or_else(|| {
-                error(format!(
-                    "frame '{name}' is not one of object, world, camera"
-                ))
-            })
-        })
+        .map(|name| spelled::<GraspFrame>("frame", name))
         .transpose()?;
     let world_from_camera = optional_pose(world_from_camera, "world_from_camera")?;
     let camera_from_object = optional_pose(camera_from_object, "camera_from_object")?;
@@ -152,6 +140,6 @@ pub fn read_grasps<'py>(
             .map(|c| c.label.clone())
             .collect::<Vec<_>>(),
     )?;
-    out.set_item("format", format.name())?;
+    out.set_item("format", format.as_str())?;
     Ok(out)
 }

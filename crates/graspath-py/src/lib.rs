@@ -64,6 +64,7 @@ fn graspath_native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(model::train, module)?)?;
     module.add_function(wrap_pyfunction!(model::generate, module)?)?;
     module.add("DEFAULTS", task::defaults_dict(py)?)?;
+    module.add("SPELLINGS", task::spellings_dict(py)?)?;
     module.add_function(wrap_pyfunction!(grasps::read_grasps, module)?)?;
     module.add_function(wrap_pyfunction!(memory::result_cache, module)?)?;
     module.add_function(wrap_pyfunction!(timing::time_path, module)?)?;

@@ -10,8 +10,8 @@
 //! are in [`dynamics`].
 
 use crate::convert::{
-    array, check_finite, error, index_mode, lib_error, non_finite_error, poses, renamed_keyword,
-    row_major, rows, shape_text, single_pose, trajectories, FloatArray,
+    array, check_finite, error, index_mode, lib_error, non_finite_error, poses, row_major, rows,
+    shape_text, single_pose, spelled, trajectories, FloatArray,
 };
 use crate::memory::{kinematics_into, new_float_array, split_rows, split_rows_ref, ResultArray};
 use graspath::manipulability::{
@@ -153,14 +153,7 @@ const INDEX_CHUNK: usize = 64;
 const SCALAR_CHUNK: usize = 4096;
 
 fn part_of(part: &str) -> PyResult<JacobianPart> {
-    match part {
-        "full" => Ok(JacobianPart::Full),
-        "translation" => Ok(JacobianPart::Translation),
-        "rotation" => Ok(JacobianPart::Rotation),
-        other => Err(error(format!(
-            "part '{other}' is not one of 'full', 'translation', 'rotation'"
-        ))),
-    }
+    spelled("part", part)
 }
 
 fn direction_of(part: JacobianPart, u: &[f64]) -> Direction {
@@ -614,7 +607,7 @@ impl PyRobot {
     /// independently, in parallel): the configuration, inside the limits, at which the tip
     /// reaches ``base_from_target``. ``q_start``, the start configuration, is ``(dof,)``
     /// (shared) or ``(n, dof)``; default the middle of the limits. ``random_seed`` seeds the
-    /// random restarts. ``seed`` is the deprecated earlier name of ``q_start``.
+    /// random restarts.
     ///
     /// One pose gives a dict ``q`` (array, or ``None`` when not converged), ``converged``,
     /// ``position_error`` (m), ``rotation_error`` (rad), ``iterations``, ``failure`` (``None``
@@ -635,12 +628,11 @@ impl PyRobot {
         rotation_tolerance = 1e-5,
         max_iterations = 100_000,
         max_time = Some(0.005),
-        random_seed = 0,
-        seed = None
+        random_seed = 0
     ),
     text_signature = "(self, target, q_start=None, *, position_tolerance=1e-05, \
                       rotation_tolerance=1e-05, max_iterations=100000, max_time=0.005, \
-                      random_seed=0, seed=None)")]
+                      random_seed=0)")]
     #[allow(clippy::too_many_arguments)]
     fn ik<'py>(
         &self,
@@ -652,9 +644,7 @@ impl PyRobot {
         max_iterations: usize,
         max_time: Option<f64>,
         random_seed: u64,
-        seed: Option<FloatArray<'py>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let q_start = renamed_keyword(py, q_start, "q_start", seed, "seed")?;
         let options = ik_options(
             position_tolerance,
             rotation_tolerance,
@@ -826,8 +816,7 @@ impl PyRobot {
     /// lanes (faster than one call per trajectory), with the GIL released.
     ///
     /// ``q_start`` is the start configuration ``(dof,)`` near which the first sample is solved
-    /// (default the middle of the limits); ``random_seed`` seeds the restarts. ``seed`` is the
-    /// deprecated earlier name of ``q_start``.
+    /// (default the middle of the limits); ``random_seed`` seeds the restarts.
     #[pyo3(signature = (
         targets,
         q_start = None,
@@ -838,8 +827,7 @@ impl PyRobot {
         max_iterations = 2000,
         position_tolerance = 1e-5,
         rotation_tolerance = 1e-5,
-        random_seed = 0,
-        seed = None
+        random_seed = 0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn ik_trajectory<'py>(
@@ -854,9 +842,7 @@ impl PyRobot {
         position_tolerance: f64,
         rotation_tolerance: f64,
         random_seed: u64,
-        seed: Option<FloatArray<'py>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let q_start = renamed_keyword(py, q_start, "q_start", seed, "seed")?;
         let dof = self.chain.dof();
         let (trajectories, batch) = trajectories(&targets, "targets")?;
         let q_start = match &q_start {

@@ -7,6 +7,7 @@ use crate::task::PyTask;
 use graspath::fsutil::{write_files, Existing};
 use graspath::select::record::{outputs, Row, Trajectories};
 use graspath::select::{select as run_selection, selected_motions, Selection};
+use graspath::spelling::Spelled;
 use graspath::task::Task;
 use graspath_report::{candidates_json, pairs_json, summary_json, trajectory_files};
 use pyo3::prelude::*;

@@ -2,19 +2,23 @@
 //! ranking settings) from a task file, task text, a dict, or numpy arrays.
 
 use crate::convert::{
-    array, check_shape, error, index_mode, lib_error, poses, push_isometry, renamed_keyword,
-    single_pose, Buffer, FloatArray,
+    array, check_shape, error, index_mode, lib_error, poses, push_isometry, single_pose, spelled,
+    Buffer, FloatArray,
 };
 use crate::pose::world_from_object;
 use crate::robot::PyRobot;
+use graspath::defaults;
 use graspath::grasp::Candidate;
+use graspath::grasp::{GraspFormat, GraspFrame};
+use graspath::manipulability::{IndexMeasure, JacobianPart, JacobianRows, Norm, RankedIndex};
 use graspath::robot::Chain;
 use graspath::select::wrist_trajectory;
-use graspath::task::defaults;
+use graspath::spelling::Spelled;
 use graspath::task::{
-    builder_from_file, ArmSetup, IndexMeasure, LikelihoodRule, Norm, ObjectPath, PathSample,
-    RankedIndex, Redundancy, Task, TaskBuilder, TaskFile,
+    builder_from_file, ArmSetup, LikelihoodRule, ObjectPath, PathSample, Redundancy, Task,
+    TaskBuilder, TaskFile,
 };
+use graspath::timing::Discretization;
 use nalgebra::{Isometry3, Point3};
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -60,6 +64,27 @@ pub fn defaults_dict(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     dict.set_item("branches", defaults::IK_BRANCHES)?;
     dict.set_item("ik_tolerance", defaults::IK_TOLERANCE)?;
     dict.set_item("ik_iterations", defaults::GRASP_IK_ITERATIONS)?;
+    Ok(dict)
+}
+
+/// Every spelling each named setting accepts, keyed by keyword (`norm`, `measure`, `mode`,
+/// `redundancy`, `part`, `discretization`, `format`, `frame`): `graspath.SPELLINGS`, from the
+/// library's spelling tables; a test compares it with the stub's `Literal` types.
+pub fn spellings_dict(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    fn accepted<T: Spelled>() -> Vec<&'static str> {
+        let mut names = T::names();
+        names.extend(T::ALL.iter().flat_map(|value| value.aliases()));
+        names
+    }
+    let dict = PyDict::new(py);
+    dict.set_item("norm", accepted::<Norm>())?;
+    dict.set_item("measure", accepted::<IndexMeasure>())?;
+    dict.set_item("mode", JacobianRows::MODES.to_vec())?;
+    dict.set_item("redundancy", accepted::<Redundancy>())?;
+    dict.set_item("part", accepted::<JacobianPart>())?;
+    dict.set_item("discretization", accepted::<Discretization>())?;
+    dict.set_item("format", accepted::<GraspFormat>())?;
+    dict.set_item("frame", accepted::<GraspFrame>())?;
     Ok(dict)
 }
 
@@ -207,8 +232,8 @@ impl PyTask {
     ///   ``"ignore"`` or a weight), ``pairs``, ``min_separation`` (m), and the trajectory IK's
     ///   ``max_joint_step``, ``branches``, ``ik_random_seed`` (the random seed of the IK's
     ///   restarts; default 0), ``ik_tolerance``, ``ik_iterations``, ``redundancy``
-    ///   (``"first"``, ``"best_branch"`` or ``"optimize"``: the task file's ``ik.redundancy``)
-    ///   and its older form ``compare_branches`` (``True`` is ``"best_branch"``); ``measure``
+    ///   (``"first"``, ``"best_branch"`` or ``"optimize"``: the task file's ``ik.redundancy``);
+    ///   ``measure``
     ///   (``"task_relevant"``, ``"velocity_ratio"``, ``"duration"`` or ``"dynamic"``: the
     ///   last needs the robot's inertial data and effort limits) and ``joint_limit_penalty`` (Tsai's
     ///   penalty gain ``k``, e.g. 50; ``None``: none), the task file's ``index.measure`` and
@@ -217,8 +242,7 @@ impl PyTask {
     ///   (kg·m² about the centre of mass)}`` (the task file's ``object.mass``,
     ///   ``center_of_mass`` and ``inertia``): the joint torques are then checked along the task
     ///   and the ``torque_margin``, ``payload_capacity`` and ``dynamic_manipulability`` columns
-    ///   reported (``docs/dynamics.md``). ``ik_seed`` is
-    ///   the deprecated earlier name of ``ik_random_seed``.
+    ///   reported (``docs/dynamics.md``).
     #[staticmethod]
     #[pyo3(signature = (
         arms,
@@ -242,14 +266,12 @@ impl PyTask {
         ik_random_seed = None,
         ik_tolerance = 1e-5,
         ik_iterations = 200,
-        compare_branches = None,
         redundancy = None,
         measure = "task_relevant",
         joint_limit_penalty = None,
         payload = None,
         name = "<arrays>",
-        robot_name = "robot",
-        ik_seed = None
+        robot_name = "robot"
     ))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
@@ -273,23 +295,14 @@ impl PyTask {
         ik_random_seed: Option<u64>,
         ik_tolerance: f64,
         ik_iterations: usize,
-        compare_branches: Option<bool>,
         redundancy: Option<&str>,
         measure: &str,
         joint_limit_penalty: Option<f64>,
         payload: Option<&Bound<'_, PyAny>>,
         name: &str,
         robot_name: &str,
-        ik_seed: Option<u64>,
     ) -> PyResult<Self> {
-        let ik_random_seed = renamed_keyword(
-            arms.py(),
-            ik_random_seed,
-            "ik_random_seed",
-            ik_seed,
-            "ik_seed",
-        )?
-        .unwrap_or(defaults::IK_RANDOM_SEED);
+        let ik_random_seed = ik_random_seed.unwrap_or(defaults::IK_RANDOM_SEED);
         let mut builder = Task::builder(name).robot_name(robot_name);
         for (key, value) in arms.iter() {
             let arm_name: String = key
@@ -368,8 +381,7 @@ impl PyTask {
                 width: None,
             })
             .collect();
-        let norm = Norm::from_name(norm)
-            .ok_or_else(|| error(format!("norm '{norm}' is not 'rms', 'l2' or 'l1'")))?;
+        let norm: Norm = spelled("norm", norm)?;
         let likelihood = match likelihood {
             None => LikelihoodRule::Product,
             Some(value) => likelihood_rule(value)?,
@@ -404,14 +416,12 @@ impl PyTask {
             .ik_random_seed(ik_random_seed)
             .ik_tolerance(ik_tolerance)
             .grasp_ik_iterations(ik_iterations)
-            .redundancy(redundancy_of(redundancy, compare_branches)?)
+            .redundancy(match redundancy {
+                Some(name) => spelled("redundancy", name)?,
+                None => Redundancy::default(),
+            })
             .ranked(RankedIndex {
-                measure: IndexMeasure::from_name(measure).ok_or_else(|| {
-                    error(format!(
-                        "measure: '{measure}' is not one of {}",
-                        IndexMeasure::spellings()
-                    ))
-                })?,
+                measure: spelled("measure", measure)?,
                 joint_limit_penalty,
                 // An array task is one step: its norms are over every sample.
                 ..RankedIndex::default()
@@ -588,34 +598,4 @@ impl PyTask {
             self.task.path.samples.len()
         )
     }
-}
-
-/// `redundancy` by name, or from `compare_branches` when it is not given; the two must agree.
-fn redundancy_of(name: Option<&str>, compare_branches: Option<bool>) -> PyResult<Redundancy> {
-    let compared = compare_branches.map(|compare| {
-        if compare {
-            Redundancy::BestBranch
-        } else {
-            Redundancy::First
-        }
-    });
-    let Some(name) = name else {
-        return Ok(compared.unwrap_or_default());
-    };
-    let redundancy = Redundancy::from_name(name).ok_or_else(|| {
-        error(format!(
-            "redundancy: '{name}' is not one of first, best_branch, optimize"
-        ))
-    })?;
-    if compared.is_some_and(|c| c != redundancy) {
-        return Err(error(format!(
-            "compare_branches={} contradicts redundancy='{name}' (give one of them)",
-            if compared == Some(Redundancy::BestBranch) {
-                "True"
-            } else {
-                "False"
-            }
-        )));
-    }
-    Ok(redundancy)
 }

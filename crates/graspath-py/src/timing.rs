@@ -2,7 +2,7 @@
 //! cubic spline through its samples), the computation every feasible candidate's motion goes
 //! through.
 
-use crate::convert::{array, check_finite, error, lib_error, Buffer, FloatArray};
+use crate::convert::{array, check_finite, error, lib_error, spelled, Buffer, FloatArray};
 use graspath::timing::{Discretization, JointSpline, PathLimits};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -69,15 +69,7 @@ pub fn time_path<'py>(
             "subdivisions must be between 1 and 64, got {subdivisions}"
         )));
     }
-    let discretization = match discretization {
-        "interpolation" => Discretization::Interpolation,
-        "collocation" => Discretization::Collocation,
-        other => {
-            return Err(error(format!(
-                "discretization '{other}' is not one of interpolation, collocation"
-            )))
-        }
-    };
+    let discretization: Discretization = spelled("discretization", discretization)?;
     let rows: Vec<Vec<f64>> = samples.data.chunks(dof).map(<[f64]>::to_vec).collect();
     let path_limits = PathLimits {
         velocity: &velocity,

@@ -29,7 +29,7 @@ def likely_task():
         likelihoods=likelihoods,
         branches=8,
         ik_iterations=2000,
-        compare_branches=True,
+        redundancy="best_branch",
         name="likely",
     )
 

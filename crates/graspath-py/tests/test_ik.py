@@ -131,28 +131,6 @@ def test_a_batch_of_trajectories_gives_each_what_it_gives_alone(left):
         left.ik_trajectory(np.zeros((2, 3, 3)))
 
 
-def test_the_deprecated_seed_keyword_is_the_start_configuration(left):
-    """``seed=`` (deprecated) gives the same answers as ``q_start=`` with a DeprecationWarning;
-    giving both is an error."""
-    goals = targets(left, 3, seed=11)
-    start = left.lower + 0.4 * (left.upper - left.lower)
-    new = left.ik(goals, q_start=start, random_seed=2, **EXACT)
-    with pytest.warns(DeprecationWarning, match="use q_start"):
-        old = left.ik(goals, seed=start, random_seed=2, **EXACT)
-    for key in ("q", "best_q", "converged", "iterations", "position_error"):
-        np.testing.assert_array_equal(new[key], old[key])
-    path = np.repeat(targets(left, 1, seed=9), 5, axis=0)
-    path[:, 2, 3] += np.linspace(0.0, 0.04, 5)
-    near = left.ik(path[0], **EXACT)["q"]  # a start configuration at the first pose
-    new = left.ik_trajectory(path, q_start=near)
-    with pytest.warns(DeprecationWarning, match="use q_start"):
-        old = left.ik_trajectory(path, seed=near)
-    assert new["feasible"] and len(new["branches"]) == len(old["branches"])
-    for a, b in zip(new["branches"], old["branches"]):
-        np.testing.assert_array_equal(a, b)
-    with pytest.raises(graspath.GraspathError, match="give q_start only"):
-        left.ik(goals[0], q_start=start, seed=start)
-
 class TestErrors:
     def test_bad_pose(self, left):
         bad = np.eye(4)

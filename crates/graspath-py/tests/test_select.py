@@ -25,7 +25,7 @@ def run_cli(binary, task, out):
 
 
 # The IK and norm settings of examples/pick_and_place_left.yaml (the paper's).
-SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "compare_branches": True, "ik_limit_margin": 0.0, "norm": "l2"}
+SAME_IK_AS_THE_FILE = {"branches": 8, "ik_iterations": 2000, "redundancy": "best_branch", "ik_limit_margin": 0.0, "norm": "l2"}
 
 
 @pytest.fixture(scope="module")
@@ -167,7 +167,7 @@ def test_dict_and_text_tasks_equal_the_file(left_selection):
         },
         "index": {"mode": "twist", "length_scale": 1.0},
         "selection": {"norm": "l2"},
-        "ik": {"compare_branches": True, "branches": 8, "iterations": 2000, "limit_margin": 0},
+        "ik": {"redundancy": "best_branch", "branches": 8, "iterations": 2000, "limit_margin": 0},
     }
     from_dict = graspath.select(graspath.Task.from_dict(document))
     assert from_dict.candidates == selection.candidates
@@ -212,25 +212,13 @@ def test_array_task_defaults_equal_the_file_defaults(left_selection, tmp_path):
     path = tmp_path / "defaults.yaml"
     path.write_text(text)
     from_file = graspath.select(graspath.Task.load(str(path)))
-    from_arrays = graspath.select(array_task(task, branches=8, ik_iterations=2000, compare_branches=True))
+    from_arrays = graspath.select(array_task(task, branches=8, ik_iterations=2000, redundancy="best_branch"))
     assert from_arrays.norm == from_file.norm == "rms"
     for a, b in zip(from_arrays.candidates, from_file.candidates):
         assert a["mu_rms"] == b["mu_rms"] and a["score"] == b["score"]
         if a["feasible"]:
             assert a["limit_distance_min"] >= graspath.DEFAULTS["ik_limit_margin"] - 1e-12
 
-
-def test_the_deprecated_ik_seed_keyword_is_the_ik_random_seed(left_selection):
-    """``ik_seed=`` (deprecated) builds the task ``ik_random_seed=`` builds, with a
-    DeprecationWarning: the selections are equal. Both at once is an error."""
-    task, _ = left_selection
-    arrays = ({"left": task.robot("left")}, task.object_poses, task.candidate_poses[:4])
-    new = graspath.select(graspath.Task.from_arrays(*arrays, times=task.times, ik_random_seed=7))
-    with pytest.warns(DeprecationWarning, match="use ik_random_seed"):
-        old_task = graspath.Task.from_arrays(*arrays, times=task.times, ik_seed=7)
-    assert graspath.select(old_task).candidates == new.candidates
-    with pytest.raises(graspath.GraspathError, match="give ik_random_seed only"):
-        graspath.Task.from_arrays(*arrays, ik_random_seed=7, ik_seed=7)
 
 def test_array_task_with_a_moved_base(left_selection):
     """Moving the world frame (object path and arm base together) changes nothing."""
@@ -316,13 +304,13 @@ def test_a_task_in_a_scene_reports_clearance_and_where_candidates_collide(tmp_pa
 
 def test_array_task_redundancy_matches_the_file(left_selection, tmp_path):
     """``redundancy="optimize"`` from arrays scores as ``ik.redundancy: optimize`` in the
-    task file; a name that does not exist, or one that contradicts ``compare_branches``,
-    is refused."""
+    task file; a name that does not exist, and the earlier keyword ``compare_branches``, are
+    refused."""
     task, _ = left_selection
     settings = dict(branches=8, ik_iterations=2000, ik_limit_margin=0.0, norm="l2")
     from_arrays = array_task(task, redundancy="optimize", **settings)
     text = LEFT.read_text().replace(
-        "ik: { compare_branches: true,", "ik: { redundancy: optimize,"
+        "ik: { redundancy: best_branch,", "ik: { redundancy: optimize,"
     )
     assert "redundancy: optimize" in text
     path = tmp_path / "optimize.yaml"
@@ -333,6 +321,7 @@ def test_array_task_redundancy_matches_the_file(left_selection, tmp_path):
         assert a["mu_l2"] == b["mu_l2"]
         assert a.get("self_motion") == b.get("self_motion")
     assert any(a.get("self_motion") for a in result.candidates)
-    for bad in [dict(redundancy="elbow_up"), dict(redundancy="first", compare_branches=True)]:
-        with pytest.raises(ValueError, match="redundancy"):
-            array_task(task, **{**settings, **bad})
+    with pytest.raises(ValueError, match="redundancy: 'elbow_up' is not one of first, best_branch, optimize"):
+        array_task(task, **settings, redundancy="elbow_up")
+    with pytest.raises(TypeError, match="compare_branches"):
+        array_task(task, **settings, compare_branches=True)

@@ -59,3 +59,65 @@ def test_the_exceptions_are_exported_with_their_bases():
     for name in names:
         assert issubclass(getattr(graspath, name), graspath.GraspathError)
     assert not issubclass(graspath.GraspathError, ValueError)
+
+
+def _literal_values(annotation):
+    """The strings of every ``Literal[...]`` inside an annotation (through ``Optional``,
+    ``Union`` and names of module-level aliases)."""
+    tree = ast.parse(STUB.read_text())
+    aliases = {
+        n.targets[0].id: n.value
+        for n in tree.body
+        if isinstance(n, ast.Assign) and len(n.targets) == 1 and isinstance(n.targets[0], ast.Name)
+    }
+    values = []
+
+    def walk(node):
+        if isinstance(node, ast.Name) and node.id in aliases:
+            walk(aliases[node.id])
+        elif isinstance(node, ast.Subscript):
+            if isinstance(node.value, ast.Name) and node.value.id == "Literal":
+                elements = node.slice.elts if isinstance(node.slice, ast.Tuple) else [node.slice]
+                values.extend(e.value for e in elements if isinstance(e.value, str))
+            else:
+                walk(node.slice)
+        elif isinstance(node, ast.Tuple):
+            for element in node.elts:
+                walk(element)
+
+    walk(annotation)
+    return values
+
+
+def test_literal_types_are_the_library_spellings():
+    """Every stub parameter named after a setting (``norm=``, ``measure=``, ``format=`` of a
+    grasp file, ...) offers exactly the spellings the library reads (``graspath.SPELLINGS``),
+    in the library's order."""
+    tree = ast.parse(STUB.read_text())
+    checked = set()
+    for function in ast.walk(tree):
+        if not isinstance(function, ast.FunctionDef):
+            continue
+        arguments = function.args.args + function.args.kwonlyargs
+        for argument in arguments:
+            if argument.arg not in graspath.SPELLINGS or argument.annotation is None:
+                continue
+            if function.name == "from_text" and argument.arg == "format":
+                continue  # the task text's format (yaml / json), not a grasp-file format
+            offered = _literal_values(argument.annotation)
+            assert offered == graspath.SPELLINGS[argument.arg], f"{function.name}({argument.arg})"
+            checked.add(argument.arg)
+    # A setting that no stub parameter offers is a stub that lost its Literal.
+    assert checked == set(graspath.SPELLINGS)
+
+
+def test_a_wrong_spelling_lists_the_right_ones():
+    import numpy as np
+    import pytest
+
+    robot = graspath.Robot.builtin("panda")
+    q = np.zeros((1, robot.dof))
+    with pytest.raises(graspath.GraspathValueError) as error:
+        robot.indices(q, part="ful")
+    for name in graspath.SPELLINGS["part"]:
+        assert name in str(error.value)

@@ -4,9 +4,10 @@
 
 use crate::lines::{Line, LinePlot, LineStyle, SecondaryLabels};
 use crate::plots::{Cell, Heatmap, Plot};
+use graspath::manipulability::{JacobianRows, Norm};
 use graspath::placement::FamilyParameter;
 use graspath::select::{ArmResult, Selection};
-use graspath::task::{JacobianRows, Norm, Task};
+use graspath::task::Task;
 
 /// A figure of a report: a file stem, a caption for people and the plot.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,12 +5,14 @@
 
 use crate::pretty::write_pretty_at;
 use crate::world::has_world;
+use graspath::manipulability::JacobianRows;
+use graspath::manipulability::NormSamples;
 use graspath::select::record::{outputs, JsonRecord, Row, Trajectories};
 use graspath::select::{
     values_tied, ArmPair, ArmResult, CandidateScore, Ranking, Scored, Selection, Streamed,
 };
-use graspath::task::JacobianRows;
-use graspath::task::{NormSamples, Task};
+use graspath::spelling::Spelled;
+use graspath::task::Task;
 use serde::Serialize;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;

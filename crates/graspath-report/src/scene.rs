@@ -33,6 +33,7 @@ use graspath::geometry::shape::{Shape, Stem};
 use graspath::grasp::Candidate;
 use graspath::robot::Chain;
 use graspath::select::{scoring_setup, timed_together, ArmResult, CandidateScore, Selection};
+use graspath::spelling::Spelled;
 use graspath::task::{ArmSetup, Task};
 use nalgebra::{Isometry3, Matrix3, Point3, SymmetricEigen, Vector3};
 use serde_json::{json, Map, Value};

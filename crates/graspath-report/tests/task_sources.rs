@@ -3,9 +3,10 @@
 
 use graspath::geometry::shape::Shape;
 use graspath::grasp::edge_family;
+use graspath::manipulability::{JacobianRows, Norm};
 use graspath::robot::builtin::{baxter, Arm};
 use graspath::select::select;
-use graspath::task::{JacobianRows, Norm, Sampling, Step, Task, TimedStep};
+use graspath::task::{Redundancy, Sampling, Step, Task, TimedStep};
 use graspath_report::{candidates_json, pairs_json, summary_json};
 use nalgebra::{Isometry3, Vector3};
 use std::path::PathBuf;
@@ -38,7 +39,7 @@ fn pick_and_place_in_code(name: &str) -> Task {
         )
         .rows(JacobianRows::Twist { length_scale: 1.0 })
         .norm(Norm::L2)
-        .compare_branches(true)
+        .redundancy(Redundancy::BestBranch)
         .ik_limit_margin(0.0)
         .ik_branches(8)
         .grasp_ik_iterations(2000)

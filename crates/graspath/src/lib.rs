@@ -75,6 +75,7 @@
 pub mod cloud;
 pub mod collision;
 mod cpu;
+pub mod defaults;
 mod error;
 pub mod failure;
 mod fault;
@@ -88,6 +89,7 @@ pub mod placement;
 pub mod random;
 pub mod robot;
 pub mod select;
+pub mod spelling;
 pub mod task;
 pub mod timing;
 

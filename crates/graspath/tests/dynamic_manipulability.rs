@@ -4,8 +4,9 @@
 //! grasp), ranking by it, and the task errors when the robot cannot give it.
 
 use graspath::manipulability::{wrist_tangent, PathNorms, SampleIndex};
+use graspath::manipulability::{IndexMeasure, JacobianRows};
 use graspath::select::{select, wrist_trajectory, CandidateScore};
-use graspath::task::{IndexMeasure, JacobianRows, Task, TaskFile};
+use graspath::task::{Task, TaskFile};
 use nalgebra::{DMatrix, DVector, Matrix6xX, Vector3};
 use std::path::Path;
 

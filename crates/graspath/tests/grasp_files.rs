@@ -5,6 +5,7 @@
 use graspath::grasp::{
     read_grasp_file, GraspFileOptions, GraspFormat, GraspFrame, GripperConvention,
 };
+use graspath::spelling::Spelled;
 use nalgebra::{Isometry3, Matrix4};
 use std::path::{Path, PathBuf};
 

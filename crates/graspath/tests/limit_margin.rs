@@ -3,10 +3,11 @@
 //! them — so none of the top ten rides a limit by default — while planning up to the limits
 //! (the paper's practice) puts the best grasps on one.
 
+use graspath::defaults;
 use graspath::robot::builtin::BuiltinRobot;
 use graspath::robot::{Chain, JointKind};
 use graspath::select::{select, Selection};
-use graspath::task::{defaults, Task, TaskFile};
+use graspath::task::{Task, TaskFile};
 use std::path::PathBuf;
 
 fn repo() -> PathBuf {

@@ -5,9 +5,11 @@
 //! Tsai's penalty written out, limit distances by brute force, and invariance of the classical
 //! indices under the redundancy setting.
 
+use graspath::defaults;
+use graspath::manipulability::JacobianRows;
 use graspath::manipulability::{wrist_tangent, Direction, PathNorms, SampleIndex};
 use graspath::select::{select, wrist_trajectory, CandidateScore};
-use graspath::task::{defaults, JacobianRows, Task};
+use graspath::task::Task;
 use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use std::path::PathBuf;
 

@@ -10,7 +10,6 @@ fn task(redundancy: &str) -> Task {
     let example =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/pick_and_place_left.yaml");
     let mut file = graspath::task::TaskFile::load(&example).unwrap();
-    file.ik.compare_branches = None;
     file.ik.redundancy = Some(redundancy.into());
     Task::from_file(&file, "pick_and_place_left.yaml", example.parent().unwrap()).unwrap()
 }
@@ -78,17 +77,15 @@ fn the_optimised_self_motion_beats_the_first_and_the_best_branch() {
 }
 
 #[test]
-fn a_redundancy_that_does_not_exist_or_contradicts_compare_branches_is_named() {
+fn a_redundancy_that_does_not_exist_or_an_earlier_spelling_is_named() {
     let dir = tempfile::tempdir().unwrap();
     let example =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/pick_and_place_left.yaml");
     let text = std::fs::read_to_string(example).unwrap();
     for (ik, field) in [
         ("ik: { redundancy: elbow_up }", "ik.redundancy"),
-        (
-            "ik: { redundancy: optimize, compare_branches: false }",
-            "ik.compare_branches",
-        ),
+        // `compare_branches` was an earlier spelling of `redundancy`.
+        ("ik: { compare_branches: true }", "compare_branches"),
     ] {
         let body: String = text
             .lines()

@@ -4,8 +4,9 @@
 //! each score by a fraction of a percent — while the paper's `μ_l2` grows with the square root
 //! of the sample count.
 
+use graspath::manipulability::Norm;
 use graspath::select::{select, Selection};
-use graspath::task::{Norm, Task, TaskFile};
+use graspath::task::{Task, TaskFile};
 use std::collections::HashMap;
 use std::path::PathBuf;
 

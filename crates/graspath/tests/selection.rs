@@ -3,10 +3,11 @@
 //! stationary step.
 
 use graspath::grasp::Candidate;
+use graspath::manipulability::JacobianRows;
 use graspath::robot::parse_urdf_chain;
 use graspath::select::select;
-use graspath::task::{JacobianRows, Task};
 use graspath::task::{ObjectPath, Sampling, Step, TaskFile, TimedStep};
+use graspath::task::{Redundancy, Task};
 use nalgebra::{Isometry3, Vector3};
 
 const L: [f64; 3] = [0.7, 0.5, 0.2];
@@ -86,7 +87,7 @@ fn planar_task(start_x: f64, end_x: f64, samples: usize) -> Task {
         )
         .rows(JacobianRows::Translation)
         .grasp_ik_iterations(1000)
-        .compare_branches(true)
+        .redundancy(Redundancy::BestBranch)
         .build()
         .unwrap()
 }

@@ -458,12 +458,14 @@ fn file_syntax_reads_writes_and_names_the_field() {
         (r#"{"cone":{"radius":1}}"#, "unknown variant `cone`"),
         (
             r#"{"t_shape":{"bar":[1,1,1],"stem":{"box":{"size":[1,1,1]}},"handle_radius":1}}"#,
-            "give bar and stem",
+            "unknown field `handle_radius`",
         ),
+        // The spelling of earlier task files, `{bar, handle_radius, handle_length}`, is gone.
         (
-            r#"{"t_shape":{"bar":[1,1,1],"handle_length":1}}"#,
-            "give bar and stem",
+            r#"{"t_shape":{"bar":[1,1,1],"handle_radius":0.02,"handle_length":1}}"#,
+            "unknown field `handle_radius`",
         ),
+        (r#"{"t_shape":{"bar":[1,1,1]}}"#, "missing field `stem`"),
         (
             r#"{"convex_mesh":{"points":[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}}"#,
             "span no volume",
@@ -477,15 +479,6 @@ fn file_syntax_reads_writes_and_names_the_field() {
         let err = serde_json::from_str::<Shape>(text).unwrap_err().to_string();
         assert!(err.contains(fragment), "{text}: {err}");
     }
-    // The deprecated spelling of earlier task files is still read, as a round stem.
-    let legacy: Shape = serde_json::from_str(
-        r#"{"t_shape":{"bar":[0.08,0.24,0.03],"handle_radius":0.02,"handle_length":0.12}}"#,
-    )
-    .unwrap();
-    assert_eq!(
-        legacy,
-        Shape::TShape(TShape::with_round_stem([0.08, 0.24, 0.03], 0.02, 0.12).unwrap())
-    );
     assert!(matches!(
         Shape::capsule(f64::NAN, 1.0),
         Err(ShapeError::NotPositive { .. })

@@ -6,6 +6,7 @@
 use graspath::grasp::hand::StockGripper;
 use graspath::robot::RobotSource;
 use graspath::select::{select, Scored};
+use graspath::spelling::Spelled;
 use graspath::task::{Task, TaskFile};
 use nalgebra::Vector3;
 use std::path::Path;
@@ -97,7 +98,7 @@ fn a_stock_gripper_bolted_to_a_flange_puts_the_tool_frame_at_its_tcp() {
         ("iiwa14", StockGripper::FrankaHand),
         ("gen3", StockGripper::Baxter),
     ] {
-        let task = load(&task_text(robot, gripper.name(), (0.45, -0.1), "")).unwrap();
+        let task = load(&task_text(robot, gripper.as_str(), (0.45, -0.1), "")).unwrap();
         let chain = &task.arms[0].chain;
         // Oracle: the bare chain (no tool) from the robot source, and the maker's distance.
         let bare = RobotSource::builtin(robot)
@@ -116,7 +117,7 @@ fn a_stock_gripper_bolted_to_a_flange_puts_the_tool_frame_at_its_tcp() {
         assert!(offset.rotation.angle() < 1e-12, "{robot}");
         // A tool offset given by the task wins.
         let given = "robot: { builtin: ROBOT, tool: { xyz: [0, 0, 0.3] } }".replace("ROBOT", robot);
-        let text = task_text(robot, gripper.name(), (0.45, -0.1), "")
+        let text = task_text(robot, gripper.as_str(), (0.45, -0.1), "")
             .replace(&format!("robot: {{ builtin: {robot} }}"), &given);
         let task = load(&text).unwrap();
         let offset = bare.pose(&q).unwrap().inverse() * task.arms[0].chain.pose(&q).unwrap();

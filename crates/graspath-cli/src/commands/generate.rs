@@ -30,8 +30,7 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Number of initial grasps drawn before annealing (the model spec's "seeds").
-    /// `--seeds` is the deprecated earlier spelling.
-    #[arg(long, value_name = "N", default_value_t = 50_000, alias = "seeds")]
+    #[arg(long, value_name = "N", default_value_t = 50_000)]
     initial_grasps: usize,
     /// Annealing steps.
     #[arg(long, default_value_t = 500)]

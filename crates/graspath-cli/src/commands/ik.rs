@@ -6,6 +6,7 @@ use crate::jsonl::{for_each_line, open_input, source_name};
 use crate::robot_args::RobotArgs;
 use anyhow::{Context, Result};
 use clap::Args;
+use graspath::defaults;
 use graspath::geometry::pose_from_rows;
 use graspath::robot::{
     solve_ik, solve_trajectory, Chain, IkOptions, TrajectoryIkOptions, TrajectoryIkResult,
@@ -30,33 +31,32 @@ pub struct IkArgs {
     input: Option<PathBuf>,
     /// The start configuration: `mid` (middle of the limits), `zero`, or `q1,q2,...`
     /// (rad / m). Every pose of a JSON Lines input starts from it; a trajectory starts its
-    /// first sample from it. `--seed` is the deprecated earlier spelling.
+    /// first sample from it.
     #[arg(
         long,
         value_name = "Q_START",
         default_value = "mid",
-        allow_hyphen_values = true,
-        alias = "seed"
+        allow_hyphen_values = true
     )]
     start: String,
     /// Position (m) and rotation (rad) tolerance.
-    #[arg(long, value_name = "EPS", default_value_t = 1e-5)]
+    #[arg(long, value_name = "EPS", default_value_t = defaults::IK_TOLERANCE)]
     tolerance: f64,
     /// Time budget per pose in milliseconds (single poses only: trajectories use iteration
     /// budgets so that their results are reproducible).
     #[arg(long, value_name = "MS", default_value_t = 5.0)]
     timeout_ms: f64,
     /// Random seed of the restarts (not the start configuration: see --start).
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = defaults::IK_RANDOM_SEED)]
     random_seed: u64,
     /// Solve a whole trajectory `{"poses":[...]}` with continuous joint paths.
     #[arg(long)]
     trajectory: bool,
     /// Trajectories: largest joint change between consecutive samples (rad / m).
-    #[arg(long, value_name = "STEP", default_value_t = 0.5)]
+    #[arg(long, value_name = "STEP", default_value_t = defaults::MAX_JOINT_STEP)]
     max_joint_step: f64,
     /// Trajectories: how many distinct initial solutions (branches) to track.
-    #[arg(long, value_name = "N", default_value_t = 4)]
+    #[arg(long, value_name = "N", default_value_t = defaults::IK_BRANCHES)]
     branches: usize,
 }
 

@@ -34,9 +34,9 @@ base frame with Jacobian rows ``[v; ω]``.
   :class:`FileNotFoundError`, for a missing input) for a file that cannot be read or written,
   :class:`GraspathValueError` (a :class:`ValueError`) for bad content; each names the ``file``
   and ``field`` at fault when known.
-
-Grasp generation from point clouds (the learned grasp model) is not offered by this version:
-see the extension point described in ``crates/graspath-py/README.md``.
+* :func:`train` and :func:`generate` — the one-shot learned grasp model: trained from one
+  demonstrated grasp, it generates candidates with likelihoods on a new object's point cloud
+  (``docs/demonstrations.md``).
 """
 
 from ._errors import (
@@ -47,6 +47,7 @@ from ._errors import (
 )
 from ._graspath import (
     DEFAULTS,
+    SPELLINGS,
     Robot,
     Selection,
     Task,
@@ -69,6 +70,7 @@ from ._graspath import (
 
 __all__ = [
     "DEFAULTS",
+    "SPELLINGS",
     "GraspathError",
     "GraspathFileError",
     "GraspathFileNotFoundError",

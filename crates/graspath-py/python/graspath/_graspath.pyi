@@ -14,6 +14,10 @@ import numpy.typing as npt
 __version__: str
 DEFAULTS: Dict[str, float]
 """The library's task defaults that ``Task.from_arrays`` spells out in its signature."""
+SPELLINGS: Dict[str, List[str]]
+"""Every spelling each named setting accepts (``norm``, ``measure``, ``mode``, ``redundancy``,
+``part``, ``discretization``, ``format``, ``frame``), from the library's spelling tables: the
+values of the ``Literal`` types below."""
 
 ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.float64]
@@ -137,14 +141,13 @@ class Robot:
         max_iterations: int = 100_000,
         max_time: Optional[float] = 0.005,
         random_seed: int = 0,
-        seed: Optional[ArrayLike] = None,
     ) -> Dict[str, Any]:
         """IK of one pose ``(4, 4)`` (dict with ``q`` or ``None``, ``converged``, errors,
         ``iterations``, ``failure``) or many ``(n, 4, 4)`` (dict of arrays ``q`` with NaN rows,
         ``best_q``, ``converged``, ``position_error``, ``rotation_error``, ``iterations``,
         ``failure_reason``). ``q_start``: the start configuration ``(dof,)`` or ``(n, dof)``
-        (default the middle of the limits); ``random_seed`` seeds the restarts; ``seed`` is the
-        deprecated name of ``q_start``. ``max_time=None`` for reproducible results."""
+        (default the middle of the limits); ``random_seed`` seeds the restarts.
+        ``max_time=None`` for reproducible results."""
     def ik_trajectory(
         self,
         targets: ArrayLike,
@@ -157,14 +160,12 @@ class Robot:
         position_tolerance: float = 1e-5,
         rotation_tolerance: float = 1e-5,
         random_seed: int = 0,
-        seed: Optional[ArrayLike] = None,
     ) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
         """Continuous joint paths through ``targets`` ``(n, 4, 4)`` from the start
         configuration ``q_start`` ``(dof,)`` (default the middle of the limits): ``feasible``,
         ``branches`` (list of ``(n, dof)``), ``failure`` (``None`` or ``sample``, ``reason``,
         ``detail``). A batch ``(b, n, 4, 4)`` gives a list of ``b`` such dicts, solved
-        together (each what its trajectory alone gives). ``seed`` is the deprecated name of
-        ``q_start``."""
+        together (each what its trajectory alone gives)."""
     def nullspace(
         self,
         q: ArrayLike,
@@ -280,20 +281,17 @@ class Task:
         ik_random_seed: Optional[int] = None,
         ik_tolerance: float = 1e-5,
         ik_iterations: int = 200,
-        compare_branches: Optional[bool] = None,
         redundancy: Optional[Literal["first", "best_branch", "optimize"]] = None,
         measure: Literal["task_relevant", "velocity_ratio", "duration", "dynamic"] = "task_relevant",
         joint_limit_penalty: Optional[float] = None,
         payload: Optional[Dict[str, Any]] = None,
         name: str = "<arrays>",
         robot_name: str = "robot",
-        ik_seed: Optional[int] = None,
     ) -> Task:
         """A task from ``object_poses`` ``(n, 4, 4)`` (world_from_object) and ``candidates``
         ``(k, 4, 4)`` (object_from_wrist). ``ik_random_seed`` (default 0) seeds the IK's
-        restarts; ``ik_seed`` is its deprecated name. ``redundancy`` is the task file's
-        ``ik.redundancy`` (default ``"optimize"``); ``compare_branches=True`` is ``"best_branch"``,
-        ``False`` is ``"first"``. ``measure`` and
+        restarts. ``redundancy`` is the task file's ``ik.redundancy`` (default
+        ``"optimize"``). ``measure`` and
         ``joint_limit_penalty`` (a gain ``k``) are the task file's ``index.measure`` and
         ``index.joint_limit_penalty``; ``ik_limit_margin`` (rad) is ``ik.limit_margin``: how far
         inside its limits the IK keeps every revolute joint (0: up to the limits, as in the

@@ -183,18 +183,13 @@ struct CylinderFile {
     length: f64,
 }
 
-/// A T in any spelling: `{bar, stem: {cylinder | box}}`, `{bar, handle_radius,
-/// handle_length}` or the upright `{stem: [x, y, z], bar}`.
+/// A T in either spelling: `{bar, stem: {cylinder | box}}` or the upright
+/// `{stem: [x, y, z], bar}`.
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TShapeFile {
     bar: [f64; 3],
-    #[serde(default)]
-    stem: Option<serde_json::Value>,
-    #[serde(default)]
-    handle_radius: Option<f64>,
-    #[serde(default)]
-    handle_length: Option<f64>,
+    stem: serde_json::Value,
 }
 
 impl TryFrom<CloudShapeFile> for CloudShape {
@@ -222,25 +217,15 @@ fn t_shape(t: TShapeFile) -> Result<CloudShape, ShapeError> {
         field: "t_shape.stem".into(),
         message,
     };
-    match (t.stem, t.handle_radius, t.handle_length) {
-        (Some(stem @ serde_json::Value::Array(_)), None, None) => {
+    match t.stem {
+        stem @ serde_json::Value::Array(_) => {
             let stem: [f64; 3] = serde_json::from_value(stem)
                 .map_err(|e| malformed(format!("the upright T's stem [x, y, z] (m): {e}")))?;
             Ok(CloudShape::LegacyT(LegacyTShape::new(stem, t.bar)?))
         }
-        (Some(stem), None, None) => {
+        stem => {
             let stem: Stem = serde_json::from_value(stem).map_err(|e| malformed(e.to_string()))?;
             Ok(CloudShape::Shape(Shape::TShape(TShape::new(t.bar, stem)?)))
         }
-        (None, Some(radius), Some(length)) => Ok(CloudShape::Shape(Shape::TShape(
-            TShape::with_round_stem(t.bar, radius, length)?,
-        ))),
-        _ => Err(ShapeError::Malformed {
-            field: "t_shape".into(),
-            message: "give bar and stem: {cylinder: {radius, length}} or {box: {size}} \
-                      (or the deprecated handle_radius and handle_length, or the deprecated \
-                      upright T's stem: [x, y, z])"
-                .into(),
-        }),
     }
 }

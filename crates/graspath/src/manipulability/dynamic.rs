@@ -20,8 +20,8 @@
 //! Frames: `J` in the chain's base frame (rows `[v; ω]`, `v` the tool origin's velocity), `M`,
 //! `g` and `τ` in joint space (N·m or N), the payload in the tool frame.
 
+use super::settings::JacobianRows;
 use crate::robot::{Dynamics, DynamicsData, RigidBody, RobotError};
-use crate::task::JacobianRows;
 use nalgebra::{DMatrix, DVector, Dim, Matrix, Storage, U6};
 
 use super::indices::Direction;

@@ -1,5 +1,6 @@
 //! Indices at one configuration, from the geometric Jacobian `J` (rows `[v; ω]`).
 
+use crate::spelling::spelled;
 use nalgebra::{DMatrix, Dim, Matrix, Storage, Vector3, Vector6, U6};
 
 /// The SVD's convergence tolerance: nalgebra's own default (5 ε), so the values are those of
@@ -20,6 +21,12 @@ pub enum JacobianPart {
     /// The angular-velocity rows `Jω` (rad/s per unit joint velocity).
     Rotation,
 }
+
+spelled!(JacobianPart {
+    Full => "full",
+    Translation => "translation",
+    Rotation => "rotation",
+});
 
 impl JacobianPart {
     fn rows(self) -> std::ops::Range<usize> {

@@ -14,11 +14,15 @@
 //!   acceleration along `u` with each joint's torque within its headroom after gravity
 //!   ([`DynamicManipulability`]; not in the paper);
 //! * over a path: `μ_l2 = ‖M‖₂`, `μ_l∞ = max_i 1/M_i`, `μ_l1 = ½ Σ (M_i + M_{i+1}) Δt_i`.
+//!
+//! The settings that choose among them — [`JacobianRows`], [`IndexMeasure`], [`RankedIndex`],
+//! [`NormSamples`], [`Norm`] — are here too, with their spellings; tasks carry them.
 
 mod dynamic;
 mod indices;
 mod limits;
 mod norms;
+mod settings;
 mod tangent;
 
 pub use dynamic::DynamicManipulability;
@@ -29,4 +33,5 @@ pub use indices::{
 };
 pub use limits::{joint_limit_penalty, limit_distance};
 pub use norms::{PathNorms, SampleIndex};
+pub use settings::{IndexMeasure, JacobianRows, Norm, NormSamples, RankedIndex};
 pub use tangent::{wrist_tangent, STILL_TWIST_TOLERANCE};

@@ -1,6 +1,6 @@
 //! Norms of the task-relevant index over the samples of a path (paper eq. 15–17).
 
-use crate::task::Norm;
+use super::settings::Norm;
 
 /// One sample of the index along a path.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,8 +3,8 @@
 use super::dynamic::DynamicManipulability;
 use super::indices::{task_relevant, velocity_transmission_ratio, Direction};
 use super::limits::joint_limit_penalty;
+use super::settings::{IndexMeasure, JacobianRows, RankedIndex};
 use crate::geometry::se3_log;
-use crate::task::{IndexMeasure, JacobianRows, RankedIndex};
 use nalgebra::{Dim, Isometry3, Matrix, Matrix6xX, Storage, Vector3, Vector6, U6};
 
 /// Twists (m or rad per step) below this norm count as "the object is still": the sample is

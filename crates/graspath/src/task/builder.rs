@@ -7,14 +7,13 @@ use super::path::{ObjectPath, Sampling, TimedStep};
 use super::plausibility::TaskWarning;
 use super::scene::{Collisions, Gripper, SceneSettings, Stroke, WorldInput};
 pub(crate) use super::settings::check_count;
-use super::settings::{
-    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, RankedIndex, Redundancy,
-    SelectionOptions,
-};
+use super::settings::{LikelihoodRule, Limits, Redundancy, SelectionOptions};
 use super::timing::{TimingRequest, TimingSettings};
 use crate::collision::{ArmBodies, Body};
+use crate::defaults;
 use crate::geometry::shape::Shape;
 use crate::grasp::{Candidate, CandidateError, CandidateSource};
+use crate::manipulability::{IndexMeasure, JacobianRows, Norm, RankedIndex};
 use crate::robot::{Chain, Dynamics, IkOptions, RigidBody, TrajectoryIkOptions};
 use nalgebra::Isometry3;
 use std::sync::Arc;
@@ -657,16 +656,6 @@ impl TaskBuilder {
     pub fn grasp_ik_iterations(mut self, iterations: usize) -> Self {
         self.grasp_ik_iterations = iterations;
         self
-    }
-
-    /// Track every IK branch and keep the one with the best norm (`true`: [`Redundancy::BestBranch`],
-    /// `false`: [`Redundancy::First`]).
-    pub fn compare_branches(self, compare: bool) -> Self {
-        self.redundancy(if compare {
-            Redundancy::BestBranch
-        } else {
-            Redundancy::First
-        })
     }
 
     /// The per-sample index that is ranked (default: the paper's `M_T`, no penalty).

@@ -363,8 +363,8 @@ pub struct GenerateFile {
     #[serde(default)]
     pub seed: Option<u64>,
     /// Number of initial grasps drawn before annealing (the model spec's "seeds"; default
-    /// 50,000). The earlier spelling `seeds` is deprecated but still read.
-    #[serde(default, alias = "seeds")]
+    /// 50,000).
+    #[serde(default)]
     pub initial_grasps: Option<usize>,
     /// Annealing steps (default 500).
     #[serde(default)]
@@ -524,19 +524,6 @@ pub enum PenaltyFile {
     Gain(f64),
 }
 
-/// Which norm ranks candidates.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum NormFile {
-    /// `μ_rms`, the root mean square over the path's time (the default).
-    #[default]
-    Rms,
-    /// `μ_l2` (the paper's choice).
-    L2,
-    /// `μ_l1`, the time integral.
-    L1,
-}
-
 /// How the grasp likelihood enters the ranking.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
@@ -558,9 +545,10 @@ pub enum LikelihoodFile {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SelectionFile {
-    /// The norm to maximise.
+    /// The norm to maximise: `rms` (default, the root mean square over the path's time),
+    /// `l2` (the paper's choice) or `l1` (the time integral).
     #[serde(default)]
-    pub norm: Option<NormFile>,
+    pub norm: Option<String>,
     /// Reject candidates whose `μ_l∞` exceeds this (default: no limit).
     #[serde(default)]
     pub mu0: Option<f64>,
@@ -648,9 +636,8 @@ pub struct IkFile {
     /// Distinct IK branches tracked from the grasp pose (default 4).
     #[serde(default)]
     pub branches: Option<usize>,
-    /// Random seed of the IK's random restarts (default 0). The earlier spelling `seed` is
-    /// deprecated but still read.
-    #[serde(default, alias = "seed")]
+    /// Random seed of the IK's random restarts (default 0).
+    #[serde(default)]
     pub random_seed: Option<u64>,
     /// Position and rotation tolerance (m, rad; default 1e-5).
     #[serde(default)]
@@ -659,13 +646,7 @@ pub struct IkFile {
     /// unreachable candidate costs before it is given up.
     #[serde(default)]
     pub iterations: Option<usize>,
-    /// `true`: track every branch and keep the one with the best norm (`best_branch`);
-    /// `false`: the first feasible branch is scored, others searched only when it fails
-    /// (`first`). Unset: `redundancy` decides (default `optimize`).
-    #[serde(default)]
-    pub compare_branches: Option<bool>,
-    /// `first`, `best_branch` or `optimize` (default `optimize`; `compare_branches: true` is
-    /// `best_branch`, `false` is `first`).
+    /// `first`, `best_branch` or `optimize` (default `optimize`).
     #[serde(default)]
     pub redundancy: Option<String>,
 }

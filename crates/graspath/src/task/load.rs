@@ -5,26 +5,26 @@
 use super::builder::{check_count, Task, TaskBuilder};
 use super::error::TaskError;
 use super::file::{
-    pose, ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, NormFile, PenaltyFile, StepFile,
-    TaskFile, TimingFile,
+    pose, ArmsFile, FamilyFile, GenerateFile, LikelihoodFile, PenaltyFile, StepFile, TaskFile,
+    TimingFile,
 };
 use super::path::{Sampling, Step, TimedStep};
 use super::plausibility::TaskWarning;
-use super::settings::{
-    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
-    Redundancy,
-};
+use super::settings::{LikelihoodRule, Limits};
 use super::timing::{TimingRequest, TimingSettings};
 use crate::cloud::load_cloud_filtered;
 use crate::collision::{distance, Body, Scene};
+use crate::defaults;
 use crate::grasp::hand::{Hand, StockGripper};
 use crate::grasp::model::{generate, GenerateOptions, GraspModel};
 use crate::grasp::{
     guess_format, open_grasp_file, read_grasp_file, Candidate, CandidateFile, CandidateSource,
     FamilyLayout, GraspCandidates, GraspFileOptions, GraspFormat, GraspFrame,
 };
+use crate::manipulability::{JacobianRows, RankedIndex};
 use crate::robot::builtin::BuiltinRobot;
 use crate::robot::{Chain, RobotModel, RobotSource};
+use crate::spelling::Spelled;
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -118,48 +118,27 @@ fn builder_with(
     };
     let (steps, sampling) = setup_steps(file, source_name)?;
     builder = builder.object_motion(world_from_object, steps, sampling);
-    let rows = match file.index.mode.as_deref().unwrap_or("twist") {
-        "twist" => JacobianRows::Twist {
-            length_scale: file.index.length_scale.unwrap_or(defaults::LENGTH_SCALE),
-        },
-        "translation" => JacobianRows::Translation,
-        "rotation" => JacobianRows::Rotation,
-        other => {
-            return Err(err(
-                "index.mode",
-                format!("'{other}' is not one of twist, translation, rotation"),
-            ))
-        }
-    };
+    let rows = JacobianRows::from_mode(
+        file.index
+            .mode
+            .as_deref()
+            .unwrap_or(JacobianRows::default().name()),
+        file.index.length_scale.unwrap_or(defaults::LENGTH_SCALE),
+    )
+    .map_err(|m| err("index.mode", m))?;
     if file.index.length_scale.is_some() && !matches!(rows, JacobianRows::Twist { .. }) {
         return Err(err(
             "index.length_scale",
             "only applies to mode 'twist'".into(),
         ));
     }
-    let measure = match file.index.measure.as_deref() {
-        None => IndexMeasure::default(),
-        Some(name) => IndexMeasure::from_name(name).ok_or_else(|| {
-            err(
-                "index.measure",
-                format!("'{name}' is not one of {}", IndexMeasure::spellings()),
-            )
-        })?,
-    };
+    let measure = spelled_setting(&file.index.measure, "index.measure", &err)?;
     let joint_limit_penalty = match file.index.joint_limit_penalty {
         None | Some(PenaltyFile::On(false)) => None,
         Some(PenaltyFile::On(true)) => Some(defaults::JOINT_LIMIT_PENALTY_GAIN),
         Some(PenaltyFile::Gain(k)) => Some(k),
     };
-    let over = match file.index.over.as_deref() {
-        None => NormSamples::default(),
-        Some(name) => NormSamples::from_name(name).ok_or_else(|| {
-            err(
-                "index.over",
-                format!("'{name}' is not one of samples, waypoints"),
-            )
-        })?,
-    };
+    let over = spelled_setting(&file.index.over, "index.over", &err)?;
     let s = &file.selection;
     builder = builder
         .rows(rows)
@@ -168,11 +147,7 @@ fn builder_with(
             joint_limit_penalty,
             over,
         })
-        .norm(match s.norm.unwrap_or_default() {
-            NormFile::Rms => Norm::Rms,
-            NormFile::L2 => Norm::L2,
-            NormFile::L1 => Norm::L1,
-        })
+        .norm(spelled_setting(&s.norm, "selection.norm", &err)?)
         .mu0(s.mu0)
         .likelihood(match s.likelihood.unwrap_or_default() {
             LikelihoodFile::Product => LikelihoodRule::Product,
@@ -207,36 +182,7 @@ fn builder_with(
     if let Some(iterations) = ik.iterations {
         builder = builder.grasp_ik_iterations(iterations);
     }
-    if let Some(compare) = ik.compare_branches {
-        builder = builder.compare_branches(compare);
-    }
-    if let Some(name) = &ik.redundancy {
-        let redundancy = Redundancy::from_name(name).ok_or_else(|| {
-            TaskError::new(
-                source_name,
-                "ik.redundancy",
-                format!("'{name}' is not one of first, best_branch, optimize"),
-            )
-        })?;
-        let compared = |c: bool| {
-            if c {
-                Redundancy::BestBranch
-            } else {
-                Redundancy::First
-            }
-        };
-        if ik
-            .compare_branches
-            .is_some_and(|c| compared(c) != redundancy)
-        {
-            return Err(TaskError::new(
-                source_name,
-                "ik.compare_branches",
-                format!("contradicts ik.redundancy: {name} (give one of them)"),
-            ));
-        }
-        builder = builder.redundancy(redundancy);
-    }
+    builder = builder.redundancy(spelled_setting(&ik.redundancy, "ik.redundancy", &err)?);
     if let Some(min) = s.min_clearance {
         builder = builder.min_clearance(Some(min));
     }
@@ -247,6 +193,18 @@ fn builder_with(
         .max_duration(s.max_duration)
         .timing(timing_request(file.timing.as_ref()));
     super::load_scene::add_world(builder, file, source_name, base_dir, scene, &model)
+}
+
+/// The setting spelled at `field` (its [`Spelled`] table), or its default when the field is
+/// absent.
+fn spelled_setting<T: Spelled + Default>(
+    value: &Option<String>,
+    field: &str,
+    err: &impl Fn(&str, String) -> TaskError,
+) -> Result<T, TaskError> {
+    value.as_deref().map_or(Ok(T::default()), |name| {
+        T::parse(name).map_err(|m| err(field, m))
+    })
 }
 
 /// An arm as the file describes it: name, chain, `world_from_base`.
@@ -422,7 +380,7 @@ fn stock_gripper_mount(
                 "the built-in {} ends at its own gripper's TCP ({tip}) and models that \
                  gripper; use builtin: {}, or load the arm from a URDF ending at its flange",
                 model.name(),
-                own.name()
+                own.as_str()
             ),
         )),
         None => Ok(Some(Isometry3::translation(
@@ -480,7 +438,7 @@ fn gripper_at_flange_warnings(
                  the object; give the flange-to-TCP offset as robot.tool (e.g. {{ xyz: [0, 0, \
                  0.15] }}), or a stock gripper (gripper.builtin: {}), which mounts itself",
                 chain.tip_link(),
-                StockGripper::names()
+                StockGripper::spellings()
             ),
         })
         .collect()
@@ -689,15 +647,11 @@ fn grasp_file_candidates(
 ) -> Result<SetUp, TaskError> {
     let c = &file.candidates;
     let err = |field: &str, message: String| TaskError::new(source, field, message);
-    let format = match &c.format {
-        None => None,
-        Some(name) => Some(GraspFormat::from_name(name).ok_or_else(|| {
-            err(
-                "candidates.format",
-                format!("'{name}' is not one of {}", GraspFormat::NAMES),
-            )
-        })?),
-    };
+    let format = c
+        .format
+        .as_deref()
+        .map(|name| GraspFormat::parse(name).map_err(|m| err("candidates.format", m)))
+        .transpose()?;
     let guessed = match format {
         Some(f) => f,
         None => {
@@ -706,12 +660,7 @@ fn grasp_file_candidates(
     };
     let frame = match c.frame.as_deref() {
         None => guessed.default_frame(),
-        Some(name) => GraspFrame::from_name(name).ok_or_else(|| {
-            err(
-                "candidates.frame",
-                format!("'{name}' is not one of object, world, camera"),
-            )
-        })?,
+        Some(name) => GraspFrame::parse(name).map_err(|m| err("candidates.frame", m))?,
     };
     let world_from_camera = c
         .world_from_camera

@@ -12,6 +12,7 @@ use crate::collision::{Body, CollisionOptions, LinkShape, Scene, SelfPairs};
 use crate::geometry::shape::{Shape, TriMesh};
 use crate::grasp::hand::{hand_from_robot, StockGripper};
 use crate::robot::{CollisionGeometry, RobotError, RobotModel, RobotSource, Srdf};
+use crate::spelling::Spelled;
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::path::Path;
 
@@ -286,7 +287,7 @@ fn gripper_from(
                     "gripper.builtin",
                     format!(
                         "unknown gripper '{name}' (built in: {})",
-                        StockGripper::names()
+                        StockGripper::spellings()
                     ),
                 ))
             }
@@ -297,7 +298,7 @@ fn gripper_from(
                 "gripper",
                 format!(
                     "give builtin: NAME ({}), opening: METRES, or a URDF hand (urdf, root)",
-                    StockGripper::names()
+                    StockGripper::spellings()
                 ),
             ))
         }

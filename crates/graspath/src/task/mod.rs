@@ -1,13 +1,13 @@
 //! Tasks: who grasps, what, and what the object must do after it is grasped.
 //!
-//! * [`Task`], built and checked by [`TaskBuilder`] (every default in [`defaults`], every bound
-//!   in [`Limits`]), or read from a task file by [`Task::load`];
+//! * [`Task`], built and checked by [`TaskBuilder`] (every default in [`crate::defaults`], every
+//!   bound in [`Limits`]), or read from a task file by [`Task::load`];
 //! * [`ObjectPath`]: the desired object trajectory as waypoints (absolute poses or relative steps
 //!   `lift`, `move`, `rotate`, `place`), sampled in SE(3) with times;
 //! * [`TaskFile`]: the documented task-file schema (YAML or JSON), parsed with every unknown field
 //!   rejected by its path;
-//! * the settings a task carries: [`JacobianRows`], [`Norm`], [`LikelihoodRule`],
-//!   [`SelectionOptions`].
+//! * the settings a task carries: [`Redundancy`], [`LikelihoodRule`], [`SelectionOptions`], and
+//!   the index vocabulary of [`crate::manipulability`] (rows, measure, norm).
 
 mod builder;
 mod error;
@@ -25,8 +25,8 @@ pub use builder::{ArmSetup, Task, TaskBuilder, WorkEstimate};
 pub use error::TaskError;
 pub use file::{
     pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,
-    LikelihoodFile, NormFile, ObjectFile, PenaltyFile, RobotFile, RotateFile, SelectionFile,
-    SpacingFile, StepFile, TaskFile, TimingFile, TimingSettingsFile, TrajectoryFile, XacroArgument,
+    LikelihoodFile, ObjectFile, PenaltyFile, RobotFile, RotateFile, SelectionFile, SpacingFile,
+    StepFile, TaskFile, TimingFile, TimingSettingsFile, TrajectoryFile, XacroArgument,
 };
 pub use load::builder_from_file;
 pub use load_scene::{robot_link_shapes, STROKE_SAMPLES};
@@ -40,8 +40,5 @@ pub use scene::{
     Collisions, Gripper, GripperBodies, GripperLink, SceneSettings, Stroke, WholeMotionPlan,
     DEFAULT_FINGER, MIN_RESOLUTION,
 };
-pub use settings::{
-    defaults, IndexMeasure, JacobianRows, LikelihoodRule, Limits, Norm, NormSamples, RankedIndex,
-    Redundancy, SelectionOptions,
-};
+pub use settings::{LikelihoodRule, Limits, Redundancy, SelectionOptions};
 pub use timing::{TimingRequest, TimingSettings, DEFAULT_ACCELERATION_TIME};

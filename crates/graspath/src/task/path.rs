@@ -82,12 +82,12 @@ pub struct TimedStep {
 }
 
 impl TimedStep {
-    /// A step lasting the default [`STEP_DURATION`](super::defaults::STEP_DURATION).
+    /// A step lasting the default [`STEP_DURATION`](crate::defaults::STEP_DURATION).
     pub fn new(label: impl Into<String>, step: Step) -> Self {
         Self {
             label: label.into(),
             step,
-            duration: super::defaults::STEP_DURATION,
+            duration: crate::defaults::STEP_DURATION,
         }
     }
 }

@@ -19,6 +19,7 @@
 //! `2 Δ_i / (ṡ_i + ṡ_{i+1})`.
 
 use super::TimingError;
+use crate::spelling::spelled;
 
 /// One linear constraint `lo ≤ a u + b x ≤ hi` at a grid point, with what it limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +64,11 @@ pub enum Discretization {
     #[default]
     Interpolation,
 }
+
+spelled!(Discretization {
+    Interpolation => "interpolation",
+    Collocation => "collocation",
+});
 
 /// The constraints of a path on a grid: at each grid point an upper bound on `x` and the
 /// same number of rows.

@@ -161,7 +161,7 @@ fn sampling_of(file: &TaskFile, task: &Task) -> String {
         (None, None, Some(_)) => "by spacing".to_string(),
         (None, None, None) => format!(
             "{} per step (default)",
-            graspath::task::defaults::SAMPLES_PER_STEP
+            graspath::defaults::SAMPLES_PER_STEP
         ),
     };
     format!("dense: {} samples, {how}", task.path.samples.len())

@@ -418,33 +418,18 @@ pub struct TShape {
     stem_centre: f64,
 }
 
-/// The file form of a T-shape: `{bar, stem}`, or the deprecated spelling of earlier task files
-/// `{bar, handle_radius, handle_length}` (a round stem), still read.
+/// The file form of a T-shape: `{bar, stem}`.
 #[derive(Clone, Copy, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TShapeFile {
     bar: [f64; 3],
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    stem: Option<Stem>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    handle_radius: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    handle_length: Option<f64>,
+    stem: Stem,
 }
 
 impl TryFrom<TShapeFile> for TShape {
     type Error = ShapeError;
     fn try_from(f: TShapeFile) -> Result<Self, ShapeError> {
-        match (f.stem, f.handle_radius, f.handle_length) {
-            (Some(stem), None, None) => TShape::new(f.bar, stem),
-            (None, Some(radius), Some(length)) => TShape::with_round_stem(f.bar, radius, length),
-            _ => Err(ShapeError::Malformed {
-                field: "t_shape".into(),
-                message: "give bar and stem: {cylinder: {radius, length}} or {box: {size}} \
-                          (or the deprecated handle_radius and handle_length)"
-                    .into(),
-            }),
-        }
+        TShape::new(f.bar, f.stem)
     }
 }
 
@@ -452,9 +437,7 @@ impl From<TShape> for TShapeFile {
     fn from(t: TShape) -> Self {
         TShapeFile {
             bar: t.bar.size(),
-            stem: Some(t.stem),
-            handle_radius: None,
-            handle_length: None,
+            stem: t.stem,
         }
     }
 }
@@ -473,8 +456,8 @@ impl TShape {
         })
     }
 
-    /// A T-shape with a round stem of `stem_radius` and `stem_length` (m): the task files'
-    /// `{bar, handle_radius, handle_length}` T.
+    /// A T-shape with a round stem of `stem_radius` and `stem_length` (m): a task file's
+    /// `{bar, stem: {cylinder: {radius, length}}}`.
     pub fn with_round_stem(
         bar: [f64; 3],
         stem_radius: f64,

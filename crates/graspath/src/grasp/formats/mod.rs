@@ -32,6 +32,8 @@ mod layouts;
 mod pickle;
 
 use super::candidates::{check_offset, Candidate, CandidateError, CandidateFile, MAX_FILE_BYTES};
+use crate::spelling::spelled;
+use crate::spelling::Spelled;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::io::Read;
 use std::path::Path;
@@ -70,39 +72,17 @@ pub enum GraspFormat {
     GraspNet,
 }
 
+spelled!(GraspFormat {
+    Graspath => "graspath",
+    GraspGen => "graspgen",
+    Acronym => "acronym",
+    ContactGraspnet => "contact_graspnet",
+    M2T2 => "m2t2",
+    Poses => "poses",
+    GraspNet => "graspnet" | "anygrasp",
+});
+
 impl GraspFormat {
-    /// The format of a task file's `format:` (`graspath`, `graspgen`, `acronym`,
-    /// `contact_graspnet`, `m2t2`, `poses`, `graspnet` or `anygrasp`).
-    pub fn from_name(name: &str) -> Option<Self> {
-        Some(match name {
-            "graspath" => Self::Graspath,
-            "graspgen" => Self::GraspGen,
-            "acronym" => Self::Acronym,
-            "contact_graspnet" => Self::ContactGraspnet,
-            "m2t2" => Self::M2T2,
-            "poses" => Self::Poses,
-            "graspnet" | "anygrasp" => Self::GraspNet,
-            _ => return None,
-        })
-    }
-
-    /// The format's name, as [`Self::from_name`] reads it back.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Graspath => "graspath",
-            Self::GraspGen => "graspgen",
-            Self::Acronym => "acronym",
-            Self::ContactGraspnet => "contact_graspnet",
-            Self::M2T2 => "m2t2",
-            Self::Poses => "poses",
-            Self::GraspNet => "graspnet",
-        }
-    }
-
-    /// The names [`Self::from_name`] accepts, for messages.
-    pub const NAMES: &'static str =
-        "graspath, graspgen, acronym, contact_graspnet, m2t2, poses, graspnet (anygrasp)";
-
     /// The gripper whose frame the format's poses are in.
     pub fn gripper(self) -> GripperConvention {
         match self {
@@ -139,17 +119,9 @@ pub enum GraspFrame {
     Camera,
 }
 
-impl GraspFrame {
-    /// The frame of a task file's `frame:` (`object`, `world` or `camera`).
-    pub fn from_name(name: &str) -> Option<Self> {
-        Some(match name {
-            "object" => Self::Object,
-            "world" => Self::World,
-            "camera" => Self::Camera,
-            _ => return None,
-        })
-    }
+spelled!(GraspFrame { Object => "object", World => "world", Camera => "camera" });
 
+impl GraspFrame {
     /// `object_from_frame`: where this frame is in the object frame, given the object in the
     /// world (`world_from_object`) and, for [`GraspFrame::Camera`] only, the camera's placement
     /// (`world_from_camera` or `camera_from_object`, not both). Errors name the field at fault
@@ -622,7 +594,12 @@ impl<'de> serde::Deserialize<'de> for TopKeys {
 }
 
 fn guess(path: &Path, bytes: &[u8]) -> Result<GraspFormat, String> {
-    let ask = |what: &str| format!("{what}; give candidates.format ({})", GraspFormat::NAMES);
+    let ask = |what: &str| {
+        format!(
+            "{what}; give candidates.format ({})",
+            GraspFormat::spellings()
+        )
+    };
     if bytes.starts_with(hdf5::SIGNATURE) {
         return Ok(GraspFormat::Acronym);
     }

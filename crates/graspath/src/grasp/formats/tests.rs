@@ -3,6 +3,7 @@
 
 use super::arrays::{parse_npy, read_npz, Member};
 use super::pickle::{parse, Value};
+use crate::spelling::Spelled;
 
 /// A protocol-2 pickle calling `os.system("ls")`: refused by name, nothing run.
 #[test]

@@ -29,6 +29,8 @@
 
 use super::baxter;
 use super::{baxter_electric_gripper, parallel_jaw_hand, Hand, LinkShape, Shape};
+use crate::spelling::spelled;
+use crate::spelling::Spelled;
 use nalgebra::Isometry3;
 
 /// A stock gripper: its geometry and its tool centre point, from the makers' models.
@@ -90,35 +92,14 @@ const FRANKA_HAND: ParallelDimensions = ParallelDimensions {
     coupling: None,
 };
 
+spelled!(StockGripper {
+    Baxter => "baxter",
+    Robotiq2F85 => "robotiq_2f_85",
+    Robotiq2F140 => "robotiq_2f_140",
+    FrankaHand => "franka_hand",
+});
+
 impl StockGripper {
-    /// Every stock gripper.
-    pub const ALL: [Self; 4] = [
-        Self::Baxter,
-        Self::Robotiq2F85,
-        Self::Robotiq2F140,
-        Self::FrankaHand,
-    ];
-
-    /// The task-file spelling: `baxter`, `robotiq_2f_85`, `robotiq_2f_140`, `franka_hand`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Baxter => "baxter",
-            Self::Robotiq2F85 => "robotiq_2f_85",
-            Self::Robotiq2F140 => "robotiq_2f_140",
-            Self::FrankaHand => "franka_hand",
-        }
-    }
-
-    /// The gripper spelled `name`, if any.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|g| g.name() == name)
-    }
-
-    /// The spellings, for messages (`baxter, robotiq_2f_85, ...`).
-    pub fn names() -> String {
-        Self::ALL.map(Self::name).join(", ")
-    }
-
     fn dimensions(self) -> Option<&'static ParallelDimensions> {
         match self {
             Self::Baxter => None,
@@ -151,7 +132,7 @@ impl StockGripper {
     pub fn hand(self) -> Hand {
         match self.dimensions() {
             None => baxter_electric_gripper(),
-            Some(d) => parallel_hand(self.name(), d),
+            Some(d) => parallel_hand(self.as_str(), d),
         }
     }
 }
@@ -255,7 +236,7 @@ mod tests {
         ];
         for (gripper, d) in cases {
             assert!((gripper.flange_to_tcp() - d).abs() < 1e-12, "{gripper:?}");
-            assert_eq!(StockGripper::from_name(gripper.name()), Some(gripper));
+            assert_eq!(StockGripper::from_name(gripper.as_str()), Some(gripper));
         }
         assert_eq!(StockGripper::from_name("robotiq"), None);
     }

@@ -1,5 +1,5 @@
-//! The one-shot learned grasp model (Kopicki et al., IJRR 2016; spec in
-//! `research/kopicki-grasp-model.md`): contact models per hand link and a hand-configuration
+//! The one-shot learned grasp model (Kopicki et al., "One-shot learning and generation of
+//! dexterous grasps for novel objects", IJRR 2016; `docs/demonstrations.md`): contact models per hand link and a hand-configuration
 //! model learned from one demonstration, query densities on a new object cloud, and grasp
 //! generation from initial grasps plus simulated annealing with staged selection.
 //!
@@ -40,8 +40,8 @@ pub use train::{train, train_file, DemoWaypoint, Demonstration, HandSource, DEMO
 
 use crate::grasp::hand::{Hand, HandJointKind};
 
-/// Training and generation constants stored with a model (defaults from the spec's Golem
-/// values; see `research/kopicki-grasp-model.md`). Lengths in metres, angles in radians.
+/// Training and generation constants stored with a model (defaults: the values of the
+/// paper's reference implementation, Golem). Lengths in metres, angles in radians.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct ModelParams {

@@ -7,7 +7,7 @@
 use super::path::{index_along, ObjectMotion};
 use super::Scoring;
 use crate::manipulability::DynamicManipulability;
-use crate::task::{IndexMeasure, RankedIndex};
+use crate::manipulability::{IndexMeasure, RankedIndex};
 use nalgebra::Matrix6xX;
 
 /// The dynamic index's workspace for `scoring`'s candidate: the arm's dynamics with the object

@@ -14,18 +14,19 @@ pub use path::wrist_trajectory;
 pub use timing_check::{MotionDurations, TimedMotion};
 
 use crate::collision::{ArmInScene, Body, ObjectAlong};
+use crate::defaults;
 pub use crate::failure::Failure;
 use crate::failure::{FailureReason, Phase};
 use crate::grasp::Candidate;
 use crate::manipulability::{
     classical_indices, joint_limit_penalty, limit_distance, JacobianPart, PathNorms,
 };
+use crate::manipulability::{IndexMeasure, JacobianRows, Norm, RankedIndex};
 use crate::robot::{
     solve_trajectories, solve_trajectory, RigidBody, TrajectoryIkOptions, TrajectoryIkResult,
 };
 use crate::task::{
-    defaults, ArmSetup, Collisions, Gripper, IndexMeasure, JacobianRows, Norm, ObjectPath,
-    RankedIndex, Redundancy, Stroke, TimingSettings, WholeMotionPlan,
+    ArmSetup, Collisions, Gripper, ObjectPath, Redundancy, Stroke, TimingSettings, WholeMotionPlan,
 };
 use branch_checks::{check_branch, BranchCheck, BranchFindings, SceneCheck};
 use dynamic_index::{dynamic_norm, dynamic_workspace};

@@ -3,8 +3,9 @@
 
 use crate::geometry::se3_log;
 use crate::manipulability::{Direction, DynamicManipulability, PathNorms, SampleIndex};
+use crate::manipulability::{JacobianRows, NormSamples, RankedIndex};
 use crate::robot::Chain;
-use crate::task::{JacobianRows, NormSamples, ObjectPath, RankedIndex};
+use crate::task::ObjectPath;
 use nalgebra::{Isometry3, Matrix6xX, Rotation3, Vector3, Vector6};
 
 /// The object's body twists between consecutive samples, `log(O_i⁻¹ O_{i+1})`, shared by every

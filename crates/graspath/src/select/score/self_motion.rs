@@ -8,8 +8,8 @@ use super::path::{index_along, ObjectMotion};
 use super::{ChosenBranch, ScoringSetup, SelfMotionScores};
 use crate::grasp::Candidate;
 use crate::manipulability::DynamicManipulability;
+use crate::manipulability::Norm;
 use crate::robot::{optimize_smooth_self_motion, KeptRows, SelfMotionOptions, SmoothSelfMotion};
-use crate::task::Norm;
 use nalgebra::{Isometry3, Matrix6xX};
 use std::sync::{Mutex, PoisonError};
 

@@ -220,11 +220,7 @@ mod tests {
             links: "base".into(),
         };
         let model = crate::grasp::model::GraspModel::read(missing).unwrap_err();
-        let candidates = CandidateError {
-            file: "c.json".into(),
-            location: "line 7".into(),
-            message: "not a number".into(),
-        };
+        let candidates = CandidateError::new("c.json", "line 7", "not a number");
         let frame = FramePlacementError {
             field: "frame",
             message: "no camera pose",

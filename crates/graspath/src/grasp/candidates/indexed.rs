@@ -109,11 +109,8 @@ struct Stamp {
 
 impl Stamp {
     fn of(path: &Path) -> Result<Self, CandidateError> {
-        let metadata = std::fs::metadata(path).map_err(|e| CandidateError {
-            file: path.display().to_string(),
-            location: "file".into(),
-            message: format!("cannot read: {e}"),
-        })?;
+        let metadata =
+            std::fs::metadata(path).map_err(|e| CandidateError::unreadable(path, e))?;
         Ok(Self {
             len: metadata.len(),
             modified: metadata.modified().ok(),
@@ -139,11 +136,11 @@ impl CandidateFile {
     /// starts. Nothing else is kept.
     pub fn index(path: &Path) -> Result<Self, CandidateError> {
         if !Self::can_index(path) {
-            return Err(CandidateError {
-                file: path.display().to_string(),
-                location: "file".into(),
-                message: "is not a regular file, so it cannot be read in chunks".into(),
-            });
+            return Err(CandidateError::new(
+                path.display().to_string(),
+                "file",
+                "is not a regular file, so it cannot be read in chunks",
+            ));
         }
         let stamp = Stamp::of(path)?;
         let mut len: usize = 0;

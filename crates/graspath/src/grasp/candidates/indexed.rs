@@ -135,13 +135,8 @@ impl CandidateFile {
     /// many there are, their largest log-likelihood and where every [`INDEX_STRIDE`]-th
     /// starts. Nothing else is kept.
     pub fn index(path: &Path) -> Result<Self, CandidateError> {
-        if !Self::can_index(path) {
-            return Err(CandidateError::new(
-                path.display().to_string(),
-                "file",
-                "is not a regular file, so it cannot be read in chunks",
-            ));
-        }
+        // A folder, FIFO or device is refused by the reading (`crate::input::open`), as by
+        // every reader.
         let stamp = Stamp::of(path)?;
         let mut len: usize = 0;
         let mut max_log_likelihood = f64::NEG_INFINITY;

@@ -3,7 +3,7 @@
 //! of the mesh's vertices), and the joints that move them.
 
 use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape};
-use crate::cloud::read_mesh;
+use crate::cloud::{read_mesh, CloudError};
 use crate::geometry::shape::{ConvexMesh, Shape, ShapeError};
 use crate::robot::{MeshResolver, RobotError, RobotModel, UrdfRobot};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -40,6 +40,27 @@ pub enum HandError {
         /// What is wrong.
         message: String,
     },
+    /// A link's collision shape has sizes or a mesh that cannot be used; the shape's error is
+    /// the source.
+    #[error("{source_name}: link '{link}', collision geometry")]
+    BadShape {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// What is wrong with the shape.
+        source: ShapeError,
+    },
+    /// A link's collision mesh cannot be read; the mesh file's error is the source.
+    #[error("{source_name}: link '{link}', collision geometry")]
+    Mesh {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// Why the mesh cannot be read (it names the mesh file).
+        source: CloudError,
+    },
     /// The wrist link is not below the root through fixed joints only.
     #[error("{source_name}: wrist link '{link}': {message}")]
     BadWrist {
@@ -65,10 +86,13 @@ pub enum HandError {
 }
 
 impl crate::fault::Classify for HandError {
-    /// A robot error's own kind; everything else is [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
+    /// A robot, shape or mesh error's own kind (a missing mesh file is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::File`); everything else is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         match self {
             Self::Robot(e) => e.kind(),
+            Self::BadShape { .. } | Self::Mesh { .. } => None,
             _ => Some(crate::fault::ErrorKind::Content),
         }
     }
@@ -78,6 +102,8 @@ impl crate::fault::Classify for HandError {
             Self::Robot(e) => e.file(),
             Self::UnknownRoot { source_name, .. }
             | Self::BadGeometry { source_name, .. }
+            | Self::BadShape { source_name, .. }
+            | Self::Mesh { source_name, .. }
             | Self::BadWrist { source_name, .. }
             | Self::BadJoint { source_name, .. } => Some(source_name),
         }
@@ -301,13 +327,13 @@ pub fn hand_from_urdf(
                 })?;
         let mut shapes = Vec::new();
         for collision in &link.collision {
-            let geometry_error = |message: String| HandError::BadGeometry {
-                source_name: source_name.clone(),
-                link: name.clone(),
-                message,
+            let checked = |r: Result<Shape, ShapeError>| {
+                r.map_err(|source| HandError::BadShape {
+                    source_name: source_name.clone(),
+                    link: name.clone(),
+                    source,
+                })
             };
-            let checked =
-                |r: Result<Shape, ShapeError>| r.map_err(|e| geometry_error(e.to_string()));
             let shape = match &collision.geometry {
                 urdf_rs::Geometry::Box { size } => checked(Shape::cuboid(size.0))?,
                 urdf_rs::Geometry::Sphere { radius } => checked(Shape::sphere(*radius))?,
@@ -319,8 +345,11 @@ pub fn hand_from_urdf(
                 }
                 urdf_rs::Geometry::Mesh { filename, scale } => {
                     let path = meshes.resolve(filename, robot.source_name(), name)?;
-                    let mesh = read_mesh(&path)
-                        .map_err(|e| geometry_error(crate::fault::Chain(&e).to_string()))?;
+                    let mesh = read_mesh(&path).map_err(|source| HandError::Mesh {
+                        source_name: source_name.clone(),
+                        link: name.clone(),
+                        source,
+                    })?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
                     let points = mesh
                         .vertices

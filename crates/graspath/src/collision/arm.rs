@@ -107,12 +107,8 @@ impl ArmBodies {
         let links = chain.link_names();
         let tip = links.len() - 1;
         let q = chain.mid_configuration();
-        let frames = chain
-            .link_frames(&q)
-            .map_err(CollisionError::Robot)?;
-        let base_from_tool: IsometryMatrix3<f64> = chain
-            .pose(&q)
-            .map_err(CollisionError::Robot)?;
+        let frames = chain.link_frames(&q).map_err(CollisionError::Robot)?;
+        let base_from_tool: IsometryMatrix3<f64> = chain.pose(&q).map_err(CollisionError::Robot)?;
         let link_from_tool = frames[tip].inverse() * base_from_tool;
         let group = |link: usize| chain.link_joint(link).map_or(0, |j| j + 1);
         let tool_from_base = base_from_tool.inverse();

@@ -137,9 +137,10 @@ impl PartialEq for CandidateError {
 }
 
 impl crate::fault::Classify for CandidateError {
-    /// A file that cannot be read has its cause's kind ([`ErrorKind::of_io`](crate::fault::ErrorKind::of_io):
-    /// a missing or unreadable file is [`File`](crate::fault::ErrorKind::File), one over the
-    /// size cap [`Limit`](crate::fault::ErrorKind::Limit)); anything else is
+    /// A file that cannot be read has its cause's kind
+    /// ([`ErrorKind::of_io`](crate::fault::ErrorKind::of_io): a missing or unreadable file is
+    /// [`File`](crate::fault::ErrorKind::File), one over the size cap
+    /// [`Limit`](crate::fault::ErrorKind::Limit)); anything else is
     /// [`Content`](crate::fault::ErrorKind::Content).
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         match self.cause {

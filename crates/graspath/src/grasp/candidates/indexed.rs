@@ -109,8 +109,7 @@ struct Stamp {
 
 impl Stamp {
     fn of(path: &Path) -> Result<Self, CandidateError> {
-        let metadata =
-            std::fs::metadata(path).map_err(|e| CandidateError::unreadable(path, e))?;
+        let metadata = std::fs::metadata(path).map_err(|e| CandidateError::unreadable(path, e))?;
         Ok(Self {
             len: metadata.len(),
             modified: metadata.modified().ok(),

@@ -175,12 +175,9 @@ pub(super) fn scan_file<E>(
         }
     };
     match result {
-        Err(ScanError::File(_)) if count.get() > MAX_FILE_BYTES => {
-            Err(ScanError::File(CandidateError::unreadable(
-                path,
-                too_large(count.get()),
-            )))
-        }
+        Err(ScanError::File(_)) if count.get() > MAX_FILE_BYTES => Err(ScanError::File(
+            CandidateError::unreadable(path, too_large(count.get())),
+        )),
         other => other,
     }
 }

@@ -263,7 +263,11 @@ fn a_missing_file_is_a_file_error_that_keeps_the_operating_systems() {
     }
     // A folder is a file error too, not bad content.
     for err in every_reader(dir.path()) {
-        assert_eq!(crate::fault_of(&err).unwrap().kind, crate::ErrorKind::File, "{err}");
+        assert_eq!(
+            crate::fault_of(&err).unwrap().kind,
+            crate::ErrorKind::File,
+            "{err}"
+        );
     }
 }
 

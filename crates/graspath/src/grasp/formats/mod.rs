@@ -524,8 +524,7 @@ pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
             return Ok(GraspFormat::Graspath);
         }
         if !has_extension(&["yaml", "yml"]) {
-            let file =
-                crate::input::open(path).map_err(|e| CandidateError::unreadable(path, e))?;
+            let file = crate::input::open(path).map_err(|e| CandidateError::unreadable(path, e))?;
             let reader = std::io::BufReader::new(file.take(MAX_FILE_BYTES));
             let mut de = serde_json::Deserializer::from_reader(reader);
             let keys = serde::Deserialize::deserialize(&mut de)

@@ -3,7 +3,7 @@
 //! of the mesh's vertices), and the joints that move them.
 
 use super::{Hand, HandJoint, HandJointKind, HandLink, LinkJoint, LinkShape};
-use crate::cloud::{read_mesh, CloudError};
+use crate::cloud::read_mesh;
 use crate::geometry::shape::{ConvexMesh, Shape, ShapeError};
 use crate::robot::{MeshResolver, RobotError, RobotModel, UrdfRobot};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -58,8 +58,9 @@ pub enum HandError {
         source_name: String,
         /// The link.
         link: String,
-        /// Why the mesh cannot be read (it names the mesh file).
-        source: CloudError,
+        /// Why the mesh cannot be read: the [`CloudError`](crate::cloud::CloudError) that names the mesh file (boxed, so
+        /// that the error stays small).
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
     /// The wrist link is not below the root through fixed joints only.
     #[error("{source_name}: wrist link '{link}': {message}")]
@@ -345,10 +346,10 @@ pub fn hand_from_urdf(
                 }
                 urdf_rs::Geometry::Mesh { filename, scale } => {
                     let path = meshes.resolve(filename, robot.source_name(), name)?;
-                    let mesh = read_mesh(&path).map_err(|source| HandError::Mesh {
+                    let mesh = read_mesh(&path).map_err(|e| HandError::Mesh {
                         source_name: source_name.clone(),
                         link: name.clone(),
-                        source,
+                        source: Box::new(e),
                     })?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
                     let points = mesh

@@ -2,6 +2,7 @@
 //! and the one-line message of a failed run.
 
 use graspath::fsutil::{OutputError, OutputErrorKind};
+use graspath::grasp::model::ModelError;
 use graspath::robot::RobotError;
 
 /// Success.
@@ -65,8 +66,8 @@ pub fn message(error: &anyhow::Error) -> String {
         .join(": ")
 }
 
-/// The message of a library error that the command line has a flag for, in the command line's
-/// words; `None` for the others.
+/// The message of a library error that the command line has a flag or command for, in the
+/// command line's words; `None` for the others.
 fn with_flags(error: &(dyn std::error::Error + 'static)) -> Option<String> {
     if let Some(output) = error.downcast_ref::<OutputError>() {
         let path = output.path.display();
@@ -86,6 +87,9 @@ fn with_flags(error: &(dyn std::error::Error + 'static)) -> Option<String> {
             "{source_name}: not a valid URDF: this is a MuJoCo MJCF file (root <mujoco>): give \
              it as `robot: {{mjcf: FILE}}` in a task file or `--mjcf FILE` on the command line"
         ));
+    }
+    if let Some(version @ ModelError::Version { .. }) = error.downcast_ref::<ModelError>() {
+        return Some(format!("{version} with `graspath train`"));
     }
     None
 }
@@ -109,6 +113,24 @@ mod tests {
                 .unwrap_err();
         assert_eq!(code_of(&anyhow::Error::new(refused)), BAD_INPUT);
         assert_eq!(code_of(&anyhow::anyhow!("unexpected")), INTERNAL);
+    }
+
+    #[test]
+    fn the_message_names_the_command_that_retrains_a_model() {
+        let version = ModelError::Version {
+            source_name: "m.json".into(),
+            found: "9".into(),
+            expected: 2,
+        };
+        let library = version.to_string();
+        assert!(library.ends_with("; retrain the model"), "{library}");
+        assert!(!library.contains("graspath train"), "{library}");
+        let error = anyhow::Error::new(version).context("cannot generate");
+        assert_eq!(
+            message(&error),
+            format!("cannot generate: {library} with `graspath train`")
+        );
+        assert_eq!(code_of(&error), BAD_INPUT);
     }
 
     #[test]

@@ -368,7 +368,8 @@ fn table() -> Vec<Row> {
         row("scene cloud over the size cap", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_SCENE_CLOUD)], 2, "c.ply: the file is larger than 4294967296 bytes").setup(|d| sparse(d, "c.ply", graspath::input::MAX_CLOUD_FILE_BYTES + 1)),
         row("task urdf malformed", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_URDF), ("two.urdf", "<robot name=\"x\"><link></robot>")], 2, "two.urdf"),
         // Candidate files.
-        row("candidates file missing", "select --task {d}/v-missing-candidates.yaml --out {d}/out", &[], 2, "nowhere.json"),
+        row("candidates file missing", "select --task {d}/v-missing-candidates.yaml --out {d}/out", &[], 2, "nowhere.json: file: cannot read: No such file"),
+        row("candidates file over the size cap", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON)], 2, "c.json: file: cannot read: the file is larger than 1073741824 bytes").setup(|d| sparse(d, "c.json", (1 << 30) + 1)), // the documented cap: 1 GiB
         row("candidates empty", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"{"candidates":[]}"#)], 2, "contains no candidates"),
         row("candidates non-unit quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,1.1]}]"#)], 2, "candidates[0].quaternion: must be a unit quaternion [x, y, z, w] (its norm is 1.100000"),
         row("candidates zero quaternion", "select --task {d}/t.yaml --out {d}/out", &[("t.yaml", TASK_FILE_JSON), ("c.json", r#"[{"xyz":[0,0,0.05],"quaternion":[0,0,0,0]}]"#)], 2, "candidates[0].quaternion"),
@@ -643,6 +644,39 @@ fn every_bad_input_gives_its_exit_code_and_message_and_leaves_nothing_behind() {
         rows.len(),
         failures.join("\n")
     );
+}
+
+/// The exit code and stderr of `graspath select --task {dir}/{task}`.
+fn select_task(dir: &Path, task: &str) -> (Option<i32>, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_graspath"))
+        .args(["select", "--task"])
+        .arg(dir.join(task))
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_missing_candidate_file_exits_as_a_missing_task_file_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("t.yaml"), TASK_FILE_JSON).unwrap();
+    let (task_code, task_message) = select_task(d, "missing.yaml");
+    let (candidates_code, candidates_message) = select_task(d, "t.yaml");
+    assert!(
+        task_message.contains("missing.yaml: cannot read"),
+        "{task_message}"
+    );
+    assert!(
+        candidates_message.contains("c.json: file: cannot read"),
+        "{candidates_message}"
+    );
+    assert_eq!(candidates_code, task_code);
 }
 
 #[test]

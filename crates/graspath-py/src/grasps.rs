@@ -86,10 +86,12 @@ pub fn read_grasps<'py>(
                     world_from_camera.as_ref(),
                     camera_from_object.as_ref(),
                 )
-                .map_err(|e| graspath::grasp::CandidateError {
-                    file: path.display().to_string(),
-                    location: e.field.to_string(),
-                    message: e.message.to_string(),
+                .map_err(|e| {
+                    graspath::grasp::CandidateError::new(
+                        path.display().to_string(),
+                        e.field,
+                        e.message,
+                    )
                 })?;
             let options = GraspFileOptions {
                 format: Some(format),

@@ -42,6 +42,43 @@ def test_a_missing_robot_file_is_a_file_not_found_error(tmp_path):
     assert raised.value.file == str(missing)
 
 
+def test_a_missing_candidate_file_is_a_file_not_found_error(tmp_path):
+    """A task's candidate file and a grasp file read alone: the operating system's error is
+    kept, so a missing file is a FileNotFoundError naming the file, as a missing task is."""
+    missing = tmp_path / "nowhere.json"
+    with pytest.raises(graspath.GraspathFileNotFoundError) as raised:
+        graspath.read_grasps(missing)
+    e = raised.value
+    assert isinstance(e, FileNotFoundError) and not isinstance(e, ValueError)
+    assert e.file == str(missing)
+    assert e.field == "file"
+    assert e.errno == errno.ENOENT
+    assert str(e).startswith(f"{missing}: file: cannot read: ")
+    task = tmp_path / "t.yaml"
+    task.write_text(
+        TASK.format(quaternion="[0, 0, 0, 1]").replace("{ family: { edge: { count: 3 } } }", "{ file: nowhere.json }")
+    )
+    with pytest.raises(graspath.GraspathFileNotFoundError) as raised:
+        graspath.Task.load(task)
+    assert raised.value.file == str(missing)
+    assert raised.value.errno == errno.ENOENT
+    # A folder where the file should be is a file error too, not bad content.
+    with pytest.raises(graspath.GraspathFileError) as raised:
+        graspath.read_grasps(tmp_path)
+    assert not isinstance(raised.value, (FileNotFoundError, ValueError))
+
+
+def test_a_candidate_file_over_its_cap_is_a_value_error(tmp_path):
+    """The documented cap of a candidate file is 1 GiB; a sparse file one byte larger takes no
+    disk space and is refused before it is read."""
+    huge = tmp_path / "huge.json"
+    with open(huge, "wb") as f:
+        f.truncate((1 << 30) + 1)
+    with pytest.raises(graspath.GraspathValueError, match="is larger than 1073741824 bytes") as raised:
+        graspath.read_grasps(huge)
+    assert raised.value.file == str(huge)
+
+
 def test_a_folder_read_as_a_file_is_an_os_error_not_a_missing_file(tmp_path):
     with pytest.raises(graspath.GraspathFileError) as raised:
         graspath.Task.load(tmp_path)

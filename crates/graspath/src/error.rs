@@ -220,11 +220,7 @@ mod tests {
             links: "base".into(),
         };
         let model = crate::grasp::model::GraspModel::read(missing).unwrap_err();
-        let candidates = CandidateError {
-            file: "c.json".into(),
-            location: "line 7".into(),
-            message: "not a number".into(),
-        };
+        let candidates = CandidateError::new("c.json", "line 7", "not a number");
         let frame = FramePlacementError {
             field: "frame",
             message: "no camera pose",
@@ -303,6 +299,65 @@ mod tests {
         assert!(crate::Chain(&error)
             .to_string()
             .starts_with("/nonexistent/graspath/t.yaml: cannot read: "));
+    }
+
+    /// The names of the public error types declared in the library's sources under `dir`
+    /// (`pub enum NameError` / `pub struct NameError`).
+    fn declared_errors(dir: &Path, names: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                declared_errors(&path, names);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                for line in text.lines() {
+                    let declared = line
+                        .trim_start()
+                        .strip_prefix("pub enum ")
+                        .or_else(|| line.trim_start().strip_prefix("pub struct "));
+                    let Some(rest) = declared else { continue };
+                    let name: String = rest
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    if name.ends_with("Error") {
+                        names.push(name);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_public_error_type_converts_into_the_error_and_is_classified() {
+        // Oracle: the library's sources, not a list kept by hand. Every public error type but
+        // `Error` itself has a `#[from]` variant and is found in error chains.
+        let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut names = Vec::new();
+        declared_errors(&src, &mut names);
+        names.retain(|n| n != "Error");
+        assert!(names.len() >= 20, "{names:?}");
+        let this = std::fs::read_to_string(src.join("error.rs")).unwrap();
+        let classified_list = this
+            .split("first_of!(")
+            .nth(1)
+            .and_then(|rest| rest.split(");").next())
+            .unwrap();
+        let listed: Vec<&str> = classified_list
+            .split(',')
+            .map(str::trim)
+            .filter(|n| !n.is_empty())
+            .collect();
+        for name in &names {
+            assert!(
+                this.contains(&format!("(#[from] {name})")),
+                "{name} has no From into graspath::Error"
+            );
+            assert!(
+                listed.contains(&name.as_str()),
+                "{name} is not found in error chains"
+            );
+        }
     }
 
     #[test]

@@ -539,4 +539,8 @@ def read_grasps(
     and ``world_from_camera``. Returns ``object_from_wrist`` ``(k, 4, 4)`` (tool frame in the object
     frame, m), ``likelihood`` ``(k,)`` (the file's score, 1 where absent), ``log_likelihood``
     ``(k,)``, ``width`` ``(k,)`` (m, NaN where absent), ``contact`` ``(k, 3)`` (NaN where
-    absent), ``id`` ``(k,)`` (row in the file), ``label`` (list of str), ``format`` (str)."""
+    absent), ``id`` ``(k,)`` (row in the file), ``label`` (list of str), ``format`` (str).
+
+    Raises ``GraspathFileNotFoundError`` for a missing file, ``GraspathFileError`` for one that
+    cannot be read (a folder), ``GraspathValueError`` for one over the 1 GiB cap or with bad
+    content."""

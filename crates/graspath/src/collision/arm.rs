@@ -107,12 +107,8 @@ impl ArmBodies {
         let links = chain.link_names();
         let tip = links.len() - 1;
         let q = chain.mid_configuration();
-        let frames = chain
-            .link_frames(&q)
-            .map_err(|e| CollisionError::Robot(e.to_string()))?;
-        let base_from_tool: IsometryMatrix3<f64> = chain
-            .pose(&q)
-            .map_err(|e| CollisionError::Robot(e.to_string()))?;
+        let frames = chain.link_frames(&q).map_err(CollisionError::Robot)?;
+        let base_from_tool: IsometryMatrix3<f64> = chain.pose(&q).map_err(CollisionError::Robot)?;
         let link_from_tool = frames[tip].inverse() * base_from_tool;
         let group = |link: usize| chain.link_joint(link).map_or(0, |j| j + 1);
         let tool_from_base = base_from_tool.inverse();
@@ -265,7 +261,7 @@ impl ArmBodies {
         let mid = self.chain.mid_configuration();
         self.chain
             .link_frames_into(&mid, &mut frames)
-            .map_err(|e| CollisionError::Robot(e.to_string()))?;
+            .map_err(CollisionError::Robot)?;
         let identity = IsometryMatrix3::identity();
         let at_default: Vec<bool> = pairs
             .iter()
@@ -290,7 +286,7 @@ impl ArmBodies {
             }
             self.chain
                 .link_frames_into(&q, &mut frames)
-                .map_err(|e| CollisionError::Robot(e.to_string()))?;
+                .map_err(CollisionError::Robot)?;
             for (k, &(a, b)) in pairs.iter().enumerate() {
                 let pa = self.place(a, &identity, &frames);
                 let pb = self.place(b, &identity, &frames);

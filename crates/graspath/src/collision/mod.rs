@@ -30,7 +30,7 @@ pub use motion::{
 pub use scene::{Obstacle, Scene, DEFAULT_TABLE_THICKNESS};
 
 /// A scene, a body or an arm's collision model that cannot be built.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum CollisionError {
     /// A body's input is unusable.
     #[error("{what}: {message}")]
@@ -48,14 +48,20 @@ pub enum CollisionError {
         /// Where it was named.
         context: String,
     },
-    /// The arm's chain refused a configuration while the collision model was built.
-    #[error("robot: {0}")]
-    Robot(String),
+    /// The arm's chain refused a configuration while the collision model was built; the
+    /// robot's error is the source.
+    #[error("robot")]
+    Robot(#[from] crate::robot::RobotError),
 }
 
 impl crate::fault::Classify for CollisionError {
+    /// The robot's refusal has the robot error's kind; everything else is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
-        Some(crate::fault::ErrorKind::Content)
+        match self {
+            Self::Robot(_) => None,
+            _ => Some(crate::fault::ErrorKind::Content),
+        }
     }
 
     fn field(&self) -> Option<&str> {

@@ -29,7 +29,10 @@ use crate::geometry::PoseSpec;
 use nalgebra::{Isometry3, Point3};
 use rows::{scan_file, Flow, Row, ScanError};
 use serde::Deserialize;
+use std::fmt;
+use std::io;
 use std::path::Path;
+use std::sync::Arc;
 
 /// The largest distance (m) of a wrist or contact coordinate from the object origin: a grasp
 /// holds the object, so a larger value is a unit mistake (millimetres) or a corrupt file.
@@ -68,9 +71,12 @@ impl Candidate {
     }
 }
 
-/// A candidate file that cannot be used: the file, where in it, and why.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}: {location}: {message}")]
+/// A candidate file that cannot be used: the file, where in it, and why. When the file cannot
+/// be read (missing, not a regular file, larger than [`MAX_FILE_BYTES`]) the operating
+/// system's error — or the size cap's, of kind [`std::io::ErrorKind::FileTooLarge`] — is kept
+/// as the [`source`](std::error::Error::source): the message says `cannot read`, the source
+/// says why.
+#[derive(Debug, Clone)]
 pub struct CandidateError {
     /// The file.
     pub file: String,
@@ -78,11 +84,69 @@ pub struct CandidateError {
     pub location: String,
     /// What is wrong.
     pub message: String,
+    /// Why the file cannot be read, when that is what is wrong (the error's source).
+    pub cause: Option<Arc<io::Error>>,
+}
+
+impl CandidateError {
+    /// An error about `location` of `file`: `message`.
+    pub fn new(
+        file: impl Into<String>,
+        location: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            location: location.into(),
+            message: message.into(),
+            cause: None,
+        }
+    }
+
+    /// The file at `path` cannot be read: `cause` says why.
+    pub fn unreadable(path: &Path, cause: io::Error) -> Self {
+        Self {
+            cause: Some(Arc::new(cause)),
+            ..Self::new(path.display().to_string(), "file", "cannot read")
+        }
+    }
+}
+
+impl fmt::Display for CandidateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}: {}", self.file, self.location, self.message)
+    }
+}
+
+impl std::error::Error for CandidateError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.cause
+            .as_deref()
+            .map(|e| e as &(dyn std::error::Error + 'static))
+    }
+}
+
+impl PartialEq for CandidateError {
+    /// Equal when the file, location, message and the cause's kind and message are.
+    fn eq(&self, other: &Self) -> bool {
+        let cause = |e: &Self| e.cause.as_ref().map(|c| (c.kind(), c.to_string()));
+        (&self.file, &self.location, &self.message)
+            == (&other.file, &other.location, &other.message)
+            && cause(self) == cause(other)
+    }
 }
 
 impl crate::fault::Classify for CandidateError {
+    /// A file that cannot be read has its cause's kind
+    /// ([`ErrorKind::of_io`](crate::fault::ErrorKind::of_io): a missing or unreadable file is
+    /// [`File`](crate::fault::ErrorKind::File), one over the size cap
+    /// [`Limit`](crate::fault::ErrorKind::Limit)); anything else is
+    /// [`Content`](crate::fault::ErrorKind::Content).
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
-        Some(crate::fault::ErrorKind::Content)
+        match self.cause {
+            Some(_) => None,
+            None => Some(crate::fault::ErrorKind::Content),
+        }
     }
 
     fn file(&self) -> Option<&str> {
@@ -223,6 +287,18 @@ impl Raw {
     }
 }
 
+/// The refusal of a file of at least `bytes` bytes, more than [`MAX_FILE_BYTES`]: an error of
+/// kind [`io::ErrorKind::FileTooLarge`], as [`crate::input::read`] gives for other files.
+pub(super) fn too_large(bytes: u64) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::FileTooLarge,
+        format!(
+            "the file is larger than {MAX_FILE_BYTES} bytes (at least {bytes}); split the \
+             candidates into several files"
+        ),
+    )
+}
+
 /// Refuses a position with a coordinate beyond ±[`MAX_OFFSET`].
 pub(super) fn check_offset(field: &str, xyz: &[f64; 3]) -> Result<(), (String, String)> {
     let farthest = xyz.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -250,10 +326,8 @@ pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CandidateError> {
 /// hands each candidate on to `keep` in file order. A duplicate id is reported at its second
 /// use, naming the first (found by reading the file again up to it).
 fn check_file(path: &Path, mut keep: impl FnMut(Row)) -> Result<(), CandidateError> {
-    let file_error = |location: String, message: String| CandidateError {
-        file: path.display().to_string(),
-        location,
-        message,
+    let file_error = |location: String, message: String| {
+        CandidateError::new(path.display().to_string(), location, message)
     };
     let mut seen = std::collections::HashSet::new();
     let mut twice = None;

@@ -30,7 +30,7 @@ pub use trajectory::{TimedTrajectory, Torques, TrajectoryPoint, MAX_POINTS};
 use crate::robot::RobotError;
 
 /// Why a path cannot be timed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum TimingError {
     /// The samples or knots do not make a path (none, unequal lengths, not finite, knots not
     /// increasing).
@@ -57,20 +57,19 @@ pub enum TimingError {
         /// The constraint most violated there, when one is.
         limit: Option<Limit>,
     },
-    /// The inverse dynamics failed.
-    #[error("the joint torques cannot be computed: {0}")]
-    Dynamics(String),
+    /// The inverse dynamics failed; the robot's error is the source.
+    #[error("the joint torques cannot be computed")]
+    Dynamics(#[from] RobotError),
 }
 
 impl crate::fault::Classify for TimingError {
+    /// The inverse dynamics' failure has the robot error's kind; everything else is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
-        Some(crate::fault::ErrorKind::Content)
-    }
-}
-
-impl From<RobotError> for TimingError {
-    fn from(e: RobotError) -> Self {
-        TimingError::Dynamics(e.to_string())
+        match self {
+            Self::Dynamics(_) => None,
+            _ => Some(crate::fault::ErrorKind::Content),
+        }
     }
 }
 

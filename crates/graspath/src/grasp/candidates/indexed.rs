@@ -109,11 +109,7 @@ struct Stamp {
 
 impl Stamp {
     fn of(path: &Path) -> Result<Self, CandidateError> {
-        let metadata = std::fs::metadata(path).map_err(|e| CandidateError {
-            file: path.display().to_string(),
-            location: "file".into(),
-            message: format!("cannot read: {e}"),
-        })?;
+        let metadata = std::fs::metadata(path).map_err(|e| CandidateError::unreadable(path, e))?;
         Ok(Self {
             len: metadata.len(),
             modified: metadata.modified().ok(),
@@ -138,13 +134,8 @@ impl CandidateFile {
     /// many there are, their largest log-likelihood and where every [`INDEX_STRIDE`]-th
     /// starts. Nothing else is kept.
     pub fn index(path: &Path) -> Result<Self, CandidateError> {
-        if !Self::can_index(path) {
-            return Err(CandidateError {
-                file: path.display().to_string(),
-                location: "file".into(),
-                message: "is not a regular file, so it cannot be read in chunks".into(),
-            });
-        }
+        // A folder, FIFO or device is refused by the reading (`crate::input::open`), as by
+        // every reader.
         let stamp = Stamp::of(path)?;
         let mut len: usize = 0;
         let mut max_log_likelihood = f64::NEG_INFINITY;

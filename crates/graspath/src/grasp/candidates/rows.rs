@@ -4,7 +4,7 @@
 //! ([`CandidateFile`](super::CandidateFile)) both read through [`scan_file`] and
 //! [`scan_from`], so a file gives the same candidates and the same errors either way.
 
-use super::{Candidate, CandidateError, Entry, Raw, MAX_FILE_BYTES};
+use super::{too_large, Candidate, CandidateError, Entry, Raw, MAX_FILE_BYTES};
 use serde::de::{self, DeserializeSeed, Deserializer as _, MapAccess, SeqAccess, Visitor};
 use std::cell::{Cell, RefCell};
 use std::fmt;
@@ -99,27 +99,22 @@ impl ScanError<std::convert::Infallible> {
 type Fault = (String, String);
 
 fn fault_of<E>(file: &Path, (location, message): Fault) -> ScanError<E> {
-    ScanError::File(CandidateError {
-        file: file.display().to_string(),
+    ScanError::File(CandidateError::new(
+        file.display().to_string(),
         location,
         message,
-    })
+    ))
 }
 
 /// The file opened for reading, refused above [`MAX_FILE_BYTES`] when its length is known.
-fn open(path: &Path) -> Result<File, Fault> {
-    let file =
-        crate::input::open(path).map_err(|e| ("file".to_string(), format!("cannot read: {e}")))?;
+fn open(path: &Path) -> Result<File, CandidateError> {
+    let file = crate::input::open(path).map_err(|e| CandidateError::unreadable(path, e))?;
     if let Ok(metadata) = file.metadata() {
         if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
-            return Err(("file".into(), too_large(metadata.len())));
+            return Err(CandidateError::unreadable(path, too_large(metadata.len())));
         }
     }
     Ok(file)
-}
-
-fn too_large(bytes: u64) -> String {
-    format!("is larger than {MAX_FILE_BYTES} bytes (at least {bytes}); split the candidates into several files")
 }
 
 /// A reader that counts the bytes it hands on (the JSON entries' offsets) and refuses more
@@ -135,7 +130,7 @@ impl<R: Read> Read for Counted<'_, R> {
         let count = self.count.get() + n as u64;
         self.count.set(count);
         if count > MAX_FILE_BYTES {
-            return Err(std::io::Error::other(too_large(count)));
+            return Err(too_large(count));
         }
         Ok(n)
     }
@@ -148,7 +143,7 @@ pub(super) fn scan_file<E>(
     path: &Path,
     sink: &mut dyn FnMut(Row) -> Result<Flow, E>,
 ) -> Result<(), ScanError<E>> {
-    let file = open(path).map_err(|f| fault_of(path, f))?;
+    let file = open(path).map_err(ScanError::File)?;
     let count = Cell::new(0);
     let result = match Layout::of(path) {
         Layout::Csv => {
@@ -180,9 +175,9 @@ pub(super) fn scan_file<E>(
         }
     };
     match result {
-        Err(ScanError::File(_)) if count.get() > MAX_FILE_BYTES => {
-            Err(fault_of(path, ("file".into(), too_large(count.get()))))
-        }
+        Err(ScanError::File(_)) if count.get() > MAX_FILE_BYTES => Err(ScanError::File(
+            CandidateError::unreadable(path, too_large(count.get())),
+        )),
         other => other,
     }
 }
@@ -196,16 +191,15 @@ pub(super) fn scan_from<E>(
     index: usize,
     sink: &mut dyn FnMut(Row) -> Result<Flow, E>,
 ) -> Result<(), ScanError<E>> {
-    let mut file = open(path).map_err(|f| fault_of(path, f))?;
-    let cannot_read =
-        |e: std::io::Error| fault_of(path, ("file".into(), format!("cannot read: {e}")));
+    let mut file = open(path).map_err(ScanError::File)?;
+    let cannot_read = |e: std::io::Error| ScanError::File(CandidateError::unreadable(path, e));
     match resume {
         Resume::Csv(position) => {
             let mut reader = csv_reader(file);
             let columns = csv_columns(&mut reader).map_err(|f| fault_of(path, f))?;
             reader
                 .seek(position.clone())
-                .map_err(|e| fault_of(path, ("file".into(), format!("cannot read: {e}"))))?;
+                .map_err(|e| cannot_read(e.into()))?;
             scan_csv(path, &mut reader, &columns, index, sink)
         }
         Resume::Json { offset, first } => {

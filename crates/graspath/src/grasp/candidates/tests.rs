@@ -223,9 +223,65 @@ fn a_file_over_the_size_limit_is_refused_before_it_is_read() {
         .unwrap()
         .set_len(MAX_FILE_BYTES + 1)
         .unwrap();
-    let err = read_candidates(&path).unwrap_err();
-    assert_eq!(err.location, "file");
-    assert!(err.message.contains("is larger than"), "{err}");
+    for err in every_reader(&path) {
+        assert_eq!(err.location, "file");
+        // A resource limit, as every input file over its cap is: the size cap's error is the
+        // source, of the operating system's kind for it.
+        let fault = crate::fault_of(&err).unwrap();
+        assert_eq!(fault.kind, crate::ErrorKind::Limit, "{err}");
+        assert_eq!(fault.io, Some(io::ErrorKind::FileTooLarge), "{err}");
+        assert_eq!(fault.file, Some(path.display().to_string().as_str()));
+        let chain = crate::Chain(&err).to_string();
+        assert!(
+            chain.contains(&format!("is larger than {MAX_FILE_BYTES} bytes")),
+            "{chain}"
+        );
+    }
+}
+
+#[test]
+fn a_missing_file_is_a_file_error_that_keeps_the_operating_systems() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["missing.json", "missing.csv", "missing.npz"] {
+        let path = dir.path().join(name);
+        for err in every_reader(&path) {
+            let fault = crate::fault_of(&err).unwrap();
+            assert_eq!(fault.kind, crate::ErrorKind::File, "{err}");
+            assert_eq!(fault.io, Some(io::ErrorKind::NotFound), "{err}");
+            assert_eq!(fault.file, Some(path.display().to_string().as_str()));
+            assert_eq!(fault.field, Some("file"));
+            let source = std::error::Error::source(&err).unwrap();
+            assert_eq!(
+                source.downcast_ref::<io::Error>().map(io::Error::kind),
+                Some(io::ErrorKind::NotFound)
+            );
+            assert_eq!(
+                crate::Chain(&err).to_string(),
+                format!("{}: file: cannot read: {source}", path.display())
+            );
+        }
+    }
+    // A folder is a file error too, not bad content.
+    for err in every_reader(dir.path()) {
+        assert_eq!(
+            crate::fault_of(&err).unwrap().kind,
+            crate::ErrorKind::File,
+            "{err}"
+        );
+    }
+}
+
+/// The error of every reader of candidate and grasp files for `path`: the whole-file reader,
+/// the indexer, the grasp-file readers and the format guess.
+fn every_reader(path: &Path) -> Vec<CandidateError> {
+    let options = crate::grasp::GraspFileOptions::default();
+    vec![
+        read_candidates(path).unwrap_err(),
+        CandidateFile::index(path).unwrap_err(),
+        crate::grasp::read_grasp_file(path, &options).unwrap_err(),
+        crate::grasp::open_grasp_file(path, &options).unwrap_err(),
+        crate::grasp::guess_format(path).unwrap_err(),
+    ]
 }
 
 #[test]

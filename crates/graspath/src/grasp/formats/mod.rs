@@ -31,7 +31,9 @@ mod hdf5;
 mod layouts;
 mod pickle;
 
-use super::candidates::{check_offset, Candidate, CandidateError, CandidateFile, MAX_FILE_BYTES};
+use super::candidates::{
+    check_offset, too_large, Candidate, CandidateError, CandidateFile, MAX_FILE_BYTES,
+};
 use crate::spelling::spelled;
 use crate::spelling::Spelled;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -315,7 +317,7 @@ pub fn open_grasp_file(
 /// The file's format: the one `options` gives, else guessed ([`guess_format`]). An empty file
 /// is refused.
 fn format_of(path: &Path, options: &GraspFileOptions) -> Result<GraspFormat, CandidateError> {
-    let head = read_head(path).map_err(|m| file_error(path, m))?;
+    let head = read_head(path)?;
     if head.is_empty() {
         return Err(file_error(path, "is empty".into()));
     }
@@ -340,11 +342,7 @@ fn check_graspath_options(path: &Path, options: &GraspFileOptions) -> Result<(),
 }
 
 fn file_error(path: &Path, message: String) -> CandidateError {
-    CandidateError {
-        file: path.display().to_string(),
-        location: "file".into(),
-        message,
-    }
+    CandidateError::new(path.display().to_string(), "file", message)
 }
 
 /// A grasp file of a known format, read whole.
@@ -354,16 +352,13 @@ fn read_whole(
     options: &GraspFileOptions,
 ) -> Result<Vec<Candidate>, CandidateError> {
     let file = path.display().to_string();
-    let error = |location: &str, message: String| CandidateError {
-        file: file.clone(),
-        location: location.to_string(),
-        message,
-    };
+    let error = |location: &str, message: String| CandidateError::new(&file, location, message);
     if format == GraspFormat::Graspath {
         check_graspath_options(path, options)?;
         return super::read_candidates(path);
     }
-    let bytes = read_bytes(path).map_err(|m| error("file", m))?;
+    let bytes = crate::input::read(path, MAX_FILE_BYTES)
+        .map_err(|e| CandidateError::unreadable(path, e))?;
     let max = options.max_candidates;
     let grasps = match format {
         GraspFormat::Graspath => unreachable!("handled above"),
@@ -467,24 +462,18 @@ pub(crate) fn excerpt(bytes: &[u8], max: usize) -> String {
     out
 }
 
-/// The file's bytes, at most [`MAX_FILE_BYTES`].
-fn read_bytes(path: &Path) -> Result<Vec<u8>, String> {
-    crate::input::read(path, MAX_FILE_BYTES).map_err(|e| format!("cannot read: {e}"))
-}
-
 /// The first bytes of a file (at most 8: enough for every binary signature), the file
 /// refused above [`MAX_FILE_BYTES`] when its length is known.
-fn read_head(path: &Path) -> Result<Vec<u8>, String> {
-    let file = crate::input::open(path).map_err(|e| format!("cannot read: {e}"))?;
+fn read_head(path: &Path) -> Result<Vec<u8>, CandidateError> {
+    let unreadable = |e| CandidateError::unreadable(path, e);
+    let file = crate::input::open(path).map_err(unreadable)?;
     if let Ok(metadata) = file.metadata() {
         if metadata.is_file() && metadata.len() > MAX_FILE_BYTES {
-            return Err(format!("is larger than {MAX_FILE_BYTES} bytes"));
+            return Err(unreadable(too_large(metadata.len())));
         }
     }
     let mut head = Vec::with_capacity(8);
-    file.take(8)
-        .read_to_end(&mut head)
-        .map_err(|e| format!("cannot read: {e}"))?;
+    file.take(8).read_to_end(&mut head).map_err(unreadable)?;
     Ok(head)
 }
 
@@ -497,7 +486,7 @@ fn is_binary(head: &[u8]) -> bool {
 /// is guessed from its extension and a JSON document from its top-level keys, read as they
 /// come (a graspath candidate file is not held); binary and YAML files are read whole.
 pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
-    let head = read_head(path).map_err(|m| file_error(path, m))?;
+    let head = read_head(path)?;
     let has_extension = |names: &[&str]| {
         path.extension()
             .is_some_and(|e| names.iter().any(|n| e.eq_ignore_ascii_case(n)))
@@ -507,8 +496,7 @@ pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
             return Ok(GraspFormat::Graspath);
         }
         if !has_extension(&["yaml", "yml"]) {
-            let file = crate::input::open(path)
-                .map_err(|e| file_error(path, format!("cannot read: {e}")))?;
+            let file = crate::input::open(path).map_err(|e| CandidateError::unreadable(path, e))?;
             let reader = std::io::BufReader::new(file.take(MAX_FILE_BYTES));
             let mut de = serde_json::Deserializer::from_reader(reader);
             let keys = serde::Deserialize::deserialize(&mut de)
@@ -518,7 +506,8 @@ pub fn guess_format(path: &Path) -> Result<GraspFormat, CandidateError> {
             }
         }
     }
-    let bytes = read_bytes(path).map_err(|m| file_error(path, m))?;
+    let bytes = crate::input::read(path, MAX_FILE_BYTES)
+        .map_err(|e| CandidateError::unreadable(path, e))?;
     guess(path, &bytes).map_err(|m| file_error(path, m))
 }
 

@@ -40,6 +40,28 @@ pub enum HandError {
         /// What is wrong.
         message: String,
     },
+    /// A link's collision shape has sizes or a mesh that cannot be used; the shape's error is
+    /// the source.
+    #[error("{source_name}: link '{link}', collision geometry")]
+    BadShape {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// What is wrong with the shape.
+        source: ShapeError,
+    },
+    /// A link's collision mesh cannot be read; the mesh file's error is the source.
+    #[error("{source_name}: link '{link}', collision geometry")]
+    Mesh {
+        /// The file.
+        source_name: String,
+        /// The link.
+        link: String,
+        /// Why the mesh cannot be read: the [`CloudError`](crate::cloud::CloudError) that names the mesh file (boxed, so
+        /// that the error stays small).
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// The wrist link is not below the root through fixed joints only.
     #[error("{source_name}: wrist link '{link}': {message}")]
     BadWrist {
@@ -65,10 +87,13 @@ pub enum HandError {
 }
 
 impl crate::fault::Classify for HandError {
-    /// A robot error's own kind; everything else is [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
+    /// A robot, shape or mesh error's own kind (a missing mesh file is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::File`); everything else is
+    /// [`ErrorKind`](crate::fault::ErrorKind)`::Content`.
     fn kind(&self) -> Option<crate::fault::ErrorKind> {
         match self {
             Self::Robot(e) => e.kind(),
+            Self::BadShape { .. } | Self::Mesh { .. } => None,
             _ => Some(crate::fault::ErrorKind::Content),
         }
     }
@@ -78,6 +103,8 @@ impl crate::fault::Classify for HandError {
             Self::Robot(e) => e.file(),
             Self::UnknownRoot { source_name, .. }
             | Self::BadGeometry { source_name, .. }
+            | Self::BadShape { source_name, .. }
+            | Self::Mesh { source_name, .. }
             | Self::BadWrist { source_name, .. }
             | Self::BadJoint { source_name, .. } => Some(source_name),
         }
@@ -301,13 +328,13 @@ pub fn hand_from_urdf(
                 })?;
         let mut shapes = Vec::new();
         for collision in &link.collision {
-            let geometry_error = |message: String| HandError::BadGeometry {
-                source_name: source_name.clone(),
-                link: name.clone(),
-                message,
+            let checked = |r: Result<Shape, ShapeError>| {
+                r.map_err(|source| HandError::BadShape {
+                    source_name: source_name.clone(),
+                    link: name.clone(),
+                    source,
+                })
             };
-            let checked =
-                |r: Result<Shape, ShapeError>| r.map_err(|e| geometry_error(e.to_string()));
             let shape = match &collision.geometry {
                 urdf_rs::Geometry::Box { size } => checked(Shape::cuboid(size.0))?,
                 urdf_rs::Geometry::Sphere { radius } => checked(Shape::sphere(*radius))?,
@@ -319,8 +346,11 @@ pub fn hand_from_urdf(
                 }
                 urdf_rs::Geometry::Mesh { filename, scale } => {
                     let path = meshes.resolve(filename, robot.source_name(), name)?;
-                    let mesh = read_mesh(&path)
-                        .map_err(|e| geometry_error(crate::fault::Chain(&e).to_string()))?;
+                    let mesh = read_mesh(&path).map_err(|e| HandError::Mesh {
+                        source_name: source_name.clone(),
+                        link: name.clone(),
+                        source: Box::new(e),
+                    })?;
                     let s = scale.as_ref().map(|v| v.0).unwrap_or([1.0; 3]);
                     let points = mesh
                         .vertices

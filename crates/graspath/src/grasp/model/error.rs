@@ -65,7 +65,7 @@ pub enum ModelError {
         message: String,
     },
     /// A model file of another format version.
-    #[error("{source_name}: field 'format_version': the file has version {found}, this graspath reads versions 1 to {expected}; retrain the model with `graspath train`")]
+    #[error("{source_name}: field 'format_version': the file has version {found}, this graspath reads versions 1 to {expected}; retrain the model")]
     Version {
         /// The file.
         source_name: String,

@@ -329,7 +329,7 @@ impl<'a> TimingCheck<'a> {
             reason: FailureReason::TimingInfeasible,
             phase: Phase::Path,
             sample,
-            detail: error.to_string(),
+            detail: crate::Chain(error).to_string(),
             bodies: None,
         })
     }

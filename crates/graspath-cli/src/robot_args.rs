@@ -2,14 +2,18 @@
 
 use crate::bad_input;
 use anyhow::Result;
+use clap::builder::PossibleValuesParser;
+use clap::ArgGroup;
 use clap::Args;
+use graspath::robot::builtin::BUILTIN_NAMES;
 use graspath::robot::{Chain, RobotSource};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use std::path::PathBuf;
 
-/// A URDF chain (`--urdf --base --tip`), an MJCF chain (`--mjcf --base --tip`) or a built-in
-/// robot (`--robot --arm`).
+/// A URDF chain (`--urdf --base --tip`), an MJCF chain (`--mjcf --base --tip`), either
+/// (`--robot-file --base --tip`) or a built-in robot (`--robot --arm`).
 #[derive(Debug, Args)]
+#[command(group(ArgGroup::new("urdf_options").args(["urdf", "robot_file"])))]
 pub struct RobotArgs {
     /// A URDF file. A file named *.xacro is expanded by the `xacro` program (it runs code:
     /// only expand files you trust); markup in other files is refused.
@@ -17,22 +21,27 @@ pub struct RobotArgs {
     pub urdf: Option<PathBuf>,
     /// A folder where `package://PKG` mesh URIs and xacro's `$(find PKG)` look first
     /// (repeatable; then ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the file's folders).
-    #[arg(long, value_name = "DIR", requires = "urdf")]
+    #[arg(long, value_name = "DIR", requires = "urdf_options")]
     pub search_path: Vec<PathBuf>,
-    /// A xacro argument for a *.xacro --urdf file (repeatable), e.g. `--xacro-arg dof:=7`.
-    #[arg(long, value_name = "NAME:=VALUE", requires = "urdf", value_parser = parse_xacro_arg)]
+    /// A xacro argument for a *.xacro --urdf or --robot-file file (repeatable), e.g.
+    /// `--xacro-arg dof:=7`.
+    #[arg(long, value_name = "NAME:=VALUE", requires = "urdf_options", value_parser = parse_xacro_arg)]
     pub xacro_arg: Vec<(String, String)>,
     /// A MuJoCo MJCF file; --base and --tip name its bodies.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["robot", "urdf"], requires_all = ["base", "tip"])]
     pub mjcf: Option<PathBuf>,
+    /// A URDF, xacro or MJCF file, its format told by its name (*.urdf, *.xacro, *.mjcf) or,
+    /// for *.xml and other names, by its root element (<robot> or <mujoco>).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["robot", "urdf", "mjcf"], requires_all = ["base", "tip"])]
+    pub robot_file: Option<PathBuf>,
     /// The chain's base link (MJCF: body): poses and Jacobians are expressed in its frame.
     #[arg(long, value_name = "LINK")]
     pub base: Option<String>,
     /// The chain's tip link.
     #[arg(long, value_name = "LINK")]
     pub tip: Option<String>,
-    /// A built-in robot: baxter, panda, fr3, ur5, ur10, ur5e, ur10e, iiwa14, xarm7, gen3.
-    #[arg(long, value_name = "NAME")]
+    /// A built-in robot.
+    #[arg(long, value_name = "NAME", value_parser = PossibleValuesParser::new(BUILTIN_NAMES))]
     pub robot: Option<String>,
     /// The chain of a built-in robot: `left` or `right` for Baxter, `arm` for the others
     /// (default: the robot's first chain).
@@ -72,6 +81,16 @@ impl RobotArgs {
     /// Loads the chain the options name, through the library's one robot resolver.
     pub fn load(&self) -> Result<Chain> {
         let tool = self.tool()?;
+        if let Some(path) = &self.robot_file {
+            let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
+                return Err(bad_input!("--robot-file needs --base LINK and --tip LINK"));
+            };
+            let source = RobotSource::from_path(path)?.with_urdf_options(
+                self.search_path.clone(),
+                self.xacro_arg.iter().cloned().collect(),
+            )?;
+            return Ok(source.load()?.chain(base, tip, tool)?);
+        }
         if let Some(path) = &self.mjcf {
             let (Some(base), Some(tip)) = (&self.base, &self.tip) else {
                 return Err(bad_input!("--mjcf needs --base BODY and --tip BODY"));
@@ -102,7 +121,7 @@ impl RobotArgs {
                     .named_chain(&arm, tool)
                     .map_err(|e| bad_input!("--arm: {e}"))?)
             }
-            _ => Err(bad_input!("choose a robot: --robot NAME (e.g. --robot baxter --arm left, --robot ur5e), --urdf FILE --base LINK --tip LINK, or --mjcf FILE --base BODY --tip BODY")),
+            _ => Err(bad_input!("choose a robot: --robot NAME (e.g. --robot baxter --arm left, --robot ur5e), --urdf FILE --base LINK --tip LINK, --mjcf FILE --base BODY --tip BODY, or --robot-file FILE --base LINK --tip LINK")),
         }
     }
 }

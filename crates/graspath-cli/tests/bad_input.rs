@@ -443,7 +443,7 @@ fn table() -> Vec<Row> {
         row("kinematics unknown field", "kinematics --robot baxter", &[], 2, "unknown field `extra`").stdin("{\"q\":[0,0,0,0,0,0,0],\"extra\":1}\n"),
         row("kinematics number out of range", "kinematics --robot baxter", &[], 2, "line 1").stdin("{\"q\":[1e400,0,0,0,0,0,0]}\n"),
         row("kinematics missing input", "kinematics --robot baxter --input {d}/missing.jsonl", &[], 2, "missing.jsonl: cannot open"),
-        row("kinematics unknown robot", "kinematics --robot kuka", &[], 2, "unknown built-in robot 'kuka'"),
+        row("kinematics unknown robot", "kinematics --robot kuka", &[], 2, "invalid value 'kuka' for '--robot <NAME>'"),
         row("kinematics unknown arm", "kinematics --robot baxter --arm middle", &[], 2, "--arm"),
         row("kinematics no robot", "kinematics", &[], 2, "choose a robot"),
         row("kinematics tool two numbers", "kinematics --robot baxter --tool-xyz 1,2", &[], 2, "three comma-separated numbers"),

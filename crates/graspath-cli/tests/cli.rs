@@ -98,7 +98,13 @@ fn kinematics_reports_the_line_at_fault() {
     );
     assert_clean_failure(&o, &["line 1", "unknown field `extra`"]);
     let o = graspath(&["kinematics", "--robot", "kuka"], Some(""), None);
-    assert_clean_failure(&o, &["unknown built-in robot 'kuka'"]);
+    assert_clean_failure(
+        &o,
+        &[
+            "invalid value 'kuka' for '--robot <NAME>'",
+            "possible values: baxter, panda",
+        ],
+    );
 }
 
 #[test]

@@ -294,6 +294,36 @@ impl PyRobot {
         ))
     }
 
+    /// The chain ``base`` → ``tip`` (links; an MJCF file's bodies) of a URDF, xacro or MJCF
+    /// file, its format told by its name (``.urdf``, ``.xacro``, ``.mjcf``) or, for ``.xml``
+    /// and other names, by its root element (``<robot>`` or ``<mujoco>``), optionally followed
+    /// by a tool offset ``tool`` = ``tip_from_tool`` (4×4, metres). ``search_paths`` and
+    /// ``xacro_args`` are for a URDF as in :meth:`from_urdf` (a file told a URDF by its root is
+    /// never expanded as xacro); for an MJCF file they are an error.
+    #[classmethod]
+    #[pyo3(signature = (path, base, tip, tool = None, *, search_paths = None, xacro_args = None))]
+    fn load(
+        _class: &Bound<'_, pyo3::types::PyType>,
+        path: PathBuf,
+        base: &str,
+        tip: &str,
+        tool: Option<FloatArray<'_>>,
+        search_paths: Option<Vec<PathBuf>>,
+        xacro_args: Option<BTreeMap<String, String>>,
+    ) -> PyResult<Self> {
+        let tool = tool_pose(tool)?;
+        let model = RobotSource::from_path(path)
+            .and_then(|source| {
+                source.with_urdf_options(
+                    search_paths.unwrap_or_default(),
+                    xacro_args.unwrap_or_default(),
+                )
+            })
+            .and_then(|source| source.load())
+            .map_err(lib_error)?;
+        Ok(Self::new(model.chain(base, tip, tool).map_err(lib_error)?))
+    }
+
     /// The chain ``base_link`` → ``tip_link`` of URDF text; ``source_name`` names it in errors.
     #[staticmethod]
     #[pyo3(signature = (xml, base_link, tip_link, tool = None, source_name = "<urdf string>"))]

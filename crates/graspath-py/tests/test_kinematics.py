@@ -1,6 +1,9 @@
 """Forward kinematics, Jacobians and indices: shapes and dtypes, batch = one at a time, and
 independent oracles (finite differences of FK, numpy's SVD, the URDF Baxter vs the built-in)."""
 
+import shutil
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -309,3 +312,41 @@ class TestXacro:
             robot = graspath.Robot.from_urdf(path, "base", "tip", xacro_args=args, search_paths=[tmp_path])
             pose = robot.fk(np.array([0.3]))
             np.testing.assert_allclose(pose[:3, 3], [reach, 0.0, 0.0], atol=1e-12)
+
+
+MJCF_UR5 = Path(__file__).resolve().parents[3] / "crates/graspath/tests/data/mjcf/ur5.xml"
+
+
+def test_load_equals_from_urdf_and_from_mjcf(shared, tmp_path):
+    """``Robot.load`` tells the format by the name or the root element and gives the very
+    chain of the format's own constructor: the same FK, bit for bit."""
+    tool = np.eye(4)
+    tool[:3, 3] = [0.01, -0.02, 0.1]
+    urdf = shared / "robots" / "panda.urdf"
+    shutil.copy(urdf, tmp_path / "panda.xml")
+    shutil.copy(urdf, tmp_path / "panda_description")
+    expected = graspath.Robot.from_urdf(urdf, "panda_link0", "panda_hand_tcp", tool)
+    q = random_configurations(expected, 20)
+    for path in (urdf, tmp_path / "panda.xml", str(tmp_path / "panda_description")):
+        loaded = graspath.Robot.load(path, "panda_link0", "panda_hand_tcp", tool)
+        assert loaded.joint_names == expected.joint_names
+        np.testing.assert_array_equal(loaded.fk(q), expected.fk(q))
+    shutil.copy(MJCF_UR5, tmp_path / "ur5_model")
+    expected = graspath.Robot.from_mjcf(MJCF_UR5, "base", "tool0", tool)
+    q = random_configurations(expected, 20)
+    for path in (MJCF_UR5, tmp_path / "ur5_model"):
+        loaded = graspath.Robot.load(path, base="base", tip="tool0", tool=tool)
+        np.testing.assert_array_equal(loaded.fk(q), expected.fk(q))
+        np.testing.assert_array_equal(loaded.jacobian(q), expected.jacobian(q))
+
+
+def test_load_refuses_a_file_of_neither_format(tmp_path):
+    sdf = tmp_path / "world.model"
+    sdf.write_text('<?xml version="1.0"?>\n<sdf version="1.9"/>\n')
+    with pytest.raises(graspath.GraspathValueError, match="its root element is <sdf>") as raised:
+        graspath.Robot.load(sdf, "a", "b")
+    assert raised.value.file == str(sdf)
+    with pytest.raises(graspath.GraspathFileNotFoundError):
+        graspath.Robot.load(tmp_path / "missing.xml", "a", "b")
+    with pytest.raises(graspath.GraspathValueError, match="search paths are for a URDF or xacro file"):
+        graspath.Robot.load(MJCF_UR5, "base", "tool0", search_paths=[tmp_path])

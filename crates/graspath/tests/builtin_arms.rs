@@ -458,3 +458,29 @@ fn every_builtin_arm_has_dynamics_and_limits() {
         }
     }
 }
+
+/// The Python stub's `Robot.builtin(name: Literal[...])` lists exactly the built-in names, in
+/// their order, so type checkers accept every built-in robot and no other.
+#[test]
+fn the_python_stub_lists_the_built_in_names() {
+    let stub = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../graspath-py/python/graspath/_graspath.pyi");
+    let text = std::fs::read_to_string(&stub).unwrap();
+    let after = text
+        .split_once("def builtin(")
+        .expect("the stub declares Robot.builtin")
+        .1;
+    let literal = after
+        .split_once("name: Literal[")
+        .expect("Robot.builtin's name is a Literal")
+        .1
+        .split_once(']')
+        .unwrap()
+        .0;
+    let names: Vec<&str> = literal
+        .split(',')
+        .map(|n| n.trim().trim_matches('"'))
+        .filter(|n| !n.is_empty())
+        .collect();
+    assert_eq!(names, BUILTIN_NAMES);
+}

@@ -70,6 +70,24 @@ class Robot:
         path: StrPath, base_body: str, tip_body: str, tool: Optional[ArrayLike] = None
     ) -> Robot:
         """The chain ``base_body`` → ``tip_body`` of an MJCF (MuJoCo XML) file (hinge and slide joints)."""
+    @classmethod
+    def load(
+        cls,
+        path: StrPath,
+        base: str,
+        tip: str,
+        tool: Optional[ArrayLike] = None,
+        *,
+        search_paths: Optional[Sequence[StrPath]] = None,
+        xacro_args: Optional[Mapping[str, str]] = None,
+    ) -> Robot:
+        """The chain ``base`` → ``tip`` (links; an MJCF file's bodies) of a URDF, xacro or MJCF
+        file, its format told by its name (``.urdf``, ``.xacro``, ``.mjcf``) or, for ``.xml`` and
+        other names, by its root element (``<robot>`` or ``<mujoco>``); ``tool`` =
+        ``tip_from_tool``. ``search_paths`` and ``xacro_args`` are for a URDF, as in
+        :meth:`from_urdf` (only a file named ``*.xacro`` is expanded); for an MJCF file they
+        raise :class:`GraspathValueError`. A file of neither format raises
+        :class:`GraspathValueError` naming it; a missing one :class:`GraspathFileNotFoundError`."""
     @staticmethod
     def from_urdf_string(
         xml: str,

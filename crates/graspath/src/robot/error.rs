@@ -82,6 +82,25 @@ pub enum RobotError {
         /// What is wrong and what to do.
         message: String,
     },
+    /// A robot file whose format neither its name nor its root element tells
+    /// ([`crate::robot::RobotSource::from_path`]).
+    #[error("{source_name}: not a robot description graspath reads: {reason}; give a URDF (root <robot>, named *.urdf), a xacro file (named *.xacro) or a MuJoCo MJCF file (root <mujoco>, named *.xml or *.mjcf)")]
+    UnknownFormat {
+        /// The file.
+        source_name: String,
+        /// What was found instead (`its root element is <sdf>`, `the file is empty`).
+        reason: String,
+    },
+    /// URDF options (search paths, xacro arguments) given for a robot that is not a URDF file.
+    #[error("{source_name}: {option} are for a URDF or xacro file, and this is {format}")]
+    UrdfOption {
+        /// The file, or `built-in NAME`.
+        source_name: String,
+        /// `search paths` or `xacro arguments`.
+        option: &'static str,
+        /// What the robot is: `an MJCF file`, `a built-in robot`.
+        format: &'static str,
+    },
     /// A MuJoCo MJCF file was given where a URDF is read.
     #[error("{source_name}: not a valid URDF: this is a MuJoCo MJCF file (root <mujoco>): load it as MJCF (`robot: {{mjcf: FILE}}` in a task file)")]
     MjcfNotUrdf {
@@ -356,6 +375,8 @@ impl crate::fault::Classify for RobotError {
             | Self::Mjcf { source_name, .. }
             | Self::MjcfJointInChain { source_name, .. }
             | Self::MjcfNotUrdf { source_name }
+            | Self::UnknownFormat { source_name, .. }
+            | Self::UrdfOption { source_name, .. }
             | Self::Parse { source_name, .. }
             | Self::Xml { source_name, .. }
             | Self::TwoParents { source_name, .. }

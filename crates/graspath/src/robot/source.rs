@@ -17,7 +17,8 @@
 //! let err = RobotSource::builtin("baxtor").load().unwrap_err();
 //! assert!(err.to_string().contains("did you mean: baxter?"));
 //! // A URDF file: `RobotSource::urdf("robot.urdf").load()?.chain("base_link", "tool0", None)?`;
-//! // an MJCF file, by body names: `RobotSource::mjcf("ur5.xml").load()?.chain("base", "tool0", None)?`.
+//! // an MJCF file, by body names: `RobotSource::mjcf("ur5.xml").load()?.chain("base", "tool0", None)?`;
+//! // either, its format told by its name or content: `RobotSource::from_path("arm.xml")?.load()?`.
 //! # Ok::<(), graspath::robot::RobotError>(())
 //! ```
 
@@ -32,10 +33,15 @@ use super::urdf::UrdfRobot;
 use super::xacro::{is_xacro_path, XacroOptions};
 use nalgebra::Isometry3;
 use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The built-in robots' names (see [`super::builtin`]).
 pub const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
+
+/// The most bytes [`RobotSource::from_path`] reads from a file to find its root element:
+/// 64 KiB, room for an XML declaration and a long licence comment.
+pub const FORMAT_PREFIX_BYTES: u64 = 64 << 10;
 
 /// Where a robot comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -81,6 +87,89 @@ impl RobotSource {
     /// An MJCF (MuJoCo XML) file.
     pub fn mjcf(path: impl Into<PathBuf>) -> Self {
         RobotSource::Mjcf { path: path.into() }
+    }
+
+    /// The robot file at `path`, its format told by its extension (any letter case): `.urdf` is
+    /// a URDF, `.xacro` (`.urdf.xacro`) a xacro file, expanded on load (see
+    /// [`RobotSource::Urdf`]), `.mjcf` an MJCF file. A file named otherwise — `.xml`, which both
+    /// formats use, or any other name — is told by its root element, read from at most its
+    /// first [`FORMAT_PREFIX_BYTES`]: `<robot>` is a URDF, `<mujoco>` an MJCF file. A URDF told
+    /// by its root is never expanded as xacro: xacro markup in it is refused on load, as in any
+    /// file not named `*.xacro`.
+    ///
+    /// Errors: [`RobotError::Io`] when a file named otherwise cannot be read (missing, not a
+    /// regular file), [`RobotError::UnknownFormat`] when its root is neither. A file named by
+    /// its extension is read only by [`RobotSource::load`].
+    pub fn from_path(path: impl Into<PathBuf>) -> Result<Self, RobotError> {
+        let path = path.into();
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match extension.as_deref() {
+            Some("urdf" | "xacro") => return Ok(Self::urdf(path)),
+            Some("mjcf") => return Ok(Self::mjcf(path)),
+            _ => {}
+        }
+        let source_name = path.display().to_string();
+        let mut prefix = Vec::new();
+        crate::input::open(&path)
+            .and_then(|file| file.take(FORMAT_PREFIX_BYTES).read_to_end(&mut prefix))
+            .map_err(|source| RobotError::Io {
+                source_name: source_name.clone(),
+                source,
+            })?;
+        let unknown = |reason: String| RobotError::UnknownFormat {
+            source_name: source_name.clone(),
+            reason,
+        };
+        match root_element(&prefix) {
+            Some(b"robot") => Ok(Self::urdf(path)),
+            Some(b"mujoco") => Ok(Self::mjcf(path)),
+            Some(name) => Err(unknown(format!(
+                "its root element is <{}>",
+                String::from_utf8_lossy(name)
+            ))),
+            None if prefix.iter().all(u8::is_ascii_whitespace) => {
+                Err(unknown("the file is empty".into()))
+            }
+            None if prefix.len() as u64 == FORMAT_PREFIX_BYTES => Err(unknown(format!(
+                "no root element in its first {} KiB",
+                FORMAT_PREFIX_BYTES >> 10
+            ))),
+            None => Err(unknown("it is not XML (no root element)".into())),
+        }
+    }
+
+    /// This source with a URDF's options: `search_paths` (where `package://PKG` mesh URIs and
+    /// xacro's `$(find PKG)` look first) and `xacro_args` (for a `*.xacro` file). Empty options
+    /// leave any source as it is; options for a source that is not a URDF file are
+    /// [`RobotError::UrdfOption`].
+    pub fn with_urdf_options(
+        self,
+        search_paths: Vec<PathBuf>,
+        xacro_args: BTreeMap<String, String>,
+    ) -> Result<Self, RobotError> {
+        let (source_name, format) = match self {
+            RobotSource::Urdf { path, .. } => {
+                return Ok(RobotSource::Urdf {
+                    path,
+                    search_paths,
+                    xacro_args,
+                })
+            }
+            _ if search_paths.is_empty() && xacro_args.is_empty() => return Ok(self),
+            RobotSource::Mjcf { path } => (path.display().to_string(), "an MJCF file"),
+            RobotSource::Builtin(name) => (format!("built-in {name}"), "a built-in robot"),
+        };
+        Err(RobotError::UrdfOption {
+            source_name,
+            option: if search_paths.is_empty() {
+                "xacro arguments"
+            } else {
+                "search paths"
+            },
+            format,
+        })
     }
 
     /// Loads the model: a built-in one is checked by name ("did you mean"), a URDF file is
@@ -144,6 +233,43 @@ impl RobotSource {
             }
         }
     }
+}
+
+/// The name of the root element of the XML document that `prefix` begins (after a byte-order
+/// mark, white space, the XML declaration, comments, processing instructions and a document
+/// type declaration), or `None` when `prefix` ends first or is not XML.
+fn root_element(prefix: &[u8]) -> Option<&[u8]> {
+    let mut rest = prefix.strip_prefix(b"\xef\xbb\xbf").unwrap_or(prefix);
+    loop {
+        rest = rest.trim_ascii_start();
+        let skip_past = |text: &[u8], end: &[u8]| {
+            text.windows(end.len())
+                .position(|w| w == end)
+                .map(|k| k + end.len())
+        };
+        let after = if rest.starts_with(b"<?") {
+            skip_past(rest, b"?>")?
+        } else if rest.starts_with(b"<!--") {
+            skip_past(&rest[4..], b"-->")? + 4
+        } else if rest.starts_with(b"<!") {
+            // `<!DOCTYPE name [internal subset]>`: the subset may hold `>`.
+            let open = rest.iter().position(|&b| b == b'[' || b == b'>')?;
+            if rest[open] == b'[' {
+                let close = open + skip_past(&rest[open..], b"]")?;
+                close + skip_past(&rest[close..], b">")?
+            } else {
+                open + 1
+            }
+        } else {
+            break;
+        };
+        rest = &rest[after..];
+    }
+    let name = rest.strip_prefix(b"<")?;
+    let end = name
+        .iter()
+        .position(|&b| b.is_ascii_whitespace() || b == b'>' || b == b'/')?;
+    (end > 0).then_some(&name[..end])
 }
 
 #[derive(Debug, Clone)]
@@ -369,4 +495,182 @@ fn builtin_sub_chain(
         tip: tip_link.to_string(),
         root,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fault::ErrorKind;
+    use crate::fault_of;
+
+    const URDF: &str = r#"<robot name="r"><link name="base"/><joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint><link name="tip"/></robot>"#;
+    const MJCF: &str = r#"<mujoco model="m"><worldbody><body name="base"><body name="tip"><joint name="j" type="hinge" range="-1 1"/></body></body></worldbody></mujoco>"#;
+
+    fn write(dir: &Path, name: &str, text: &[u8]) -> PathBuf {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn the_extension_tells_the_format_without_reading_the_file() {
+        // The files do not exist: only the name is looked at.
+        for name in ["a.urdf", "a.URDF", "a.xacro", "a.urdf.xacro", "a.Xacro"] {
+            assert_eq!(
+                RobotSource::from_path(name).unwrap(),
+                RobotSource::urdf(name),
+                "{name}"
+            );
+        }
+        for name in ["a.mjcf", "a.MJCF"] {
+            assert_eq!(
+                RobotSource::from_path(name).unwrap(),
+                RobotSource::mjcf(name),
+                "{name}"
+            );
+        }
+    }
+
+    #[test]
+    fn xml_and_other_names_are_told_by_their_root_element() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let cases: [(&str, &[u8], fn(PathBuf) -> RobotSource); 6] = [
+            ("urdf.xml", URDF.as_bytes(), |p| RobotSource::urdf(p)),
+            ("mjcf.xml", MJCF.as_bytes(), |p| RobotSource::mjcf(p)),
+            ("robot", URDF.as_bytes(), |p| RobotSource::urdf(p)),
+            ("scene.model", MJCF.as_bytes(), |p| RobotSource::mjcf(p)),
+            (
+                "prolog.xml",
+                b"\xef\xbb\xbf<?xml version=\"1.0\"?>\n<!-- <mujoco> in a comment -->\n<!DOCTYPE robot [<!ENTITY x \"<mujoco>\">]>\n<?pi x?>\n<robot name=\"r\"/>",
+                |p| RobotSource::urdf(p),
+            ),
+            ("tab.txt", b"<mujoco\tmodel=\"m\"/>", |p| RobotSource::mjcf(p)),
+        ];
+        for (name, text, expected) in cases {
+            let path = write(d, name, text);
+            assert_eq!(
+                RobotSource::from_path(&path).unwrap(),
+                expected(path.clone()),
+                "{name}"
+            );
+        }
+        // Told apart, each loads with its own reader.
+        let urdf = RobotSource::from_path(d.join("urdf.xml"))
+            .unwrap()
+            .load()
+            .unwrap();
+        let mjcf = RobotSource::from_path(d.join("mjcf.xml"))
+            .unwrap()
+            .load()
+            .unwrap();
+        assert_eq!(urdf.chain("base", "tip", None).unwrap().dof(), 1);
+        assert_eq!(mjcf.chain("base", "tip", None).unwrap().dof(), 1);
+    }
+
+    #[test]
+    fn a_file_of_neither_format_is_one_content_error_naming_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let long_comment = format!("<!--{}-->\n<robot/>", " ".repeat(70_000));
+        let cases: [(&str, &[u8], &str); 6] = [
+            (
+                "world.sdf",
+                b"<?xml version=\"1.0\"?><sdf version=\"1.9\"/>",
+                "its root element is <sdf>",
+            ),
+            (
+                "robotic.xml",
+                b"<robotics/>",
+                "its root element is <robotics>",
+            ),
+            ("empty.xml", b"", "the file is empty"),
+            ("blank.dat", b" \n\t", "the file is empty"),
+            ("data.bin", b"\x00\x01binary", "it is not XML"),
+            (
+                "long.xml",
+                long_comment.as_bytes(),
+                "no root element in its first 64 KiB",
+            ),
+        ];
+        for (name, text, reason) in cases {
+            let path = write(d, name, text);
+            let err = RobotSource::from_path(&path).unwrap_err();
+            let message = err.to_string();
+            assert!(
+                message.starts_with(&format!("{}: not a robot description", path.display())),
+                "{message}"
+            );
+            assert!(message.contains(reason), "{name}: {message}");
+            assert!(
+                message.contains("*.urdf") && message.contains("<mujoco>"),
+                "{message}"
+            );
+            let fault = fault_of(&err).unwrap();
+            assert_eq!(fault.kind, ErrorKind::Content, "{name}");
+            assert_eq!(fault.file, Some(path.display().to_string().as_str()));
+        }
+    }
+
+    #[test]
+    fn a_missing_or_special_file_is_a_file_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("missing.xml");
+        let err = RobotSource::from_path(&missing).unwrap_err();
+        let fault = fault_of(&err).unwrap();
+        assert_eq!(fault.kind, ErrorKind::File);
+        assert_eq!(fault.io, Some(std::io::ErrorKind::NotFound));
+        assert!(err.to_string().contains("missing.xml"), "{err}");
+        // A folder is refused before anything is read.
+        let err = RobotSource::from_path(dir.path()).unwrap_err();
+        assert_eq!(fault_of(&err).unwrap().kind, ErrorKind::File);
+    }
+
+    #[test]
+    fn a_urdf_told_by_its_root_is_not_expanded_as_xacro() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="m"/><link name="base"/></robot>"#;
+        let path = write(dir.path(), "arm.xml", text.as_bytes());
+        let source = RobotSource::from_path(&path).unwrap();
+        assert_eq!(source, RobotSource::urdf(&path));
+        let err = source.load().unwrap_err();
+        assert!(matches!(err, RobotError::XacroMarkup { .. }), "{err}");
+    }
+
+    #[test]
+    fn urdf_options_go_to_a_urdf_only() {
+        let paths = vec![PathBuf::from("pkgs")];
+        let args = BTreeMap::from([("dof".to_string(), "7".to_string())]);
+        let urdf = RobotSource::urdf("a.urdf.xacro")
+            .with_urdf_options(paths.clone(), args.clone())
+            .unwrap();
+        assert_eq!(
+            urdf,
+            RobotSource::Urdf {
+                path: "a.urdf.xacro".into(),
+                search_paths: paths.clone(),
+                xacro_args: args.clone(),
+            }
+        );
+        let mjcf = RobotSource::mjcf("a.xml");
+        assert_eq!(
+            mjcf.clone()
+                .with_urdf_options(Vec::new(), BTreeMap::new())
+                .unwrap(),
+            mjcf
+        );
+        let err = mjcf
+            .clone()
+            .with_urdf_options(paths, BTreeMap::new())
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "a.xml: search paths are for a URDF or xacro file, and this is an MJCF file"
+        );
+        let err = RobotSource::builtin("panda")
+            .with_urdf_options(Vec::new(), args)
+            .unwrap_err();
+        assert!(err.to_string().contains("xacro arguments"), "{err}");
+        assert_eq!(fault_of(&err).unwrap().kind, ErrorKind::Content);
+    }
 }

@@ -212,7 +212,7 @@ pub enum ArmsFile {
     Many(Vec<String>),
 }
 
-/// The robot: `builtin: baxter`, or `urdf:` with one chain per arm.
+/// The robot: `builtin: baxter`, or `urdf:`, `mjcf:` or `file:` with one chain per arm.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotFile {
@@ -225,6 +225,10 @@ pub struct RobotFile {
     /// A MuJoCo MJCF file (relative to the task file); chains name bodies as links.
     #[serde(default)]
     pub mjcf: Option<PathBuf>,
+    /// A URDF, xacro or MJCF file (relative to the task file), its format told by its name or
+    /// its root element ([`crate::robot::RobotSource::from_path`]).
+    #[serde(default)]
+    pub file: Option<PathBuf>,
     /// Folders (relative to the task file) where a URDF's `package://PKG` mesh URIs and a
     /// xacro file's `$(find PKG)` look first.
     #[serde(default)]
@@ -233,7 +237,7 @@ pub struct RobotFile {
     /// as written).
     #[serde(default)]
     pub xacro_args: BTreeMap<String, XacroArgument>,
-    /// Arm chains by name (required with `urdf` or `mjcf`; with `builtin` they may add a tool or base pose).
+    /// Arm chains by name (required with `urdf`, `mjcf` or `file`; with `builtin` they may add a tool or base pose).
     #[serde(default)]
     pub chains: BTreeMap<String, ArmFile>,
     /// A tool offset `tip_from_tool` applied to every arm that does not set its own.

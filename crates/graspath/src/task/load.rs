@@ -27,7 +27,7 @@ use crate::robot::{Chain, RobotModel, RobotSource};
 use crate::spelling::Spelled;
 use nalgebra::{Isometry3, Unit, Vector3};
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 impl Task {
     /// Reads and checks a task file (YAML or JSON). Relative paths inside it are relative to
@@ -223,52 +223,52 @@ fn setup_arms(
         .map(|t| pose(t, source, "robot.tool"))
         .transpose()?;
     // The one robot-source resolver (shared with the CLI, Python and the hand loader).
-    let (robot_source, source_field) = match (&robot.builtin, &robot.urdf, &robot.mjcf) {
-        (Some(name), None, None) => (RobotSource::builtin(name.as_str()), "robot.builtin"),
-        (None, Some(path), None) => (
-            RobotSource::Urdf {
-                path: base_dir.join(path),
-                search_paths: robot
-                    .search_paths
-                    .iter()
-                    .map(|p| base_dir.join(p))
-                    .collect(),
-                xacro_args: robot
-                    .xacro_args
-                    .iter()
-                    .map(|(name, value)| (name.clone(), value.text()))
-                    .collect(),
-            },
-            "robot.urdf",
-        ),
-        (None, None, Some(path)) => (RobotSource::mjcf(base_dir.join(path)), "robot.mjcf"),
-        (None, None, None) => {
-            return Err(err(
-                "robot",
-                "give builtin: baxter, or urdf: FILE (or mjcf: FILE) with chains".into(),
-            ))
-        }
-        _ => {
-            return Err(err(
-                "robot",
-                "give one of builtin, urdf and mjcf, not several".into(),
-            ))
-        }
-    };
-    if robot.urdf.is_none() {
-        if !robot.search_paths.is_empty() {
-            return Err(err(
-                "robot.search_paths",
-                "search paths are for a URDF robot (urdf: FILE)".into(),
-            ));
-        }
-        if !robot.xacro_args.is_empty() {
-            return Err(err(
-                "robot.xacro_args",
-                "xacro arguments are for a urdf: FILE.xacro robot".into(),
-            ));
-        }
+    let search_paths: Vec<PathBuf> = robot
+        .search_paths
+        .iter()
+        .map(|p| base_dir.join(p))
+        .collect();
+    let xacro_args: BTreeMap<String, String> = robot
+        .xacro_args
+        .iter()
+        .map(|(name, value)| (name.clone(), value.text()))
+        .collect();
+    let named = [
+        robot.builtin.is_some(),
+        robot.urdf.is_some(),
+        robot.mjcf.is_some(),
+        robot.file.is_some(),
+    ];
+    if named.iter().filter(|&&n| n).count() > 1 {
+        return Err(err(
+            "robot",
+            "give one of builtin, urdf, mjcf and file, not several".into(),
+        ));
     }
+    let (robot_source, source_field) =
+        match (&robot.builtin, &robot.urdf, &robot.mjcf, &robot.file) {
+            (Some(name), ..) => (RobotSource::builtin(name.as_str()), "robot.builtin"),
+            (_, Some(path), ..) => (RobotSource::urdf(base_dir.join(path)), "robot.urdf"),
+            (_, _, Some(path), _) => (RobotSource::mjcf(base_dir.join(path)), "robot.mjcf"),
+            (_, _, _, Some(path)) => (
+                RobotSource::from_path(base_dir.join(path))
+                    .map_err(|e| TaskError::caused_by(source, "robot.file", e))?,
+                "robot.file",
+            ),
+            (None, None, None, None) => return Err(err(
+                "robot",
+                "give builtin: baxter, or urdf: FILE (or mjcf: FILE, or file: FILE) with chains"
+                    .into(),
+            )),
+        };
+    let options_field = if robot.search_paths.is_empty() {
+        "robot.xacro_args"
+    } else {
+        "robot.search_paths"
+    };
+    let robot_source = robot_source
+        .with_urdf_options(search_paths, xacro_args)
+        .map_err(|e| TaskError::caused_by(source, options_field, e))?;
     let model = robot_source
         .load()
         .map_err(|e| TaskError::caused_by(source, source_field, e))?;

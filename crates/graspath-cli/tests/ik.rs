@@ -152,11 +152,11 @@ fn solves_a_trajectory_with_branches() {
     }
 }
 
-/// `--seed` is the deprecated spelling of `--start`: the same start configuration gives the same
-/// bytes under either spelling (trajectories use iteration budgets only, so runs are
-/// reproducible), and the path starts at the first pose.
+/// `--start` sets the start configuration: the same start gives the same
+/// bytes on every run (trajectories use iteration budgets only), the path starts at the first
+/// pose, and the earlier spelling `--seed` is refused.
 #[test]
-fn the_deprecated_seed_flag_is_the_start_configuration() {
+fn the_start_flag_is_the_start_configuration() {
     let poses: Vec<serde_json::Value> = (0..6)
         .map(|i| {
             let t = i as f64 / 5.0;
@@ -164,21 +164,26 @@ fn the_deprecated_seed_flag_is_the_start_configuration() {
         })
         .collect();
     let document = serde_json::json!({ "poses": poses }).to_string();
-    let run = |flag: &str, start: &str| {
+    let start = |flag: &str, start: &str| {
         let mut args = BAXTER.to_vec();
         args.extend(["--trajectory", "--branches", "1", flag, start]);
-        let out = graspath(&args, &document);
+        graspath(&args, &document)
+    };
+    let run = |flag: &str, q: &str| {
+        let out = start(flag, q);
         assert!(
             out.status.success(),
-            "{flag} {start}: {}",
+            "{flag} {q}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
         out.stdout
     };
     let near = "0.2,-0.4,0.1,1.0,0.2,0.6,0.0";
     let new = run("--start", near);
-    assert_eq!(new, run("--seed", near));
-    assert_eq!(run("--start", "zero"), run("--seed", "zero"));
+    assert_eq!(new, run("--start", near));
+    let refused = start("--seed", near);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--seed"));
     let value: serde_json::Value = serde_json::from_slice(&new).expect("json");
     let first: Vec<f64> = serde_json::from_value(value["branches"][0]["q"][0].clone()).expect("q");
     assert!(distance(&pose_at(&first), &poses[0]) < 2e-5);

@@ -174,9 +174,9 @@ def test_m2t2_objects_by_name_are_world_grasps_and_a_camera_pose_needs_frame_cam
         (lambda p: np.save(p, np.zeros((3, 3, 3))), {}, "(3, 3, 3)"),
         (lambda p: np.save(p, np.zeros((3, 3, 3))), {"format": "poses"}, "(3, 3, 3)"),
         (lambda p: np.save(p, np.tile(np.diag([2.0, 1.0, 1.0, 1.0]), (2, 1, 1))), {}, "[0]"),
-        (lambda p: np.save(p, random_poses(2, 5)), {"format": "yaml"}, "format 'yaml'"),
+        (lambda p: np.save(p, random_poses(2, 5)), {"format": "yaml"}, "format: 'yaml' is not one of graspath"),
         (lambda p: np.save(p, random_poses(2, 5)), {"frame": "camera"}, "world_from_camera"),
-        (lambda p: np.save(p, random_poses(2, 5)), {"frame": "tool"}, "frame 'tool'"),
+        (lambda p: np.save(p, random_poses(2, 5)), {"frame": "tool"}, "frame: 'tool' is not one of object, world, camera"),
         (lambda p: np.save(p, random_poses(2, 5)), {"world_from_camera": np.eye(3)}, "world_from_camera"),
     ],
 )

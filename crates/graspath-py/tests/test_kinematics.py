@@ -201,7 +201,7 @@ class TestErrors:
             left.fk(["a"] * 7)
 
     def test_bad_part_and_direction(self, left):
-        with pytest.raises(graspath.GraspathError, match="part 'twist'"):
+        with pytest.raises(graspath.GraspathError, match="part: 'twist' is not one of full, translation, rotation"):
             left.indices(np.zeros(7), part="twist")
         with pytest.raises(graspath.GraspathError, match="non-zero"):
             left.task_relevant(np.zeros(7), np.zeros(6))

@@ -263,7 +263,7 @@ class TestErrors:
             graspath.Task.from_arrays({"left": robot}, poses, cands, likelihoods=np.zeros(21))
         with pytest.raises(graspath.GraspathError, match="arm 'left': give a Robot"):
             graspath.Task.from_arrays({"left": "baxter"}, poses, cands)
-        with pytest.raises(graspath.GraspathError, match="mode 'yaw'"):
+        with pytest.raises(graspath.GraspathError, match="mode: 'yaw' is not one of twist, translation, rotation"):
             graspath.Task.from_arrays({"left": robot}, poses, cands, mode="yaw")
         with pytest.raises(graspath.GraspathError, match="at least one arm"):
             graspath.Task.from_arrays({}, poses, cands)

@@ -238,7 +238,7 @@ fn cloud_shape_spellings_and_errors() {
         ),
         (
             r#"{"t_shape": {"bar": [0.16, 0.045, 0.04]}}"#,
-            &["t_shape", "give bar and stem"][..],
+            &["missing field `stem`"][..],
         ),
         (
             r#"{"cylinder": {"radius": 0.02, "height": -0.1}}"#,

@@ -245,8 +245,8 @@ pub fn print_summary_table<S: Scored>(
     say!(
         "{title}: {} candidates x {} arm(s), {} samples, {:.3} s",
         task.candidate_count(),
-        task.arms.len(),
-        task.path.samples.len(),
+        task.arms().len(),
+        task.path().samples.len(),
         elapsed.as_secs_f64()
     );
     for arm in &selection.arms {
@@ -284,7 +284,7 @@ pub fn print_summary_table<S: Scored>(
             say!("  most frequent collisions: {}", shown.join(", "));
         }
         // In a scene the last column is the clearance from it (m); else Yoshikawa's index.
-        let in_scene = task.collisions.is_some();
+        let in_scene = task.collisions().is_some();
         // `limit`: the smallest distance of any joint to its limit along the motion (rad).
         say!(
             "    {:>4}  {:>5}  {:<28} {:>10} {:>10} {:>10} {:>10} {:>8}",
@@ -292,7 +292,7 @@ pub fn print_summary_table<S: Scored>(
             "id",
             "label",
             "score",
-            task.selection.norm.field(),
+            task.selection().norm.field(),
             "mu_linf",
             if in_scene { "clearance" } else { "yoshikawa" },
             "limit"
@@ -304,7 +304,7 @@ pub fn print_summary_table<S: Scored>(
         // Candidates tied with the best (see `selection.tie_tolerance`) show `=` before their rank.
         let tied_with_best = arm
             .best()
-            .map(|b| arm.tied_with(b, &task.selection))
+            .map(|b| arm.tied_with(b, task.selection()))
             .unwrap_or_default();
         // The best `NAMED_BEST`: the candidates a streamed selection keeps the labels of.
         for &i in ranked.iter().take(NAMED_BEST) {
@@ -322,7 +322,7 @@ pub fn print_summary_table<S: Scored>(
                 s.id(),
                 label.chars().take(28).collect::<String>(),
                 number(arm.rankings[i].score),
-                number(s.norms().map(|n| n.value(task.selection.norm))),
+                number(s.norms().map(|n| n.value(task.selection().norm))),
                 number(s.norms().map(|n| n.linf)),
                 number(if in_scene {
                     s.clearance()

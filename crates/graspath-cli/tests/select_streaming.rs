@@ -107,7 +107,12 @@ fn candidate_file_task(dir: &Path, name: &str, bad: Option<&str>) -> PathBuf {
     let folder = dir.join(name.replace('.', "_"));
     std::fs::create_dir_all(&folder).unwrap();
     let faces = faces_task(&folder);
-    let family = graspath::task::Task::load(&faces).unwrap().candidates;
+    let family = graspath::task::Task::load(&faces)
+        .unwrap()
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .to_vec();
     let likelihood = |k: usize| 0.3 + (k % 7) as f64 / 7.0;
     let mut text = String::new();
     if name.ends_with(".csv") {

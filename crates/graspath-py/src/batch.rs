@@ -8,11 +8,11 @@
 //! slice; sorting the union of the slices' rows by score (best first, ties by candidate
 //! position) gives the whole task's ranking, which is how `graspath.ray` merges its shards.
 
-use crate::convert::error;
+use crate::convert::{error, lib_error};
 use crate::record::set_numpy_columns;
 use crate::task::PyTask;
 use graspath::select::record::{self, outputs, Trajectories};
-use graspath::select::{ranking_alone, select as run_selection, CandidateScore, Ranking};
+use graspath::select::{select as run_selection, CandidateScore, Ranking};
 use graspath::task::Task;
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -39,43 +39,23 @@ struct Unit<'a> {
 }
 
 /// Scores one unit and ranks its candidates (rank within the slice, score relative to the whole
-/// task's largest likelihood), rows in candidate order.
-fn run_unit(unit: &Unit<'_>) -> Vec<Row> {
-    let task = unit.task;
-    let arm = &task.arms[unit.arm_index];
+/// task's largest likelihood: [`Task::slice`]), rows in candidate order.
+fn run_unit(unit: &Unit<'_>) -> Result<Vec<Row>, graspath::Error> {
+    let arm = &unit.task.arms()[unit.arm_index];
     // The task narrowed to this arm and slice: one arm, so no pairs are formed, and the arm's
     // scoring (its path, IK, scene) is exactly that of the whole task.
-    let mut narrowed = task.clone();
-    narrowed.arms = vec![arm.clone()];
-    narrowed.candidates = task.candidates[unit.start..unit.stop].to_vec();
-    let selection = run_selection(&narrowed, &|| {});
-    let max_log_likelihood = task
-        .candidates
-        .iter()
-        .map(|c| c.log_likelihood)
-        .fold(f64::NEG_INFINITY, f64::max);
+    let narrowed = unit
+        .task
+        .with_arms(&[&arm.name])
+        .and_then(|t| t.slice(unit.start..unit.stop))?;
+    let selection = run_selection(&narrowed, &|| {})?;
     let Some(result) = selection.arms.into_iter().next() else {
-        return Vec::new();
+        return Ok(Vec::new());
     };
-    let mut rankings: Vec<Ranking> = result
-        .scores
-        .iter()
-        .map(|s| ranking_alone(s, &task.selection, max_log_likelihood))
-        .collect();
-    // The order of `rank_candidates`: best score first, ties by candidate position.
-    let mut order: Vec<(usize, f64)> = rankings
-        .iter()
-        .enumerate()
-        .filter_map(|(i, r)| r.score.map(|s| (i, s)))
-        .collect();
-    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    for (r, &(i, _)) in order.iter().enumerate() {
-        rankings[i].rank = Some(r + 1);
-    }
-    result
+    Ok(result
         .scores
         .into_iter()
-        .zip(rankings)
+        .zip(result.rankings)
         .enumerate()
         .map(|(i, (score, ranking))| Row {
             object: unit.object,
@@ -85,7 +65,7 @@ fn run_unit(unit: &Unit<'_>) -> Vec<Row> {
             score,
             ranking,
         })
-        .collect()
+        .collect())
 }
 
 /// `(start, stop)` of every task: the whole task, or the slice given (checked).
@@ -94,7 +74,7 @@ fn task_slices(
     slices: Option<Vec<(usize, usize)>>,
 ) -> PyResult<Vec<(usize, usize)>> {
     let Some(slices) = slices else {
-        return Ok(tasks.iter().map(|t| (0, t.candidates.len())).collect());
+        return Ok(tasks.iter().map(|t| (0, t.candidate_count())).collect());
     };
     if slices.len() != tasks.len() {
         return Err(error(format!(
@@ -104,12 +84,12 @@ fn task_slices(
         )));
     }
     for (i, (&(start, stop), task)) in slices.iter().zip(tasks).enumerate() {
-        let n = task.candidates.len();
+        let n = task.candidate_count();
         if start > stop || stop > n {
             return Err(error(format!(
                 "slices[{i}] = ({start}, {stop}) is not a candidate range of task {i} ('{}', \
                  {n} candidates): give 0 <= start <= stop <= {n}",
-                task.source_name
+                task.source_name()
             )));
         }
     }
@@ -173,13 +153,13 @@ pub fn select_batch<'py>(
                 .map_err(|e| error(format!("threads: cannot start {n} threads: {e}")))
         })
         .transpose()?;
-    let rows: Vec<Row> = py.detach(|| {
+    let rows: Result<Vec<Row>, graspath::Error> = py.detach(|| {
         let units: Vec<Unit<'_>> = tasks
             .iter()
             .zip(&slices)
             .enumerate()
             .flat_map(|(object, (task, &(start, stop)))| {
-                (0..task.arms.len()).map(move |arm_index| Unit {
+                (0..task.arms().len()).map(move |arm_index| Unit {
                     object,
                     task,
                     arm_index,
@@ -188,28 +168,28 @@ pub fn select_batch<'py>(
                 })
             })
             .collect();
-        let run = || -> Vec<Row> {
+        let run = || -> Result<Vec<Row>, graspath::Error> {
             // Each unit keeps only its top k as soon as it is done, so memory holds the scores
             // of the units in flight, not of every candidate.
             let per_unit: Vec<Vec<Row>> = units
                 .par_iter()
                 .map(|unit| {
-                    let mut rows = run_unit(unit);
+                    let mut rows = run_unit(unit)?;
                     if let Some(k) = top_k {
                         rows.retain(|r| r.ranking.rank.is_some_and(|rank| rank <= k));
                         rows.sort_by_key(|r| r.ranking.rank);
                     }
-                    rows
+                    Ok(rows)
                 })
-                .collect();
-            per_unit.into_iter().flatten().collect()
+                .collect::<Result<_, graspath::Error>>()?;
+            Ok(per_unit.into_iter().flatten().collect())
         };
         match &pool {
             Some(pool) => pool.install(run),
             None => run(),
         }
     });
-    columns(py, &rows)
+    columns(py, &rows.map_err(lib_error)?)
 }
 
 /// The rows as a dict of numpy columns: the batch's own (`object`, `arm_index`, `candidate`),

@@ -62,13 +62,13 @@ pub fn select_pairs<'py>(
     let score: Vec<f64> = column(rows, "score")?;
     // What each arm's candidates are paired by: the ranked norm, or with `measure: duration`
     // the rate 1 / duration (the pair then takes the slower arm's, as in `select`).
-    let norm: Vec<f64> = if task.selection.by_duration {
+    let norm: Vec<f64> = if task.selection().by_duration {
         column::<f64>(rows, "duration")?
             .into_iter()
             .map(|d| 1.0 / d)
             .collect()
     } else {
-        column(rows, task.selection.norm.field())?
+        column(rows, task.selection().norm.field())?
     };
     let n = arm_index.len();
     if [candidate.len(), score.len(), norm.len()] != [n; 3] {
@@ -108,7 +108,7 @@ pub fn select_pairs<'py>(
         }
         eligible[arm].push((position, norm[k]));
     }
-    let count = top_k.map_or(task.selection.pairs, |k| k.min(task.selection.pairs));
+    let count = top_k.map_or(task.selection().pairs, |k| k.min(task.selection().pairs));
     let (pairs, _) = py
         .detach(|| pairs_of_eligible(task, &eligible[0], &eligible[1], count))
         .map_err(lib_error)?;
@@ -129,7 +129,7 @@ pub fn select_pairs<'py>(
         let positions: Vec<usize> = pairs.iter().map(position).collect();
         dict.set_item(
             format!("{side}_arm"),
-            text(vec![task.arms[arm].name.clone(); pairs.len()])?,
+            text(vec![task.arms()[arm].name.clone(); pairs.len()])?,
         )?;
         dict.set_item(
             format!("{side}_id"),

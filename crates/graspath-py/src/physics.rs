@@ -74,16 +74,16 @@ pub fn candidate_motions<'py>(
 ) -> PyResult<Option<Vec<Bound<'py, PyDict>>>> {
     check_period(period)?;
     let task = &task.get().task;
-    if task.timing.is_none() {
+    if task.timing().is_none() {
         return Err(error(
             "the task does not time motions (timing: false, or a joint without a velocity limit)",
         ));
     }
-    if candidates.len() != task.arms.len() {
+    if candidates.len() != task.arms().len() {
         return Err(error(format!(
             "candidates: {} given, but the task has {} arm(s): give one candidate per arm",
             candidates.len(),
-            task.arms.len()
+            task.arms().len()
         )));
     }
     let mut chosen = Vec::with_capacity(candidates.len());

@@ -45,7 +45,8 @@ pub fn placement_map<'py>(
     let base_dir = task.parent().map(Path::to_path_buf).unwrap_or_default();
     let builder = builder_from_file(&file, &name, &base_dir).map_err(lib_error)?;
     let built = builder.clone().build().map_err(lib_error)?;
-    let parameter = FamilyParameter::from_task_file(&file, &built.candidates);
+    let parameter =
+        FamilyParameter::from_task_file(&file, &built.all_candidates().map_err(lib_error)?);
     drop(built);
     let map = py
         .detach(|| run_map(&builder, &grid, parameter, &|| {}))

@@ -37,7 +37,9 @@ fn pretty(value: &serde_json::Value) -> PyResult<Vec<u8>> {
 pub fn select(py: Python<'_>, task: &Bound<'_, PyTask>) -> PyResult<PySelection> {
     let task = task.get().task.clone();
     task.check_selection_memory().map_err(lib_error)?;
-    let selection = py.detach(|| run_selection(&task, &|| {}));
+    let selection = py
+        .detach(|| run_selection(&task, &|| {}))
+        .map_err(lib_error)?;
     Ok(PySelection { task, selection })
 }
 
@@ -106,7 +108,7 @@ impl PySelection {
             &dict,
             &rows,
             outputs::ARRAYS,
-            self.task.path.samples.len(),
+            self.task.path().samples.len(),
         )?;
         Ok(dict)
     }
@@ -178,7 +180,7 @@ impl PySelection {
                 pretty(&summary_json(&self.task, &self.selection))?,
             ),
         ];
-        if self.task.arms.len() == 2 {
+        if self.task.arms().len() == 2 {
             files.push((
                 "pairs.json".to_string(),
                 pretty(&pairs_json(&self.selection))?,
@@ -200,7 +202,7 @@ impl PySelection {
     /// The norm used for ranking: ``"rms"``, ``"l2"`` or ``"l1"``.
     #[getter]
     fn norm(&self) -> &'static str {
-        self.task.selection.norm.as_str()
+        self.task.selection().norm.as_str()
     }
 
     fn __repr__(&self) -> String {
@@ -212,8 +214,8 @@ impl PySelection {
             .collect();
         format!(
             "Selection('{}', candidates={}, {})",
-            self.task.source_name,
-            self.task.candidates.len(),
+            self.task.source_name(),
+            self.task.candidate_count(),
             arms.join(", ")
         )
     }

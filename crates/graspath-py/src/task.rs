@@ -34,7 +34,7 @@ pub struct PyTask {
 impl PyTask {
     fn arm(&self, name: &str) -> PyResult<&ArmSetup> {
         self.task
-            .arms
+            .arms()
             .iter()
             .find(|a| a.name == name)
             .ok_or_else(|| {
@@ -46,7 +46,7 @@ impl PyTask {
     }
 
     fn arm_names(&self) -> Vec<String> {
-        self.task.arms.iter().map(|a| a.name.clone()).collect()
+        self.task.arms().iter().map(|a| a.name.clone()).collect()
     }
 }
 
@@ -434,30 +434,21 @@ impl PyTask {
     /// The same task with only the named arms, in the given order (e.g. one arm of a dual-arm
     /// task, or the two arms swapped).
     fn with_arms(&self, arms: Vec<String>) -> PyResult<Self> {
-        if arms.is_empty() {
-            return Err(error("name at least one arm"));
-        }
-        let mut task = self.task.clone();
-        task.arms = Vec::with_capacity(arms.len());
-        for (k, name) in arms.iter().enumerate() {
-            if arms[..k].contains(name) {
-                return Err(error(format!("arm '{name}' is listed twice")));
-            }
-            task.arms.push(self.arm(name)?.clone());
-        }
-        Ok(Self { task })
+        Ok(Self {
+            task: self.task.with_arms(&arms).map_err(lib_error)?,
+        })
     }
 
     /// The task file (or the name given), as in the summary.
     #[getter]
     fn name(&self) -> String {
-        self.task.source_name.clone()
+        self.task.source_name().to_string()
     }
 
     /// The robot's name.
     #[getter]
     fn robot_name(&self) -> String {
-        self.task.robot_name.clone()
+        self.task.robot_name().to_string()
     }
 
     /// Values that are probably mistakes — degrees in a radians field, millimetres, a
@@ -467,7 +458,7 @@ impl PyTask {
     #[getter]
     fn warnings(&self) -> Vec<(String, String)> {
         self.task
-            .warnings
+            .warnings()
             .iter()
             .map(|w| (w.field.clone(), w.message.clone()))
             .collect()
@@ -482,40 +473,40 @@ impl PyTask {
     /// The object path ``world_from_object``, shape ``(n, 4, 4)``; the first is the grasp pose.
     #[getter]
     fn object_poses<'py>(&self, py: Python<'py>) -> PyResult<Py<PyAny>> {
-        let mut flat = Vec::with_capacity(16 * self.task.path.samples.len());
-        for pose in self.task.path.poses() {
+        let mut flat = Vec::with_capacity(16 * self.task.path().samples.len());
+        for pose in self.task.path().poses() {
             push_isometry(&mut flat, pose);
         }
-        let n = self.task.path.samples.len();
+        let n = self.task.path().samples.len();
         Ok(array(py, flat, &[n, 4, 4])?.into_any().unbind())
     }
 
     /// The sample times (s), shape ``(n,)``.
     #[getter]
     fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_vec(py, self.task.path.times())
+        PyArray1::from_vec(py, self.task.path().times())
     }
 
     /// For each sample, the index of the step it ends in (0 for the initial pose).
     #[getter]
     fn sample_steps(&self) -> Vec<usize> {
-        self.task.path.samples.iter().map(|s| s.step).collect()
+        self.task.path().samples.iter().map(|s| s.step).collect()
     }
 
     /// The steps' labels, in order.
     #[getter]
     fn step_labels(&self) -> Vec<String> {
-        self.task.path.step_labels.clone()
+        self.task.path().step_labels.clone()
     }
 
     /// The candidates' wrist poses ``object_from_wrist``, shape ``(k, 4, 4)``.
     #[getter]
     fn candidate_poses<'py>(&self, py: Python<'py>) -> PyResult<Py<PyAny>> {
-        let mut flat = Vec::with_capacity(16 * self.task.candidates.len());
-        for c in &self.task.candidates {
+        let mut flat = Vec::with_capacity(16 * self.task.candidate_count());
+        for c in self.task.all_candidates().map_err(lib_error)?.iter() {
             push_isometry(&mut flat, &c.object_from_wrist);
         }
-        Ok(array(py, flat, &[self.task.candidates.len(), 4, 4])?
+        Ok(array(py, flat, &[self.task.candidate_count(), 4, 4])?
             .into_any()
             .unbind())
     }
@@ -525,7 +516,7 @@ impl PyTask {
     #[getter]
     fn candidates<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
-        for c in &self.task.candidates {
+        for c in self.task.all_candidates().map_err(lib_error)?.iter() {
             let d = PyDict::new(py);
             d.set_item("id", c.id)?;
             d.set_item("label", &c.label)?;
@@ -566,14 +557,18 @@ impl PyTask {
         arm: &str,
     ) -> PyResult<Py<PyAny>> {
         let setup = self.arm(arm)?;
-        let c = self.task.candidates.get(candidate).ok_or_else(|| {
-            error(format!(
-                "candidate {candidate} is out of range (the task has {})",
-                self.task.candidates.len()
-            ))
-        })?;
+        let c = self
+            .task
+            .candidate_at(candidate)
+            .map_err(lib_error)?
+            .ok_or_else(|| {
+                error(format!(
+                    "candidate {candidate} is out of range (the task has {})",
+                    self.task.candidate_count()
+                ))
+            })?;
         let poses = wrist_trajectory(
-            &self.task.path,
+            self.task.path(),
             &setup.world_from_base,
             &c.object_from_wrist,
         );
@@ -585,17 +580,17 @@ impl PyTask {
     }
 
     fn __len__(&self) -> usize {
-        self.task.candidates.len()
+        self.task.candidate_count()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "Task('{}', robot='{}', arms={:?}, candidates={}, samples={})",
-            self.task.source_name,
-            self.task.robot_name,
+            self.task.source_name(),
+            self.task.robot_name(),
             self.arm_names(),
-            self.task.candidates.len(),
-            self.task.path.samples.len()
+            self.task.candidate_count(),
+            self.task.path().samples.len()
         )
     }
 }

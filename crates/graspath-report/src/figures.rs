@@ -21,7 +21,7 @@ pub struct Figure {
 }
 
 fn norm_name(task: &Task) -> &'static str {
-    match task.selection.norm {
+    match task.selection().norm {
         Norm::Rms => "μ_rms",
         Norm::L2 => "μ_l2",
         Norm::L1 => "μ_l1",
@@ -206,7 +206,7 @@ fn norms_figure(norm: Norm, arm: &ArmResult, parameter: Option<&FamilyParameter>
 
 /// Fig. 6: `M_T` at every sample for every candidate, scaled to the largest value.
 fn m_t_figure(task: &Task, arm: &ArmResult, parameter: Option<&FamilyParameter>) -> Figure {
-    let samples = task.path.samples.len();
+    let samples = task.path().samples.len();
     let mut cells = Vec::with_capacity(samples * arm.scores.len());
     for s in &arm.scores {
         for i in 0..samples {
@@ -218,7 +218,7 @@ fn m_t_figure(task: &Task, arm: &ArmResult, parameter: Option<&FamilyParameter>)
             cells.push(v.map_or(Cell::Missing, Cell::Value));
         }
     }
-    let unit = match task.rows {
+    let unit = match task.rows() {
         JacobianRows::Twist { .. } => "M_T = uᵀ J Jᵀ u (m²/rad², twist)",
         JacobianRows::Translation => "M_T = uᵀ Jv Jvᵀ u (m²/rad²)",
         JacobianRows::Rotation => "M_T = uᵀ Jω Jωᵀ u (1)",
@@ -237,7 +237,7 @@ fn m_t_figure(task: &Task, arm: &ArmResult, parameter: Option<&FamilyParameter>)
             y_label: row_label("candidate id", parameter),
             value_label: unit.into(),
             column_ticks: task
-                .path
+                .path()
                 .samples
                 .iter()
                 .map(|s| format!("{:.1}", s.time))
@@ -339,7 +339,7 @@ fn pairs_figure(
     };
     let norm = |arm: &ArmResult, i: usize| -> Option<f64> {
         arm.rankings[i].score?;
-        arm.scores[i].norms.map(|n| n.value(task.selection.norm))
+        arm.scores[i].norms.map(|n| n.value(task.selection().norm))
     };
     // Row-major: rows are the first arm's candidates, columns the second arm's.
     let mut cells = Vec::with_capacity(first.scores.len() * second.scores.len());
@@ -349,7 +349,7 @@ fn pairs_figure(
                 (Some(a), Some(b)) => {
                     let pa = first.scores[i].candidate.grasp_point();
                     let pb = second.scores[j].candidate.grasp_point();
-                    if (pa - pb).norm() < task.selection.min_separation {
+                    if (pa - pb).norm() < task.selection().min_separation {
                         Cell::Marked
                     } else {
                         Cell::Value(a + b)
@@ -373,7 +373,7 @@ fn pairs_figure(
             "Both arms: the sum of the two arms' {norm} for every pair of candidates (paper \
              Fig. 7 and 9). Light grey: one of the grasps is infeasible or rejected; dark grey \
              with a cross: the two grasps overlap (closer than {} m).",
-            task.selection.min_separation
+            task.selection().min_separation
         ),
         plot: Plot::Heatmap(Heatmap {
             title: format!("Sum of {norm}, {} × {} arm", first.arm, second.arm),
@@ -406,10 +406,10 @@ pub fn figures(
     selection: &Selection,
     parameter: Option<&FamilyParameter>,
 ) -> Vec<Figure> {
-    let parameter = parameter.filter(|p| p.values.len() == task.candidates.len());
+    let parameter = parameter.filter(|p| p.values.len() == task.candidate_count());
     let mut figures = Vec::new();
     for arm in &selection.arms {
-        figures.push(norms_figure(task.selection.norm, arm, parameter));
+        figures.push(norms_figure(task.selection().norm, arm, parameter));
         figures.push(m_t_figure(task, arm, parameter));
         figures.push(classical_figure(arm, parameter));
     }

@@ -98,7 +98,7 @@ pub fn report_html(task: &Task, selection: &Selection, figures: &[(Figure, Inlin
             caption = escape_html(&figure.caption),
         ));
     }
-    let title = format!("graspath report — {}", task.source_name);
+    let title = format!("graspath report — {}", task.source_name());
     let licence = format!(
         "/* three.js r170 — {} */",
         THREE_LICENSE

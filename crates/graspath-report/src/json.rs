@@ -220,19 +220,19 @@ pub fn pairs_json<S>(selection: &Selection<S>) -> Value {
 /// The task's `index` section as run: the rows, and the measure and penalty when the ranked
 /// index is not the paper's `M_T`.
 fn index_json(task: &Task) -> Value {
-    let mut index = match task.rows {
+    let mut index = match task.rows() {
         JacobianRows::Twist { length_scale } => {
             json!({"mode": "twist", "length_scale": length_scale})
         }
         JacobianRows::Translation => json!({"mode": "translation"}),
         JacobianRows::Rotation => json!({"mode": "rotation"}),
     };
-    if !task.ranked.is_task_relevant() {
-        index["measure"] = json!(task.ranked.measure.as_str());
-        index["joint_limit_penalty"] = json!(task.ranked.joint_limit_penalty);
+    if !task.ranked().is_task_relevant() {
+        index["measure"] = json!(task.ranked().measure.as_str());
+        index["joint_limit_penalty"] = json!(task.ranked().joint_limit_penalty);
     }
-    if task.ranked.over != NormSamples::All {
-        index["over"] = json!(task.ranked.over.as_str());
+    if task.ranked().over != NormSamples::All {
+        index["over"] = json!(task.ranked().over.as_str());
     }
     index
 }
@@ -292,7 +292,7 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
                     "mu_l1": norms.map(|n| n.l1),
                     "mu_rms": norms.map(|n| n.rms),
                     "yoshikawa_at_grasp": s.yoshikawa_at_grasp(),
-                    "tied_with": arm.tied_with(i, &task.selection),
+                    "tied_with": arm.tied_with(i, task.selection()),
                 })
             });
             let by_yoshikawa = arm
@@ -329,7 +329,7 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
         .and_then(|p| p.first().cloned())
         .map(|mut best| {
             best["tied_with"] = Value::Array(
-                tied_pairs(selection, task.selection.tie_tolerance)
+                tied_pairs(selection, task.selection().tie_tolerance)
                     .iter()
                     .map(|p| {
                         let mut m = Map::new();
@@ -342,17 +342,17 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
             best
         });
     let mut summary = json!({
-        "task": task.source_name,
-        "robot": task.robot_name,
-        "samples": task.path.samples.len(),
-        "steps": task.path.step_labels,
-        "duration_s": task.path.samples.last().map(|s| s.time),
+        "task": task.source_name(),
+        "robot": task.robot_name(),
+        "samples": task.path().samples.len(),
+        "steps": task.path().step_labels,
+        "duration_s": task.path().samples.last().map(|s| s.time),
         "index": index_json(task),
-        "norm": task.selection.norm.as_str(),
-        "mu0": task.selection.mu0,
+        "norm": task.selection().norm.as_str(),
+        "mu0": task.selection().mu0,
         "arms": arms,
         "best_pair": best_pair,
-        "tie_tolerance": task.selection.tie_tolerance,
+        "tie_tolerance": task.selection().tie_tolerance,
         "nothing_selected": nothing_selected(selection),
     });
     if world && selection.arms.len() == 2 {
@@ -360,9 +360,9 @@ pub fn summary_json<S: Scored>(task: &Task, selection: &Selection<S>) -> Value {
     }
     // Values that are probably mistakes (only when there are some: files of tasks without
     // any keep their bytes).
-    if !task.warnings.is_empty() {
+    if !task.warnings().is_empty() {
         summary["warnings"] = json!(task
-            .warnings
+            .warnings()
             .iter()
             .map(|w| json!({"field": w.field, "message": w.message}))
             .collect::<Vec<_>>());

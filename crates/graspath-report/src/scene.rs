@@ -129,7 +129,7 @@ fn motion(
 /// difference, backward at the last sample), `null` where the wrist origin does not move.
 fn wrist_tangents(task: &Task, object_from_wrist: &Isometry3<f64>) -> Vec<Value> {
     let positions: Vec<Vector3<f64>> = task
-        .path
+        .path()
         .poses()
         .map(|world_from_object| (world_from_object * object_from_wrist).translation.vector)
         .collect();
@@ -315,7 +315,7 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
                 "status": status,
                 "motion": motion,
             });
-            if task.timing.is_some() {
+            if task.timing().is_some() {
                 result["duration"] = json!(s.durations.map(|d| d.total()));
             }
             if world {
@@ -356,31 +356,33 @@ fn arm_json(task: &Task, setup: &ArmSetup, arm: &ArmResult) -> Value {
 /// The 3D view's data (see the module documentation for frames and units).
 pub fn scene_json(task: &Task, selection: &Selection) -> Value {
     let arms: Vec<Value> = task
-        .arms
+        .arms()
         .iter()
         .zip(&selection.arms)
         .map(|(setup, arm)| arm_json(task, setup, arm))
         .collect();
-    let candidates: Vec<Value> = task
-        .candidates
+    // Every arm scores every candidate, in candidate order.
+    let scored = &selection.arms[0].scores;
+    let candidates: Vec<Value> = scored
         .iter()
+        .map(|s| &s.candidate)
         .map(|c| json!({"id": c.id, "label": c.label, "wrist": pose(&c.object_from_wrist)}))
         .collect();
     let mut view = json!({
-        "task": task.source_name,
-        "robot": task.robot_name,
-        "norm": task.selection.norm.as_str(),
-        "times": task.path.samples.iter().map(|s| round6(s.time)).collect::<Vec<_>>(),
-        "steps": task.path.step_labels,
-        "sample_step": task.path.samples.iter().map(|s| s.step).collect::<Vec<_>>(),
+        "task": task.source_name(),
+        "robot": task.robot_name(),
+        "norm": task.selection().norm.as_str(),
+        "times": task.path().samples.iter().map(|s| round6(s.time)).collect::<Vec<_>>(),
+        "steps": task.path().step_labels,
+        "sample_step": task.path().samples.iter().map(|s| s.step).collect::<Vec<_>>(),
         "object": {
-            "shape": task.shape.as_ref().map(shape_json),
-            "poses": task.path.poses().map(pose).collect::<Vec<_>>(),
+            "shape": task.shape().map(shape_json),
+            "poses": task.path().poses().map(pose).collect::<Vec<_>>(),
         },
         "candidates": candidates,
         "arms": arms,
         "pair": selection.pairs.first().map(|p| {
-            let index = |c: &Arc<Candidate>| task.candidates.iter().position(|t| Arc::ptr_eq(t, c));
+            let index = |c: &Arc<Candidate>| scored.iter().position(|s| Arc::ptr_eq(&s.candidate, c));
             json!([index(&p.first), index(&p.second)])
         }),
     });
@@ -388,7 +390,7 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
     let pair_times = selection.pairs.first().and_then(|p| {
         let members: Option<Vec<_>> = [&p.first, &p.second]
             .into_iter()
-            .zip(task.arms.iter().zip(&selection.arms))
+            .zip(task.arms().iter().zip(&selection.arms))
             .map(|(c, (setup, arm))| {
                 let score = arm.scores.iter().find(|s| Arc::ptr_eq(&s.candidate, c))?;
                 Some((setup, score))
@@ -402,9 +404,9 @@ pub fn scene_json(task: &Task, selection: &Selection) -> Value {
     if has_world(task) {
         view["world"] = json!({
             "bodies": scene_bodies(task),
-            "approach_samples": task.approach.map_or(0, |s| s.samples),
-            "retreat_samples": task.retreat.map_or(0, |s| s.samples),
-            "margin": task.collisions.as_ref().map(|c| c.options.margin),
+            "approach_samples": task.approach().map_or(0, |s| s.samples),
+            "retreat_samples": task.retreat().map_or(0, |s| s.samples),
+            "margin": task.collisions().map(|c| c.options.margin),
         });
     }
     view

@@ -69,9 +69,11 @@ fn fitted_points(task: &Task, selection: &Selection) -> Vec<Point3<f64>> {
         Some(pair) => [&pair.first, &pair.second]
             .iter()
             .map(|c| {
-                task.candidates
+                // Every arm scores every candidate, in candidate order.
+                selection.arms[0]
+                    .scores
                     .iter()
-                    .position(|t| std::sync::Arc::ptr_eq(t, c))
+                    .position(|s| std::sync::Arc::ptr_eq(&s.candidate, c))
             })
             .collect(),
         None => selection
@@ -80,7 +82,7 @@ fn fitted_points(task: &Task, selection: &Selection) -> Vec<Point3<f64>> {
             .map(graspath::select::ArmResult::best)
             .collect(),
     };
-    for (k, setup) in task.arms.iter().enumerate() {
+    for (k, setup) in task.arms().iter().enumerate() {
         let world_from_base = setup.world_from_base;
         points.push(Point3::from(world_from_base.translation.vector));
         let chain = &setup.chain;
@@ -94,8 +96,8 @@ fn fitted_points(task: &Task, selection: &Selection) -> Vec<Point3<f64>> {
             }
         }
     }
-    for world_from_object in task.path.poses() {
-        match &task.shape {
+    for world_from_object in task.path().poses() {
+        match task.shape() {
             Some(shape) => {
                 let b = shape.aabb_at(world_from_object);
                 points.push(b.min);
@@ -164,22 +166,22 @@ pub fn stage(task: &Task, selection: &Selection) -> Stage {
     let target = nalgebra::center(&min, &max);
     let distance = fitted_distance(&min, &max, &target);
     let bases: Vec<Point3<f64>> = task
-        .arms
+        .arms()
         .iter()
         .map(|a| Point3::from(a.world_from_base.translation.vector))
         .collect();
     let scene_table = task
-        .collisions
+        .collisions()
         .as_ref()
         .and_then(|c| c.scene.table())
         .map(|t| t.height);
     let start = task
-        .path
+        .path()
         .poses()
         .next()
         .copied()
         .unwrap_or_else(Isometry3::identity);
-    let object_bottom = match &task.shape {
+    let object_bottom = match task.shape() {
         Some(shape) => shape.aabb_at(&start).min.z,
         None => start.translation.vector.z,
     };
@@ -221,8 +223,8 @@ pub fn stage(task: &Task, selection: &Selection) -> Stage {
 
 fn path_xy_bounds(task: &Task) -> ([f64; 2], [f64; 2]) {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for world_from_object in task.path.poses() {
-        let b = match &task.shape {
+    for world_from_object in task.path().poses() {
+        let b = match task.shape() {
             Some(shape) => shape.aabb_at(world_from_object),
             None => {
                 let p = Point3::from(world_from_object.translation.vector);

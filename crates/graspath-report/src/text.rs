@@ -26,8 +26,8 @@ pub fn best_sentence<S: Scored>(task: &Task, arm: &ArmResult<S>) -> Option<Strin
     let best = arm.best()?;
     let s = &arm.scores[best];
     let label = s.candidate().map_or("", |c| c.label.as_str());
-    let tied = arm.tied_with(best, &task.selection);
-    let within = percent(task.selection.tie_tolerance);
+    let tied = arm.tied_with(best, task.selection());
+    let within = percent(task.selection().tie_tolerance);
     let ties = if tied.is_empty() {
         format!("no other within {within}")
     } else {
@@ -50,8 +50,8 @@ pub fn best_sentence<S: Scored>(task: &Task, arm: &ArmResult<S>) -> Option<Strin
 pub fn best_pair_sentence<S>(task: &Task, selection: &Selection<S>) -> Option<String> {
     let best = selection.pairs.first()?;
     let (a, b) = (&selection.arms[0].arm, &selection.arms[1].arm);
-    let tied = tied_pairs(selection, task.selection.tie_tolerance);
-    let within = percent(task.selection.tie_tolerance);
+    let tied = tied_pairs(selection, task.selection().tie_tolerance);
+    let within = percent(task.selection().tie_tolerance);
     let ties = if tied.is_empty() {
         format!("no other kept pair within {within}")
     } else {

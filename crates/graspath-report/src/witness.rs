@@ -58,10 +58,10 @@ fn object_at(
     between: bool,
     q: &[f64],
 ) -> Option<Isometry3<f64>> {
-    let a = task.approach.map_or(0, |s| s.samples);
-    let n = task.path.samples.len();
-    let first = *task.path.poses().next()?;
-    let last = *task.path.poses().last()?;
+    let a = task.approach().map_or(0, |s| s.samples);
+    let n = task.path().samples.len();
+    let first = *task.path().poses().next()?;
+    let last = *task.path().poses().last()?;
     if i < a {
         Some(first)
     } else if i + 1 < a + n || (i + 1 == a + n && !between) {
@@ -93,7 +93,7 @@ fn placed<'a>(
             }
         }
     }
-    if let Some(collisions) = &task.collisions {
+    if let Some(collisions) = task.collisions() {
         for (body, world_from_body) in collisions.scene.bodies() {
             if body.name() == name {
                 out.push((body, *world_from_body));
@@ -101,7 +101,7 @@ fn placed<'a>(
         }
     }
     if name == "object" {
-        if let Some(body) = task.object_body.as_deref() {
+        if let Some(body) = task.object_body().map(|b| &**b) {
             out.push((body, *world_from_object));
         }
     }
@@ -142,7 +142,7 @@ pub(crate) fn first_collision(
         return None;
     }
     let expected = failure.bodies.as_ref()?;
-    let collisions = task.collisions.as_ref()?;
+    let collisions = task.collisions()?;
     let bodies = setup.bodies.as_deref()?;
     let object_from_wrist = &score.candidate.object_from_wrist;
     let base_from_world = setup.world_from_base.inverse();
@@ -153,10 +153,10 @@ pub(crate) fn first_collision(
         .map(|p| base_from_world * p)
         .collect();
     let q_start = setup.chain.mid_configuration();
-    let a = task.approach.map_or(0, |s| s.samples);
-    let n = task.path.samples.len();
-    let first = *task.path.poses().next()?;
-    let last = *task.path.poses().last()?;
+    let a = task.approach().map_or(0, |s| s.samples);
+    let n = task.path().samples.len();
+    let first = *task.path().poses().next()?;
+    let last = *task.path().poses().last()?;
     let object = ObjectAlong {
         path: a..a + n,
         world_from_object_start: &first,
@@ -167,7 +167,7 @@ pub(crate) fn first_collision(
         arm: bodies,
         world_from_base: &setup.world_from_base,
         scene: &collisions.scene,
-        object: task.object_body.as_deref(),
+        object: task.object_body().map(|b| &**b),
         options: &collisions.options,
     };
     // The hand and what rides with it are checked at the commanded tool poses first; a hit
@@ -179,13 +179,18 @@ pub(crate) fn first_collision(
     // The configuration at the hit's sample and, for a hit between samples, at the next one.
     let (hit, at_hit, after_hit) = match tool_hit {
         Some(hit) => {
-            let q = solve_ik(&setup.ik_chain, &targets[hit.sample], &q_start, &task.ik.ik)
-                .ok()?
-                .q?;
+            let q = solve_ik(
+                &setup.ik_chain,
+                &targets[hit.sample],
+                &q_start,
+                &task.ik().ik,
+            )
+            .ok()?
+            .q?;
             (hit, q, None)
         }
         None => {
-            let result = solve_trajectory(&setup.ik_chain, &targets, &q_start, &task.ik).ok()?;
+            let result = solve_trajectory(&setup.ik_chain, &targets, &q_start, task.ik()).ok()?;
             let branch = result.branches.into_iter().next()?;
             let hit = checker
                 .check(&WholeMotion {

@@ -161,15 +161,15 @@ pub(crate) fn body_geometry(body: &Body) -> Value {
 /// then does the view carry the world's data, so the report of a task that says nothing about
 /// its world is the same as before scenes existed.
 pub(crate) fn has_world(task: &Task) -> bool {
-    task.collisions.is_some()
-        || task.approach.is_some()
-        || task.retreat.is_some()
-        || task.gripper.is_some()
+    task.collisions().is_some()
+        || task.approach().is_some()
+        || task.retreat().is_some()
+        || task.gripper().is_some()
 }
 
 /// The scene's bodies (the table first, then the obstacles), world frame.
 pub(crate) fn scene_bodies(task: &Task) -> Vec<Value> {
-    let Some(collisions) = &task.collisions else {
+    let Some(collisions) = task.collisions() else {
         return Vec::new();
     };
     collisions

@@ -23,7 +23,8 @@ fn load(name: &str) -> (Task, Option<FamilyParameter>) {
     let path = example(name);
     let file = TaskFile::load(&path).unwrap();
     let task = Task::from_file(&file, name, path.parent().unwrap()).unwrap();
-    let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+    let parameter =
+        FamilyParameter::from_task_file(&file, task.candidates().held().expect("held candidates"));
     (task, parameter)
 }
 
@@ -98,13 +99,15 @@ fn check_axes(plot: &LinePlot, (lo, hi): (f64, f64), (x_lo, x_hi): (f64, f64)) {
 fn edge_family_charts_are_over_the_contact_position_with_ids_above() {
     let (task, parameter) = load("pick_and_place_left.yaml");
     let parameter = parameter.expect("the edge family has a parameter");
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let figures = figures(&task, &selection, Some(&parameter));
     let arm: &ArmResult = &selection.arms[0];
     // Oracle for x: the wrist's y in the object frame (the edge family's grasps differ only in
     // where along the edge they hold), sorted.
     let y_of = |id: usize| {
-        task.candidates
+        task.candidates()
+            .held()
+            .expect("held candidates")
             .iter()
             .find(|c| c.id == id)
             .unwrap()
@@ -113,7 +116,9 @@ fn edge_family_charts_are_over_the_contact_position_with_ids_above() {
             .y
     };
     let mut xs: Vec<f64> = task
-        .candidates
+        .candidates()
+        .held()
+        .expect("held candidates")
         .iter()
         .map(|c| c.object_from_wrist.translation.y)
         .collect();
@@ -155,7 +160,7 @@ fn edge_family_charts_are_over_the_contact_position_with_ids_above() {
 fn yaw_family_charts_are_over_the_yaw_in_degrees() {
     let (task, parameter) = load("t_shape_rotate.yaml");
     let parameter = parameter.expect("the yaw family has a parameter");
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let figures = figures(&task, &selection, Some(&parameter));
     let plot = line_plot(&figures[0].plot);
     assert_eq!(plot.x_label, "yaw (deg)");
@@ -164,7 +169,9 @@ fn yaw_family_charts_are_over_the_yaw_in_degrees() {
     let ids = &plot.secondary.as_ref().unwrap().labels;
     for (x, id) in plot.x.iter().zip(ids) {
         let c = task
-            .candidates
+            .candidates()
+            .held()
+            .expect("held candidates")
             .iter()
             .find(|c| c.id.to_string() == *id)
             .unwrap();
@@ -182,12 +189,18 @@ fn yaw_family_charts_are_over_the_yaw_in_degrees() {
 #[test]
 fn without_a_parameter_the_x_axis_is_the_candidate_id() {
     let (task, _) = load("pick_and_place_left.yaml");
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let figures = figures(&task, &selection, None);
     let plot = line_plot(&figures[0].plot);
     assert_eq!(plot.x_label, "candidate id");
     assert!(plot.secondary.is_none());
-    let mut ids: Vec<f64> = task.candidates.iter().map(|c| c.id as f64).collect();
+    let mut ids: Vec<f64> = task
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .iter()
+        .map(|c| c.id as f64)
+        .collect();
     ids.sort_by(f64::total_cmp);
     assert_eq!(plot.x, ids);
 }
@@ -390,7 +403,7 @@ fn every_character_of_the_figures_has_a_glyph_in_the_png_font() {
         ("t_shape_rotate.yaml", ()),
     ] {
         let (task, parameter) = load(name);
-        let selection = select(&task, &|| {});
+        let selection = select(&task, &|| {}).unwrap();
         for figure in figures(&task, &selection, parameter.as_ref()) {
             match &figure.plot {
                 Plot::Line(p) => {

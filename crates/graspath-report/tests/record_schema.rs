@@ -126,7 +126,7 @@ fn all_json_names(output: u8) -> BTreeSet<String> {
 #[test]
 fn json_records_carry_exactly_the_schema_columns() {
     let task = task();
-    let selection = graspath::select::select(&task, &|| {});
+    let selection = graspath::select::select(&task, &|| {}).unwrap();
     let mut bytes = Vec::new();
     write_candidates_json(&mut bytes, &selection, Trajectories::All).unwrap();
     let records: Vec<Map<String, Value>> = serde_json::from_slice(&bytes).unwrap();

@@ -86,7 +86,7 @@ fn artifacts_dir() -> PathBuf {
 
 /// Writes the report of `task` into `dir` and returns the page's self-test result.
 fn self_test(browser: &Path, task: &Task, dir: &Path) -> String {
-    let selection = select(task, &|| {});
+    let selection = select(task, &|| {}).unwrap();
     let files = render_report(task, &selection, None).unwrap();
     write_files(dir, &files, Existing::Refuse).unwrap();
     let page = dir.join("report.html");

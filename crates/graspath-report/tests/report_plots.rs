@@ -171,7 +171,7 @@ fn example(name: &str) -> PathBuf {
 #[test]
 fn figures_of_a_selection_carry_its_values() {
     let task = Task::load(&example("pick_and_place_left.yaml")).unwrap();
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let figures = figures(&task, &selection, None);
     let names: Vec<&str> = figures.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(
@@ -201,13 +201,16 @@ fn figures_of_a_selection_carry_its_values() {
         }
     }
     let best = arm.best().unwrap();
-    assert_eq!(norms.marks[0].0, task.candidates[best].id as f64);
+    assert_eq!(
+        norms.marks[0].0,
+        task.candidates().held().expect("held candidates")[best].id as f64
+    );
     // Fig. 6: one row per candidate, one column per sample, M_T where feasible.
     let Plot::Heatmap(m_t) = &figures[1].plot else {
         panic!("M_T is a heatmap")
     };
-    assert_eq!(m_t.rows(), task.candidates.len());
-    assert_eq!(m_t.columns(), task.path.samples.len());
+    assert_eq!(m_t.rows(), task.candidate_count());
+    assert_eq!(m_t.columns(), task.path().samples.len());
     for (r, s) in arm.scores.iter().enumerate() {
         for c in 0..m_t.columns() {
             let expected = match (s.feasible(), s.m_t.get(c).copied().flatten()) {
@@ -226,7 +229,7 @@ fn figures_of_a_selection_carry_its_values() {
 #[test]
 fn the_pair_heatmap_sums_eligible_norms_and_marks_overlaps() {
     let task = Task::load(&example("pick_and_place_both.yaml")).unwrap();
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let figures = figures(&task, &selection, None);
     let pairs = figures.iter().find(|f| f.name == "pairs-heatmap").unwrap();
     let Plot::Heatmap(h) = &pairs.plot else {
@@ -237,7 +240,9 @@ fn the_pair_heatmap_sums_eligible_norms_and_marks_overlaps() {
     // Oracle: every listed best pair is a valued cell holding its score, and the best pair's
     // cell is the largest value.
     let row = |c: &std::sync::Arc<graspath::grasp::Candidate>| {
-        task.candidates
+        task.candidates()
+            .held()
+            .expect("held candidates")
             .iter()
             .position(|t| std::sync::Arc::ptr_eq(t, c))
             .expect("a pair's candidates are the task's")

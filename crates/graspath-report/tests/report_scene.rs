@@ -102,7 +102,7 @@ fn body<'a>(view: &'a Value, name: &str) -> &'a Value {
 fn the_view_carries_the_table_and_every_obstacle_as_the_task_file_gives_them() {
     let dir = tempfile::tempdir().unwrap();
     let task = load(dir.path(), SCENE_TASK);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let view = scene_json(&task, &selection);
     let bodies = view["world"]["bodies"].as_array().unwrap();
     assert_eq!(bodies.len(), 7, "the table and six obstacles");
@@ -226,7 +226,7 @@ fn an_infinite_table_is_a_half_space_at_its_height() {
         )
         .replace("edge: { count: 11 }", "edge: { count: 2 }");
     let task = load(dir.path(), &yaml);
-    let view = scene_json(&task, &select(&task, &|| {}));
+    let view = scene_json(&task, &select(&task, &|| {}).unwrap());
     let table = body(&view, "table");
     assert_eq!(table["geometry"]["type"], "half_space");
     assert_eq!(f(&table["geometry"]["height"]), -0.15);
@@ -237,9 +237,9 @@ fn an_infinite_table_is_a_half_space_at_its_height() {
 fn the_arm_shapes_ride_on_the_link_frames_of_the_whole_motion() {
     let dir = tempfile::tempdir().unwrap();
     let task = load(dir.path(), SCENE_TASK);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let view = scene_json(&task, &selection);
-    let setup = &task.arms[0];
+    let setup = &task.arms()[0];
     let chain = &setup.chain;
     let arm = &view["arms"][0];
     let names: Vec<String> = arm["bodies"]["links"]
@@ -333,7 +333,7 @@ fn named_bodies(
     q: &[f64],
     world_from_object: &Isometry3<f64>,
 ) -> Vec<(Body, Isometry3<f64>)> {
-    let setup = &task.arms[0];
+    let setup = &task.arms()[0];
     let chain = &setup.chain;
     let frames = chain.link_frames(q).unwrap();
     let placed =
@@ -360,14 +360,14 @@ fn named_bodies(
             ));
         }
     }
-    for (body, world_from_body) in task.collisions.as_ref().unwrap().scene.bodies() {
+    for (body, world_from_body) in task.collisions().unwrap().scene.bodies() {
         if body.name() == name {
             out.push((body.clone(), *world_from_body));
         }
     }
     if name == "object" {
         out.push((
-            Body::from_shape("object", task.shape.as_ref().unwrap()),
+            Body::from_shape("object", task.shape().unwrap()),
             *world_from_object,
         ));
     }
@@ -378,10 +378,10 @@ fn named_bodies(
 fn a_colliding_candidate_is_shown_where_its_two_bodies_collide() {
     let dir = tempfile::tempdir().unwrap();
     let task = load(dir.path(), SCENE_TASK);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let view = scene_json(&task, &selection);
     let records = candidates_json(&selection);
-    let margin = task.collisions.as_ref().unwrap().options.margin;
+    let margin = task.collisions().unwrap().options.margin;
     let mut shown = 0;
     for (result, record) in view["arms"][0]["results"]
         .as_array()
@@ -439,7 +439,7 @@ fn a_colliding_candidate_is_shown_where_its_two_bodies_collide() {
 }
 
 fn setup_origins(task: &Task, q: &[f64]) -> Vec<Vector3<f64>> {
-    let setup = &task.arms[0];
+    let setup = &task.arms()[0];
     setup
         .chain
         .joint_origins(q)
@@ -453,7 +453,7 @@ fn setup_origins(task: &Task, q: &[f64]) -> Vec<Vector3<f64>> {
 fn the_summary_counts_failures_per_reason() {
     let dir = tempfile::tempdir().unwrap();
     let task = load(dir.path(), SCENE_TASK);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let summary = summary_json(&task, &selection);
     let mut counted: BTreeMap<String, u64> = BTreeMap::new();
     let mut feasible = 0;
@@ -481,7 +481,7 @@ fn two_arms_in_a_scene_report_the_refused_pairs() {
         .replace("arms: left", "arms: [left, right]")
         .replace("edge: { count: 11 }", "edge: { count: 5 }");
     let task = load(dir.path(), &yaml);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let summary = summary_json(&task, &selection);
     assert_eq!(summary["colliding_pairs"], selection.colliding_pairs);
     for arm in summary["arms"].as_array().unwrap() {
@@ -502,11 +502,11 @@ fn two_arms_in_a_scene_report_the_refused_pairs() {
 fn the_report_of_a_scene_is_deterministic() {
     let dir = tempfile::tempdir().unwrap();
     let task = load(dir.path(), SCENE_TASK);
-    let a = render_report(&task, &select(&task, &|| {}), None).unwrap();
-    let b = render_report(&task, &select(&task, &|| {}), None).unwrap();
+    let a = render_report(&task, &select(&task, &|| {}).unwrap(), None).unwrap();
+    let b = render_report(&task, &select(&task, &|| {}).unwrap(), None).unwrap();
     assert_eq!(a, b);
-    let c = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}))).unwrap();
-    let d = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}))).unwrap();
+    let c = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}).unwrap())).unwrap();
+    let d = serde_json::to_vec(&scene_json(&task, &select(&task, &|| {}).unwrap())).unwrap();
     assert_eq!(c, d);
 }
 
@@ -522,7 +522,7 @@ fn candidates_json_bytes_are_the_sorted_document_with_every_field() {
         "{SCENE_TASK}index: {{ joint_limit_penalty: true }}\nik: {{ redundancy: optimize }}\n"
     );
     let task = load(dir.path(), &yaml);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let document = candidates_json(&selection);
     let records = document.as_array().unwrap();
     for field in [

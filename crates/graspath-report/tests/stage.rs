@@ -20,14 +20,18 @@ fn example(name: &str) -> PathBuf {
 /// the tip at rest and along the shown (best pair's, else best) trajectory; the object box's
 /// eight corners at every path pose.
 fn oracle_box(task: &Task) -> (Point3<f64>, Point3<f64>) {
-    let selection = select(task, &|| {});
+    let selection = select(task, &|| {}).unwrap();
     let mut points: Vec<Point3<f64>> = Vec::new();
-    for (k, setup) in task.arms.iter().enumerate() {
+    for (k, setup) in task.arms().iter().enumerate() {
         let arm = &selection.arms[k];
         let shown = match selection.pairs.first() {
             Some(p) => {
                 let c = if k == 0 { &p.first } else { &p.second };
-                task.candidates.iter().position(|t| Arc::ptr_eq(t, c))
+                task.candidates()
+                    .held()
+                    .expect("held candidates")
+                    .iter()
+                    .position(|t| Arc::ptr_eq(t, c))
             }
             None => arm.best(),
         };
@@ -45,11 +49,11 @@ fn oracle_box(task: &Task) -> (Point3<f64>, Point3<f64>) {
             points.push(setup.world_from_base * Point3::from(tip.translation.vector));
         }
     }
-    let graspath::geometry::shape::Shape::Box(cuboid) = task.shape.as_ref().unwrap() else {
+    let graspath::geometry::shape::Shape::Box(cuboid) = task.shape().unwrap() else {
         panic!("a box object")
     };
     let h = Vector3::from(cuboid.size()) / 2.0;
-    for world_from_object in task.path.poses() {
+    for world_from_object in task.path().poses() {
         for m in 0..8 {
             let corner = Point3::new(
                 if m & 1 == 0 { -h.x } else { h.x },
@@ -72,7 +76,7 @@ fn oracle_box(task: &Task) -> (Point3<f64>, Point3<f64>) {
 fn the_camera_is_fitted_to_the_robot_and_the_object_path() {
     for name in ["pick_and_place_both.yaml", "pick_and_place_left.yaml"] {
         let task = Task::load(&example(name)).unwrap();
-        let selection = select(&task, &|| {});
+        let selection = select(&task, &|| {}).unwrap();
         let s = stage(&task, &selection);
         let (min, max) = oracle_box(&task);
         assert!(
@@ -123,6 +127,6 @@ fn the_camera_is_fitted_to_the_robot_and_the_object_path() {
         assert_eq!(s.torso.top, top);
         assert!(s.torso.bottom <= s.torso.top);
         // No scene: a table is drawn under the object's start.
-        assert!(task.collisions.is_none() && s.table.is_some());
+        assert!(task.collisions().is_none() && s.table.is_some());
     }
 }

@@ -52,7 +52,10 @@ fn a_task_built_in_code_equals_its_task_file_byte_for_byte() {
     let path = example("pick_and_place_both.yaml");
     let from_file = Task::load(&path).unwrap();
     let in_code = pick_and_place_in_code(&path.display().to_string());
-    let (a, b) = (select(&from_file, &|| {}), select(&in_code, &|| {}));
+    let (a, b) = (
+        select(&from_file, &|| {}).unwrap(),
+        select(&in_code, &|| {}).unwrap(),
+    );
     let bytes = |v: serde_json::Value| serde_json::to_vec_pretty(&v).unwrap();
     assert_eq!(
         bytes(candidates_json(&a)),
@@ -95,10 +98,10 @@ trajectory: { steps: [ { lift: 0.2 } ] }
         )
         .build()
         .unwrap();
-    assert_eq!(from_file.ik, in_code.ik);
-    assert_eq!(from_file.selection, in_code.selection);
-    assert_eq!(from_file.rows, in_code.rows);
-    assert_eq!(from_file.limits, in_code.limits);
-    assert_eq!(from_file.redundancy, in_code.redundancy);
-    assert_eq!(from_file.path, in_code.path);
+    assert_eq!(from_file.ik(), in_code.ik());
+    assert_eq!(from_file.selection(), in_code.selection());
+    assert_eq!(from_file.rows(), in_code.rows());
+    assert_eq!(from_file.limits(), in_code.limits());
+    assert_eq!(from_file.redundancy(), in_code.redundancy());
+    assert_eq!(from_file.path(), in_code.path());
 }

@@ -39,7 +39,7 @@ fn a_duplicated_candidate_is_tied_with_its_copy() {
         )
         .build()
         .unwrap();
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let arm = &selection.arms[0];
     let best = arm.best().expect("a feasible grasp");
     let best_id = arm.scores[best].candidate.id;

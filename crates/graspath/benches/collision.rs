@@ -100,14 +100,14 @@ fn kernel(c: &mut Criterion) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples/workload_1000_faces_scene.yaml");
     let task = Task::load(&path).expect("the scene workload loads");
-    let arm = &task.arms[0];
+    let arm = &task.arms()[0];
     let bodies = arm.bodies.as_ref().expect("the workload checks collisions");
     let scene = &task
-        .collisions
+        .collisions()
         .as_ref()
         .expect("the workload has a scene")
         .scene;
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let mut configurations = Vec::new();
     for score in selection.arms[0].scores.iter().filter(|s| s.feasible()) {
         let whole = score

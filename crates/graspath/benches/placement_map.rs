@@ -22,7 +22,9 @@ fn map_10x10(c: &mut Criterion) {
         .clone()
         .build()
         .expect("the example builds")
-        .candidates;
+        .all_candidates()
+        .expect("held candidates")
+        .into_owned();
     let parameter = FamilyParameter::from_task_file(&file, &candidates);
     let grid = PlacementGrid {
         x: GridAxis::new(0.55, 0.95, 10, "--x").unwrap(),

@@ -9,7 +9,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use graspath::select::select;
-use graspath::task::{Redundancy, Task};
+use graspath::spelling::Spelled;
+use graspath::task::{Redundancy, Task, TaskFile};
 use std::collections::BTreeMap;
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -19,7 +20,7 @@ fn load(name: &str) -> Task {
         .join("../../examples")
         .join(name);
     let task = Task::load(&path).expect("the workload task loads");
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let arm = &selection.arms[0];
     // What the workload does: how many candidates are feasible and why the others are not.
     let mut why: BTreeMap<String, usize> = BTreeMap::new();
@@ -38,7 +39,7 @@ fn load(name: &str) -> Task {
     }
     eprintln!(
         "{name}: {} candidates, {} feasible",
-        task.candidates.len(),
+        task.candidate_count(),
         arm.feasible_count()
     );
     for (what, count) in why {
@@ -51,9 +52,16 @@ fn workload(c: &mut Criterion) {
     let free = load("workload_1000_faces.yaml");
     let scene = load("workload_1000_faces_scene.yaml");
     let with_redundancy = |redundancy: Redundancy| {
-        let mut task = free.clone();
-        task.redundancy = redundancy;
-        task
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/workload_1000_faces.yaml");
+        let mut file = TaskFile::load(&path).expect("the workload task loads");
+        file.ik.redundancy = Some(redundancy.as_str().into());
+        Task::from_file(
+            &file,
+            "workload_1000_faces.yaml",
+            path.parent().expect("a folder"),
+        )
+        .expect("the workload task builds")
     };
     let (first, optimize) = (
         with_redundancy(Redundancy::First),
@@ -62,16 +70,16 @@ fn workload(c: &mut Criterion) {
     let mut group = c.benchmark_group("select");
     group.sample_size(10);
     group.bench_function("workload_1000_faces_left_arm", |b| {
-        b.iter(|| black_box(select(black_box(&free), &|| {})));
+        b.iter(|| black_box(select(black_box(&free), &|| {}).unwrap()));
     });
     group.bench_function("workload_1000_faces_scene_left_arm", |b| {
-        b.iter(|| black_box(select(black_box(&scene), &|| {})));
+        b.iter(|| black_box(select(black_box(&scene), &|| {}).unwrap()));
     });
     group.bench_function("workload_1000_faces_redundancy_first", |b| {
-        b.iter(|| black_box(select(black_box(&first), &|| {})));
+        b.iter(|| black_box(select(black_box(&first), &|| {}).unwrap()));
     });
     group.bench_function("workload_1000_faces_redundancy_optimize", |b| {
-        b.iter(|| black_box(select(black_box(&optimize), &|| {})));
+        b.iter(|| black_box(select(black_box(&optimize), &|| {}).unwrap()));
     });
     group.finish();
 }

@@ -24,18 +24,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let task = Task::load(Path::new(task_path))?;
     let arm = match args.get(2) {
         Some(name) => task
-            .arms
+            .arms()
             .iter()
             .find(|a| &a.name == name)
             .ok_or_else(|| format!("the task has no arm '{name}'"))?,
-        None => &task.arms[0],
+        None => &task.arms()[0],
     };
-    let samples = task.path.samples.len();
+    let samples = task.path().samples.len();
     let mut file = BufWriter::new(std::fs::File::create(out)?);
-    write_npy_header(&mut file, &[task.candidates.len(), samples, 4, 4])?;
-    for candidate in &task.candidates {
+    write_npy_header(&mut file, &[task.candidate_count(), samples, 4, 4])?;
+    for candidate in task.candidates().held().expect("held candidates") {
         let wrists = wrist_trajectory(
-            &task.path,
+            task.path(),
             &arm.world_from_base,
             &candidate.object_from_wrist,
         );
@@ -51,7 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     file.flush()?;
     eprintln!(
         "{out}: {} candidates x {samples} samples, arm {}",
-        task.candidates.len(),
+        task.candidate_count(),
         arm.name
     );
     Ok(())

@@ -32,14 +32,14 @@ fn main() -> graspath::Result<()> {
         .object_motion(world_from_object, steps, Sampling::PerStep(10))
         .build()?;
 
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {})?;
     let arm = &selection.arms[0];
     println!(
         "{}: {} of {} candidates feasible along {} samples",
-        task.source_name,
+        task.source_name(),
         arm.feasible_count(),
         arm.scores.len(),
-        task.path.samples.len()
+        task.path().samples.len()
     );
     let mut ranked: Vec<_> = arm
         .scores

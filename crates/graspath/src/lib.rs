@@ -63,7 +63,7 @@
 //!     .object_motion(Isometry3::translation(0.75, 0.0, -0.1), vec![lift], Sampling::PerStep(5))
 //!     .build()
 //!     .unwrap();
-//! let selection = select(&task, &|| {});
+//! let selection = select(&task, &|| {}).unwrap();
 //! let best = selection.arms[0].best().expect("a feasible grasp");
 //! println!("grasp {}", selection.arms[0].scores[best].candidate.label);
 //! ```

@@ -386,10 +386,14 @@ fn task_files_name_single_arm_builtin_robots() {
         let path = dir.path().join(format!("{robot}.yaml"));
         std::fs::write(&path, text).unwrap();
         let task = graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{robot}: {e}"));
-        assert_eq!(task.robot_name, robot);
-        assert_eq!(task.arms.len(), 1);
-        assert_eq!(task.arms[0].name, ARM_CHAIN);
-        assert_eq!(task.arms[0].bodies.is_some(), !scene.is_empty(), "{robot}");
+        assert_eq!(task.robot_name(), robot);
+        assert_eq!(task.arms().len(), 1);
+        assert_eq!(task.arms()[0].name, ARM_CHAIN);
+        assert_eq!(
+            task.arms()[0].bodies.is_some(),
+            !scene.is_empty(),
+            "{robot}"
+        );
     }
 }
 

@@ -39,8 +39,8 @@ timing: false
 
 /// Oracle: `M_D` at each path sample of `score`'s chosen motion, from explicit matrices.
 fn recomputed(task: &Task, score: &CandidateScore) -> Vec<Option<f64>> {
-    let payload = task.payload;
-    let arm = &task.arms[0];
+    let payload = task.payload();
+    let arm = &task.arms()[0];
     let chain = &arm.chain;
     let gravity = arm.world_from_base.inverse().rotation * Vector3::new(0.0, 0.0, -9.81);
     let dynamics = chain.dynamics().unwrap().with_gravity(gravity).unwrap();
@@ -48,9 +48,9 @@ fn recomputed(task: &Task, score: &CandidateScore) -> Vec<Option<f64>> {
     let object_from_wrist = score.candidate.object_from_wrist;
     data.set_payload(payload.map(|p| p.transformed(&object_from_wrist.inverse())))
         .unwrap();
-    let wrists = wrist_trajectory(&task.path, &arm.world_from_base, &object_from_wrist);
+    let wrists = wrist_trajectory(task.path(), &arm.world_from_base, &object_from_wrist);
     let dof = chain.dof();
-    let length_scale = match task.rows {
+    let length_scale = match task.rows() {
         JacobianRows::Twist { length_scale } => length_scale,
         _ => 1.0,
     };
@@ -63,7 +63,7 @@ fn recomputed(task: &Task, score: &CandidateScore) -> Vec<Option<f64>> {
             } else {
                 (wrists[i], wrists[i] * wrists[i - 1].inverse() * wrists[i])
             };
-            let u = wrist_tangent(&from, &to, task.rows)?.as_full();
+            let u = wrist_tangent(&from, &to, task.rows())?.as_full();
             let q = &score.joint_trajectory[i];
             let mut jacobian = Matrix6xX::zeros(dof);
             chain.pose_and_jacobian_into(q, &mut jacobian).unwrap();
@@ -91,13 +91,13 @@ fn recomputed(task: &Task, score: &CandidateScore) -> Vec<Option<f64>> {
 fn norm_of(task: &Task, values: &[Option<f64>]) -> f64 {
     let samples: Vec<SampleIndex> = values
         .iter()
-        .zip(&task.path.samples)
+        .zip(&task.path().samples)
         .map(|(&value, s)| SampleIndex {
             time: s.time,
             value,
         })
         .collect();
-    PathNorms::of(&samples).value(task.selection.norm)
+    PathNorms::of(&samples).value(task.selection().norm)
 }
 
 fn close(a: f64, b: f64) -> bool {
@@ -108,8 +108,8 @@ fn close(a: f64, b: f64) -> bool {
 fn ranking_by_the_dynamic_measure_ranks_the_recomputed_values() {
     let object = "mass: 0.4\n  center_of_mass: [0.0, 0.05, 0.0]";
     let task = task("measure: dynamic", object);
-    assert_eq!(task.ranked.measure, IndexMeasure::Dynamic);
-    let arm = select(&task, &|| {}).arms.remove(0);
+    assert_eq!(task.ranked().measure, IndexMeasure::Dynamic);
+    let arm = select(&task, &|| {}).unwrap().arms.remove(0);
     let mut checked = 0;
     for score in arm.scores.iter().filter(|s| s.feasible()) {
         let expected = recomputed(&task, score);
@@ -123,7 +123,7 @@ fn ranking_by_the_dynamic_measure_ranks_the_recomputed_values() {
             }
         }
         let norm = norm_of(&task, &expected);
-        let ranked = score.norms.unwrap().value(task.selection.norm);
+        let ranked = score.norms.unwrap().value(task.selection().norm);
         assert!(close(ranked, norm), "{ranked} vs {norm}");
         assert!(close(score.dynamic_manipulability.unwrap(), norm));
         checked += 1;
@@ -148,7 +148,7 @@ fn ranking_by_the_dynamic_measure_ranks_the_recomputed_values() {
 #[test]
 fn the_column_is_reported_with_the_object_s_mass_and_only_then() {
     let with_mass = task("", "mass: 0.4");
-    let scores = select(&with_mass, &|| {}).arms.remove(0).scores;
+    let scores = select(&with_mass, &|| {}).unwrap().arms.remove(0).scores;
     let mut checked = 0;
     for score in scores.iter().filter(|s| s.feasible()) {
         let expected = norm_of(&with_mass, &recomputed(&with_mass, score));
@@ -158,12 +158,12 @@ fn the_column_is_reported_with_the_object_s_mass_and_only_then() {
     }
     assert!(checked >= 3);
     let without = task("", "");
-    let plain = select(&without, &|| {}).arms.remove(0).scores;
+    let plain = select(&without, &|| {}).unwrap().arms.remove(0).scores;
     assert!(plain.iter().all(|s| s.dynamic_manipulability.is_none()));
     // The same motions without the object: the measure grows back (the object's weight takes
     // headroom and its inertia adds to M) at every sample here.
     let empty = task("measure: dynamic", "");
-    let empty_scores = select(&empty, &|| {}).arms.remove(0).scores;
+    let empty_scores = select(&empty, &|| {}).unwrap().arms.remove(0).scores;
     for (loaded, bare) in scores
         .iter()
         .zip(&empty_scores)

@@ -390,7 +390,7 @@ fn a_task_file_with_world_from_camera_gives_the_scripts_poses() {
     let builder = graspath::task::builder_from_file(&file, "t.json", Path::new(".")).unwrap();
     let task = builder.build().unwrap();
     let want = e["files"]["contact_graspnet.npz"].as_array().unwrap();
-    let got = &task.candidates;
+    let got = &task.candidates().held().expect("held candidates");
     assert_eq!(got.len(), want.len());
     for (c, w) in got.iter().zip(want) {
         let diff = (c.object_from_wrist.to_homogeneous() - matrix(&w["object_from_tool"]))
@@ -421,7 +421,7 @@ fn widths_from_the_file_wider_than_the_opening_fail_for_gripper_width() {
     );
     let file = graspath::task::TaskFile::parse(&task, "t.json", "json").unwrap();
     let task = graspath::task::Task::from_file(&file, "t.json", Path::new(".")).unwrap();
-    let selection = graspath::select::select(&task, &|| {});
+    let selection = graspath::select::select(&task, &|| {}).unwrap();
     let want = e["files"]["graspnet.npy"].as_array().unwrap();
     let scores = &selection.arms[0].scores;
     assert_eq!(scores.len(), want.len());
@@ -473,8 +473,8 @@ fn the_graspgen_example_task_runs() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples/grasp_files/pick_and_place_graspgen.yaml");
     let task = graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(task.candidates.len(), 11);
-    let selection = graspath::select::select(&task, &|| {});
+    assert_eq!(task.candidate_count(), 11);
+    let selection = graspath::select::select(&task, &|| {}).unwrap();
     let feasible = selection.arms[0]
         .scores
         .iter()
@@ -588,8 +588,14 @@ fn an_m2t2_task_reads_world_grasps_and_refuses_a_camera_pose_it_would_misapply()
     };
     let got = load(task("")).unwrap_or_else(|err| panic!("{err}"));
     let want = e["files"]["m2t2_objects.npz"].as_array().unwrap();
-    assert_eq!(got.candidates.len(), want.len());
-    for (c, w) in got.candidates.iter().zip(want) {
+    assert_eq!(got.candidate_count(), want.len());
+    for (c, w) in got
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .iter()
+        .zip(want)
+    {
         let diff = (c.object_from_wrist.to_homogeneous() - matrix(&w["object_from_tool"]))
             .abs()
             .max();
@@ -606,7 +612,13 @@ fn an_m2t2_task_reads_world_grasps_and_refuses_a_camera_pose_it_would_misapply()
     assert!(err.message.contains("frame is world"), "{err}");
     let explicit = load(task(&format!(r#"{camera}, "frame": "camera""#))).unwrap();
     let object_from_camera = object_from_camera(&e);
-    for (c, w) in explicit.candidates.iter().zip(want) {
+    for (c, w) in explicit
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .iter()
+        .zip(want)
+    {
         // Read as camera-frame poses: object_from_camera · world_from_object · (expected).
         let moved = object_from_camera.to_homogeneous()
             * isometry(&e["world_from_object"]).to_homogeneous()

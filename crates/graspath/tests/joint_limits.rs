@@ -88,14 +88,14 @@ fn a_task_narrows_the_ur_elbow_to_ros_range_and_every_motion_keeps_it() {
         ur5e_task(", joint_limits: { elbow_joint: [-3.141592653589793, 3.141592653589793] }")
             .unwrap();
     let task = Task::load(&path).unwrap();
-    let chain = &task.arms[0].chain;
+    let chain = &task.arms()[0].chain;
     let e = elbow(chain);
     assert_eq!((chain.lower()[e], chain.upper()[e]), (-PI, PI));
     // The other joints keep the datasheet's ±2π.
     for j in (0..6).filter(|&j| j != e) {
         assert_eq!(chain.upper()[j], 2.0 * PI);
     }
-    let selection = select(&task, &|| ());
+    let selection = select(&task, &|| ()).unwrap();
     let arm = &selection.arms[0];
     assert!(
         arm.feasible_count() > 0,

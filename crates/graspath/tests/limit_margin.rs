@@ -92,10 +92,10 @@ fn ranked(selection: &Selection) -> Vec<(f64, f64)> {
 #[test]
 fn the_faces_workload_keeps_the_margin_by_default_and_rides_limits_without_it() {
     let task = faces_task(None);
-    assert_eq!(task.ik_limit_margin, defaults::IK_LIMIT_MARGIN);
-    let margin = task.ik_limit_margin;
-    let selection = select(&task, &|| {});
-    let arm = &task.arms[0];
+    assert_eq!(task.ik_limit_margin(), defaults::IK_LIMIT_MARGIN);
+    let margin = task.ik_limit_margin();
+    let selection = select(&task, &|| {}).unwrap();
+    let arm = &task.arms()[0];
     let bounds = narrowed(&arm.chain, margin);
     let result = &selection.arms[0];
     let mut feasible = 0;
@@ -130,7 +130,7 @@ fn the_faces_workload_keeps_the_margin_by_default_and_rides_limits_without_it() 
 
     // Planned up to the limits, the best grasps ride one (the reason for the default), and
     // score higher than any grasp that keeps the margin (what the margin costs).
-    let paper = select(&faces_task(Some(0.0)), &|| {});
+    let paper = select(&faces_task(Some(0.0)), &|| {}).unwrap();
     let without = ranked(&paper);
     let on_a_limit = without
         .iter()

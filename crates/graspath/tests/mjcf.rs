@@ -589,10 +589,10 @@ fn task_files_take_mjcf_robots() {
         &body(&format!("mjcf: {}", model.display())),
     );
     let task = graspath::task::Task::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(task.robot_name, "ur5");
-    assert_eq!(task.arms.len(), 1);
-    assert_eq!(task.arms[0].chain.dof(), 6);
-    assert!(task.arms[0].bodies.is_some());
+    assert_eq!(task.robot_name(), "ur5");
+    assert_eq!(task.arms().len(), 1);
+    assert_eq!(task.arms()[0].chain.dof(), 6);
+    assert!(task.arms()[0].bodies.is_some());
     let path = write(
         dir.path(),
         "both.yaml",

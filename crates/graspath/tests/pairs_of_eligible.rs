@@ -30,7 +30,7 @@ fn eligible(selection: &Selection, arm: usize) -> Vec<(usize, f64)> {
 }
 
 fn check_pairs_equal_select(task: &Task) -> usize {
-    let reference = select(task, &|| {});
+    let reference = select(task, &|| {}).unwrap();
     let (first, second) = (eligible(&reference, 0), eligible(&reference, 1));
     assert!(!first.is_empty() && !second.is_empty());
     let candidates = task
@@ -47,9 +47,9 @@ fn check_pairs_equal_select(task: &Task) -> usize {
         .iter()
         .map(|p| (p.first.id, p.second.id, p.score))
         .collect();
-    assert_eq!(expected.len(), task.selection.pairs);
+    assert_eq!(expected.len(), task.selection().pairs);
     let (pairs, refused) =
-        pairs_of_eligible(task, &first, &second, task.selection.pairs).expect("pairs");
+        pairs_of_eligible(task, &first, &second, task.selection().pairs).expect("pairs");
     assert_eq!(as_ids(&pairs), expected);
     assert_eq!(refused, reference.colliding_pairs);
     for count in [1, 3] {
@@ -78,7 +78,7 @@ fn input_that_cannot_be_paired_is_an_error() {
     assert_eq!(
         pairs_of_eligible(&one_arm, &[], &[], 3),
         Err(PairInputError::NotTwoArms {
-            task: one_arm.source_name.clone(),
+            task: one_arm.source_name().to_string(),
             arms: 1
         })
     );
@@ -88,7 +88,7 @@ fn input_that_cannot_be_paired_is_an_error() {
         err.to_string(),
         format!(
             "{}: arm 'right': candidate 21 is not one of the task's 21 candidates",
-            both.source_name
+            both.source_name()
         )
     );
     let err = pairs_of_eligible(&both, &[(4, 1.0), (4, 2.0)], &[], 3).unwrap_err();

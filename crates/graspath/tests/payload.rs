@@ -40,14 +40,14 @@ selection: {{ {selection} }}
 
 fn scores(mass: f64) -> Vec<CandidateScore> {
     let task = task(&format!("mass: {mass}"), "").expect("a valid task");
-    select(&task, &|| {}).arms.remove(0).scores
+    select(&task, &|| {}).unwrap().arms.remove(0).scores
 }
 
 #[test]
 fn payload_capacity_is_the_largest_mass_the_motion_carries() {
     let light = scores(0.05);
     let unloaded = task("", "").unwrap();
-    let plain = select(&unloaded, &|| {}).arms.remove(0).scores;
+    let plain = select(&unloaded, &|| {}).unwrap().arms.remove(0).scores;
     let mut checked = 0;
     for (k, score) in light.iter().enumerate() {
         // The motion is the object's weight's, not the check's: the same joints as without it.
@@ -91,9 +91,9 @@ fn payload_capacity_is_the_largest_mass_the_motion_carries() {
 fn a_density_gives_the_mass_of_the_shape_and_the_margin_falls_with_it() {
     // 0.06 × 0.40 × 0.10 m = 2.4e-3 m³: 100 kg/m³ is 0.24 kg.
     let by_density = task("density: 100", "").unwrap();
-    assert!((by_density.payload.unwrap().mass - 0.24).abs() < 1e-12);
-    let by_mass = select(&task("mass: 0.24", "").unwrap(), &|| {});
-    let by_density = select(&by_density, &|| {});
+    assert!((by_density.payload().unwrap().mass - 0.24).abs() < 1e-12);
+    let by_mass = select(&task("mass: 0.24", "").unwrap(), &|| {}).unwrap();
+    let by_density = select(&by_density, &|| {}).unwrap();
     for (a, b) in by_mass.arms[0]
         .scores
         .iter()
@@ -118,7 +118,8 @@ fn min_torque_margin_rejects_and_needs_a_mass() {
     let selection = select(
         &task("mass: 0.1", "min_torque_margin: 0.5").unwrap(),
         &|| {},
-    );
+    )
+    .unwrap();
     let arm = &selection.arms[0];
     for (score, ranking) in arm.scores.iter().zip(&arm.rankings) {
         if let Some(margin) = score.torque_margin {

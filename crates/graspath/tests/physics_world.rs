@@ -187,7 +187,7 @@ fn a_scene_task_is_written_with_its_table_obstacles_gripper_and_object() {
         }
     }
     assert!(names.iter().any(|n| *n == "table"));
-    let scene = &task.collisions.as_ref().unwrap().scene;
+    let scene = &task.collisions().unwrap().scene;
     for obstacle in scene.obstacles() {
         assert!(
             read.iter()
@@ -200,7 +200,7 @@ fn a_scene_task_is_written_with_its_table_obstacles_gripper_and_object() {
     assert!(world.notes.iter().any(|n| n.contains("convex hull")));
     // The object: a 0.06 × 0.40 × 0.10 m box at 500 kg/m³, at the path's first pose.
     assert!((world.object_mass - 0.06 * 0.40 * 0.10 * 500.0).abs() < 1e-12);
-    let start: Isometry3<f64> = task.path.samples[0].world_from_object;
+    let start: Isometry3<f64> = task.path().samples[0].world_from_object;
     let object = placement(
         read.iter()
             .find(|e| e.tag == "body" && e.attributes["name"] == "object")
@@ -213,7 +213,7 @@ fn a_scene_task_is_written_with_its_table_obstacles_gripper_and_object() {
     assert!((arm.finger_travel - 0.035).abs() < 1e-15);
     assert!(arm.task_gripper);
     let motors = read.iter().filter(|e| e.tag == "motor").count();
-    assert_eq!(motors, task.arms[0].chain.dof());
+    assert_eq!(motors, task.arms()[0].chain.dof());
     for (joint, effort) in arm.joints.iter().zip(&arm.effort) {
         let motor = read
             .iter()

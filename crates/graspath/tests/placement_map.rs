@@ -53,7 +53,14 @@ fn bytes(record: &PlacementRecord) -> Vec<u8> {
 fn each_placement_equals_select_on_the_task_file_with_that_pose() {
     let file = parse(&task_yaml("{ xyz: [0.75, 0.0, -0.10] }"));
     let builder = builder_from_file(&file, "task.yaml", Path::new(".")).unwrap();
-    let candidates = builder.clone().build().unwrap().candidates;
+    let candidates = builder
+        .clone()
+        .build()
+        .unwrap()
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .to_vec();
     let parameter = FamilyParameter::from_task_file(&file, &candidates);
     assert_eq!(parameter.as_ref().unwrap().values.len(), 5);
     let grid = grid();
@@ -69,10 +76,10 @@ fn each_placement_equals_select_on_the_task_file_with_that_pose() {
         let yaml = task_yaml(&format!("{{ xyz: [{:?}, {:?}, {:?}] }}", t.x, t.y, t.z));
         let task = Task::from_file(&parse(&yaml), "task.yaml", Path::new(".")).unwrap();
         assert_eq!(
-            task.path.samples[0].world_from_object,
+            task.path().samples[0].world_from_object,
             placement.world_from_object
         );
-        let selection = select(&task, &|| {});
+        let selection = select(&task, &|| {}).unwrap();
         let expected =
             PlacementRecord::from_selection(&task, &selection, placement, parameter.as_ref());
         assert_eq!(
@@ -137,7 +144,7 @@ fn placement_map_with_hands_each_placement_in_grid_order() {
             .iter()
             .map(graspath::select::ArmResult::feasible_count)
             .collect();
-        (at.index, task.path.samples[0].world_from_object, feasible)
+        (at.index, task.path().samples[0].world_from_object, feasible)
     })
     .unwrap();
     // The records are those of the plain map; the inspected values follow the grid's order and
@@ -177,10 +184,10 @@ fn a_yawed_placement_turns_the_start_pose_and_the_relative_steps_follow() {
         .unwrap()
         .build()
         .unwrap();
-    let first = task.path.samples[0].world_from_object;
+    let first = task.path().samples[0].world_from_object;
     assert!((first.rotation.angle() - yaw).abs() < 1e-12);
     assert!((first.translation.vector - nalgebra::Vector3::new(0.7, 0.1, -0.1)).norm() < 1e-15);
-    let last = task.path.samples.last().unwrap().world_from_object;
+    let last = task.path().samples.last().unwrap().world_from_object;
     // lift 0.2, move +0.3 y, place 0.2: a net move of 0.3 m along world y, no turn.
     let moved = last.translation.vector - first.translation.vector;
     assert!((moved - nalgebra::Vector3::new(0.0, 0.3, 0.0)).norm() < 1e-12);
@@ -192,7 +199,7 @@ fn bad_maps_are_one_clear_error() {
     let file = parse(&task_yaml("{ xyz: [0.75, 0.0, -0.10] }"));
     let builder = builder_from_file(&file, "task.yaml", Path::new(".")).unwrap();
     // A path given already sampled has no start pose to move.
-    let sampled = builder.clone().build().unwrap().path;
+    let sampled = builder.clone().build().unwrap().path().clone();
     let fixed = builder.clone().object_path(sampled);
     match placement_map(&fixed, &grid(), None, &|| {}) {
         Err(PlacementError::Task(e)) => assert_eq!(e.field, "trajectory"),

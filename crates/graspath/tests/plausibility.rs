@@ -27,10 +27,10 @@ fn no_shipped_example_gets_a_warning() {
     for path in examples {
         let task = Task::load(&path).unwrap();
         assert!(
-            task.warnings.is_empty(),
+            task.warnings().is_empty(),
             "{}: {:?}",
             path.display(),
-            task.warnings
+            task.warnings()
         );
     }
 }
@@ -46,7 +46,7 @@ fn on_table(pose: &str) -> Vec<TaskWarning> {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("task.yaml");
     std::fs::write(&path, text).unwrap();
-    Task::load(&path).unwrap().warnings
+    Task::load(&path).unwrap().warnings().to_vec()
 }
 
 #[test]

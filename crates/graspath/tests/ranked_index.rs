@@ -37,8 +37,8 @@ fn task(redundancy: &str, index: &str) -> Task {
 /// difference, the last sample backward), in twist mode with L = 1 m.
 fn tangent(task: &Task, score: &CandidateScore, i: usize) -> Option<Vector6<f64>> {
     let wrists = wrist_trajectory(
-        &task.path,
-        &task.arms[0].world_from_base,
+        task.path(),
+        &task.arms()[0].world_from_base,
         &score.candidate.object_from_wrist,
     );
     let (a, b) = if i + 1 < wrists.len() {
@@ -57,7 +57,7 @@ fn tangent(task: &Task, score: &CandidateScore, i: usize) -> Option<Vector6<f64>
 }
 
 fn jacobian(task: &Task, q: &[f64]) -> Matrix6xX<f64> {
-    let chain = &task.arms[0].chain;
+    let chain = &task.arms()[0].chain;
     let mut j = Matrix6xX::zeros(chain.dof());
     chain.pose_and_jacobian_into(q, &mut j).unwrap();
     j
@@ -67,7 +67,7 @@ fn jacobian(task: &Task, q: &[f64]) -> Matrix6xX<f64> {
 fn l2_of(task: &Task, values: &[Option<f64>]) -> f64 {
     let samples: Vec<SampleIndex> = values
         .iter()
-        .zip(&task.path.samples)
+        .zip(&task.path().samples)
         .map(|(&value, s)| SampleIndex {
             time: s.time,
             value,
@@ -80,7 +80,10 @@ fn l2_of(task: &Task, values: &[Option<f64>]) -> f64 {
 fn the_velocity_ratio_is_ranked_and_m_t_is_still_reported() {
     let task = task("first", "{ measure: velocity_ratio }");
     let plain = self::task("first", "{}");
-    let (ranked, reference) = (select(&task, &|| {}), select(&plain, &|| {}));
+    let (ranked, reference) = (
+        select(&task, &|| {}).unwrap(),
+        select(&plain, &|| {}).unwrap(),
+    );
     let mut checked = 0;
     for (score, paper) in ranked.arms[0].scores.iter().zip(&reference.arms[0].scores) {
         assert_eq!(score.feasible(), paper.feasible());
@@ -113,7 +116,7 @@ fn the_velocity_ratio_is_ranked_and_m_t_is_still_reported() {
 fn the_penalised_index_is_m_t_times_tsai_penalty_and_limits_are_measured() {
     let task = task("best_branch", "{ joint_limit_penalty: 20 }");
     let plain = self::task("best_branch", "{}");
-    let chain = &task.arms[0].chain;
+    let chain = &task.arms()[0].chain;
     let (lower, upper) = (chain.lower(), chain.upper());
     // Tsai's penalty, written out.
     let penalty = |q: &[f64]| {
@@ -122,8 +125,8 @@ fn the_penalised_index_is_m_t_times_tsai_penalty_and_limits_are_measured() {
             .product();
         1.0 - (-20.0 * product).exp()
     };
-    let selection = select(&task, &|| {});
-    let reference = select(&plain, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
+    let reference = select(&plain, &|| {}).unwrap();
     let mut checked = 0;
     for (score, paper) in selection.arms[0]
         .scores
@@ -177,7 +180,7 @@ fn the_penalised_index_is_m_t_times_tsai_penalty_and_limits_are_measured() {
 fn the_classical_indices_at_the_grasp_do_not_depend_on_the_redundancy_setting() {
     let runs: Vec<_> = ["first", "best_branch", "optimize"]
         .iter()
-        .map(|r| select(&task(r, "{}"), &|| {}))
+        .map(|r| select(&task(r, "{}"), &|| {}).unwrap())
         .collect();
     let mut differing_branches = 0;
     for i in 0..runs[0].arms[0].scores.len() {
@@ -238,14 +241,17 @@ fn a_bad_measure_or_penalty_is_named() {
 fn norms_over_the_waypoints_count_the_initial_pose_and_each_steps_end() {
     let dense = task("first", "{}");
     let waypoints = task("first", "{ over: waypoints }");
-    let (a, b) = (select(&dense, &|| {}), select(&waypoints, &|| {}));
+    let (a, b) = (
+        select(&dense, &|| {}).unwrap(),
+        select(&waypoints, &|| {}).unwrap(),
+    );
     // The waypoints, from the path's own step indices: the first sample and the last of
     // each step.
-    let steps: Vec<usize> = dense.path.samples.iter().map(|s| s.step).collect();
+    let steps: Vec<usize> = dense.path().samples.iter().map(|s| s.step).collect();
     let marked: Vec<usize> = (0..steps.len())
         .filter(|&i| i == 0 || steps.get(i + 1).is_none_or(|next| *next != steps[i]))
         .collect();
-    assert_eq!(marked.len(), dense.path.step_labels.len() + 1);
+    assert_eq!(marked.len(), dense.path().step_labels.len() + 1);
     let mut checked = 0;
     for (x, y) in a.arms[0].scores.iter().zip(&b.arms[0].scores) {
         // The same motion and feasibility: only the norms change.

@@ -17,13 +17,13 @@ fn task(redundancy: &str) -> Task {
 #[test]
 fn the_optimised_self_motion_beats_the_first_and_the_best_branch() {
     let (first, best, optimized) = (task("first"), task("best_branch"), task("optimize"));
-    assert_eq!(optimized.redundancy, Redundancy::Optimize);
+    assert_eq!(optimized.redundancy(), Redundancy::Optimize);
     let (a, b, c) = (
-        select(&first, &|| {}),
-        select(&best, &|| {}),
-        select(&optimized, &|| {}),
+        select(&first, &|| {}).unwrap(),
+        select(&best, &|| {}).unwrap(),
+        select(&optimized, &|| {}).unwrap(),
     );
-    let chain = &optimized.arms[0].chain;
+    let chain = &optimized.arms()[0].chain;
     let mut gained = 0;
     for ((x, y), z) in a.arms[0]
         .scores
@@ -51,8 +51,8 @@ fn the_optimised_self_motion_beats_the_first_and_the_best_branch() {
         }
         // Re-checked: the wrist on its target at every sample, inside the limits, small steps.
         let wrists = graspath::select::wrist_trajectory(
-            &optimized.path,
-            &optimized.arms[0].world_from_base,
+            optimized.path(),
+            &optimized.arms()[0].world_from_base,
             &z.candidate.object_from_wrist,
         );
         for (i, (q, target)) in z.joint_trajectory.iter().zip(&wrists).enumerate() {
@@ -69,7 +69,7 @@ fn the_optimised_self_motion_beats_the_first_and_the_best_branch() {
                     .zip(&z.joint_trajectory[i - 1])
                     .map(|(p, r)| (p - r).abs())
                     .fold(0.0, f64::max);
-                assert!(step <= optimized.ik.max_joint_step + 1e-12);
+                assert!(step <= optimized.ik().max_joint_step + 1e-12);
             }
         }
     }

@@ -29,7 +29,7 @@ fn refined(relative: &str, samples: usize) -> Task {
     file.trajectory.samples = Some(samples);
     let base = path.parent().expect("a folder").to_path_buf();
     let task = Task::from_file(&file, relative, &base).expect("the example builds");
-    assert_eq!(task.selection.norm, Norm::Rms);
+    assert_eq!(task.selection().norm, Norm::Rms);
     task
 }
 
@@ -58,8 +58,8 @@ fn tied(a: f64, b: f64) -> bool {
 
 fn check_refinement(relative: &str) {
     let (coarse, fine) = (
-        ranked(&select(&refined(relative, 50), &|| {})),
-        ranked(&select(&refined(relative, 1000), &|| {})),
+        ranked(&select(&refined(relative, 50), &|| {}).unwrap()),
+        ranked(&select(&refined(relative, 1000), &|| {}).unwrap()),
     );
     let (top_coarse, top_fine) = (top(&coarse, 10), top(&fine, 10));
     assert!(top_fine.len() == 10, "{relative}: fewer than 10 ranked");

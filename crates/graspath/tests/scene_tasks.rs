@@ -40,7 +40,7 @@ fn an_object_standing_on_the_table_can_be_picked_and_the_table_is_kept_clear() {
          retreat: { distance: 0.10, samples: 5 }\n",
     );
     let task = Task::load(&path).unwrap();
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let arm = &selection.arms[0];
     assert!(
         arm.feasible_count() > 0,
@@ -75,7 +75,8 @@ fn a_box_inside_the_table_collides_with_it_for_every_candidate() {
     let free = select(
         &Task::load(&task_file(&dir, -0.10, CUBOID, EDGE, "")).unwrap(),
         &|| {},
-    );
+    )
+    .unwrap();
     let reachable: Vec<usize> = (0..free.arms[0].scores.len())
         .filter(|&i| free.arms[0].scores[i].feasible())
         .collect();
@@ -87,7 +88,7 @@ fn a_box_inside_the_table_collides_with_it_for_every_candidate() {
         EDGE,
         "scene: { table: { height: 0.25 } }\n",
     );
-    let selection = select(&Task::load(&path).unwrap(), &|| {});
+    let selection = select(&Task::load(&path).unwrap(), &|| {}).unwrap();
     let arm = &selection.arms[0];
     assert_eq!(arm.feasible_count(), 0);
     for i in reachable {
@@ -109,7 +110,7 @@ fn a_box_wider_than_the_opening_is_rejected_for_gripper_width() {
         "gripper: { opening: 0.08 }\n",
     );
     let task = Task::load(&path).unwrap();
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     for s in &selection.arms[0].scores {
         let f = s.failure.as_ref().expect("no grasp fits");
         assert_eq!(f.reason, FailureReason::GripperWidth, "{f}");
@@ -117,7 +118,7 @@ fn a_box_wider_than_the_opening_is_rejected_for_gripper_width() {
     }
     // The same box 6 cm wide across the fingers fits.
     let path = task_file(&dir, -0.10, CUBOID, EDGE, "gripper: { opening: 0.08 }\n");
-    let selection = select(&Task::load(&path).unwrap(), &|| {});
+    let selection = select(&Task::load(&path).unwrap(), &|| {}).unwrap();
     assert!(selection.arms[0].scores.iter().all(|s| s
         .failure
         .as_ref()
@@ -138,7 +139,7 @@ fn srdf_disabled_pairs_are_not_checked() {
     .unwrap();
     let names = |extra: &str| {
         let task = Task::load(&task_file(&dir, -0.10, CUBOID, EDGE, extra)).unwrap();
-        task.arms[0].bodies.as_ref().unwrap().self_pair_names()
+        task.arms()[0].bodies.as_ref().unwrap().self_pair_names()
     };
     let touches = |pairs: &[(String, String)]| {
         pairs.iter().any(|(a, b)| {
@@ -250,7 +251,7 @@ fn moving_bodies(
     arm: usize,
     q: &[f64],
 ) -> Vec<(graspath::collision::Body, nalgebra::Isometry3<f64>)> {
-    let setup = &task.arms[arm];
+    let setup = &task.arms()[arm];
     let chain = &setup.chain;
     let frames = chain.link_frames(q).unwrap();
     let model = graspath::robot::RobotSource::builtin("baxter")
@@ -287,7 +288,7 @@ fn no_selected_two_arm_pair_collides_and_crossing_pairs_are_refused() {
     let path = dir.path().join("both.yaml");
     std::fs::write(&path, text).unwrap();
     let task = Task::load(&path).unwrap();
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     assert!(!selection.pairs.is_empty());
     assert!(
         selection.colliding_pairs > 0,
@@ -390,24 +391,36 @@ fn generated_grasps_that_put_the_hand_into_the_table_are_dropped_before_the_best
     };
     let free = task("");
     assert!(
-        free.candidates.iter().any(|c| lowest(c) < table),
+        free.candidates()
+            .held()
+            .expect("held candidates")
+            .iter()
+            .any(|c| lowest(c) < table),
         "without a scene some of the best grasps reach below the table top"
     );
     let in_scene = task(&format!("scene: {{ table: {{ height: {table} }} }}\n"));
     // Every clear grasp among the best 15 without a scene is still kept (the next best fill
     // the places of the dropped ones, as far as the model generated any).
-    for c in free.candidates.iter().filter(|c| lowest(c) > table) {
+    for c in free
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .iter()
+        .filter(|c| lowest(c) > table)
+    {
         assert!(
             in_scene
-                .candidates
+                .candidates()
+                .held()
+                .expect("held candidates")
                 .iter()
                 .any(|k| k.object_from_wrist == c.object_from_wrist),
             "{} was clear but not kept",
             c.label
         );
     }
-    assert!(in_scene.candidates.len() <= 15);
-    for c in &in_scene.candidates {
+    assert!(in_scene.candidate_count() <= 15);
+    for c in in_scene.candidates().held().expect("held candidates") {
         assert!(
             lowest(c) > table - 1e-9,
             "{}: lowest {}",
@@ -429,15 +442,12 @@ fn the_scene_examples_select_grasps_that_keep_their_margins() {
     assert!(files.len() >= 4);
     for file in files {
         let task = Task::load(&file).unwrap();
-        let collisions = task
-            .collisions
-            .as_ref()
-            .expect("a scene example has a scene");
+        let collisions = task.collisions().expect("a scene example has a scene");
         let required = collisions
             .options
             .margin
-            .max(task.selection.min_clearance.unwrap_or(0.0));
-        let selection = select(&task, &|| {});
+            .max(task.selection().min_clearance.unwrap_or(0.0));
+        let selection = select(&task, &|| {}).unwrap();
         for arm in &selection.arms {
             let best = arm
                 .best()
@@ -452,7 +462,7 @@ fn the_scene_examples_select_grasps_that_keep_their_margins() {
                 assert!(s.clearance.unwrap() >= collisions.options.margin);
             }
         }
-        if task.arms.len() == 2 {
+        if task.arms().len() == 2 {
             assert!(!selection.pairs.is_empty(), "{}", file.display());
         }
     }
@@ -514,7 +524,7 @@ fn a_urdf_hand_is_the_gripper_its_shapes_describe() {
     let family = "{ faces: { count: 40 } }";
     let a = Task::load(&task_file(&dir, -0.10, shape, family, &sized)).unwrap();
     let b = Task::load(&task_file(&dir, -0.10, shape, family, &from_urdf)).unwrap();
-    let (ga, gb) = (a.gripper.as_ref().unwrap(), b.gripper.as_ref().unwrap());
+    let (ga, gb) = (a.gripper().unwrap(), b.gripper().unwrap());
     assert!((gb.opening - 0.07).abs() < 1e-9, "opening {}", gb.opening);
     let (mut ha, mut hb) = (ga.hand_shapes(), gb.hand_shapes());
     assert_eq!(ha.len(), hb.len());
@@ -532,7 +542,7 @@ fn a_urdf_hand_is_the_gripper_its_shapes_describe() {
         assert!((x.1.to_homogeneous() - y.1.to_homogeneous()).abs().max() < 1e-12);
         assert_eq!(x.2, y.2);
     }
-    let (sa, sb) = (select(&a, &|| {}), select(&b, &|| {}));
+    let (sa, sb) = (select(&a, &|| {}).unwrap(), select(&b, &|| {}).unwrap());
     let reasons = |s: &graspath::select::Selection| -> Vec<Option<FailureReason>> {
         s.arms[0]
             .scores
@@ -565,7 +575,7 @@ fn an_object_rests_on_the_obstacle_it_stands_on() {
         EDGE,
         &format!("scene: {{ table: {{ height: -0.15 }} }}\n{common}"),
     );
-    let a = select(&Task::load(&on_table).unwrap(), &|| {});
+    let a = select(&Task::load(&on_table).unwrap(), &|| {}).unwrap();
     let on_board = task_file(
         &dir,
         -0.10,
@@ -575,7 +585,7 @@ fn an_object_rests_on_the_obstacle_it_stands_on() {
             "scene: {{ obstacles: [ {{ name: board, box: {{ size: [3.0, 3.0, 0.2] }}, pose: {{ xyz: [0.75, 0.0, -0.25] }} }} ] }}\n{common}"
         ),
     );
-    let b = select(&Task::load(&on_board).unwrap(), &|| {});
+    let b = select(&Task::load(&on_board).unwrap(), &|| {}).unwrap();
     let (sa, sb) = (&a.arms[0].scores, &b.arms[0].scores);
     assert!(sa.iter().any(graspath::select::CandidateScore::feasible));
     for (x, y) in sa.iter().zip(sb) {
@@ -612,8 +622,8 @@ fn a_scene_task_on_a_robot_with_bare_links_keeps_its_margins() {
     let path = dir.path().join("task.yaml");
     std::fs::write(&path, example).unwrap();
     let task = Task::load(&path).unwrap();
-    let margin = task.collisions.as_ref().unwrap().options.margin;
-    let selection = select(&task, &|| {});
+    let margin = task.collisions().unwrap().options.margin;
+    let selection = select(&task, &|| {}).unwrap();
     let scores = &selection.arms[0].scores;
     assert_eq!(scores.len(), 40);
     let feasible = scores.iter().filter(|s| s.feasible()).count();
@@ -634,7 +644,7 @@ fn a_collision_detail_names_the_failure_s_own_phase_and_sample() {
         "pick_and_place_left_cluttered.yaml",
         "panda_shelf_pick.yaml",
     ] {
-        let selection = select(&Task::load(&root.join(name)).unwrap(), &|| {});
+        let selection = select(&Task::load(&root.join(name)).unwrap(), &|| {}).unwrap();
         for score in &selection.arms[0].scores {
             let Some(f) = score.failure.as_ref() else {
                 continue;

@@ -7,7 +7,7 @@ use graspath::manipulability::JacobianRows;
 use graspath::robot::parse_urdf_chain;
 use graspath::select::select;
 use graspath::task::{ObjectPath, Sampling, Step, TaskFile, TimedStep};
-use graspath::task::{Redundancy, Task};
+use graspath::task::{Redundancy, Task, TaskBuilder};
 use nalgebra::{Isometry3, Vector3};
 
 const L: [f64; 3] = [0.7, 0.5, 0.2];
@@ -58,6 +58,10 @@ fn closed_form_index(q: &[f64; 3]) -> f64 {
 }
 
 fn planar_task(start_x: f64, end_x: f64, samples: usize) -> Task {
+    planar_builder(start_x, end_x, samples).build().unwrap()
+}
+
+fn planar_builder(start_x: f64, end_x: f64, samples: usize) -> TaskBuilder {
     let chain = parse_urdf_chain(&planar_3r(), "planar3r.urdf", "base", "tip").unwrap();
     let steps = vec![TimedStep {
         label: "move".into(),
@@ -88,19 +92,17 @@ fn planar_task(start_x: f64, end_x: f64, samples: usize) -> Task {
         .rows(JacobianRows::Translation)
         .grasp_ik_iterations(1000)
         .redundancy(Redundancy::BestBranch)
-        .build()
-        .unwrap()
 }
 
 #[test]
 fn planar_arm_index_along_a_straight_path_has_its_closed_form() {
     let task = planar_task(0.6, 1.1, 20);
-    let result = select(&task, &|| {});
+    let result = select(&task, &|| {}).unwrap();
     let score = &result.arms[0].scores[0];
     assert!(score.feasible(), "{:?}", score.failure);
     assert_eq!(score.joint_trajectory.len(), 21);
     let mut branch_l2 = [0.0f64; 2];
-    for (i, sample) in task.path.samples.iter().enumerate() {
+    for (i, sample) in task.path().samples.iter().enumerate() {
         let p = sample.world_from_object.translation.vector;
         let branches = closed_form_ik(p.x, p.y).expect("reachable");
         // Which elbow did our IK choose? Compare the joint values.
@@ -137,7 +139,7 @@ fn a_path_leaving_the_workspace_reports_its_first_unreachable_sample() {
     // The tip can reach x ≤ 0.2 + sqrt(1.2² − 0.3²) at y = 0.3 with orientation 0.
     let (start, end, n) = (0.9, 1.6, 35);
     let task = planar_task(start, end, n);
-    let result = select(&task, &|| {});
+    let result = select(&task, &|| {}).unwrap();
     let score = &result.arms[0].scores[0];
     let failure = score
         .failure
@@ -156,8 +158,7 @@ fn a_path_leaving_the_workspace_reports_its_first_unreachable_sample() {
 
 #[test]
 fn a_stationary_step_is_skipped_not_divided_by() {
-    let mut task = planar_task(0.6, 0.9, 5);
-    let start = task.path.samples[0].world_from_object;
+    let start = planar_task(0.6, 0.9, 5).path().samples[0].world_from_object;
     let moved = Isometry3::translation(0.3, 0.0, 0.0) * start;
     let steps = vec![
         TimedStep {
@@ -176,8 +177,11 @@ fn a_stationary_step_is_skipped_not_divided_by() {
             duration: 1.0,
         },
     ];
-    task.path = ObjectPath::sample(start, &steps, Sampling::PerStep(5), 1000).unwrap();
-    let result = select(&task, &|| {});
+    let task = planar_builder(0.6, 0.9, 5)
+        .object_path(ObjectPath::sample(start, &steps, Sampling::PerStep(5), 1000).unwrap())
+        .build()
+        .unwrap();
+    let result = select(&task, &|| {}).unwrap();
     let score = &result.arms[0].scores[0];
     assert!(score.feasible());
     // Intervals 5→6 … 9→10 lie in the still step: their samples are skipped.
@@ -214,8 +218,8 @@ fn rankings_do_not_change_with_the_world_frame() {
     let new_world_from_world =
         Isometry3::new(Vector3::new(1.5, -2.0, 0.7), Vector3::new(0.3, -0.5, 2.0));
     let moved = task.in_world_frame(&new_world_from_world);
-    let a = select(&task, &|| {});
-    let b = select(&moved, &|| {});
+    let a = select(&task, &|| {}).unwrap();
+    let b = select(&moved, &|| {}).unwrap();
     for (arm_a, arm_b) in a.arms.iter().zip(&b.arms) {
         assert!(arm_a.feasible_count() > 0);
         for (ra, rb) in arm_a.rankings.iter().zip(&arm_b.rankings) {
@@ -253,8 +257,11 @@ fn the_self_motion_search_is_frame_independent_to_its_resolution_and_never_worse
         Vector3::new(1.5, -2.0, 0.7),
         Vector3::new(0.3, -0.5, 2.0),
     ));
-    let branch = select(&edge_task_best_branch(), &|| {});
-    let (a, b) = (select(&task, &|| {}), select(&moved, &|| {}));
+    let branch = select(&edge_task_best_branch(), &|| {}).unwrap();
+    let (a, b) = (
+        select(&task, &|| {}).unwrap(),
+        select(&moved, &|| {}).unwrap(),
+    );
     for ((arm_a, arm_b), arm_branch) in a.arms.iter().zip(&b.arms).zip(&branch.arms) {
         assert!(arm_a.feasible_count() > 0);
         for ((sa, sb), sc) in arm_a
@@ -277,7 +284,7 @@ fn the_self_motion_search_is_frame_independent_to_its_resolution_and_never_worse
 fn pairs_never_overlap_and_sum_the_arms_norms() {
     let file = TaskFile::parse(EDGE_TASK, "edge.yaml", "yaml").unwrap();
     let task = Task::from_file(&file, "edge.yaml", std::path::Path::new(".")).unwrap();
-    let result = select(&task, &|| {});
+    let result = select(&task, &|| {}).unwrap();
     assert!(!result.pairs.is_empty());
     for pair in &result.pairs {
         let score_of = |arm: usize, c: &Candidate| {
@@ -290,7 +297,7 @@ fn pairs_never_overlap_and_sum_the_arms_norms() {
         let (a, b) = (score_of(0, &pair.first), score_of(1, &pair.second));
         let pa = pair.first.contact.unwrap();
         let pb = pair.second.contact.unwrap();
-        assert!((pa - pb).norm() >= task.selection.min_separation);
+        assert!((pa - pb).norm() >= task.selection().min_separation);
         // The sum of the arms' ranked norms (the default `μ_rms`).
         let sum = a.norms.unwrap().rms + b.norms.unwrap().rms;
         assert!((pair.score - sum).abs() < 1e-12);

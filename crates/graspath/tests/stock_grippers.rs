@@ -61,8 +61,8 @@ const ARMS: [(&str, &str, (f64, f64)); 10] = [
 fn every_built_in_arm_with_a_stock_gripper_picks_from_a_table_at_its_base() {
     for (robot, gripper, at) in ARMS {
         let task = load(&task_text(robot, gripper, at, "")).unwrap();
-        assert!(task.warnings.is_empty(), "{robot}: {:?}", task.warnings);
-        let selection = select(&task, &|| {});
+        assert!(task.warnings().is_empty(), "{robot}: {:?}", task.warnings());
+        let selection = select(&task, &|| {}).unwrap();
         let arm = &selection.arms[0];
         assert!(
             arm.feasible_count() > 0,
@@ -99,7 +99,7 @@ fn a_stock_gripper_bolted_to_a_flange_puts_the_tool_frame_at_its_tcp() {
         ("gen3", StockGripper::Baxter),
     ] {
         let task = load(&task_text(robot, gripper.as_str(), (0.45, -0.1), "")).unwrap();
-        let chain = &task.arms[0].chain;
+        let chain = &task.arms()[0].chain;
         // Oracle: the bare chain (no tool) from the robot source, and the maker's distance.
         let bare = RobotSource::builtin(robot)
             .load()
@@ -120,7 +120,7 @@ fn a_stock_gripper_bolted_to_a_flange_puts_the_tool_frame_at_its_tcp() {
         let text = task_text(robot, gripper.as_str(), (0.45, -0.1), "")
             .replace(&format!("robot: {{ builtin: {robot} }}"), &given);
         let task = load(&text).unwrap();
-        let offset = bare.pose(&q).unwrap().inverse() * task.arms[0].chain.pose(&q).unwrap();
+        let offset = bare.pose(&q).unwrap().inverse() * task.arms()[0].chain.pose(&q).unwrap();
         assert!((offset.translation.vector.z - 0.3).abs() < 1e-12, "{robot}");
     }
 }
@@ -151,20 +151,20 @@ fn gripper_mistakes_are_named() {
     let sized = task_text("ur5e", "X", (0.45, -0.1), "")
         .replace("gripper: { builtin: X }", "gripper: { opening: 0.08 }");
     let task = load(&sized).unwrap();
-    assert_eq!(task.warnings.len(), 1, "{:?}", task.warnings);
-    assert_eq!(task.warnings[0].field, "gripper");
+    assert_eq!(task.warnings().len(), 1, "{:?}", task.warnings());
+    assert_eq!(task.warnings()[0].field, "gripper");
     assert!(
-        task.warnings[0].message.contains("'tool0'"),
+        task.warnings()[0].message.contains("'tool0'"),
         "{}",
-        task.warnings[0]
+        task.warnings()[0]
     );
     let with_tool = sized.replace(
         "robot: { builtin: ur5e }",
         "robot: { builtin: ur5e, tool: { xyz: [0, 0, 0.15] } }",
     );
-    assert!(load(&with_tool).unwrap().warnings.is_empty());
+    assert!(load(&with_tool).unwrap().warnings().is_empty());
     // The Panda's chain ends at its hand's TCP: a sized gripper there is not at a flange.
     let panda = task_text("panda", "X", (0.5, -0.1), "")
         .replace("gripper: { builtin: X }", "gripper: { opening: 0.08 }");
-    assert!(load(&panda).unwrap().warnings.is_empty());
+    assert!(load(&panda).unwrap().warnings().is_empty());
 }

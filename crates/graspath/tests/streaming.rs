@@ -34,7 +34,7 @@ fn check_streaming_equals_in_memory(task: &Task) {
 /// `streamed_task` streamed against `task` selected in memory (the same task, or the same
 /// task file loaded whole).
 fn check_streamed_task_equals_in_memory(streamed_task: &Task, task: &Task) {
-    let reference = select(task, &|| {});
+    let reference = select(task, &|| {}).unwrap();
     let mut seen: Vec<(String, usize)> = Vec::new();
     let streamed: Selection<CandidateScalars> =
         select_streaming(streamed_task, &|| {}, |s| -> Result<(), CandidateError> {
@@ -101,7 +101,7 @@ fn several_chunks_of_one_arm_stream_the_in_memory_results() {
         .replace("samples: 50", "samples: 12");
     assert!(text.contains("count: 600"), "the workload file changed");
     let task = task_from(&text, &examples());
-    assert!(task.candidates.len() > 2 * graspath::select::STREAM_CHUNK);
+    assert!(task.candidate_count() > 2 * graspath::select::STREAM_CHUNK);
     check_streaming_equals_in_memory(&task);
 }
 
@@ -130,16 +130,13 @@ fn a_family_laid_out_on_demand_streams_the_in_memory_results() {
         let file = TaskFile::parse(&text, "t.yaml", "yaml").expect("task parses");
         let whole = Task::from_file(&file, "t.yaml", &examples()).expect("task builds");
         let chunked = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
-        assert!(chunked.candidates.is_empty());
-        assert!(matches!(
-            chunked.candidate_source,
-            Some(CandidateSource::Family(_))
-        ));
+        assert!(chunked.candidates().held().is_none());
+        assert!(matches!(chunked.candidates(), CandidateSource::Family(_)));
         assert_eq!(chunked.candidate_count(), count, "{family}");
         // Oracle: the family generated whole, by the in-memory path.
         assert_eq!(
             chunked.all_candidates().unwrap().as_ref(),
-            &whole.candidates[..]
+            whole.candidates().held().expect("held candidates")
         );
         for size in [1, 7, 256, count + 3] {
             let mut read = Vec::new();
@@ -151,13 +148,14 @@ fn a_family_laid_out_on_demand_streams_the_in_memory_results() {
                 })
                 .unwrap();
             assert_eq!(
-                read, whole.candidates,
+                read,
+                whole.candidates().held().expect("held candidates"),
                 "{family} {count} in chunks of {size}"
             );
         }
         assert_eq!(chunked.max_log_likelihood(), whole.max_log_likelihood());
         if count == 600 || family != "faces" {
-            let reference = select(&whole, &|| {});
+            let reference = select(&whole, &|| {}).unwrap();
             let streamed = select_streaming(&chunked, &|| {}, |_| -> Result<(), CandidateError> {
                 Ok(())
             })
@@ -168,6 +166,9 @@ fn a_family_laid_out_on_demand_streams_the_in_memory_results() {
                 let want_ids: Vec<usize> = want.scores.iter().map(|s| s.candidate.id).collect();
                 assert_eq!(ids, want_ids);
             }
+        }
+        if count == 255 {
+            check_select_equals(&chunked, &whole);
         }
     }
 }
@@ -180,7 +181,7 @@ fn two_arms_stream_the_in_memory_results_and_pairs() {
 #[test]
 fn two_arms_in_a_scene_keep_the_motions_the_pair_check_needs() {
     let task = example_task("scene/pick_and_place_both_on_table.yaml");
-    assert!(task.collisions.is_some());
+    assert!(task.collisions().is_some());
     check_streaming_equals_in_memory(&task);
 }
 
@@ -195,7 +196,13 @@ fn with_candidate_file(text: &str, family: &str, dir: &Path, name: &str) -> Stri
     let mut file = String::new();
     if name.ends_with(".csv") {
         file.push_str("id,label,x,y,z,qx,qy,qz,qw,likelihood\n");
-        for (k, c) in whole.candidates.iter().enumerate() {
+        for (k, c) in whole
+            .candidates()
+            .held()
+            .expect("held candidates")
+            .iter()
+            .enumerate()
+        {
             let (t, q) = (
                 c.object_from_wrist.translation,
                 c.object_from_wrist.rotation,
@@ -216,7 +223,7 @@ fn with_candidate_file(text: &str, family: &str, dir: &Path, name: &str) -> Stri
         }
     } else {
         let entries: Vec<String> = whole
-            .candidates
+            .candidates().held().expect("held candidates")
             .iter()
             .enumerate()
             .map(|(k, c)| {
@@ -251,12 +258,9 @@ fn check_candidate_file_task(text: &str) {
     let file = TaskFile::parse(text, "t.yaml", "yaml").expect("task parses");
     let whole = Task::from_file(&file, "t.yaml", &examples()).expect("task builds");
     let chunked = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
-    assert!(chunked.candidates.is_empty());
-    assert!(matches!(
-        chunked.candidate_source,
-        Some(CandidateSource::File(_))
-    ));
-    let n = whole.candidates.len();
+    assert!(chunked.candidates().held().is_none());
+    assert!(matches!(chunked.candidates(), CandidateSource::File(_)));
+    let n = whole.candidate_count();
     assert_eq!(chunked.candidate_count(), n);
     assert_eq!(chunked.max_log_likelihood(), whole.max_log_likelihood());
     for size in [1, 7, 256, n + 3] {
@@ -268,13 +272,116 @@ fn check_candidate_file_task(text: &str) {
                 Ok(())
             })
             .unwrap();
-        assert_eq!(read, whole.candidates, "chunks of {size}");
+        assert_eq!(
+            read,
+            whole.candidates().held().expect("held candidates"),
+            "chunks of {size}"
+        );
     }
-    for (i, c) in whole.candidates.iter().enumerate() {
+    for (i, c) in whole
+        .candidates()
+        .held()
+        .expect("held candidates")
+        .iter()
+        .enumerate()
+    {
         assert_eq!(chunked.candidate_at(i).unwrap().as_ref(), Some(c));
     }
     assert_eq!(chunked.candidate_at(n).unwrap(), None);
     check_streamed_task_equals_in_memory(&chunked, &whole);
+    check_select_equals(&chunked, &whole);
+}
+
+/// `select` itself — not only the streamed selection — on a task whose candidates are
+/// produced on demand gives what it gives on the task held whole.
+fn check_select_equals(on_demand: &Task, whole: &Task) {
+    let got = select(on_demand, &|| {}).expect("the candidates are produced");
+    let want = select(whole, &|| {}).unwrap();
+    assert_eq!(got.arms.len(), want.arms.len());
+    for (g, w) in got.arms.iter().zip(&want.arms) {
+        assert_eq!(g.scores, w.scores);
+        assert_eq!(g.rankings, w.rankings);
+    }
+    assert_eq!(got.pairs, want.pairs);
+}
+
+#[test]
+fn select_on_a_candidate_file_that_is_gone_is_an_error_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(examples().join("workload_1000_faces.yaml"))
+        .unwrap()
+        .replace("samples: 50", "samples: 4");
+    let text = with_candidate_file(
+        &text,
+        "family: { faces: { count: 1000, exclude: [bottom], depth: 0.02 } }",
+        dir.path(),
+        "candidates.json",
+    );
+    let file = TaskFile::parse(&text, "t.yaml", "yaml").expect("task parses");
+    let chunked = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
+    std::fs::remove_file(dir.path().join("candidates.json")).unwrap();
+    let error = select(&chunked, &|| {}).expect_err("the file is gone");
+    assert!(error.to_string().contains("candidates.json"), "{error}");
+}
+
+/// A task cut into candidate slices: each candidate scores exactly as in the whole task (its
+/// likelihood relative to the whole task's best), and ranks within a slice follow the whole
+/// task's order.
+#[test]
+fn a_slice_scores_its_candidates_as_the_whole_task() {
+    let whole = example_task("pick_and_place_left.yaml");
+    let n = whole.candidate_count();
+    let reference = select(&whole, &|| {}).unwrap();
+    let cut = n / 3;
+    for range in [0..cut, cut..n, 0..n, cut..cut] {
+        let slice = whole.slice(range.clone()).unwrap();
+        assert_eq!(slice.candidate_count(), range.len());
+        assert_eq!(slice.max_log_likelihood(), whole.max_log_likelihood());
+        let got = select(&slice, &|| {}).unwrap();
+        let want = &reference.arms[0];
+        for (i, (score, ranking)) in got.arms[0]
+            .scores
+            .iter()
+            .zip(&got.arms[0].rankings)
+            .enumerate()
+        {
+            let k = range.start + i;
+            assert_eq!(score, &want.scores[k]);
+            assert_eq!(ranking.score, want.rankings[k].score);
+        }
+        // Ranks within the slice: the whole task's ranks, renumbered (brute force).
+        let mut by_whole: Vec<(usize, usize)> = (0..range.len())
+            .filter_map(|i| want.rankings[range.start + i].rank.map(|r| (r, i)))
+            .collect();
+        by_whole.sort();
+        for (r, &(_, i)) in by_whole.iter().enumerate() {
+            assert_eq!(got.arms[0].rankings[i].rank, Some(r + 1));
+        }
+    }
+    let error = whole.slice(2..n + 1).unwrap_err();
+    assert_eq!(error.field, "candidates");
+}
+
+#[test]
+fn with_arms_keeps_the_named_arms_in_order() {
+    let both = example_task("pick_and_place_both.yaml");
+    let swapped = both.with_arms(&["right", "left"]).unwrap();
+    let names: Vec<&str> = swapped.arms().iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(names, ["right", "left"]);
+    let left = both.with_arms(&["left"]).unwrap();
+    let alone = select(&left, &|| {}).unwrap();
+    let together = select(&both, &|| {}).unwrap();
+    assert_eq!(alone.arms[0].scores, together.arms[0].scores);
+    assert!(alone.pairs.is_empty());
+    for (names, message) in [
+        (&["left", "left"][..], "listed twice"),
+        (&["middle"][..], "unknown arm 'middle' (arms: left, right)"),
+        (&[][..], "at least one arm"),
+    ] {
+        let error = both.with_arms(names).unwrap_err();
+        assert_eq!(error.field, "arms");
+        assert!(error.to_string().contains(message), "{error}");
+    }
 }
 
 #[test]
@@ -301,7 +408,7 @@ fn two_arms_with_a_candidate_file_read_in_chunks_stream_the_in_memory_pairs() {
         check_candidate_file_task(&text);
         let whole = task_from(&text, &examples());
         assert!(
-            !select(&whole, &|| {}).pairs.is_empty(),
+            !select(&whole, &|| {}).unwrap().pairs.is_empty(),
             "no pair to compare"
         );
     }

@@ -52,7 +52,7 @@ fn the_selected_motion_stays_within_every_limit_and_passes_through_the_ik_sample
 
 fn selected_motion_within_limits(extra: &str) {
     let task = task(extra);
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let chosen = best(&selection);
     let durations = chosen.durations.expect("the task times motions");
     assert!(durations.approach > 0.0 && durations.carry > 0.0 && durations.retreat > 0.0);
@@ -64,7 +64,7 @@ fn selected_motion_within_limits(extra: &str) {
     let trajectory = &motions[0].trajectory;
     assert_eq!(motions[0].candidate.id, chosen.candidate.id);
     assert!((trajectory.duration() - durations.total()).abs() < 1e-9);
-    let limits = task.arms[0].chain.motion_limits().to_vec();
+    let limits = task.arms()[0].chain.motion_limits().to_vec();
     let (mut worst, mut worst_torque): (f64, f64) = (0.0, 0.0);
     for point in &trajectory.points {
         for (j, l) in limits.iter().enumerate() {
@@ -154,7 +154,7 @@ fn timed_motions_do_not_depend_on_the_thread_count() {
             .build()
             .unwrap();
         pool.install(|| {
-            let selection = select(&task, &|| {});
+            let selection = select(&task, &|| {}).unwrap();
             let durations: Vec<_> = selection.arms[0]
                 .scores
                 .iter()
@@ -171,7 +171,7 @@ fn timed_motions_do_not_depend_on_the_thread_count() {
 
 #[test]
 fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
-    let plain = select(&task(""), &|| {});
+    let plain = select(&task(""), &|| {}).unwrap();
     let mut durations: Vec<f64> = plain.arms[0]
         .scores
         .iter()
@@ -183,7 +183,8 @@ fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
     let bounded = select(
         &task(&format!("selection: {{ max_duration: {cut} }}")),
         &|| {},
-    );
+    )
+    .unwrap();
     for (score, ranking) in bounded.arms[0].scores.iter().zip(&bounded.arms[0].rankings) {
         if let Some(d) = score.durations.map(|d| d.total()) {
             assert_eq!(ranking.rank.is_none(), d > cut, "{d} s vs {cut} s");
@@ -192,7 +193,8 @@ fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
     let fastest = select(
         &task("index: { measure: duration }\nselection: { likelihood: ignore }"),
         &|| {},
-    );
+    )
+    .unwrap();
     let arm = &fastest.arms[0];
     let mut ranked: Vec<(usize, f64)> = arm
         .scores
@@ -207,7 +209,7 @@ fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
 
 #[test]
 fn timing_can_be_turned_off_and_then_nothing_is_timed() {
-    let selection = select(&task("timing: false"), &|| {});
+    let selection = select(&task("timing: false"), &|| {}).unwrap();
     assert!(selection.arms[0]
         .scores
         .iter()
@@ -229,7 +231,10 @@ fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
     let slow = task(&format!(
         "timing: {{ object_speed: {limit}, object_turn_rate: 1.0 }}"
     ));
-    let (fast_selection, slow_selection) = (select(&plain, &|| {}), select(&slow, &|| {}));
+    let (fast_selection, slow_selection) = (
+        select(&plain, &|| {}).unwrap(),
+        select(&slow, &|| {}).unwrap(),
+    );
     let (fast, chosen) = (best(&fast_selection), best(&slow_selection));
     assert_eq!(
         fast.candidate.id, chosen.candidate.id,
@@ -243,7 +248,7 @@ fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
     let motion = &selected_motions(&slow, &slow_selection, Some(period))
         .unwrap()
         .unwrap()[0];
-    let chain = &slow.arms[0].chain;
+    let chain = &slow.arms()[0].chain;
     let origin = chosen
         .candidate
         .object_from_wrist
@@ -271,7 +276,7 @@ fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
 fn the_motion_passes_each_ik_sample_at_its_sample_time() {
     for extra in ["", "timing: { stops: false }"] {
         let task = task(extra);
-        let selection = select(&task, &|| {});
+        let selection = select(&task, &|| {}).unwrap();
         let chosen = best(&selection);
         let duration = chosen.durations.expect("the task times motions").total();
         let motion = &selected_motions(&task, &selection, None)
@@ -324,7 +329,7 @@ fn the_motion_passes_each_ik_sample_at_its_sample_time() {
 #[test]
 fn the_grasp_and_place_times_are_where_the_tool_holds_the_object_at_its_first_and_last_pose() {
     let task = task("");
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {}).unwrap();
     let chosen = best(&selection);
     let durations = chosen.durations.expect("the task times motions");
     let motion = &selected_motions(&task, &selection, None)
@@ -333,12 +338,12 @@ fn the_grasp_and_place_times_are_where_the_tool_holds_the_object_at_its_first_an
     // With stops, the grasp ends the approach and the place ends the carry.
     assert!((motion.grasp_time - durations.approach).abs() < 1e-9);
     assert!((motion.place_time - durations.approach - durations.carry).abs() < 1e-9);
-    let chain = &task.arms[0].chain;
-    let base_from_world = task.arms[0].world_from_base.inverse();
+    let chain = &task.arms()[0].chain;
+    let base_from_world = task.arms()[0].world_from_base.inverse();
     let object_from_wrist = motion.candidate.object_from_wrist;
     for (time, sample) in [
-        (motion.grasp_time, task.path.samples.first().unwrap()),
-        (motion.place_time, task.path.samples.last().unwrap()),
+        (motion.grasp_time, task.path().samples.first().unwrap()),
+        (motion.place_time, task.path().samples.last().unwrap()),
     ] {
         // At the grid's points the motion passes through the IK samples: the point at that
         // time puts the tool at the object's pose times the grasp.

@@ -115,13 +115,13 @@ fn the_memory_estimate_bounds_the_selection_and_its_limit_is_checked() {
     let text = scene(0, "approach: { distance: 0.1, samples: 3 }\n");
     let (_dir, path) = task(&text);
     let loaded = Task::load(&path).unwrap();
-    let selection = select(&loaded, &|| ());
+    let selection = select(&loaded, &|| ()).unwrap();
     let held: usize = selection.arms[0]
         .scores
         .iter()
         .map(|s| {
             (s.approach.len() + s.joint_trajectory.len() + s.retreat.len())
-                * (24 + 8 * loaded.arms[0].chain.dof())
+                * (24 + 8 * loaded.arms()[0].chain.dof())
                 + (s.m_t.len() * 16)
                 + s.limit_distance.len() * 8
         })
@@ -154,13 +154,13 @@ fn the_self_motion_search_and_the_timing_have_their_parts() {
     // One arm, 40-odd candidates, 11 samples (the initial pose and 10).
     let (_dir, path) = task(&base);
     let loaded = Task::load(&path).unwrap();
-    let per_sample = loaded.candidate_count() as u64 * loaded.path.samples.len() as u64;
+    let per_sample = loaded.candidate_count() as u64 * loaded.path().samples.len() as u64;
     assert_eq!(
         optimised.self_motion,
         per_sample * WorkEstimate::SELF_MOTION_EVALUATIONS_PER_SAMPLE
     );
     assert_eq!(first.self_motion, 0);
-    let timing = loaded.timing.as_ref().expect("timed by default");
+    let timing = loaded.timing().expect("timed by default");
     let per_point = if timing.torque_limits {
         WorkEstimate::TIMING_EVALUATIONS_PER_TORQUE_POINT
     } else {

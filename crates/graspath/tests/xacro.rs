@@ -250,7 +250,7 @@ fn a_task_file_gives_xacro_arguments_and_search_paths() {
         "{ urdf: arm.urdf.xacro, search_paths: [share], xacro_args: { reach: 0.65 }, chains: { arm: { base: base, tip: tip } } }",
     )
     .unwrap();
-    let chain = &loaded.arms[0].chain;
+    let chain = &loaded.arms()[0].chain;
     let tip = chain.pose(&[0.3, -1.2]).unwrap().translation.vector;
     let expected = tip_position(0.65, [0.3, -1.2]);
     for k in 0..3 {

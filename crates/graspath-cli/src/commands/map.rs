@@ -85,7 +85,7 @@ pub fn run(args: &MapArgs) -> Result<Finished> {
         .build()
         .context("cannot use the task file")?;
     super::print_warnings(&name, &task);
-    let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+    let parameter = FamilyParameter::from_task_file(&file, &task.all_candidates()?);
     drop(task);
     let progress = Progress::new(&args.output, grid.len() as u64, &name, "placements");
     let started = std::time::Instant::now();

@@ -35,7 +35,7 @@ pub fn check_out_spares(out: &Path, inputs: &[&Path]) -> Result<(), OutputError>
 /// Prints the task's plausibility warnings (values that are probably mistakes) to stderr, one
 /// line each: `graspath: warning: TASK: FIELD: MESSAGE`.
 pub fn print_warnings(title: &str, task: &Task) {
-    for warning in &task.warnings {
+    for warning in task.warnings() {
         eprintln!("graspath: warning: {title}: {warning}");
     }
 }

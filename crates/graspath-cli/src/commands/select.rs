@@ -159,10 +159,10 @@ fn run_task_but_candidates(
     title: &str,
     report: bool,
 ) -> Result<TaskRun> {
-    let total = task.candidates.len() * task.arms.len();
+    let total = task.candidate_count() * task.arms().len();
     let progress = Progress::new(output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
-    let selection = select(task, &|| progress.inc());
+    let selection = select(task, &|| progress.inc())?;
     progress.finish();
     let elapsed = started.elapsed();
     let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
@@ -174,7 +174,7 @@ fn run_task_but_candidates(
         "summary.json".to_string(),
         pretty(summary_json(task, &selection))?,
     )];
-    if task.arms.len() == 2 {
+    if task.arms().len() == 2 {
         files.push(("pairs.json".to_string(), pretty(pairs_json(&selection))?));
     }
     if report {
@@ -220,7 +220,7 @@ fn stream_task(
         )),
         Format::Json | Format::Jsonl => Records::Lines(file),
     };
-    let total = task.candidate_count() * task.arms.len();
+    let total = task.candidate_count() * task.arms().len();
     let progress = Progress::new(&args.output, total as u64, title, "candidates");
     let started = std::time::Instant::now();
     // A write fails with the file written; a candidate file that can no longer be read (it
@@ -264,7 +264,7 @@ fn stream_task(
         Ok(bytes)
     };
     folder.write("summary.json", &pretty(summary_json(task, &selection))?)?;
-    if task.arms.len() == 2 {
+    if task.arms().len() == 2 {
         folder.write("pairs.json", &pretty(pairs_json(&selection))?)?;
     }
     for (name, bytes) in trajectory_files(task, &selection, args.trajectory_period)? {
@@ -291,7 +291,7 @@ pub fn run(args: &SelectArgs) -> Result<Finished> {
             "cannot hold the selection in memory (stream it with --format jsonl or parquet)",
         )?;
         super::print_warnings(&title, &task);
-        let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+        let parameter = FamilyParameter::from_task_file(&file, &task.all_candidates()?);
         let run =
             run_task_but_candidates(&task, parameter.as_ref(), &args.output, &title, args.report)?;
         // `candidates.json` is written as it is rendered, then the other files.
@@ -343,7 +343,7 @@ fn finish<S: Scored>(
         crate::say!("  wrote {}", args.out.display());
     }
     if empty && !args.allow_empty {
-        let what = if task.arms.len() == 2 {
+        let what = if task.arms().len() == 2 {
             "no valid pair of grasps"
         } else {
             "no feasible candidate"

@@ -199,7 +199,8 @@ pub fn placement_map_with<T: Send>(
                 .clone()
                 .with_object_start(placement.world_from_object)?
                 .build()?;
-            let selection = select(&task, &|| {});
+            let selection = select(&task, &|| {})
+                .map_err(|e| TaskError::caused_by(&task.source_name, "candidates", e))?;
             progress();
             let record =
                 PlacementRecord::from_selection(&task, &selection, placement, parameter.as_ref());

@@ -10,8 +10,9 @@ mod stream;
 mod timed;
 
 pub use rank::{
-    assign_ranks, best_pairs, best_pairs_of, rank_candidates, rank_pairs, ranking_alone,
-    scores_tied, tied_with, values_tied, ArmPair, PairArm, PairScore, PositionPair, Ranking,
+    assign_ranks, best_pairs, best_pairs_of, rank_against, rank_candidates, rank_pairs,
+    ranking_alone, scores_tied, tied_with, values_tied, ArmPair, PairArm, PairScore, PositionPair,
+    Ranking,
 };
 pub use run::{pairs_of_eligible, scoring_setup, select, ArmResult, PairInputError, Selection};
 pub use scalars::{CandidateScalars, FailurePoint, Scored};

@@ -109,9 +109,20 @@ pub fn rank_candidates<S: Scored>(scores: &[S], options: &SelectionOptions) -> V
         .iter()
         .map(Scored::log_likelihood)
         .fold(f64::NEG_INFINITY, f64::max);
+    rank_against(scores, options, max_log)
+}
+
+/// [`rank_candidates`] with the likelihoods relative to `max_log_likelihood` (the largest
+/// natural log-likelihood of a whole task, of which `scores` may be a slice): each candidate's
+/// [`ranking_alone`], then [`assign_ranks`] — the one ranking order.
+pub fn rank_against<S: Scored>(
+    scores: &[S],
+    options: &SelectionOptions,
+    max_log_likelihood: f64,
+) -> Vec<Ranking> {
     let mut rankings: Vec<Ranking> = scores
         .iter()
-        .map(|s| ranking_alone(s, options, max_log))
+        .map(|s| ranking_alone(s, options, max_log_likelihood))
         .collect();
     assign_ranks(scores, &mut rankings, options);
     rankings

@@ -1,7 +1,7 @@
 //! Running a whole task: every arm scored and ranked, and the best pairs when there are two arms.
 
 use super::rank::{
-    best_pairs_of, rank_candidates, rank_pairs, ArmPair, PairArm, PairScore, PositionPair, Ranking,
+    best_pairs_of, rank_against, rank_pairs, ArmPair, PairArm, PairScore, PositionPair, Ranking,
 };
 use super::scalars::Scored;
 use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
@@ -80,25 +80,20 @@ pub struct Selection<S = CandidateScore> {
     pub colliding_pairs: usize,
 }
 
-/// Scores, ranks and pairs. `progress` is called once per scored candidate and arm.
-///
-/// # Panics
-///
-/// With a task loaded by [`Task::from_file_chunked`] whose candidate file can no longer be
-/// read (removed or changed since it was checked): such a task is meant for
-/// [`select_streaming`](super::select_streaming), which reports that as an error. Tasks whose
-/// candidates are held or a family never panic here.
-pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
-    let candidates = task
-        .all_candidates()
-        .unwrap_or_else(|e| panic!("the task's candidates cannot be read again: {e}"));
+/// Scores, ranks and pairs every candidate, held in memory with its whole motion. `progress`
+/// is called once per scored candidate and arm. Candidates produced on demand are produced all
+/// at once (stream a large task with [`select_streaming`](super::select_streaming)); a
+/// candidate file that can no longer be read (removed or changed since the task was loaded)
+/// is the error.
+pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Result<Selection, CandidateError> {
+    let candidates = task.all_candidates()?;
     let arms: Vec<ArmResult> = task
         .arms
         .iter()
         .map(|arm| {
             let setup = scoring_setup(task, arm);
             let scores = score_candidates(&setup, &candidates, progress);
-            let rankings = rank_candidates(&scores, &task.selection);
+            let rankings = rank_against(&scores, &task.selection, task.max_log_likelihood());
             ArmResult {
                 arm: arm.name.clone(),
                 scores,
@@ -119,11 +114,11 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Selection {
     } else {
         (Vec::new(), 0)
     };
-    Selection {
+    Ok(Selection {
         arms,
         pairs,
         colliding_pairs,
-    }
+    })
 }
 
 /// Why [`pairs_of_eligible`] cannot pair the candidates it is given.

@@ -16,6 +16,8 @@ use crate::grasp::{Candidate, CandidateError, CandidateSource};
 use crate::manipulability::{IndexMeasure, JacobianRows, Norm, RankedIndex};
 use crate::robot::{Chain, Dynamics, IkOptions, RigidBody, TrajectoryIkOptions};
 use nalgebra::Isometry3;
+use std::borrow::Cow;
+use std::ops::Range;
 use std::sync::Arc;
 
 /// One arm taking part in the task.
@@ -63,68 +65,65 @@ pub struct ArmSetup {
 ///     )
 ///     .build()
 ///     .unwrap();
-/// assert_eq!(task.path.samples.len(), 11);
-/// assert_eq!(task.ik.ik.max_iterations, 200); // the task default, from `task::defaults`
+/// assert_eq!(task.path().samples.len(), 11);
+/// assert_eq!(task.ik().ik.max_iterations, 200); // the task default, from `graspath::defaults`
 /// ```
 #[derive(Debug, Clone)]
 pub struct Task {
     /// The task's name (its file, or the name given to the builder), for messages and reports.
-    pub source_name: String,
+    pub(crate) source_name: String,
     /// The robot's name (`baxter` or the URDF robot's name).
-    pub robot_name: String,
+    pub(crate) robot_name: String,
     /// The arms used, in the order given.
-    pub arms: Vec<ArmSetup>,
+    pub(crate) arms: Vec<ArmSetup>,
     /// The object's shape (object frame, m), when given: for candidate families and views.
-    pub shape: Option<Shape>,
-    /// The grasp candidates (wrist poses in the object frame), shared with the results that
-    /// refer to them. Empty when the candidates are produced on demand (`candidate_source`):
-    /// read them through [`Task::for_each_candidate_chunk`], count them with
-    /// [`Task::candidate_count`].
-    pub candidates: Vec<Arc<Candidate>>,
-    /// The candidates as a parametric family computed from their index, or a candidate file
-    /// read again chunk by chunk, when needed (a task loaded by [`Task::from_file_chunked`]),
-    /// so a streamed selection never holds them all; `None` when they are held in
-    /// `candidates`.
-    pub candidate_source: Option<CandidateSource>,
+    pub(crate) shape: Option<Shape>,
+    /// The grasp candidates (wrist poses in the object frame): held, shared with the results
+    /// that refer to them, or produced on demand (a task loaded by
+    /// [`Task::from_file_chunked`]) so that a streamed selection never holds them all.
+    pub(crate) candidates: CandidateSource,
+    /// The largest natural log-likelihood the candidates' scores are relative to: the task's
+    /// own candidates', or, for a [`Task::slice`], the whole task's.
+    pub(crate) max_log_likelihood: f64,
     /// The sampled object trajectory in the world frame; its first pose is the grasp pose.
-    pub path: ObjectPath,
+    pub(crate) path: ObjectPath,
     /// Which rows of `J` and of the tangent enter `M_T`.
-    pub rows: JacobianRows,
+    pub(crate) rows: JacobianRows,
     /// The per-sample index that is ranked (default: `M_T`).
-    pub ranked: RankedIndex,
+    pub(crate) ranked: RankedIndex,
     /// How candidates are ranked.
-    pub selection: SelectionOptions,
+    pub(crate) selection: SelectionOptions,
     /// Trajectory IK settings.
-    pub ik: TrajectoryIkOptions,
+    pub(crate) ik: TrajectoryIkOptions,
     /// How far inside its limits the IK keeps every revolute joint (rad; `ik.limit_margin`,
     /// default [`defaults::IK_LIMIT_MARGIN`]; 0 plans up to the limits, as the paper does):
     /// each arm's [`ArmSetup::ik_chain`].
-    pub ik_limit_margin: f64,
+    pub(crate) ik_limit_margin: f64,
     /// How the arm's self-motion is chosen (`ik.redundancy`).
-    pub redundancy: Redundancy,
+    pub(crate) redundancy: Redundancy,
     /// The bounds the task was checked against.
-    pub limits: Limits,
+    pub(crate) limits: Limits,
     /// The tool's straight approach to the grasp, if any.
-    pub approach: Option<Stroke>,
+    pub(crate) approach: Option<Stroke>,
     /// The tool's straight retreat after the place, if any.
-    pub retreat: Option<Stroke>,
+    pub(crate) retreat: Option<Stroke>,
     /// The gripper: grasps wider than its opening are infeasible (`gripper_width`).
-    pub gripper: Option<Gripper>,
+    pub(crate) gripper: Option<Gripper>,
     /// Collision checks against the scene, the arm itself and the other arm (`None`: the
     /// task says nothing about its world and nothing is checked).
-    pub collisions: Option<Collisions>,
+    pub(crate) collisions: Option<Collisions>,
     /// The object's body (object frame) for the gripper and collision checks, when its shape
     /// is known and either is asked for.
-    pub object_body: Option<Arc<Body>>,
+    pub(crate) object_body: Option<Arc<Body>>,
     /// The object's mass properties (object frame: kg, m, kg·m² about its centre of mass),
     /// when the task gives its mass: the arm carries it from the grasp to the place, and the
     /// joint torques along the motion are checked against the arm's effort limits.
-    pub payload: Option<RigidBody>,
+    pub(crate) payload: Option<RigidBody>,
     /// How each feasible candidate's motion is timed (`None`: not timed).
-    pub timing: Option<TimingSettings>,
+    pub(crate) timing: Option<TimingSettings>,
     /// Values that are probably mistakes (degrees in a radians field, millimetres, an object
     /// starting inside the table, ...): warnings, not errors — the task is scored as written.
-    pub warnings: Vec<TaskWarning>,
+    pub(crate) warnings: Vec<TaskWarning>,
 }
 
 impl Task {
@@ -146,23 +145,14 @@ impl Task {
 
     /// How many candidates the task has (held or produced on demand).
     pub fn candidate_count(&self) -> usize {
-        self.candidate_source
-            .as_ref()
-            .map_or(self.candidates.len(), CandidateSource::len)
+        self.candidates.len()
     }
 
-    /// The largest natural log-likelihood of the task's candidates (`−∞` without any; 0 for a
-    /// family, whose candidates are equally likely): the likelihood enters a ranking score
-    /// relative to it.
+    /// The largest natural log-likelihood the candidates' ranking scores are relative to
+    /// (`−∞` without any; 0 for a family, whose candidates are equally likely): the task's own
+    /// candidates', or, for a [`Task::slice`], the whole task's.
     pub fn max_log_likelihood(&self) -> f64 {
-        match &self.candidate_source {
-            Some(source) => source.max_log_likelihood(),
-            None => self
-                .candidates
-                .iter()
-                .map(|c| c.log_likelihood)
-                .fold(f64::NEG_INFINITY, f64::max),
-        }
+        self.max_log_likelihood
     }
 
     /// Calls `consume` with the candidates in order, at most `size` (≥ 1) at a time; stops at
@@ -173,29 +163,177 @@ impl Task {
         size: usize,
         consume: impl FnMut(&[Arc<Candidate>]) -> Result<(), E>,
     ) -> Result<(), E> {
-        match &self.candidate_source {
-            None => self.candidates.chunks(size.max(1)).try_for_each(consume),
-            Some(source) => source.for_each_chunk(size, consume),
-        }
+        self.candidates.for_each_chunk(size, consume)
     }
 
     /// The candidate at position `index` in candidate order (`None` past the end); read from
     /// the candidate file when the task reads its candidates in chunks.
     pub fn candidate_at(&self, index: usize) -> Result<Option<Arc<Candidate>>, CandidateError> {
-        match &self.candidate_source {
-            None => Ok(self.candidates.get(index).cloned()),
-            Some(source) => Ok(source.candidate(index)?.map(Arc::new)),
-        }
+        self.candidates.candidate(index)
     }
 
-    /// Every candidate, in order: `candidates`, or those produced on demand, all at once.
-    pub fn all_candidates(&self) -> Result<std::borrow::Cow<'_, [Arc<Candidate>]>, CandidateError> {
-        match &self.candidate_source {
-            None => Ok(std::borrow::Cow::Borrowed(&self.candidates)),
-            Some(source) => Ok(std::borrow::Cow::Owned(
-                source.all()?.into_iter().map(Arc::new).collect(),
-            )),
+    /// Every candidate, in order: borrowed when held, else produced all at once.
+    pub fn all_candidates(&self) -> Result<Cow<'_, [Arc<Candidate>]>, CandidateError> {
+        self.candidates.all()
+    }
+
+    /// The same task with only the arms named `names`, in that order (one arm of a two-arm
+    /// task, or its arms swapped). Errors name an arm the task does not have or one named
+    /// twice (field `arms`).
+    pub fn with_arms<S: AsRef<str>>(&self, names: &[S]) -> Result<Task, TaskError> {
+        let err = |message: String| TaskError::new(&self.source_name, "arms", message);
+        if names.is_empty() {
+            return Err(err("name at least one arm".into()));
         }
+        let mut arms = Vec::with_capacity(names.len());
+        for (k, name) in names.iter().map(AsRef::as_ref).enumerate() {
+            if names[..k].iter().any(|n| n.as_ref() == name) {
+                return Err(err(format!("arm '{name}' is listed twice")));
+            }
+            let arm = self.arms.iter().find(|a| a.name == name).ok_or_else(|| {
+                let known: Vec<&str> = self.arms.iter().map(|a| a.name.as_str()).collect();
+                err(format!("unknown arm '{name}' (arms: {})", known.join(", ")))
+            })?;
+            arms.push(arm.clone());
+        }
+        Ok(Task {
+            arms,
+            ..self.clone()
+        })
+    }
+
+    /// The same task with only the candidates at the positions `range`, held; their ranking
+    /// scores stay relative to the whole task's largest likelihood, so a candidate scores the
+    /// same in a slice as in the whole task (ranks are within the slice). Errors: a range
+    /// outside `0..candidate_count()` (field `candidates`), a candidate file that can no
+    /// longer be read.
+    pub fn slice(&self, range: Range<usize>) -> Result<Task, TaskError> {
+        let count = self.candidate_count();
+        if range.start > range.end || range.end > count {
+            return Err(TaskError::new(
+                &self.source_name,
+                "candidates",
+                format!(
+                    "({}, {}) is not a candidate range: give 0 <= start <= stop <= {count}",
+                    range.start, range.end
+                ),
+            ));
+        }
+        let held = self
+            .candidates
+            .held_range(range)
+            .map_err(|e| TaskError::caused_by(&self.source_name, "candidates", e))?;
+        Ok(Task {
+            candidates: CandidateSource::Held(held),
+            ..self.clone()
+        })
+    }
+
+    /// The task's name (its file, or the name given to the builder), for messages and reports.
+    pub fn source_name(&self) -> &str {
+        &self.source_name
+    }
+
+    /// The robot's name (`baxter` or the URDF robot's name).
+    pub fn robot_name(&self) -> &str {
+        &self.robot_name
+    }
+
+    /// The arms used, in the order given.
+    pub fn arms(&self) -> &[ArmSetup] {
+        &self.arms
+    }
+
+    /// The object's shape (object frame, m), when given.
+    pub fn shape(&self) -> Option<&Shape> {
+        self.shape.as_ref()
+    }
+
+    /// The grasp candidates (wrist poses in the object frame): held or produced on demand.
+    pub fn candidates(&self) -> &CandidateSource {
+        &self.candidates
+    }
+
+    /// The sampled object trajectory in the world frame; its first pose is the grasp pose.
+    pub fn path(&self) -> &ObjectPath {
+        &self.path
+    }
+
+    /// Which rows of `J` and of the tangent enter `M_T`.
+    pub fn rows(&self) -> JacobianRows {
+        self.rows
+    }
+
+    /// The per-sample index that is ranked.
+    pub fn ranked(&self) -> RankedIndex {
+        self.ranked
+    }
+
+    /// How candidates are ranked and paired.
+    pub fn selection(&self) -> &SelectionOptions {
+        &self.selection
+    }
+
+    /// The trajectory IK's settings.
+    pub fn ik(&self) -> &TrajectoryIkOptions {
+        &self.ik
+    }
+
+    /// How far inside its limits the IK keeps every revolute joint (rad; `ik.limit_margin`).
+    pub fn ik_limit_margin(&self) -> f64 {
+        self.ik_limit_margin
+    }
+
+    /// How the arm's self-motion is chosen (`ik.redundancy`).
+    pub fn redundancy(&self) -> Redundancy {
+        self.redundancy
+    }
+
+    /// The bounds the task was checked against.
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    /// The tool's straight approach to the grasp, if any.
+    pub fn approach(&self) -> Option<Stroke> {
+        self.approach
+    }
+
+    /// The tool's straight retreat after the place, if any.
+    pub fn retreat(&self) -> Option<Stroke> {
+        self.retreat
+    }
+
+    /// The gripper, if given: grasps wider than its opening are infeasible.
+    pub fn gripper(&self) -> Option<&Gripper> {
+        self.gripper.as_ref()
+    }
+
+    /// The collision checks against the scene, the arm itself and the other arm (`None`:
+    /// nothing is checked).
+    pub fn collisions(&self) -> Option<&Collisions> {
+        self.collisions.as_ref()
+    }
+
+    /// The object's body (object frame) for the gripper and collision checks.
+    pub fn object_body(&self) -> Option<&Arc<Body>> {
+        self.object_body.as_ref()
+    }
+
+    /// The object's mass properties (object frame: kg, m, kg·m² about its centre of mass),
+    /// when the task gives its mass.
+    pub fn payload(&self) -> Option<&RigidBody> {
+        self.payload.as_ref()
+    }
+
+    /// How each feasible candidate's motion is timed (`None`: not timed).
+    pub fn timing(&self) -> Option<&TimingSettings> {
+        self.timing.as_ref()
+    }
+
+    /// Values that are probably mistakes: warnings, not errors.
+    pub fn warnings(&self) -> &[TaskWarning] {
+        &self.warnings
     }
 
     /// The work estimate of this task in kinematics evaluations (see [`Limits::max_work`]):
@@ -358,8 +496,7 @@ pub struct TaskBuilder {
     robot_name: Option<String>,
     arms: Vec<ArmSetup>,
     shape: Option<Shape>,
-    candidates: Vec<Candidate>,
-    candidate_source: Option<CandidateSource>,
+    candidates: CandidateSource,
     path: Option<PathInput>,
     rows: JacobianRows,
     ranked: RankedIndex,
@@ -397,8 +534,7 @@ impl TaskBuilder {
             robot_name: None,
             arms: Vec::new(),
             shape: None,
-            candidates: Vec::new(),
-            candidate_source: None,
+            candidates: CandidateSource::Held(Vec::new()),
             path: None,
             rows: JacobianRows::default(),
             ranked: RankedIndex::default(),
@@ -492,16 +628,14 @@ impl TaskBuilder {
 
     /// The grasp candidates, `object_from_wrist` with log-likelihoods.
     pub fn candidates(mut self, candidates: Vec<Candidate>) -> Self {
-        self.candidates = candidates;
-        self.candidate_source = None;
+        self.candidates = CandidateSource::Held(candidates.into_iter().map(Arc::new).collect());
         self
     }
 
-    /// The grasp candidates produced on demand (see [`Task::candidate_source`]); replaces
+    /// The grasp candidates held or produced on demand (see [`Task::candidates`]); replaces
     /// [`candidates`](Self::candidates).
     pub fn candidate_source(mut self, source: CandidateSource) -> Self {
-        self.candidates = Vec::new();
-        self.candidate_source = Some(source);
+        self.candidates = source;
         self
     }
 
@@ -716,10 +850,7 @@ impl TaskBuilder {
                 ));
             }
         }
-        let count = self
-            .candidate_source
-            .as_ref()
-            .map_or(self.candidates.len(), CandidateSource::len);
+        let count = self.candidates.len();
         check_count("candidates", count, limits.max_candidates, "max_candidates")
             .map_err(|m| err("candidates", m))?;
         if count == 0 {
@@ -986,8 +1117,8 @@ impl TaskBuilder {
             robot_name: self.robot_name.unwrap_or_else(|| "robot".into()),
             arms,
             shape: self.shape,
-            candidates: self.candidates.into_iter().map(Arc::new).collect(),
-            candidate_source: self.candidate_source,
+            max_log_likelihood: self.candidates.max_log_likelihood(),
+            candidates: self.candidates,
             path,
             rows: self.rows,
             ranked: self.ranked,

@@ -93,9 +93,9 @@ fn grid_json(grid: &PlacementGrid) -> Value {
 pub(super) fn cuboid_where_it_holds(file: &TaskFile, source: &str, judge: Judge) -> Result<Value> {
     let builder = builder_from_file(file, source, Path::new("."))?;
     let task = builder.clone().build()?;
-    let parameter = FamilyParameter::from_task_file(file, &task.candidates);
-    let contact_of: Vec<(usize, f64)> = task
-        .candidates
+    let candidates = task.all_candidates()?;
+    let parameter = FamilyParameter::from_task_file(file, &candidates);
+    let contact_of: Vec<(usize, f64)> = candidates
         .iter()
         .zip(parameter.iter().flat_map(|p| p.values.iter()))
         .map(|(c, v)| (c.id, *v))
@@ -187,7 +187,7 @@ struct DistanceTerms {
 /// Whether the object moves mostly vertically (|Δz| ≥ 0.9 |Δp|) into each sample of the
 /// task's path (the first sample, which no motion leads into, is `false`).
 fn vertical_samples(task: &Task) -> Vec<bool> {
-    let samples = &task.path.samples;
+    let samples = &task.path().samples;
     let mut vertical = vec![false; samples.len()];
     for (k, pair) in samples.windows(2).enumerate() {
         let step = pair[1].world_from_object.translation.vector
@@ -200,7 +200,7 @@ fn vertical_samples(task: &Task) -> Vec<bool> {
 /// The arm's shoulder in the world (m): the origin of its second joint at the mid
 /// configuration (Baxter's `s1`, the pitch joint that raises the arm).
 fn shoulder(task: &Task, arm: usize) -> Option<nalgebra::Point3<f64>> {
-    let setup = &task.arms[arm];
+    let setup = &task.arms()[arm];
     let origins = setup
         .chain
         .joint_origins(&setup.chain.mid_configuration())
@@ -211,7 +211,7 @@ fn shoulder(task: &Task, arm: usize) -> Option<nalgebra::Point3<f64>> {
 /// Every arm's feasible candidates at one placement, as [`DistanceTerms`].
 fn distance_terms(task: &Task, selection: &Selection) -> Vec<Vec<DistanceTerms>> {
     let vertical = vertical_samples(task);
-    let grasp_pose = task.path.samples[0].world_from_object;
+    let grasp_pose = task.path().samples[0].world_from_object;
     let mean = |values: Vec<f64>| {
         (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
     };

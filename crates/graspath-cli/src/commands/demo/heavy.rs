@@ -71,7 +71,7 @@ pub(super) fn heavy_finding(
         let mut heavy = file.clone();
         heavy.object.mass = Some(mass);
         let task = Task::from_file(&heavy, source, Path::new("."))?;
-        let selection = select(&task, &|| {});
+        let selection = select(&task, &|| {})?;
         let arm = &selection.arms[0];
         arm_name.get_or_insert_with(|| arm.arm.clone());
         let finding = at_mass(mass, arm, light_best.as_deref());

@@ -106,7 +106,7 @@ fn our_finding(task: &Task, selection: &Selection) -> Value {
             let best = arm.best().map(|i| label_of(selection, k, i));
             let tied: Vec<String> = arm
                 .best()
-                .map(|i| arm.tied_with(i, &task.selection))
+                .map(|i| arm.tied_with(i, task.selection()))
                 .unwrap_or_default()
                 .into_iter()
                 .filter_map(|id| arm.scores.iter().find(|s| s.candidate.id == id))
@@ -146,10 +146,10 @@ fn our_finding(task: &Task, selection: &Selection) -> Value {
             selection.arms[0].arm.clone(): p.first.label,
             selection.arms[1].arm.clone(): p.second.label,
             "score": p.score,
-            "tied_with": graspath_report::tied_pairs(selection, task.selection.tie_tolerance).len(),
+            "tied_with": graspath_report::tied_pairs(selection, task.selection().tie_tolerance).len(),
         })
     });
-    json!({ "arms": arms, "best_pair": pair, "tie_tolerance": task.selection.tie_tolerance })
+    json!({ "arms": arms, "best_pair": pair, "tie_tolerance": task.selection().tie_tolerance })
 }
 
 /// How a task file samples its path, in words.
@@ -164,7 +164,7 @@ fn sampling_of(file: &TaskFile, task: &Task) -> String {
             graspath::defaults::SAMPLES_PER_STEP
         ),
     };
-    format!("dense: {} samples, {how}", task.path.samples.len())
+    format!("dense: {} samples, {how}", task.path().samples.len())
 }
 
 /// The paper's reading of the task: the same file with its norms over the waypoints only
@@ -173,12 +173,12 @@ fn at_waypoints(file: &TaskFile, source: &str) -> Result<Value> {
     let mut file = file.clone();
     file.index.over = Some("waypoints".into());
     let task = Task::from_file(&file, source, Path::new("."))?;
-    let selection = select(&task, &|| {});
+    let selection = select(&task, &|| {})?;
     let mut ours = our_finding(&task, &selection);
     ours["sampling"] = json!(format!(
         "waypoints: {} of {} samples (the initial pose and each step's end; eq. 15 over them)",
         file.trajectory.steps.len() + 1,
-        task.path.samples.len()
+        task.path().samples.len()
     ));
     Ok(ours)
 }
@@ -201,7 +201,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         } else {
             args.output.clone()
         };
-        let parameter = FamilyParameter::from_task_file(&file, &task.candidates);
+        let parameter = FamilyParameter::from_task_file(&file, &task.all_candidates()?);
         let run = run_task(
             &task,
             parameter.as_ref(),

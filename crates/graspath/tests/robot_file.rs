@@ -27,7 +27,7 @@ fn load_task(dir: &Path, robot: &str) -> Result<Task, graspath::task::TaskError>
 
 /// The tip poses of the task's one arm at a few configurations spread over its joint ranges.
 fn tip_poses(task: &Task) -> Vec<Vec<f64>> {
-    let chain = &task.arms[0].chain;
+    let chain = &task.arms()[0].chain;
     let (lower, upper) = (chain.lower(), chain.upper());
     (0..5)
         .map(|k| {
@@ -53,7 +53,7 @@ fn file_loads_the_same_robot_as_urdf_and_mjcf() {
     let by_key = load_task(d, &format!("{{ mjcf: {}, {chains} }}", mjcf.display())).unwrap();
     for file in [mjcf.display().to_string(), "ur5_model".to_string()] {
         let by_file = load_task(d, &format!("{{ file: {file}, {chains} }}")).unwrap();
-        assert_eq!(by_file.arms[0].chain.dof(), 6);
+        assert_eq!(by_file.arms()[0].chain.dof(), 6);
         assert_eq!(tip_poses(&by_file), tip_poses(&by_key), "{file}");
     }
     // A URDF named *.urdf, *.xml and without an extension (relative to the task file).
@@ -65,7 +65,7 @@ fn file_loads_the_same_robot_as_urdf_and_mjcf() {
     let by_key = load_task(d, &format!("{{ urdf: {}, {chains} }}", urdf.display())).unwrap();
     for file in ["hand.urdf", "hand.xml", "hand"] {
         let by_file = load_task(d, &format!("{{ file: {file}, {chains} }}")).unwrap();
-        assert_eq!(by_file.robot_name, by_key.robot_name);
+        assert_eq!(by_file.robot_name(), by_key.robot_name());
         assert_eq!(tip_poses(&by_file), tip_poses(&by_key), "{file}");
     }
 }

@@ -535,7 +535,8 @@ mod tests {
     fn xml_and_other_names_are_told_by_their_root_element() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
-        let cases: [(&str, &[u8], fn(PathBuf) -> RobotSource); 6] = [
+        type Expected = fn(PathBuf) -> RobotSource;
+        let cases: [(&str, &[u8], Expected); 6] = [
             ("urdf.xml", URDF.as_bytes(), |p| RobotSource::urdf(p)),
             ("mjcf.xml", MJCF.as_bytes(), |p| RobotSource::mjcf(p)),
             ("robot", URDF.as_bytes(), |p| RobotSource::urdf(p)),

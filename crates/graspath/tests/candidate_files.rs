@@ -376,5 +376,8 @@ fn only_a_regular_file_is_indexed() {
     let dir = tempfile::tempdir().unwrap();
     assert!(!CandidateFile::can_index(dir.path()));
     let err = CandidateFile::index(dir.path()).unwrap_err();
-    assert!(err.message.contains("not a regular file"), "{err}");
+    // The reading refuses it; the operating-system-level reason is the error's source.
+    let chain = graspath::Chain(&err).to_string();
+    assert!(chain.contains("a folder, not a regular file"), "{chain}");
+    assert_eq!(graspath::fault_of(&err).unwrap().kind, graspath::ErrorKind::File);
 }

@@ -37,11 +37,11 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The built-in robots' names (see [`super::builtin`]).
-pub const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
+pub(super) const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
 
 /// The most bytes [`RobotSource::from_path`] reads from a file to find its root element:
 /// 64 KiB, room for an XML declaration and a long licence comment.
-pub const FORMAT_PREFIX_BYTES: u64 = 64 << 10;
+pub(super) const FORMAT_PREFIX_BYTES: u64 = 64 << 10;
 
 /// Where a robot comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -6,18 +6,18 @@ use graspath::grasp::model::ModelError;
 use graspath::robot::RobotError;
 
 /// Success.
-pub const SUCCESS: u8 = 0;
+pub(crate) const SUCCESS: u8 = 0;
 /// An internal error: an I/O failure while writing output, or anything unexpected.
-pub const INTERNAL: u8 = 1;
+pub(crate) const INTERNAL: u8 = 1;
 /// Bad input: usage (clap's own code), unreadable or invalid files and fields, a refused
 /// `--out`.
-pub const BAD_INPUT: u8 = 2;
+pub(crate) const BAD_INPUT: u8 = 2;
 /// `select` selected nothing (no feasible candidate, or no valid pair); the results are
 /// written all the same. `--allow-empty` turns it into [`SUCCESS`].
-pub const NOTHING_SELECTED: u8 = 3;
+pub(crate) const NOTHING_SELECTED: u8 = 3;
 
 /// The table printed by `--help` and in the README.
-pub const TABLE: &str = "\
+pub(crate) const TABLE: &str = "\
 Exit codes:
   0  success
   1  internal error: writing the output failed (I/O), or anything unexpected
@@ -32,7 +32,7 @@ Exit codes:
 /// names the argument, file, line or field.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
-pub struct BadInput(pub String);
+pub(crate) struct BadInput(pub String);
 
 /// `Err(BadInput(format!(...)))` as an `anyhow::Error`, to return with `?` or `return Err(..)`.
 #[macro_export]
@@ -45,7 +45,7 @@ macro_rules! bad_input {
 /// The exit code of a failed run: [`BAD_INPUT`] when the CLI's own [`BadInput`] or the
 /// library's classification ([`graspath::fault_of`]: an unusable file, bad content, a resource
 /// limit) says the input is at fault; [`INTERNAL`] otherwise.
-pub fn code_of(error: &anyhow::Error) -> u8 {
+pub(crate) fn code_of(error: &anyhow::Error) -> u8 {
     let bad_input = error.chain().any(<dyn std::error::Error>::is::<BadInput>)
         || graspath::fault_of(error.as_ref()).is_some_and(|fault| fault.kind.is_bad_input());
     if bad_input {
@@ -58,7 +58,7 @@ pub fn code_of(error: &anyhow::Error) -> u8 {
 /// The one-line message of a failed run: each error of the chain, outermost first, joined by
 /// `": "`. Where a library error says what to do in the library's terms, the line says it with
 /// the command line's flags.
-pub fn message(error: &anyhow::Error) -> String {
+pub(crate) fn message(error: &anyhow::Error) -> String {
     error
         .chain()
         .map(|cause| with_flags(cause).unwrap_or_else(|| cause.to_string()))

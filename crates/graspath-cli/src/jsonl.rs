@@ -7,7 +7,7 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 /// Opens `path`, or stdin when `None` or `-`.
-pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead>> {
+pub(crate) fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead>> {
     match path {
         Some(p) if p != Path::new("-") => {
             let file = graspath::input::open(p)
@@ -21,12 +21,12 @@ pub fn open_input(path: Option<&Path>) -> Result<Box<dyn BufRead>> {
 /// The longest input line read (bytes, 1 MiB): a line holds one configuration or pose, a few
 /// hundred bytes; an input without line breaks (a binary file, `/dev/zero`) is refused at this
 /// length instead of being held whole.
-pub const MAX_LINE_BYTES: usize = 1 << 20;
+pub(crate) const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// Reads every non-blank line as a `T`, calling `each(line_number, value)` in order.
 /// `source` names the input in errors (`<stdin>` or the path). A line longer than
 /// [`MAX_LINE_BYTES`] is an error.
-pub fn for_each_line<T: DeserializeOwned>(
+pub(crate) fn for_each_line<T: DeserializeOwned>(
     mut input: Box<dyn BufRead>,
     source: &str,
     mut each: impl FnMut(usize, T) -> Result<()>,
@@ -61,7 +61,7 @@ pub fn for_each_line<T: DeserializeOwned>(
 }
 
 /// The name of an input for messages.
-pub fn source_name(path: Option<&Path>) -> String {
+pub(crate) fn source_name(path: Option<&Path>) -> String {
     match path {
         Some(p) if p != Path::new("-") => p.display().to_string(),
         _ => "<stdin>".to_string(),

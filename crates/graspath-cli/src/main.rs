@@ -1,5 +1,6 @@
 //! `graspath`: choose where a robot should grasp an object so that it can then perform a given
 //! manipulation task well.
+#![warn(unreachable_pub)]
 
 mod commands;
 mod exit;

@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 /// Output switches shared by the long-running subcommands.
 #[derive(Debug, Clone, Args)]
-pub struct OutputArgs {
+pub(crate) struct OutputArgs {
     /// Print nothing but errors.
     #[arg(long, conflicts_with = "json")]
     pub quiet: bool,
@@ -37,7 +37,7 @@ pub struct OutputArgs {
 
 impl OutputArgs {
     /// Nothing printed but errors (for runs nested in another command's output).
-    pub fn silent() -> Self {
+    pub(crate) fn silent() -> Self {
         Self {
             quiet: true,
             json: false,
@@ -65,7 +65,7 @@ fn positive_seconds(text: &str) -> Result<f64, String> {
 /// Progress of a long run over `total` units: a bar on a terminal (stderr; hidden otherwise or
 /// with `--quiet`/`--json`) showing the rate and the ETA, and with `--progress-every` plain
 /// lines on stderr at that interval and one at the end. `inc` may be called from any thread.
-pub struct Progress {
+pub(crate) struct Progress {
     bar: ProgressBar,
     log: Option<Arc<ProgressLog>>,
     /// Taken (and stopped) by [`Progress::finish`] or on drop.
@@ -110,7 +110,7 @@ impl Ticker {
 
 impl Progress {
     /// Progress over `total` `unit`s (plural noun, e.g. `candidates`) titled `title`.
-    pub fn new(output: &OutputArgs, total: u64, title: &str, unit: &'static str) -> Self {
+    pub(crate) fn new(output: &OutputArgs, total: u64, title: &str, unit: &'static str) -> Self {
         let bar = if output.quiet || output.json || !std::io::stderr().is_terminal() {
             ProgressBar::hidden()
         } else {
@@ -146,7 +146,7 @@ impl Progress {
     }
 
     /// One more unit done.
-    pub fn inc(&self) {
+    pub(crate) fn inc(&self) {
         self.bar.inc(1);
         if let Some(log) = &self.log {
             log.done.fetch_add(1, Ordering::Relaxed);
@@ -154,7 +154,7 @@ impl Progress {
     }
 
     /// Clears the bar, stops the timed lines and logs the final line.
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         self.bar.finish_and_clear();
         self.stop_ticker();
         if let Some(log) = &self.log {
@@ -236,7 +236,7 @@ fn number(v: Option<f64>) -> String {
 
 /// The one-screen summary: per arm the best [`NAMED_BEST`] candidates and the failures by
 /// reason.
-pub fn print_summary_table<S: Scored>(
+pub(crate) fn print_summary_table<S: Scored>(
     task: &Task,
     selection: &Selection<S>,
     title: &str,

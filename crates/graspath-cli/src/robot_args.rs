@@ -14,7 +14,7 @@ use std::path::PathBuf;
 /// (`--robot-file --base --tip`) or a built-in robot (`--robot --arm`).
 #[derive(Debug, Args)]
 #[command(group(ArgGroup::new("urdf_options").args(["urdf", "robot_file"])))]
-pub struct RobotArgs {
+pub(crate) struct RobotArgs {
     /// A URDF file. A file named *.xacro is expanded by the `xacro` program (it runs code:
     /// only expand files you trust); markup in other files is refused.
     #[arg(long, value_name = "FILE", conflicts_with = "robot", requires_all = ["base", "tip"])]
@@ -79,7 +79,7 @@ impl RobotArgs {
     }
 
     /// Loads the chain the options name, through the library's one robot resolver.
-    pub fn load(&self) -> Result<Chain> {
+    pub(crate) fn load(&self) -> Result<Chain> {
         let tool = self.tool()?;
         if let Some(path) = &self.robot_file {
             let (Some(base), Some(tip)) = (&self.base, &self.tip) else {

@@ -2,6 +2,7 @@
 //! summary; the paper's figures as SVG and PNG plots; a self-contained HTML page with a 3D view.
 //! Everything is rendered in memory; [`graspath::fsutil::write_files`] writes the set atomically
 //! (no partial output on error).
+#![warn(unreachable_pub)]
 
 mod figures;
 mod html;

@@ -70,7 +70,7 @@
 //!
 //! Units are metres, radians and seconds. A transform is named `a_from_b`: it maps coordinates
 //! in frame `b` to frame `a`.
-#![warn(missing_docs)]
+#![warn(missing_docs, unreachable_pub)]
 
 pub mod cloud;
 pub mod collision;

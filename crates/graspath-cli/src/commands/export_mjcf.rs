@@ -10,7 +10,7 @@ use std::path::PathBuf;
 
 /// Writes the task's world as one MJCF file, and prints what the model approximates.
 #[derive(Debug, Args)]
-pub struct ExportMjcfArgs {
+pub(crate) struct ExportMjcfArgs {
     /// The task file (YAML or JSON).
     task: PathBuf,
     /// The MJCF file to write.
@@ -38,7 +38,7 @@ pub struct ExportMjcfArgs {
 }
 
 /// Runs `graspath export-mjcf`.
-pub fn run(args: &ExportMjcfArgs) -> Result<()> {
+pub(crate) fn run(args: &ExportMjcfArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
     super::check_out_spares_task_inputs(&args.out, &args.task, &file)?;

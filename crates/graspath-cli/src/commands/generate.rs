@@ -12,7 +12,7 @@ use std::path::PathBuf;
 /// Generates grasp candidates for an object cloud from a trained model and writes the
 /// candidate file (object frame, best first).
 #[derive(Debug, Args)]
-pub struct GenerateArgs {
+pub(crate) struct GenerateArgs {
     /// The model file written by `graspath train`.
     #[arg(long, value_name = "FILE")]
     model: PathBuf,
@@ -108,7 +108,7 @@ impl GenerateArgs {
 }
 
 /// Runs the subcommand.
-pub fn run(args: &GenerateArgs) -> Result<()> {
+pub(crate) fn run(args: &GenerateArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     check_file_target(&args.out, existing)?;
     super::check_out_spares(&args.out, &[&args.model, &args.cloud])?;

@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 /// `{"poses":[[[4×4]],...]}` and writes `{"branches":[{"q":[[...],...]}],"failure":...}`.
 /// A target with a coordinate beyond ±1000 m is refused as bad input (exit code 2).
 #[derive(Debug, Args)]
-pub struct IkArgs {
+pub(crate) struct IkArgs {
     #[command(flatten)]
     robot: RobotArgs,
     /// Read from this file instead of stdin.
@@ -82,7 +82,7 @@ struct PoseOutput<'a> {
 }
 
 /// Runs the subcommand. The output is written only once the whole input has been processed.
-pub fn run(args: &IkArgs) -> Result<()> {
+pub(crate) fn run(args: &IkArgs) -> Result<()> {
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
         return Err(bad_input!(
             "--tolerance: must be a positive number, got {}",
@@ -188,7 +188,7 @@ pub fn run(args: &IkArgs) -> Result<()> {
 
 /// Targets with a coordinate beyond ±this (m, chain base frame) are refused: no arm reaches
 /// them, and the position error of such a target is not a meaningful (or even finite) number.
-pub const MAX_TARGET_COORDINATE: f64 = 1e3;
+pub(crate) const MAX_TARGET_COORDINATE: f64 = 1e3;
 
 /// A target pose from its 4×4 rows: a valid rigid transform within [`MAX_TARGET_COORDINATE`].
 fn target_from_rows(rows: &[[f64; 4]; 4]) -> Result<Isometry3<f64>> {

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 
 /// Reads JSON Lines `{"q":[...]}` (rad / m) and writes one JSON line per input.
 #[derive(Debug, Args)]
-pub struct KinematicsArgs {
+pub(crate) struct KinematicsArgs {
     #[command(flatten)]
     robot: RobotArgs,
     /// Read from this file instead of stdin.
@@ -40,7 +40,7 @@ struct Output {
 }
 
 /// Runs the subcommand.
-pub fn run(args: &KinematicsArgs) -> Result<()> {
+pub(crate) fn run(args: &KinematicsArgs) -> Result<()> {
     let chain = args.robot.load()?;
     let source = source_name(args.input.as_deref());
     let input = open_input(args.input.as_deref())?;

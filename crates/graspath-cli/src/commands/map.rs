@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// Options of `graspath map`.
 #[derive(Debug, Args)]
 #[command(after_help = crate::exit::TABLE)]
-pub struct MapArgs {
+pub(crate) struct MapArgs {
     /// The task file (YAML or JSON; see docs/task-file.md). Its `object.pose` is replaced by
     /// each placement.
     #[arg(long, value_name = "FILE")]
@@ -66,7 +66,7 @@ fn grid(args: &MapArgs) -> Result<PlacementGrid> {
 }
 
 /// Runs the subcommand.
-pub fn run(args: &MapArgs) -> Result<Finished> {
+pub(crate) fn run(args: &MapArgs) -> Result<Finished> {
     let existing = Existing::replace_if(args.force);
     check_folder_target(&args.out, existing)?;
     let grid = grid(args)?;

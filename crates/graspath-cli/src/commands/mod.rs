@@ -1,13 +1,13 @@
 //! One module per subcommand.
 
-pub mod demo;
-pub mod export_mjcf;
-pub mod generate;
-pub mod ik;
-pub mod kinematics;
-pub mod map;
-pub mod select;
-pub mod train;
+pub(crate) mod demo;
+pub(crate) mod export_mjcf;
+pub(crate) mod generate;
+pub(crate) mod ik;
+pub(crate) mod kinematics;
+pub(crate) mod map;
+pub(crate) mod select;
+pub(crate) mod train;
 
 use graspath::fsutil::{check_not_an_input, OutputError};
 use graspath::task::{Task, TaskFile};
@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 /// Refuses an `--out` that is or holds the task file or a file or folder the task reads
 /// (`--force` would delete it).
-pub fn check_out_spares_task_inputs(
+pub(crate) fn check_out_spares_task_inputs(
     out: &Path,
     task_path: &Path,
     file: &TaskFile,
@@ -27,14 +27,14 @@ pub fn check_out_spares_task_inputs(
 }
 
 /// Refuses an `--out` that is or holds one of `inputs`.
-pub fn check_out_spares(out: &Path, inputs: &[&Path]) -> Result<(), OutputError> {
+pub(crate) fn check_out_spares(out: &Path, inputs: &[&Path]) -> Result<(), OutputError> {
     let inputs: Vec<PathBuf> = inputs.iter().map(|p| p.to_path_buf()).collect();
     check_not_an_input(out, &inputs)
 }
 
 /// Prints the task's plausibility warnings (values that are probably mistakes) to stderr, one
 /// line each: `graspath: warning: TASK: FIELD: MESSAGE`.
-pub fn print_warnings(title: &str, task: &Task) {
+pub(crate) fn print_warnings(title: &str, task: &Task) {
     for warning in task.warnings() {
         eprintln!("graspath: warning: {title}: {warning}");
     }

@@ -28,7 +28,7 @@ use std::time::Duration;
 /// Options of `graspath select`.
 #[derive(Debug, Args)]
 #[command(after_help = crate::exit::TABLE)]
-pub struct SelectArgs {
+pub(crate) struct SelectArgs {
     /// The task file (YAML or JSON; see docs/task-file.md).
     #[arg(long, value_name = "FILE")]
     task: PathBuf,
@@ -90,7 +90,7 @@ fn trajectory_files<S: Scored>(
 
 /// The candidate records' format (`--format`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Format {
+pub(crate) enum Format {
     /// `candidates.json`, one JSON document.
     Json,
     /// `candidates.jsonl` (JSON Lines, streamed) and `ranking.jsonl`.
@@ -101,7 +101,7 @@ pub enum Format {
 
 /// `--trajectories`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum TrajectoriesArg {
+pub(crate) enum TrajectoriesArg {
     /// No joint trajectories.
     None,
     /// Feasible candidates' only.
@@ -123,7 +123,7 @@ impl TrajectoriesArg {
 }
 
 /// A task's selection and the files that report it (relative names, rendered in memory).
-pub struct TaskRun {
+pub(crate) struct TaskRun {
     /// The scores, rankings and pairs.
     pub selection: Selection,
     /// `(name, bytes)`: `candidates.json`, `summary.json`, `pairs.json` with two arms, and with
@@ -136,7 +136,7 @@ pub struct TaskRun {
 /// Runs a loaded task and renders its files (with the figures and `report.html` when `report`
 /// is set; `parameter`, the candidate family's parameter, is their x axis); nothing is written
 /// yet.
-pub fn run_task(
+pub(crate) fn run_task(
     task: &Task,
     parameter: Option<&FamilyParameter>,
     output: &OutputArgs,
@@ -276,7 +276,7 @@ fn stream_task(
 
 /// Runs the subcommand: [`Finished::NothingSelected`] (exit code 3) when nothing is selected
 /// and `--allow-empty` is not given; the results are written in either case.
-pub fn run(args: &SelectArgs) -> Result<Finished> {
+pub(crate) fn run(args: &SelectArgs) -> Result<Finished> {
     let existing = Existing::replace_if(args.force);
     // Refuse a bad --out before the work, not after it.
     check_folder_target(&args.out, existing)?;

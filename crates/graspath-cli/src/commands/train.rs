@@ -9,7 +9,7 @@ use std::path::PathBuf;
 /// Learns a grasp model (contact models per link in contact, hand-configuration model) from
 /// one demonstration and writes it as a versioned JSON model file.
 #[derive(Debug, Args)]
-pub struct TrainArgs {
+pub(crate) struct TrainArgs {
     /// The demonstration JSON (hand, object cloud, waypoints from pre-grasp to grasp).
     demonstration: PathBuf,
     /// Where to write the model file (a new file, or any existing regular file with --force).
@@ -25,7 +25,7 @@ pub struct TrainArgs {
 }
 
 /// Runs the subcommand.
-pub fn run(args: &TrainArgs) -> Result<()> {
+pub(crate) fn run(args: &TrainArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     check_file_target(&args.out, existing)?;
     super::check_out_spares(&args.out, &[&args.demonstration])?;

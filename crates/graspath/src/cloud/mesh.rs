@@ -185,7 +185,7 @@ fn vertex_coordinates<'a>(
 
 /// Parses Wavefront OBJ text: `v x y z` and `f i j k ...` lines (polygons fanned into
 /// triangles; `i/t/n` forms and negative indices accepted). Other lines are ignored.
-pub fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudError> {
+pub(super) fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudError> {
     let mut mesh = TriangleMesh::default();
     for (number, line) in text.lines().enumerate() {
         let at = || format!("line {}", number + 1);
@@ -242,7 +242,7 @@ pub fn parse_obj(text: &str, source_name: &str) -> Result<TriangleMesh, CloudErr
 /// Parses an STL file, binary (80-byte header, u32 count, 50 bytes per triangle) or ascii
 /// (`solid ... facet ... vertex x y z ...`). Triangle winding is kept as stored. At most
 /// [`MAX_MESH_TRIANGLES`] triangles.
-pub fn parse_stl(bytes: &[u8], source_name: &str) -> Result<TriangleMesh, CloudError> {
+pub(super) fn parse_stl(bytes: &[u8], source_name: &str) -> Result<TriangleMesh, CloudError> {
     let looks_ascii = bytes.trim_ascii_start().starts_with(b"solid");
     if bytes.len() >= 84 {
         let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;

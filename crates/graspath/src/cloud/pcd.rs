@@ -54,7 +54,7 @@ const LZF_MAX_EXPANSION: u64 = 88;
 
 /// The most bytes a PCD payload may decode to (1 GiB): points × the record size, checked before
 /// anything is decompressed or allocated (a record may hold many fields).
-pub const MAX_PCD_PAYLOAD_BYTES: u64 = 1 << 30;
+pub(super) const MAX_PCD_PAYLOAD_BYTES: u64 = 1 << 30;
 
 /// Checks the header's counts against each other, against [`MAX_CLOUD_POINTS`] and against
 /// the bytes that follow the header, before anything is allocated for the points.

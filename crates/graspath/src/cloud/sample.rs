@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 pub const MAX_SAMPLED_POINTS: usize = 1_000_000;
 
 /// The largest noise standard deviation (m): beyond it the cloud no longer shows the shape.
-pub const MAX_NOISE: f64 = 1.0;
+pub(super) const MAX_NOISE: f64 = 1.0;
 
 /// How many points to draw, the seed, noise and the simulated viewpoint.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -244,7 +244,7 @@ pub(crate) struct Placed<'a> {
 }
 
 impl<'a> Placed<'a> {
-    pub fn new(body: &'a Body, world_from_body: IsometryMatrix3<f64>) -> Self {
+    pub(crate) fn new(body: &'a Body, world_from_body: IsometryMatrix3<f64>) -> Self {
         Self {
             body,
             centre: world_from_body * body.centre,
@@ -254,7 +254,7 @@ impl<'a> Placed<'a> {
 
     /// A lower bound of the distance to `other` (m): the bounding spheres' gap (or a sphere's
     /// height above a half-space).
-    pub fn gap(&self, other: &Placed<'_>) -> f64 {
+    pub(crate) fn gap(&self, other: &Placed<'_>) -> f64 {
         match (self.plane(), other.plane()) {
             (Some(h), None) => other.centre.z - other.body.radius - h,
             (None, Some(h)) => self.centre.z - self.body.radius - h,
@@ -267,7 +267,7 @@ impl<'a> Placed<'a> {
     /// (a box, cylinder, capsule or sphere), or cover against cover; the exact signed distance
     /// against a half-space. Each cover sphere `(c, ρ)` holds points no nearer to `other` than
     /// `signed_distance(c) − ρ` (a point distance is 1-Lipschitz).
-    pub fn lower_bound(&self, other: &Placed<'_>) -> f64 {
+    pub(crate) fn lower_bound(&self, other: &Placed<'_>) -> f64 {
         if let Some(d) = self.plane_distance(other) {
             return d;
         }
@@ -307,7 +307,7 @@ impl<'a> Placed<'a> {
     /// a box, turned towards the other body, and the line between the centres: a box's face
     /// against a large flat obstacle makes the bound exact, where sphere covers are loose.
     /// `-∞` unless both shapes have closed-form distances and one of them is a box.
-    pub fn separation(&self, other: &Placed<'_>) -> f64 {
+    pub(crate) fn separation(&self, other: &Placed<'_>) -> f64 {
         let (Some(sa), Some(sb)) = (&self.body.primitive, &other.body.primitive) else {
             return f64::NEG_INFINITY;
         };
@@ -393,7 +393,7 @@ impl<'a> Placed<'a> {
     }
 
     /// The exact distance to `other` (m); 0 when they touch or overlap.
-    pub fn distance(&self, other: &Placed<'_>) -> f64 {
+    pub(crate) fn distance(&self, other: &Placed<'_>) -> f64 {
         if let Some(d) = self.plane_distance(other) {
             return d.max(0.0);
         }
@@ -409,7 +409,7 @@ impl<'a> Placed<'a> {
 
     /// The signed distance to `other` (m): negative by the penetration depth when they
     /// overlap (0 for pairs without a depth query).
-    pub fn signed_distance(&self, other: &Placed<'_>) -> f64 {
+    pub(crate) fn signed_distance(&self, other: &Placed<'_>) -> f64 {
         if let Some(d) = self.plane_distance(other) {
             return d;
         }

@@ -36,10 +36,10 @@ use std::sync::Arc;
 
 /// The largest distance (m) of a wrist or contact coordinate from the object origin: a grasp
 /// holds the object, so a larger value is a unit mistake (millimetres) or a corrupt file.
-pub const MAX_OFFSET: f64 = 10.0;
+pub(super) const MAX_OFFSET: f64 = 10.0;
 
 /// The largest candidate file read (bytes, 1 GiB: about five million JSON candidates).
-pub const MAX_FILE_BYTES: u64 = 1 << 30;
+pub(super) const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// One grasp candidate.
 #[derive(Debug, Clone, PartialEq)]

@@ -37,11 +37,11 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The built-in robots' names (see [`super::builtin`]).
-pub const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
+pub(super) const BUILTIN_ROBOTS: [&str; 10] = BUILTIN_NAMES;
 
 /// The most bytes [`RobotSource::from_path`] reads from a file to find its root element:
 /// 64 KiB, room for an XML declaration and a long licence comment.
-pub const FORMAT_PREFIX_BYTES: u64 = 64 << 10;
+pub(super) const FORMAT_PREFIX_BYTES: u64 = 64 << 10;
 
 /// Where a robot comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -500,8 +500,14 @@ fn builtin_sub_chain(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fault::ErrorKind;
-    use crate::fault_of;
+    use crate::fault::{Classify, ErrorKind, Fault};
+
+    /// What the error says is at fault (the walk `graspath::fault_of` does, over robot errors).
+    fn fault_of(err: &RobotError) -> Option<Fault<'_>> {
+        Fault::walk(err, |e| {
+            e.downcast_ref::<RobotError>().map(|r| r as &dyn Classify)
+        })
+    }
 
     const URDF: &str = r#"<robot name="r"><link name="base"/><joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint><link name="tip"/></robot>"#;
     const MJCF: &str = r#"<mujoco model="m"><worldbody><body name="base"><body name="tip"><joint name="j" type="hinge" range="-1 1"/></body></body></worldbody></mujoco>"#;

@@ -142,7 +142,7 @@ impl RigidBody {
 
 /// How far below zero a moment of inertia may be and still be read as a rounded zero
 /// (kg·m²): far below any physical link's (a 1 g, 1 mm part has about 1e−10).
-pub const INERTIA_ROUNDING: f64 = 1e-15;
+pub(super) const INERTIA_ROUNDING: f64 = 1e-15;
 
 /// A serial chain from a base link to a tip link, every joint in order from the base.
 #[derive(Debug, Clone, PartialEq)]

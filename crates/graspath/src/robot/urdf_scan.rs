@@ -26,7 +26,7 @@ pub(crate) struct Scan {
 impl Scan {
     /// `text` with the [`Scan::blank_textures`] replaced by spaces (line breaks kept, so every
     /// line and column stays where it was).
-    pub fn without_blank_textures<'a>(&self, text: &'a str) -> std::borrow::Cow<'a, str> {
+    pub(super) fn without_blank_textures<'a>(&self, text: &'a str) -> std::borrow::Cow<'a, str> {
         if self.blank_textures.is_empty() {
             return std::borrow::Cow::Borrowed(text);
         }

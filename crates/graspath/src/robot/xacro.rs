@@ -37,10 +37,10 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 /// The largest URDF accepted from `xacro` (bytes).
-pub const MAX_OUTPUT_BYTES: u64 = 64 << 20;
+pub(super) const MAX_OUTPUT_BYTES: u64 = 64 << 20;
 
 /// How long `xacro` may run by default before it is stopped (with every process it started).
-pub const TIMEOUT: Duration = Duration::from_secs(120);
+pub(super) const TIMEOUT: Duration = Duration::from_secs(120);
 
 /// The environment variables passed to `xacro`; every other one is removed. `PATH` and
 /// `PYTHONPATH` find the program and its Python packages, the locale keeps its text encoding,
@@ -58,10 +58,10 @@ pub const PASSED_ENVIRONMENT: [&str; 9] = [
 ];
 
 /// The longest xacro argument value accepted (bytes).
-pub const MAX_ARGUMENT_BYTES: usize = 4096;
+pub(super) const MAX_ARGUMENT_BYTES: usize = 4096;
 
 /// The most xacro arguments accepted.
-pub const MAX_ARGUMENTS: usize = 256;
+pub(super) const MAX_ARGUMENTS: usize = 256;
 
 /// How much of the command's standard error is kept for the message (bytes, the end).
 const STDERR_TAIL: usize = 4000;

@@ -49,7 +49,7 @@ impl Task {
 
     /// [`from_file`](Self::from_file), except that a candidate family is laid out rather than
     /// generated, and a graspath candidate file (JSON or CSV) is checked and indexed rather
-    /// than held ([`Task::candidate_source`]): their candidates are computed or read again
+    /// than held ([`Task::candidates`]): their candidates are computed or read again
     /// chunk by chunk when a streamed selection reads them. The same candidates, in the same
     /// order, and the same errors. Generated candidates and the generators' grasp files are
     /// held as with `from_file`.

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 
 /// Options of `graspath demo`.
 #[derive(Debug, Args)]
-pub struct DemoArgs {
+pub(crate) struct DemoArgs {
     /// Where to write the experiments' results (one folder each).
     #[arg(long, value_name = "DIR", default_value = "graspath-demo")]
     out: PathBuf,
@@ -184,7 +184,7 @@ fn at_waypoints(file: &TaskFile, source: &str) -> Result<Value> {
 }
 
 /// Runs the subcommand.
-pub fn run(args: &DemoArgs) -> Result<()> {
+pub(crate) fn run(args: &DemoArgs) -> Result<()> {
     let existing = Existing::replace_if(args.force);
     check_folder_target(&args.out, existing)?;
     let mut findings = Vec::new();

@@ -321,7 +321,7 @@ fn nearest_on_triangles(
 /// The closest point of triangle `abc` to `p` (Ericson, *Real-Time Collision Detection*
 /// §5.1.5); also right for degenerate triangles.
 #[inline]
-pub fn closest_on_triangle(
+pub(super) fn closest_on_triangle(
     p: &Point3<f64>,
     a: &Point3<f64>,
     b: &Point3<f64>,

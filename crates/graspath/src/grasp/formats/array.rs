@@ -11,7 +11,7 @@ pub(crate) struct Array {
 
 impl Array {
     /// `[a, b, ...]` as written in messages.
-    pub fn shape_text(&self) -> String {
+    pub(super) fn shape_text(&self) -> String {
         shape_text(&self.shape)
     }
 }

@@ -10,9 +10,9 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 
 /// Default kernel width of a revolute hand joint (rad; ≈ 0.9°).
-pub const REVOLUTE_SIGMA: f64 = 0.0157;
+pub(super) const REVOLUTE_SIGMA: f64 = 0.0157;
 /// Default kernel width of a prismatic hand joint (m).
-pub const PRISMATIC_SIGMA: f64 = 0.001;
+pub(super) const PRISMATIC_SIGMA: f64 = 0.001;
 
 /// An error from building a hand out of a URDF file.
 #[derive(Debug, thiserror::Error)]

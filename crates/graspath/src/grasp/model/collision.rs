@@ -20,7 +20,7 @@ use nalgebra::{Isometry3, Point3};
 
 /// `(fraction, offset, weight)` of each check; the grasp check's offset is replaced by
 /// `−grasp_clearance`.
-pub const CHECKS: [(f64, f64, f64); 5] = [
+pub(super) const CHECKS: [(f64, f64, f64); 5] = [
     (0.0, 0.0, 1.0),
     (0.15, 0.0, 0.1),
     (0.3, 0.0, 0.2),
@@ -30,13 +30,13 @@ pub const CHECKS: [(f64, f64, f64); 5] = [
 
 /// The cloud subset used by the collision term, indexed.
 #[derive(Debug)]
-pub struct CollisionCloud {
+pub(super) struct CollisionCloud {
     index: PointIndex,
 }
 
 impl CollisionCloud {
     /// Takes at most `max_points` points (every k-th, deterministic).
-    pub fn new(points: &[Point3<f64>], max_points: usize) -> Self {
+    pub(super) fn new(points: &[Point3<f64>], max_points: usize) -> Self {
         let stride = points.len().div_ceil(max_points.max(1)).max(1);
         let subset: Vec<Point3<f64>> = points.iter().step_by(stride).copied().collect();
         Self {
@@ -46,7 +46,7 @@ impl CollisionCloud {
 
     /// `Σ_points (exp(100·depth) − 1)` for the hand at wrist pose `object_from_wrist` and
     /// joints `q`, shapes grown by `offset` (m).
-    pub fn penetration(
+    pub(super) fn penetration(
         &self,
         hand: &Hand,
         object_from_wrist: &Isometry3<f64>,
@@ -77,7 +77,7 @@ impl CollisionCloud {
 
 /// The wrist pose and hand joints at fraction `f` of the approach for a grasp
 /// `(object_from_wrist, q)`; `demo_grasp` is the demonstrated grasp's joints.
-pub fn approach_state(
+pub(super) fn approach_state(
     approach: &[ApproachWaypoint],
     demo_grasp: &[f64],
     object_from_wrist: &Isometry3<f64>,
@@ -113,7 +113,7 @@ pub fn approach_state(
 }
 
 /// The collision term (≤ 0) of a grasp.
-pub fn collision_term(
+pub(super) fn collision_term(
     cloud: &CollisionCloud,
     hand: &Hand,
     approach: &[ApproachWaypoint],

@@ -20,7 +20,7 @@ const TABLE: usize = 2048;
 
 /// The stored parameters of the hand-configuration model.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ConfigurationSpec {
+pub(crate) struct ConfigurationSpec {
     /// Hand joints along the demonstration from the grasp (first) back to the pre-grasp (last).
     pub path: Vec<Vec<f64>>,
     /// Kernel width per joint (rad or m).
@@ -52,7 +52,7 @@ struct Segment {
 
 /// The evaluable hand-configuration model.
 #[derive(Debug, Clone)]
-pub struct ConfigurationModel {
+pub(super) struct ConfigurationModel {
     spec: ConfigurationSpec,
     segments: Vec<Segment>,
     gammas: Vec<f64>,
@@ -62,7 +62,7 @@ pub struct ConfigurationModel {
 impl ConfigurationModel {
     /// Builds the model; `spec.path` must hold at least one configuration, all of the length of
     /// `spec.sigma`, with positive widths.
-    pub fn new(spec: ConfigurationSpec) -> Self {
+    pub(super) fn new(spec: ConfigurationSpec) -> Self {
         let dof = spec.sigma.len();
         let scaled: Vec<Vec<f64>> = spec
             .path
@@ -184,12 +184,12 @@ impl ConfigurationModel {
     }
 
     /// The demonstrated grasp configuration `h^g`.
-    pub fn grasp(&self) -> &[f64] {
+    pub(super) fn grasp(&self) -> &[f64] {
         &self.spec.path[0]
     }
 
     /// The configuration on the demonstrated path at γ (extrapolated outside `[0, 1]`).
-    pub fn at(&self, gamma: f64) -> Vec<f64> {
+    pub(super) fn at(&self, gamma: f64) -> Vec<f64> {
         let seg = self
             .segments
             .iter()
@@ -208,7 +208,7 @@ impl ConfigurationModel {
     }
 
     /// `C(c)` (≤ 1).
-    pub fn density(&self, c: &[f64]) -> f64 {
+    pub(super) fn density(&self, c: &[f64]) -> f64 {
         let cut2 = self.spec.cutoff * self.spec.cutoff;
         let mut total = 0.0;
         for s in &self.segments {
@@ -250,7 +250,7 @@ impl ConfigurationModel {
 
     /// A configuration drawn from `C`: a kernel by weight, then Gaussian noise of the kernel's
     /// spread (σ_j/√2 per joint, matching `exp(−x²/σ²)`). Not clamped.
-    pub fn sample(&self, rng: &mut StdRng) -> Vec<f64> {
+    pub(super) fn sample(&self, rng: &mut StdRng) -> Vec<f64> {
         let u: f64 = rng.random::<f64>() * self.cumulative.last().copied().unwrap_or(1.0);
         let k = self
             .cumulative

@@ -9,7 +9,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 
 /// One sample `(u, r, w)` of a contact model.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ContactSample {
+pub(crate) struct ContactSample {
     /// `u = v⁻¹ ∘ B`: the link pose in the surface-feature frame (m).
     pub feature_from_link: Isometry3<f64>,
     /// The feature's curvature `(pc1, pc2)`.
@@ -24,7 +24,7 @@ pub struct ContactSample {
 
 /// The contact model `M_i` of one link.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ContactModel {
+pub(crate) struct ContactModel {
     /// The link's name.
     pub link: String,
     /// The link's index in the hand.
@@ -42,11 +42,11 @@ pub struct ContactModel {
 
 /// Smallest curvature kernel width (pc units), so that perfectly flat training data still
 /// gives a usable kernel.
-pub const MIN_SIGMA_R: f64 = 1e-4;
+pub(super) const MIN_SIGMA_R: f64 = 1e-4;
 
 /// `σ_d = F · N^(−1/6) · std_d` (Scott's factor for two dimensions), floored at
 /// [`MIN_SIGMA_R`]; and the mean. `values` are `(pc1, pc2)` pairs.
-pub fn curvature_bandwidth(
+pub(super) fn curvature_bandwidth(
     values: impl Iterator<Item = [f64; 2]> + Clone,
     factor: f64,
 ) -> ([f64; 2], [f64; 2]) {
@@ -68,7 +68,7 @@ pub fn curvature_bandwidth(
 
 /// The contact models of every link with at least `params.min_points` accepted points, and
 /// the clearance of every link with shapes (for error messages).
-pub fn train_contacts(
+pub(super) fn train_contacts(
     hand: &Hand,
     features: &[SurfaceFeature],
     object_from_wrist: &Isometry3<f64>,

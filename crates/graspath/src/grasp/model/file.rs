@@ -238,7 +238,7 @@ fn upgrade_version_1(value: &mut serde_json::Value, source_name: &str) -> Result
 
 /// One waypoint of the demonstrated approach, relative to the grasp.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ApproachWaypoint {
+pub(crate) struct ApproachWaypoint {
     /// `W_g⁻¹ ∘ W_k`: the wrist at this waypoint in the grasp wrist frame (m).
     pub grasp_from_wrist: Isometry3<f64>,
     /// Hand joints at this waypoint.

@@ -106,7 +106,7 @@ struct State {
 }
 
 /// Everything the objective needs, built once per cloud.
-pub struct Evaluator<'a> {
+pub(super) struct Evaluator<'a> {
     model: &'a GraspModel,
     densities: Vec<QueryDensity>,
     log_z: f64,
@@ -115,7 +115,7 @@ pub struct Evaluator<'a> {
 
 impl<'a> Evaluator<'a> {
     /// Builds the query densities of every involved link on the cloud's features.
-    pub fn new(
+    pub(super) fn new(
         model: &'a GraspModel,
         cloud: &PointCloud,
         query_kernels: usize,
@@ -161,7 +161,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// `ℓ(W, c)` without the collision term; `poses` is scratch space.
-    pub fn log_likelihood(
+    pub(super) fn log_likelihood(
         &self,
         wrist: &Isometry3<f64>,
         joints: &[f64],

@@ -11,17 +11,17 @@ use rand_distr::{Beta, Distribution, StandardNormal};
 /// ≈ θ²/8 for a small relative angle θ. The vectorised query kernels compute it inline; this
 /// scalar form is the oracle their tests compare against.
 #[cfg(test)]
-pub fn quaternion_distance(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
+pub(super) fn quaternion_distance(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
     1.0 - a.coords.dot(&b.coords).abs()
 }
 
 /// The random generator of item `index` of stream `stream` under `seed`.
-pub fn item_rng(seed: u64, stream: u64, index: u64) -> StdRng {
+pub(super) fn item_rng(seed: u64, stream: u64, index: u64) -> StdRng {
     StdRng::seed_from_u64(derive_seed(seed, stream, index))
 }
 
 /// A uniform unit 3-vector.
-pub fn unit_vector(rng: &mut StdRng) -> Vector3<f64> {
+pub(super) fn unit_vector(rng: &mut StdRng) -> Vector3<f64> {
     loop {
         let v = Vector3::from_fn(|_, _| StandardNormal.sample(rng));
         let n: f64 = v.norm();
@@ -33,7 +33,7 @@ pub fn unit_vector(rng: &mut StdRng) -> Vector3<f64> {
 
 /// A rotation δ drawn from the von Mises–Fisher density on S³ centred at the identity with
 /// concentration `kappa` (Wood 1994, m = 4); `E[1 − |δ.w|] ≈ 3/(2κ)` for large κ.
-pub fn sample_vmf_rotation(kappa: f64, rng: &mut StdRng) -> UnitQuaternion<f64> {
+pub(super) fn sample_vmf_rotation(kappa: f64, rng: &mut StdRng) -> UnitQuaternion<f64> {
     if kappa.is_nan() || kappa <= 1e-9 {
         // Uniform rotation.
         let q = Quaternion::new(
@@ -63,7 +63,7 @@ pub fn sample_vmf_rotation(kappa: f64, rng: &mut StdRng) -> UnitQuaternion<f64> 
 
 /// A pose drawn from the kernel centred at `mean`: position `μp + u·|ε|` (u uniform unit,
 /// ε ~ N(0, σp²)), orientation `μq ⊗ δ` with δ ~ vMF(κ).
-pub fn sample_pose_kernel(
+pub(super) fn sample_pose_kernel(
     mean: &Isometry3<f64>,
     sigma_p: f64,
     kappa: f64,

@@ -13,11 +13,11 @@ use nalgebra::{Quaternion, UnitQuaternion};
 const FAR: f64 = 1e30;
 
 /// One kernel: position (m), rotation and weight.
-pub type WeightedKernel = ([f64; 3], UnitQuaternion<f64>, f64);
+pub(super) type WeightedKernel = ([f64; 3], UnitQuaternion<f64>, f64);
 
 /// Pose kernels (position in m, unit quaternion) and weights, one array per coordinate.
 #[derive(Debug, Clone, Default)]
-pub struct KernelTable {
+pub(super) struct KernelTable {
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
@@ -31,7 +31,7 @@ pub struct KernelTable {
 
 /// One evaluation's query pose and cut-offs.
 #[derive(Debug, Clone, Copy)]
-pub struct LaneQuery {
+pub(super) struct LaneQuery {
     /// Query position (m).
     pub position: [f64; 3],
     /// Query rotation as `[w, x, y, z]`.
@@ -48,7 +48,7 @@ pub struct LaneQuery {
 
 impl KernelTable {
     /// A table of `(position, rotation, weight)` kernels, in the given order.
-    pub fn new(kernels: impl IntoIterator<Item = WeightedKernel>) -> Self {
+    pub(super) fn new(kernels: impl IntoIterator<Item = WeightedKernel>) -> Self {
         let mut table = Self::default();
         for (p, r, w) in kernels {
             table.push(p, [r.w, r.i, r.j, r.k], w);
@@ -72,22 +72,22 @@ impl KernelTable {
     }
 
     /// The number of kernels (padding excluded).
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.len
     }
 
     /// Whether the table has no kernel.
-    pub fn is_empty(&self) -> bool {
+    pub(super) fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// Kernel `k`'s position (m).
-    pub fn position(&self, k: usize) -> [f64; 3] {
+    pub(super) fn position(&self, k: usize) -> [f64; 3] {
         [self.x[k], self.y[k], self.z[k]]
     }
 
     /// Kernel `k`'s rotation.
-    pub fn rotation(&self, k: usize) -> UnitQuaternion<f64> {
+    pub(super) fn rotation(&self, k: usize) -> UnitQuaternion<f64> {
         UnitQuaternion::new_unchecked(Quaternion::new(
             self.qw[k], self.qx[k], self.qy[k], self.qz[k],
         ))
@@ -97,7 +97,7 @@ impl KernelTable {
     /// within the cut-offs. Kernel `k` of a run starting at `s` is added to partial sum
     /// `(k − s) mod 4`; the partial sums `a, b, c, d` are combined as `(a + b) + (c + d)`.
     #[inline]
-    pub fn sum(&self, runs: &[std::ops::Range<usize>], query: &LaneQuery) -> f64 {
+    pub(super) fn sum(&self, runs: &[std::ops::Range<usize>], query: &LaneQuery) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::has_avx2() {
             // SAFETY: the processor supports AVX2 (checked just above).
@@ -223,7 +223,7 @@ const EXP_CLAMP: f64 = 30.0;
 /// `exp(−e)` for `e ≥ 0`, to about one unit in the last place for `e ≤ 30` (larger `e` are
 /// clamped to 30).
 #[inline(always)]
-pub fn exp_of_negative(e: f64) -> f64 {
+pub(super) fn exp_of_negative(e: f64) -> f64 {
     let x = -(if e < EXP_CLAMP { e } else { EXP_CLAMP });
     // x = k·ln2 + r, k = round(x/ln2), |r| ≤ ln2/2.
     let shifted = x * std::f64::consts::LOG2_E + SHIFTER;

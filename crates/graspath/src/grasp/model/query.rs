@@ -28,11 +28,11 @@ fn neighbour_cells(c: i64) -> std::ops::RangeInclusive<i64> {
 }
 
 /// Largest density-distance cost (matched cost bound × 10).
-pub const DENSITY_DISTANCE_MAX: f64 = 10.0 * (2.5e-5 + 0.01 * 0.25);
+pub(super) const DENSITY_DISTANCE_MAX: f64 = 10.0 * (2.5e-5 + 0.01 * 0.25);
 
 /// The query density `Q_i` of one link: kernel centres `object_from_link` with weights.
 #[derive(Debug, Clone)]
-pub struct QueryDensity {
+pub(super) struct QueryDensity {
     /// The link's index in the hand.
     pub link_index: usize,
     /// `ln` of the link's weight factor `exp(−pen_i)` (curvature-statistics penalty).
@@ -165,7 +165,10 @@ struct Kernel {
 }
 
 /// The object-level statistics used by the curvature-bandwidth adaptation.
-pub fn object_curvature_stats(features: &[SurfaceFeature], factor: f64) -> ([f64; 2], [f64; 2]) {
+pub(super) fn object_curvature_stats(
+    features: &[SurfaceFeature],
+    factor: f64,
+) -> ([f64; 2], [f64; 2]) {
     curvature_bandwidth(features.iter().map(|f| f.curvature), factor)
 }
 
@@ -173,7 +176,7 @@ pub fn object_curvature_stats(features: &[SurfaceFeature], factor: f64) -> ([f64
 /// `σ ≥ σo/5` acts as the degenerate-variance guard; the mean rule
 /// `σ ≥ |μ − μo| − σo + σo/5` widens the kernel when the demonstrated curvature is far from the
 /// object's and is what the penalty `pen = Σ_d (σ_new/σ_old − 1)` measures.
-pub fn adapt_bandwidth(
+pub(super) fn adapt_bandwidth(
     contact: &ContactModel,
     object_sigma: [f64; 2],
     object_mean: [f64; 2],
@@ -194,7 +197,7 @@ pub fn adapt_bandwidth(
 impl QueryDensity {
     /// Builds the density of one link from `kernels` draws (fewer if some draws find no
     /// matching curvature even after widening). Deterministic for a given `seed`.
-    pub fn build(
+    pub(super) fn build(
         contact: &ContactModel,
         features: &[SurfaceFeature],
         object_index: &PointIndex,
@@ -282,17 +285,17 @@ impl QueryDensity {
     }
 
     /// The number of kernels.
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.kernels.len()
     }
 
     /// Whether the density has no kernel.
-    pub fn is_empty(&self) -> bool {
+    pub(super) fn is_empty(&self) -> bool {
         self.kernels.is_empty()
     }
 
     /// `Σ_k w_k` (before the link factor).
-    pub fn total_weight(&self) -> f64 {
+    pub(super) fn total_weight(&self) -> f64 {
         self.cumulative.last().copied().unwrap_or(0.0)
     }
 
@@ -304,7 +307,7 @@ impl QueryDensity {
     /// The grid's cells are half the position cut-off wide; for each row of cells along x
     /// only the cells that the cut-off sphere around `p` reaches are scanned.
     #[inline]
-    pub fn evaluate(&self, object_from_link: &Isometry3<f64>) -> f64 {
+    pub(super) fn evaluate(&self, object_from_link: &Isometry3<f64>) -> f64 {
         let p = object_from_link.translation.vector;
         let p = [p.x, p.y, p.z];
         let q = &object_from_link.rotation;
@@ -358,7 +361,7 @@ impl QueryDensity {
     }
 
     /// A link pose drawn from the density: a kernel by weight, perturbed by the kernel.
-    pub fn sample(&self, rng: &mut StdRng) -> Option<Isometry3<f64>> {
+    pub(super) fn sample(&self, rng: &mut StdRng) -> Option<Isometry3<f64>> {
         let total = self.total_weight();
         if self.is_empty() || total <= 0.0 {
             return None;
@@ -445,7 +448,7 @@ fn place(
 /// The density distance `D(s)` (spec §3.3): the mean over model points of the best match cost
 /// `‖Δp‖² + 0.01(1 − n·n_obj)` among object points within 5 mm with `1 − n·n_obj ≤ 0.25`,
 /// or [`DENSITY_DISTANCE_MAX`] when none matches.
-pub fn density_distance(
+pub(super) fn density_distance(
     object_from_link: &Isometry3<f64>,
     model_points: &[(Point3<f64>, Vector3<f64>)],
     features: &[SurfaceFeature],

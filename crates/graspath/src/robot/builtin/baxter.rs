@@ -115,7 +115,7 @@ fn revolute(
 }
 
 /// Shoulder to wrist links (`s0 … w2`), link frames, either arm (see the module documentation).
-pub const BAXTER_INERTIA: [LinkInertia; 7] = [
+pub(super) const BAXTER_INERTIA: [LinkInertia; 7] = [
     LinkInertia::new(
         5.70044,
         [0.01783, 0.00086, 0.19127],
@@ -203,7 +203,7 @@ pub const BAXTER_INERTIA: [LinkInertia; 7] = [
 ];
 
 /// Velocity (rad/s) and effort (N·m) limits, `s0 s1 e0 e1 w0 w1 w2`.
-pub const BAXTER_MOTION_LIMITS: [MotionLimits; 7] = [
+pub(super) const BAXTER_MOTION_LIMITS: [MotionLimits; 7] = [
     limits(1.5, 50.0, None),
     limits(1.5, 50.0, None),
     limits(1.5, 50.0, None),

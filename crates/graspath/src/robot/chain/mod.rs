@@ -45,7 +45,7 @@ pub(crate) use reach::OutOfReach;
 pub use sweep::{JointAxes, JointAxis, SweepBound};
 
 /// Largest number of moving joints in one chain (mimic followers included).
-pub const MAX_JOINTS: usize = 64;
+pub(super) const MAX_JOINTS: usize = 64;
 
 /// How an active joint moves its child.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,13 +86,13 @@ struct LinkSlot {
 
 /// The largest distance (m) between consecutive joint frames: a larger offset is a unit
 /// mistake (millimetres) or a corrupt file, and would overflow the kinematics.
-pub const MAX_JOINT_OFFSET: f64 = 1000.0;
+pub(super) const MAX_JOINT_OFFSET: f64 = 1000.0;
 
 /// The largest joint limit magnitude (rad or m) of a revolute or prismatic joint. Gazebo's
 /// SDF-to-URDF writer gives an unlimited joint ±1e16 (example-robot-data's `iris.urdf`), which
 /// is kept; anything beyond is a corrupt file or a unit mistake, and would overflow the span
 /// `upper − lower` that IK samples from.
-pub const MAX_JOINT_LIMIT: f64 = 1e16;
+pub(super) const MAX_JOINT_LIMIT: f64 = 1e16;
 
 /// Checks what the kinematics needs of one joint: a finite origin within
 /// [`MAX_JOINT_OFFSET`], and finite limits `lower ≤ upper` on a revolute or prismatic joint

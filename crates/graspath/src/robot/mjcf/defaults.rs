@@ -97,7 +97,7 @@ impl Default for ClassDefaults {
 
 impl ClassDefaults {
     /// The value of `key` for `element`, if the class gives one.
-    pub fn get(&self, element: &str, key: &str) -> Option<&str> {
+    pub(super) fn get(&self, element: &str, key: &str) -> Option<&str> {
         let index = slot(element, key);
         debug_assert!(
             index.is_some(),
@@ -109,7 +109,7 @@ impl ClassDefaults {
     /// Sets the attributes of one `<element>` child of a `<default>`: those in the table
     /// replace the inherited ones (an orientation replaces the inherited orientation of any
     /// kind); the others are ignored.
-    pub fn apply(&mut self, element: &str, attributes: &[(String, String)]) {
+    pub(super) fn apply(&mut self, element: &str, attributes: &[(String, String)]) {
         if !is_defaulted(element) {
             return;
         }

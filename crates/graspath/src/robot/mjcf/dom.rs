@@ -29,7 +29,7 @@ pub(crate) struct Element {
 
 impl Element {
     /// The attribute `key` as written on this element.
-    pub fn get(&self, key: &str) -> Option<&str> {
+    pub(super) fn get(&self, key: &str) -> Option<&str> {
         self.attributes
             .iter()
             .find(|(k, _)| k == key)

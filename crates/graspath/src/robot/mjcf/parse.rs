@@ -44,7 +44,7 @@ pub(crate) enum JointType {
 }
 
 impl JointType {
-    pub fn word(self) -> &'static str {
+    pub(super) fn word(self) -> &'static str {
         match self {
             JointType::Hinge => "hinge",
             JointType::Slide => "slide",

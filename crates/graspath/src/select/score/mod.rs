@@ -14,7 +14,7 @@ pub use path::wrist_trajectory;
 pub use timing_check::{MotionDurations, TimedMotion};
 
 use crate::collision::{ArmInScene, Body, ObjectAlong};
-use crate::defaults;
+use crate::defaults::{LIMIT_HUG_DISTANCE, LIMIT_HUG_SHARE};
 pub use crate::failure::Failure;
 use crate::failure::{FailureReason, Phase};
 use crate::grasp::Candidate;
@@ -162,16 +162,16 @@ impl CandidateScore {
     }
 
     /// Whether the chosen motion hugs a joint limit: at least
-    /// [`defaults::LIMIT_HUG_SHARE`] of the path samples have a joint within
-    /// [`defaults::LIMIT_HUG_DISTANCE`] of a limit.
+    /// [`LIMIT_HUG_SHARE`] of the path samples have a joint within
+    /// [`LIMIT_HUG_DISTANCE`] of a limit.
     pub fn hugs_limit(&self) -> bool {
         let near = self
             .limit_distance
             .iter()
-            .filter(|d| **d <= defaults::LIMIT_HUG_DISTANCE)
+            .filter(|d| **d <= LIMIT_HUG_DISTANCE)
             .count();
         !self.limit_distance.is_empty()
-            && near as f64 >= defaults::LIMIT_HUG_SHARE * self.limit_distance.len() as f64
+            && near as f64 >= LIMIT_HUG_SHARE * self.limit_distance.len() as f64
     }
 }
 

@@ -329,7 +329,7 @@ impl<'a> TimingCheck<'a> {
             reason: FailureReason::TimingInfeasible,
             phase: Phase::Path,
             sample,
-            detail: crate::Chain(error).to_string(),
+            detail: crate::fault::Chain(error).to_string(),
             bodies: None,
         })
     }

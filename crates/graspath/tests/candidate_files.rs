@@ -379,5 +379,8 @@ fn only_a_regular_file_is_indexed() {
     // The reading refuses it; the operating-system-level reason is the error's source.
     let chain = graspath::Chain(&err).to_string();
     assert!(chain.contains("a folder, not a regular file"), "{chain}");
-    assert_eq!(graspath::fault_of(&err).unwrap().kind, graspath::ErrorKind::File);
+    assert_eq!(
+        graspath::fault_of(&err).unwrap().kind,
+        graspath::ErrorKind::File
+    );
 }

@@ -102,7 +102,7 @@ def test_literal_types_are_the_library_spellings():
         for argument in arguments:
             if argument.arg not in graspath.SPELLINGS or argument.annotation is None:
                 continue
-            if function.name == "from_text" and argument.arg == "format":
+            if function.name == "parse" and argument.arg == "format":
                 continue  # the task text's format (yaml / json), not a grasp-file format
             offered = _literal_values(argument.annotation)
             assert offered == graspath.SPELLINGS[argument.arg], f"{function.name}({argument.arg})"

@@ -7,33 +7,39 @@
 //!
 //! ## The pipeline
 //!
-//! The modules follow the data, and each imports only the modules before it in this list:
+//! The modules follow the data, and each imports only the modules before it in this list
+//! (those on one line import each other in neither direction):
 //!
-//! 1. [`geometry`] — poses (`a_from_b` transforms, the one pose syntax of every input file
-//!    [`geometry::PoseSpec`]), SE(3) logarithm and exponential, interpolation;
-//! 2. [`failure`] — why something failed, one spelling everywhere;
-//! 3. [`robot`] — serial chains (built-in Baxter or URDF, SRDF beside it) with every link frame
-//!    and each link's collision shapes, forward kinematics and the geometric Jacobian, inverse
-//!    kinematics of one pose and of a whole trajectory;
+//! 1. the ground, which imports nothing of the pipeline: [`defaults`] — every default of a
+//!    task, in one place; [`spelling`] — every setting chosen by name and its spellings;
+//!    [`failure`] — why something failed, one spelling everywhere; [`input`] — opening input
+//!    files (regular files only, under a size cap); [`random`] — the one seed mixer;
+//! 2. [`geometry`] — poses (`a_from_b` transforms, the one pose syntax of every input file
+//!    [`geometry::PoseSpec`]), SE(3) logarithm and exponential, interpolation, shapes; and
+//!    [`fsutil`] — writing output files and folders atomically, never clobbering;
+//! 3. [`robot`] — serial chains (built-in arms, URDF, xacro or MJCF, SRDF beside them) with
+//!    every link frame and each link's collision shapes and inertia, forward kinematics, the
+//!    geometric Jacobian and rigid-body dynamics, inverse kinematics of one pose and of a
+//!    whole trajectory;
 //! 4. [`collision`] — the scene (a table and obstacles), the bodies of an arm and its hand,
 //!    and the checks of a whole motion at every sample and, with a proven bound, between
-//!    samples; and beside it (neither imports the other) [`cloud`] — point clouds (PLY, PCD,
-//!    meshes, sampled shapes) and their surface features;
+//!    samples; [`cloud`] — point clouds (PLY, PCD, meshes, sampled shapes) and their surface
+//!    features; [`manipulability`] — the classical indices, the task-relevant index
+//!    `M_T = uᵀ J Jᵀ u`, the dynamic one and their norms along the path, with the settings
+//!    that choose among them; [`timing`] — how long a motion takes: a branch's joint samples
+//!    as a cubic spline, its time-optimal parameterisation under joint velocity, acceleration
+//!    and torque limits (TOPP-RA), and the timed trajectory a controller executes;
 //! 5. [`grasp`] — grasp candidates (wrist poses in the object frame with likelihoods) from
 //!    files, parametric families or the learned one-shot grasp model;
 //! 6. [`task`] — [`task::Task`]: the arms, the candidates, the object's path after the grasp
 //!    and every setting, built and checked by [`task::TaskBuilder`] or read from a task file;
-//! 7. [`manipulability`] — the classical indices, the task-relevant index
-//!    `M_T = uᵀ J Jᵀ u` and its norms along the path;
-//! 8. [`timing`] — how long a motion takes: a branch's joint samples as a cubic spline, its
-//!    time-optimal parameterisation under joint velocity, acceleration and torque limits
-//!    (TOPP-RA), and the timed trajectory a controller executes;
-//! 9. [`select`] — every candidate scored along its whole motion for each arm (approach, the
-//!    object's path, retreat: trajectory IK, collisions in a scene, `M_T` per path sample,
-//!    norms), ranked, and paired for two arms (best first, refusing pairs whose arms touch).
-//!    Each result carries its candidate;
-//! 10. [`placement`] — placement maps: the selection run with the object started at every
-//!     placement of a grid (x, y, optionally z and yaw), in parallel, one record per placement.
+//! 7. [`select`] — every candidate scored along its whole motion for each arm (approach, the
+//!    object's path, retreat: trajectory IK, collisions in a scene, torques, timing, the
+//!    index per path sample, norms), ranked, and paired for two arms (best first, refusing
+//!    pairs whose arms touch). Each result carries its candidate; and [`physics`] — the
+//!    task's world written for a physics engine (MuJoCo MJCF);
+//! 8. [`placement`] — placement maps: the selection run with the object started at every
+//!    placement of a grid (x, y, optionally z and yaw), in parallel, one record per placement.
 //!
 //! Every module has its own error type naming the file and field at fault, with the error that
 //! caused it kept as its [`source`](std::error::Error::source); [`Error`] gathers them for

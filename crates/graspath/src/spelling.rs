@@ -1,13 +1,13 @@
 //! Settings chosen by name — `index.measure: dynamic`, `norm: rms`, `format: graspgen` — and
 //! the one table of their spellings.
 //!
-//! Each such setting is an enum that implements [`Spelled`] through [`spelled!`], which
+//! Each such setting is an enum that implements [`Spelled`] through the crate's `spelled!` macro, which
 //! declares every value's spelling once, beside the enum. The task-file loader, the Python
 //! bindings and the command line read names with [`Spelled::from_name`] and list them in their
 //! messages with [`Spelled::spellings`]; the Python stub's `Literal` types and the docs are
 //! checked against [`Spelled::names`] by tests.
 
-/// A setting chosen by name. Implemented by [`spelled!`].
+/// A setting chosen by name. Implemented by the crate's `spelled!` macro.
 pub trait Spelled: Sized + Copy + PartialEq + 'static {
     /// Every value, in the order the docs list them.
     const ALL: &'static [Self];

@@ -72,7 +72,7 @@ impl Candidate {
 }
 
 /// A candidate file that cannot be used: the file, where in it, and why. When the file cannot
-/// be read (missing, not a regular file, larger than [`MAX_FILE_BYTES`]) the operating
+/// be read (missing, not a regular file, larger than `MAX_FILE_BYTES`, 1 GiB) the operating
 /// system's error — or the size cap's, of kind [`std::io::ErrorKind::FileTooLarge`] — is kept
 /// as the [`source`](std::error::Error::source): the message says `cannot read`, the source
 /// says why.

@@ -93,7 +93,7 @@ impl RobotSource {
     /// a URDF, `.xacro` (`.urdf.xacro`) a xacro file, expanded on load (see
     /// [`RobotSource::Urdf`]), `.mjcf` an MJCF file. A file named otherwise — `.xml`, which both
     /// formats use, or any other name — is told by its root element, read from at most its
-    /// first [`FORMAT_PREFIX_BYTES`]: `<robot>` is a URDF, `<mujoco>` an MJCF file. A URDF told
+    /// first 64 KiB: `<robot>` is a URDF, `<mujoco>` an MJCF file. A URDF told
     /// by its root is never expanded as xacro: xacro markup in it is refused on load, as in any
     /// file not named `*.xacro`.
     ///

@@ -488,7 +488,7 @@ enum PathInput {
 }
 
 /// Builds a checked [`Task`]. Settings left unset take the values in
-/// [`defaults`](super::defaults); [`TaskBuilder::build`] checks every value and names the
+/// [`defaults`](crate::defaults); [`TaskBuilder::build`] checks every value and names the
 /// offending setting by its task-file field (`ik.iterations`, `selection.mu0`, …).
 #[derive(Debug, Clone)]
 pub struct TaskBuilder {

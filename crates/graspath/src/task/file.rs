@@ -506,7 +506,7 @@ pub struct IndexFile {
     #[serde(default)]
     pub length_scale: Option<f64>,
     /// What is measured and ranked: `task_relevant` (default, the paper's `M_T`),
-    /// `velocity_ratio`, `duration` or `dynamic` ([`IndexMeasure`](super::IndexMeasure)).
+    /// `velocity_ratio`, `duration` or `dynamic` ([`IndexMeasure`](crate::manipulability::IndexMeasure)).
     #[serde(default)]
     pub measure: Option<String>,
     /// Multiply the ranked index by Tsai's joint-limit penalty: `true` (gain 50) or the gain.

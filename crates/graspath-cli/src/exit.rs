@@ -1,8 +1,8 @@
 //! Exit codes, derived from the library's classification of errors (never from their text),
 //! and the one-line message of a failed run.
 
-use graspath::fsutil::{OutputError, OutputErrorKind};
 use graspath::grasp::model::ModelError;
+use graspath::output_files::{OutputError, OutputErrorKind};
 use graspath::robot::RobotError;
 
 /// Success.
@@ -98,7 +98,7 @@ fn with_flags(error: &(dyn std::error::Error + 'static)) -> Option<String> {
 mod tests {
     use super::*;
     use anyhow::Context;
-    use graspath::fsutil::Existing;
+    use graspath::output_files::Existing;
 
     #[test]
     fn errors_are_classified_by_type_through_their_context() {
@@ -108,9 +108,12 @@ mod tests {
         assert_eq!(code_of(&anyhow::Error::new(task)), BAD_INPUT);
         let io = std::io::Error::other("disk full");
         assert_eq!(code_of(&anyhow::Error::new(io)), INTERNAL);
-        let refused =
-            graspath::fsutil::write_file(std::path::Path::new("/dev/null"), b"", Existing::Replace)
-                .unwrap_err();
+        let refused = graspath::output_files::write_file(
+            std::path::Path::new("/dev/null"),
+            b"",
+            Existing::Replace,
+        )
+        .unwrap_err();
         assert_eq!(code_of(&anyhow::Error::new(refused)), BAD_INPUT);
         assert_eq!(code_of(&anyhow::anyhow!("unexpected")), INTERNAL);
     }
@@ -139,7 +142,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("out.json");
         std::fs::write(&file, b"{}").unwrap();
-        let refused = graspath::fsutil::check_file_target(&file, Existing::Refuse).unwrap_err();
+        let refused =
+            graspath::output_files::check_file_target(&file, Existing::Refuse).unwrap_err();
         let error = anyhow::Error::new(refused).context("cannot write");
         assert_eq!(
             message(&error),

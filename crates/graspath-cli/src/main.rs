@@ -60,7 +60,7 @@ fn remove_temporaries_on_signals() {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            graspath::fsutil::remove_temporaries();
+            graspath::output_files::remove_temporaries();
             eprintln!("graspath: stopped by a signal; nothing was written");
             std::process::exit(128 + signal);
         }

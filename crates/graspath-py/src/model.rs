@@ -6,12 +6,12 @@
 
 use crate::convert::{array, lib_error};
 use graspath::cloud::{load_cloud_filtered, OutlierOptions};
-use graspath::fsutil::{write_file, Existing};
 use graspath::geometry::pose_to_rows;
 use graspath::grasp::model::train_file;
 use graspath::grasp::model::{
     candidates_json, generate as run_generate, GenerateOptions, GraspModel,
 };
+use graspath::output_files::{write_file, Existing};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

@@ -4,7 +4,7 @@
 use crate::convert::{array, error, json_to_py, lib_error};
 use crate::record::set_numpy_columns;
 use crate::task::PyTask;
-use graspath::fsutil::{write_files, Existing};
+use graspath::output_files::{write_files, Existing};
 use graspath::select::record::{outputs, Row, Trajectories};
 use graspath::select::{select as run_selection, selected_motions, Selection};
 use graspath::spelling::Spelled;

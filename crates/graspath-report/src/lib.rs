@@ -1,6 +1,6 @@
 //! Reports of a selection: JSON of every candidate with every score, the ranked pairs and a
 //! summary; the paper's figures as SVG and PNG plots; a self-contained HTML page with a 3D view.
-//! Everything is rendered in memory; [`graspath::fsutil::write_files`] writes the set atomically
+//! Everything is rendered in memory; [`graspath::output_files::write_files`] writes the set atomically
 //! (no partial output on error).
 #![warn(unreachable_pub)]
 

@@ -14,7 +14,7 @@
 //! Skipped with a message when Chromium is not installed, except under CI (`CI` set), where
 //! `.ci/run` installs it and its absence is a failure.
 
-use graspath::fsutil::{write_files, Existing};
+use graspath::output_files::{write_files, Existing};
 use graspath::select::select;
 use graspath::task::Task;
 use graspath_report::render_report;

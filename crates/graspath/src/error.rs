@@ -5,12 +5,12 @@
 use crate::cloud::CloudError;
 use crate::collision::CollisionError;
 use crate::fault::{Classify, ErrorKind, Fault};
-use crate::fsutil::OutputError;
 use crate::geometry::shape::ShapeError;
 use crate::geometry::{PoseError, PoseSpecError, QuaternionError};
 use crate::grasp::hand::HandError;
 use crate::grasp::model::ModelError;
 use crate::grasp::{CandidateError, FamilyError, FramePlacementError};
+use crate::output_files::OutputError;
 use crate::physics::PhysicsError;
 use crate::placement::{AxisError, PlacementError};
 use crate::robot::RobotError;
@@ -193,7 +193,7 @@ pub fn fault_of<'a>(error: &'a (dyn StdError + 'static)) -> Option<Fault<'a>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fsutil::{write_file, Existing};
+    use crate::output_files::{write_file, Existing};
     use std::path::Path;
 
     /// One error of each module, with the kind it has.

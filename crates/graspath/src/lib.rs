@@ -16,7 +16,7 @@
 //!    files (regular files only, under a size cap); [`random`] — the one seed mixer;
 //! 2. [`geometry`] — poses (`a_from_b` transforms, the one pose syntax of every input file
 //!    [`geometry::PoseSpec`]), SE(3) logarithm and exponential, interpolation, shapes; and
-//!    [`fsutil`] — writing output files and folders atomically, never clobbering;
+//!    [`output_files`] — writing output files and folders atomically, never clobbering;
 //! 3. [`robot`] — serial chains (built-in arms, URDF, xacro or MJCF, SRDF beside them) with
 //!    every link frame and each link's collision shapes and inertia, forward kinematics, the
 //!    geometric Jacobian and rigid-body dynamics, inverse kinematics of one pose and of a
@@ -85,11 +85,11 @@ pub mod defaults;
 mod error;
 pub mod failure;
 mod fault;
-pub mod fsutil;
 pub mod geometry;
 pub mod grasp;
 pub mod input;
 pub mod manipulability;
+pub mod output_files;
 pub mod physics;
 pub mod placement;
 pub mod random;

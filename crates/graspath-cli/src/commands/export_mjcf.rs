@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::fsutil::{write_file, Existing};
+use graspath::output_files::{write_file, Existing};
 use graspath::physics::{world_mjcf, WorldOptions};
 use graspath::task::{Task, TaskFile};
 use std::path::PathBuf;

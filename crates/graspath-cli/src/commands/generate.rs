@@ -3,8 +3,8 @@
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::cloud::{load_cloud_filtered, CropBox, OutlierOptions, StatisticalOutliers};
-use graspath::fsutil::{check_file_target, write_file, Existing};
 use graspath::grasp::model::{candidates_json, generate, GenerateOptions, GraspModel, Progress};
+use graspath::output_files::{check_file_target, write_file, Existing};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;

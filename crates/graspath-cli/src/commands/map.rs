@@ -6,7 +6,7 @@ use crate::output::{OutputArgs, Progress};
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::fsutil::{check_folder_target, write_files, Existing};
+use graspath::output_files::{check_folder_target, write_files, Existing};
 use graspath::placement::{placement_map, FamilyParameter, GridAxis, PlacementGrid};
 use graspath::task::{builder_from_file, TaskFile};
 use graspath_report::{placement_figures, placement_map_json, render_png, render_svg};

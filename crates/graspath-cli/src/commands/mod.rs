@@ -9,7 +9,7 @@ pub(crate) mod map;
 pub(crate) mod select;
 pub(crate) mod train;
 
-use graspath::fsutil::{check_not_an_input, OutputError};
+use graspath::output_files::{check_not_an_input, OutputError};
 use graspath::task::{Task, TaskFile};
 use std::path::{Path, PathBuf};
 

@@ -4,13 +4,13 @@
 //! `--format jsonl` the candidates are streamed to `candidates.jsonl` as they are scored and the
 //! ranks written to `ranking.jsonl` at the end (docs/streaming.md); `--format parquet` streams
 //! the same way to `candidates.parquet` and `ranking.parquet`. The folder is written as a
-//! whole (see `graspath::fsutil`).
+//! whole (see `graspath::output_files`).
 
 use crate::output::{print_summary_table, OutputArgs, Progress};
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::fsutil::{check_folder_target, Existing, FolderWriter};
+use graspath::output_files::{check_folder_target, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
 use graspath::select::record::Trajectories;
 use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};

@@ -2,8 +2,8 @@
 
 use anyhow::Result;
 use clap::Args;
-use graspath::fsutil::{check_file_target, write_file, Existing};
 use graspath::grasp::model::train_file;
+use graspath::output_files::{check_file_target, write_file, Existing};
 use std::path::PathBuf;
 
 /// Learns a grasp model (contact models per link in contact, hand-configuration model) from

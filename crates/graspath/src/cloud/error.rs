@@ -17,7 +17,7 @@ pub enum CloudError {
     },
     /// The file could not be written.
     #[error(transparent)]
-    Output(#[from] crate::fsutil::OutputError),
+    Output(#[from] crate::output_files::OutputError),
     /// A writer failed to encode the cloud in memory (not caused by the input).
     #[error("{what}")]
     Encode {

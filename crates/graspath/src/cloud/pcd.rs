@@ -337,7 +337,7 @@ pub fn pcd_bytes(cloud: &PointCloud, encoding: PcdEncoding) -> Result<Vec<u8>, C
 /// Writes `cloud` to a PCD file (through a temporary file renamed at the end).
 pub fn write_pcd(path: &Path, cloud: &PointCloud, encoding: PcdEncoding) -> Result<(), CloudError> {
     let bytes = pcd_bytes(cloud, encoding)?;
-    crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+    crate::output_files::write_file(path, &bytes, crate::output_files::Existing::Replace)?;
     Ok(())
 }
 

@@ -281,7 +281,7 @@ pub fn ply_bytes(cloud: &PointCloud, encoding: PlyEncoding) -> Result<Vec<u8>, C
 /// the end, so no partial file is left behind).
 pub fn write_ply(path: &Path, cloud: &PointCloud, encoding: PlyEncoding) -> Result<(), CloudError> {
     let bytes = ply_bytes(cloud, encoding)?;
-    crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+    crate::output_files::write_file(path, &bytes, crate::output_files::Existing::Replace)?;
     Ok(())
 }
 

@@ -12,16 +12,20 @@
 mod builder;
 mod error;
 mod file;
+mod file_scene;
 mod load;
+mod load_candidates;
 mod load_scene;
 mod path;
 mod payload;
 mod plausibility;
 mod scene;
+mod sealed;
 mod settings;
 mod timing;
+mod work;
 
-pub use builder::{ArmSetup, Task, TaskBuilder, WorkEstimate};
+pub use builder::TaskBuilder;
 pub use error::TaskError;
 pub use file::{
     pose, ArmFile, ArmsFile, CandidatesFile, FamilyFile, GenerateFile, IkFile, IndexFile,
@@ -40,5 +44,7 @@ pub use scene::{
     Collisions, Gripper, GripperBodies, GripperLink, SceneSettings, Stroke, WholeMotionPlan,
     DEFAULT_FINGER, MIN_RESOLUTION,
 };
+pub use sealed::{ArmSetup, Task};
 pub use settings::{LikelihoodRule, Limits, Redundancy, SelectionOptions};
 pub use timing::{TimingRequest, TimingSettings, DEFAULT_ACCELERATION_TIME};
+pub use work::WorkEstimate;

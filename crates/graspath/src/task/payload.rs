@@ -3,8 +3,11 @@
 //! dynamics model with the world's gravity in the arm's base frame.
 
 use super::file::ObjectFile;
+use super::sealed::ArmSetup;
+use crate::manipulability::IndexMeasure;
 use crate::robot::{Chain, Dynamics, RigidBody, STANDARD_GRAVITY};
 use nalgebra::{Isometry3, Matrix3, Vector3};
+use std::sync::Arc;
 
 /// The largest object mass accepted (kg): more is a unit mistake (grams given as kilograms),
 /// not a payload for a manipulator.
@@ -111,6 +114,55 @@ pub(super) fn object_payload(object: &ObjectFile) -> Result<Option<RigidBody>, (
         com,
         inertia.unwrap_or_else(Matrix3::zeros),
     )))
+}
+
+/// Gives each arm the dynamics model the task needs: with a payload (`object.mass`) the
+/// joint torques along the motion, and with `index.measure: dynamic` the torque-weighted
+/// index, which also needs an effort limit on every joint. Errors name the field that asked.
+pub(super) fn attach_dynamics(
+    arms: &mut [ArmSetup],
+    payload: Option<&RigidBody>,
+    measure: IndexMeasure,
+) -> Result<(), (&'static str, String)> {
+    if let Some(payload) = payload {
+        check_payload(payload).map_err(|m| ("object.mass", m))?;
+        for arm in arms.iter_mut() {
+            let model = arm_dynamics(
+                &arm.name,
+                &arm.chain,
+                &arm.world_from_base,
+                "the object's mass asks for the joint torques along the task",
+            )
+            .map_err(|m| ("object.mass", m))?;
+            arm.dynamics = Some(Arc::new(model));
+        }
+    }
+    if measure == IndexMeasure::Dynamic {
+        for arm in arms.iter_mut() {
+            let why = "index.measure dynamic weighs the joints by their torques";
+            if arm.dynamics.is_none() {
+                let model = arm_dynamics(&arm.name, &arm.chain, &arm.world_from_base, why)
+                    .map_err(|m| ("index.measure", m))?;
+                arm.dynamics = Some(Arc::new(model));
+            }
+            let unlimited = arm
+                .chain
+                .motion_limits()
+                .iter()
+                .zip(arm.chain.joint_names())
+                .find(|(l, _)| !l.effort.is_some_and(|e| e.is_finite() && e > 0.0));
+            if let Some((_, joint)) = unlimited {
+                return Err((
+                    "index.measure",
+                    format!(
+                        "arm '{}': joint '{joint}' has no effort limit; {why}",
+                        arm.name
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks a payload given to the task builder: a valid body of positive mass.

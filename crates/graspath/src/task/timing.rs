@@ -1,6 +1,8 @@
 //! How a task times each feasible candidate's motion (`timing:` in a task file): the settings
 //! the [`crate::timing`] module is run with, and when timing is on.
 
+use super::sealed::ArmSetup;
+
 /// How each feasible candidate's whole motion (approach, the object's path, retreat) is timed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TimingSettings {
@@ -113,5 +115,39 @@ impl TimingSettings {
             }
         }
         Ok(())
+    }
+}
+
+/// The timing settings a request resolves to for `arms`: `Auto` is on with the defaults when
+/// every joint has a velocity limit; `On` requires one; the settings are checked.
+pub(super) fn resolve_timing(
+    request: TimingRequest,
+    arms: &[ArmSetup],
+) -> Result<Option<TimingSettings>, (&'static str, String)> {
+    let unlimited = arms.iter().find_map(|arm| {
+        let chain = &arm.chain;
+        chain
+            .motion_limits()
+            .iter()
+            .zip(chain.joint_names())
+            .find(|(l, _)| l.velocity.is_none())
+            .map(|(_, joint)| format!("arm '{}' joint '{joint}'", arm.name))
+    });
+    match request {
+        TimingRequest::Off => Ok(None),
+        TimingRequest::Auto => Ok(unlimited.is_none().then(TimingSettings::default)),
+        TimingRequest::On(settings) => {
+            settings.check()?;
+            match unlimited {
+                Some(joint) => Err((
+                    "timing",
+                    format!(
+                        "{joint} has no velocity limit (the robot file gives none): a motion \
+                         cannot be timed without one"
+                    ),
+                )),
+                None => Ok(Some(settings)),
+            }
+        }
     }
 }

@@ -17,7 +17,7 @@ use super::select::run_task;
 use crate::output::{print_summary_table, OutputArgs};
 use anyhow::{Context, Result};
 use clap::Args;
-use graspath::fsutil::{check_folder_target, write_files, Existing};
+use graspath::output_files::{check_folder_target, write_files, Existing};
 use graspath::placement::FamilyParameter;
 use graspath::select::record::Trajectories;
 use graspath::select::{select, Selection};

@@ -44,7 +44,7 @@ pub enum ModelError {
     },
     /// A file could not be written.
     #[error(transparent)]
-    Output(#[from] crate::fsutil::OutputError),
+    Output(#[from] crate::output_files::OutputError),
     /// A model or candidate file could not be encoded as JSON (not caused by the input).
     #[error("{what}")]
     Encode {

@@ -490,7 +490,7 @@ impl GraspModel {
     /// Writes the model file atomically (temporary file in the same directory, then rename).
     pub fn write(&self, path: &Path) -> Result<(), ModelError> {
         let bytes = self.to_json()?;
-        crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+        crate::output_files::write_file(path, &bytes, crate::output_files::Existing::Replace)?;
         Ok(())
     }
 }

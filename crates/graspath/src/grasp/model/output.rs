@@ -68,6 +68,6 @@ pub fn write_candidates(
     label: &str,
 ) -> Result<(), ModelError> {
     let bytes = candidates_json(candidates, label)?;
-    crate::fsutil::write_file(path, &bytes, crate::fsutil::Existing::Replace)?;
+    crate::output_files::write_file(path, &bytes, crate::output_files::Existing::Replace)?;
     Ok(())
 }

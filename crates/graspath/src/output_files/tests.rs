@@ -233,7 +233,7 @@ fn a_failed_swap_puts_the_old_folder_back() {
     let out = dir.path().join("out");
     write_files(&out, &set(&[("keep", "k")]), Existing::Refuse).expect("seed");
     // The new folder does not exist, so renaming it in fails after the old one moved aside.
-    let err = replace_folder(&dir.path().join("missing"), &out).expect_err("no new folder");
+    let err = folder::replace_folder(&dir.path().join("missing"), &out).expect_err("no new folder");
     assert!(matches!(err.kind, OutputErrorKind::Io { .. }), "{err}");
     assert_eq!(tree(dir.path()), ["out/", "out/keep"]);
 }

@@ -1,31 +1,14 @@
 //! `graspath ik` run as a process: output format, unreachable targets, trajectories, and clear
 //! errors (non-zero exit, the line or field named, no panic, no partial output).
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod common;
 
-fn graspath(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    // The process may exit (on a bad option) before reading its input: a broken pipe here
-    // is not an error of the test.
-    let _ = child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(stdin.as_bytes());
-    child.wait_with_output().expect("finishes")
-}
+use common::graspath_with_input;
 
 /// Runs and expects failure: returns stderr after checking the exit code, the absence of a
 /// panic and of any output.
 fn fails(args: &[&str], stdin: &str) -> String {
-    let out = graspath(args, stdin);
+    let out = graspath_with_input(args, stdin);
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(!out.status.success(), "expected failure: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -38,7 +21,7 @@ fn fails(args: &[&str], stdin: &str) -> String {
 /// library checks against Pinocchio).
 fn pose_at(q: &[f64]) -> serde_json::Value {
     let line = serde_json::json!({ "q": q }).to_string();
-    let out = graspath(&["kinematics", "--robot", "baxter", "--arm", "left"], &line);
+    let out = graspath_with_input(&["kinematics", "--robot", "baxter", "--arm", "left"], &line);
     assert!(out.status.success());
     let value: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     value["pose"].clone()
@@ -66,7 +49,7 @@ fn solves_poses_and_reports_unreachable_ones_as_null() {
         serde_json::json!({ "pose": pose }),
         r#"{"pose":[[1,0,0,3],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}"#
     );
-    let out = graspath(&BAXTER, &input);
+    let out = graspath_with_input(&BAXTER, &input);
     assert!(
         out.status.success(),
         "{}",
@@ -110,7 +93,7 @@ fn start_configurations_and_tolerance_are_accepted() {
             "--timeout-ms",
             "20",
         ]);
-        let out = graspath(&args, &input);
+        let out = graspath_with_input(&args, &input);
         assert!(
             out.status.success(),
             "{start}: {}",
@@ -133,7 +116,7 @@ fn solves_a_trajectory_with_branches() {
     let document = serde_json::json!({ "poses": poses }).to_string();
     let mut args = BAXTER.to_vec();
     args.extend(["--trajectory", "--branches", "3"]);
-    let out = graspath(&args, &document);
+    let out = graspath_with_input(&args, &document);
     assert!(
         out.status.success(),
         "{}",
@@ -167,7 +150,7 @@ fn the_start_flag_is_the_start_configuration() {
     let start = |flag: &str, start: &str| {
         let mut args = BAXTER.to_vec();
         args.extend(["--trajectory", "--branches", "1", flag, start]);
-        graspath(&args, &document)
+        graspath_with_input(&args, &document)
     };
     let run = |flag: &str, q: &str| {
         let out = start(flag, q);
@@ -194,7 +177,7 @@ fn an_unreachable_trajectory_reports_the_failure() {
     let document = r#"{"poses":[[[1,0,0,3],[0,1,0,0],[0,0,1,0],[0,0,0,1]],[[1,0,0,3.1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]]}"#;
     let mut args = BAXTER.to_vec();
     args.push("--trajectory");
-    let out = graspath(&args, document);
+    let out = graspath_with_input(&args, document);
     assert!(out.status.success());
     let value: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(value["branches"].as_array().expect("array").len(), 0);
@@ -285,7 +268,7 @@ fn the_readme_example_runs_on_the_shipped_poses() {
         readme.contains("--input examples/poses.jsonl"),
         "the README names the file"
     );
-    let out = graspath(
+    let out = graspath_with_input(
         &["ik", "--robot", "baxter", "--arm", "left", "--input", file],
         "",
     );

@@ -1,32 +1,17 @@
 //! `--robot-file FILE`: a URDF or MJCF file, its format told by its name or its root element,
 //! gives the same chain as `--urdf` / `--mjcf`; `--robot` takes only the built-in names.
 
+mod common;
+
+use common::graspath_with_input;
+
 use graspath::robot::builtin::BUILTIN_NAMES;
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../graspath/tests/data")
         .join(name)
-}
-
-fn graspath(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.as_bytes())
-        .unwrap();
-    child.wait_with_output().unwrap()
 }
 
 /// `kinematics` output for `robot` (the robot options) at a few configurations of `dof` joints.
@@ -41,7 +26,7 @@ fn kinematics(robot: &[&str], dof: usize) -> String {
         .collect();
     let mut args = vec!["kinematics"];
     args.extend_from_slice(robot);
-    let o = graspath(&args, &lines);
+    let o = graspath_with_input(&args, &lines);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{args:?}: {stderr}");
     let out = String::from_utf8(o.stdout).unwrap();
@@ -91,7 +76,7 @@ fn robot_file_refuses_a_file_of_neither_format_and_misplaced_options() {
     let dir = tempfile::tempdir().unwrap();
     let sdf = dir.path().join("world.model");
     std::fs::write(&sdf, "<sdf version=\"1.9\"/>").unwrap();
-    let o = graspath(
+    let o = graspath_with_input(
         &[
             "kinematics",
             "--robot-file",
@@ -112,7 +97,7 @@ fn robot_file_refuses_a_file_of_neither_format_and_misplaced_options() {
     assert!(stderr.contains("its root element is <sdf>"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     let mjcf = data("mjcf/ur5.xml");
-    let o = graspath(
+    let o = graspath_with_input(
         &[
             "kinematics",
             "--robot-file",
@@ -133,9 +118,9 @@ fn robot_file_refuses_a_file_of_neither_format_and_misplaced_options() {
         "{stderr}"
     );
     // --robot-file needs the chain's links, and excludes the other robot options.
-    let o = graspath(&["kinematics", "--robot-file", mjcf.to_str().unwrap()], "");
+    let o = graspath_with_input(&["kinematics", "--robot-file", mjcf.to_str().unwrap()], "");
     assert_eq!(o.status.code(), Some(2));
-    let o = graspath(
+    let o = graspath_with_input(
         &[
             "kinematics",
             "--robot-file",
@@ -155,13 +140,13 @@ fn robot_file_refuses_a_file_of_neither_format_and_misplaced_options() {
 
 #[test]
 fn robot_takes_the_built_in_names_and_help_lists_them() {
-    let o = graspath(&["kinematics", "--help"], "");
+    let o = graspath_with_input(&["kinematics", "--help"], "");
     assert!(o.status.success());
     let help = String::from_utf8(o.stdout).unwrap();
     let listed = format!("[possible values: {}]", BUILTIN_NAMES.join(", "));
     assert!(help.contains(&listed), "{help}");
     assert!(help.contains("--robot-file <FILE>"), "{help}");
-    let o = graspath(&["kinematics", "--robot", "baxtor"], "");
+    let o = graspath_with_input(&["kinematics", "--robot", "baxtor"], "");
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{stderr}");
     assert!(
@@ -170,7 +155,7 @@ fn robot_takes_the_built_in_names_and_help_lists_them() {
     );
     assert!(stderr.contains("baxter"), "{stderr}");
     for name in BUILTIN_NAMES {
-        let o = graspath(&["kinematics", "--robot", name], "");
+        let o = graspath_with_input(&["kinematics", "--robot", name], "");
         assert!(
             o.status.success(),
             "{name}: {}",

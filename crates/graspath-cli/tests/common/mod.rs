@@ -1,11 +1,12 @@
-//! Helpers shared by the `graspath select` integration tests: the example tasks, running the
-//! binary at a given thread count, and reading its JSON and JSON Lines outputs.
+//! Helpers shared by the CLI's integration tests: the example tasks, running the binary at a
+//! given thread count or with a standard input, and reading its JSON and JSON Lines outputs.
 
 #![allow(dead_code)] // Each test binary uses its own subset.
 
 use serde_json::Value;
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 /// A file of the repository's `examples/` folder.
 pub fn example(name: &str) -> PathBuf {
@@ -21,6 +22,25 @@ pub fn graspath(args: &[&str], threads: &str) -> Output {
         .env("RAYON_NUM_THREADS", threads)
         .output()
         .expect("graspath runs")
+}
+
+/// Runs the binary with `args`, `stdin` written to its standard input.
+pub fn graspath_with_input(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // The process may exit (on a bad option) before reading its input: a broken pipe here
+    // is not an error of the test.
+    let _ = child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(stdin.as_bytes());
+    child.wait_with_output().expect("finishes")
 }
 
 /// `graspath select --task TASK --out OUT EXTRA…` on `threads` threads, whatever its outcome.

@@ -18,6 +18,13 @@ use crate::robot::{Chain, IkOptions, RigidBody, TrajectoryIkOptions};
 use nalgebra::Isometry3;
 use std::sync::Arc;
 
+impl Task {
+    /// A builder for a task named `name` (the name appears in errors and reports).
+    pub fn builder(name: impl Into<String>) -> TaskBuilder {
+        TaskBuilder::new(name)
+    }
+}
+
 /// The object path, given sampled or as steps to sample.
 #[derive(Debug, Clone)]
 enum PathInput {
@@ -457,8 +464,11 @@ impl TaskBuilder {
                 ));
             }
         }
-        let timing =
-            super::timing::resolve_timing(self.timing, &self.arms).map_err(|(f, m)| err(f, m))?;
+        let timing = super::timing::resolve_timing(
+            self.timing,
+            self.arms.iter().map(|a| (a.name.as_str(), &a.chain)),
+        )
+        .map_err(|(f, m)| err(f, m))?;
         if let Some(max) = self.max_duration {
             if !(max > 0.0 && max.is_finite()) {
                 return Err(err(

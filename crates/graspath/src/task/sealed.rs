@@ -1,8 +1,7 @@
 //! [`Task`]: a checked task, sealed. Its fields are the crate's; users read them through the
-//! accessors here and change a task only through [`TaskBuilder`], [`Task::with_arms`],
+//! accessors here and change a task only through [`TaskBuilder`](super::TaskBuilder), [`Task::with_arms`],
 //! [`Task::slice`] and [`Task::in_world_frame`], which keep its invariants.
 
-use super::builder::TaskBuilder;
 use super::error::TaskError;
 use super::path::ObjectPath;
 use super::plausibility::TaskWarning;
@@ -126,11 +125,6 @@ pub struct Task {
 }
 
 impl Task {
-    /// A builder for a task named `name` (the name appears in errors and reports).
-    pub fn builder(name: impl Into<String>) -> TaskBuilder {
-        TaskBuilder::new(name)
-    }
-
     /// The same task seen from another world frame: the object path and every arm base moved by
     /// `new_world_from_world`. Scores and rankings must not change.
     pub fn in_world_frame(&self, new_world_from_world: &Isometry3<f64>) -> Self {

@@ -1,7 +1,7 @@
 //! How a task times each feasible candidate's motion (`timing:` in a task file): the settings
 //! the [`crate::timing`] module is run with, and when timing is on.
 
-use super::sealed::ArmSetup;
+use crate::robot::Chain;
 
 /// How each feasible candidate's whole motion (approach, the object's path, retreat) is timed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,20 +118,19 @@ impl TimingSettings {
     }
 }
 
-/// The timing settings a request resolves to for `arms`: `Auto` is on with the defaults when
+/// The timing settings a request resolves to for `arms` (each its name and chain): `Auto` is on with the defaults when
 /// every joint has a velocity limit; `On` requires one; the settings are checked.
-pub(super) fn resolve_timing(
+pub(super) fn resolve_timing<'a>(
     request: TimingRequest,
-    arms: &[ArmSetup],
+    arms: impl IntoIterator<Item = (&'a str, &'a Chain)>,
 ) -> Result<Option<TimingSettings>, (&'static str, String)> {
-    let unlimited = arms.iter().find_map(|arm| {
-        let chain = &arm.chain;
+    let unlimited = arms.into_iter().find_map(|(name, chain)| {
         chain
             .motion_limits()
             .iter()
             .zip(chain.joint_names())
             .find(|(l, _)| l.velocity.is_none())
-            .map(|(_, joint)| format!("arm '{}' joint '{joint}'", arm.name))
+            .map(|(_, joint)| format!("arm '{name}' joint '{joint}'"))
     });
     match request {
         TimingRequest::Off => Ok(None),

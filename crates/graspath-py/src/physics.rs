@@ -65,7 +65,10 @@ pub fn check_period(period: Option<f64>) -> PyResult<()> {
 /// points): a list of dicts as :meth:`Selection.timed_motions` returns. ``None`` when a
 /// candidate is not feasible for its arm; an error when the task does not time motions.
 #[pyfunction]
-#[pyo3(signature = (task, candidates, period = Some(0.01)))]
+#[pyo3(
+    signature = (task, candidates, period = Some(0.01)),
+    text_signature = "(task, candidates, period=0.01)"
+)]
 pub fn candidate_motions<'py>(
     py: Python<'py>,
     task: &Bound<'py, PyTask>,

@@ -3,7 +3,9 @@
 //! [`graspath::select::record::COLUMNS`].
 
 use crate::convert::{array, error};
-use graspath::select::record::{column_named, outputs, Cell, Column, Kind, Row, COLUMNS};
+use graspath::select::record::{
+    column_named, outputs, Cell, Column, JsonPlace, Kind, Row, COLUMNS,
+};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -162,8 +164,10 @@ fn output_names(column: &Column) -> Vec<&'static str> {
 
 /// The candidate record's columns, in order, as dicts: ``name``, ``type`` (``float64``,
 /// ``uint64``, ``bool``, ``string``, …), ``nullable``, ``unit``, ``doc`` and ``outputs`` (the
-/// outputs that carry it: ``json``, ``jsonl``, ``parquet``, ``arrays``, ``select_batch``). Every
-/// per-candidate output is read off this list; see ``docs/candidate-record.md``.
+/// outputs that carry it: ``json``, ``jsonl``, ``parquet``, ``arrays``, ``select_batch``) and
+/// ``json_field`` (its place in a JSON record: the name, or ``group.name`` inside a group such
+/// as ``failure``; ``None`` when no JSON output carries it). Every per-candidate output is
+/// read off this list; see ``docs/candidate-record.md``.
 #[pyfunction]
 pub fn record_columns(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let list = PyList::empty(py);
@@ -175,7 +179,20 @@ pub fn record_columns(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         dict.set_item("unit", column.unit)?;
         dict.set_item("doc", column.doc)?;
         dict.set_item("outputs", output_names(column))?;
+        dict.set_item("json_field", json_field(column))?;
         list.append(dict)?;
     }
     Ok(list)
+}
+
+/// A column's place in a JSON record (`failure.reason` inside a group), `None` when neither
+/// JSON output carries it.
+fn json_field(column: &Column) -> Option<String> {
+    if !(column.in_output(outputs::JSON) || column.in_output(outputs::JSON_LINES)) {
+        return None;
+    }
+    Some(match column.json {
+        JsonPlace::Top => column.name.to_string(),
+        JsonPlace::In(group, name) => format!("{}.{name}", group.name()),
+    })
 }

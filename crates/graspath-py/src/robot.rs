@@ -5,40 +5,33 @@
 //! Frames and units as in the library: every pose and Jacobian is in the chain **base frame**;
 //! metres and radians; the Jacobian has rows `[v; ω]` (Pinocchio's `LOCAL_WORLD_ALIGNED`).
 //!
-//! One file on purpose (over 1000 lines): it is the whole `Robot` class, whose methods PyO3
-//! requires in one `#[pymethods]` block. The dynamics' argument parsing and batch evaluation
-//! are in [`dynamics`].
+//! The `#[pymethods]` block (PyO3 wants one per class) holds each method's signature and
+//! documentation; the work is in the files beside it, one per concern: [`kinematics`] (poses,
+//! Jacobians, limits), [`indices`] (manipulability), [`ik`], [`self_motion`] and
+//! [`dynamics`].
 
-use crate::convert::{
-    array, check_finite, error, index_mode, lib_error, non_finite_error, poses, row_major, rows,
-    shape_text, single_pose, spelled, trajectories, FloatArray,
-};
-use crate::memory::{kinematics_into, new_float_array, split_rows, split_rows_ref, ResultArray};
-use graspath::manipulability::{
-    singular_values, task_relevant, velocity_transmission_ratio, wrist_tangent, ClassicalIndices,
-    Direction, JacobianPart,
-};
-
+use crate::convert::{array, error, lib_error, single_pose, FloatArray};
+use graspath::manipulability::{task_relevant, velocity_transmission_ratio};
 use graspath::robot::{
-    null_space, optimize_self_motion, solve_ik, solve_trajectories, Chain, Dynamics, IkOptions,
-    IkSolution, KeptRows, MotionLimits, RobotError, RobotSource, SelfMotionOptions,
-    TrajectoryIkOptions, TrajectoryIkResult, UrdfRobot,
+    Chain, Dynamics, RobotSource, SelfMotionOptions, TrajectoryIkOptions, UrdfRobot,
 };
-use nalgebra::{Isometry3, Matrix6xX, Vector3, Vector6};
-use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use nalgebra::Isometry3;
+use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList};
-use rayon::prelude::*;
-use std::borrow::Cow;
+use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use std::time::Duration;
 
 mod dynamics;
+mod ik;
+mod indices;
+mod kinematics;
+mod self_motion;
 
 pub(crate) use dynamics::payload_body;
-use dynamics::{Quantity, States};
+use dynamics::Quantity;
+use ik::ik_options;
 
 /// A serial kinematic chain from a base link to a tip link.
 #[pyclass(module = "graspath", name = "Robot", frozen)]
@@ -56,167 +49,11 @@ impl PyRobot {
             dynamics: OnceLock::new(),
         }
     }
-
-    /// The chain's dynamics model with standard gravity; a `GraspathError` naming the robot
-    /// and the links when a moving link has no inertial data.
-    fn dynamics_model(&self) -> PyResult<&Dynamics> {
-        self.dynamics
-            .get_or_init(|| self.chain.dynamics().map_err(|e| e.to_string()))
-            .as_ref()
-            .map_err(|e| error(e.as_str()))
-    }
-
-    /// A dynamics call's model (with `gravity` when given), states and payload, checked, and
-    /// its result.
-    #[allow(clippy::too_many_arguments)]
-    fn dynamics_call<'py>(
-        &self,
-        py: Python<'py>,
-        quantity: Quantity,
-        q: &FloatArray<'py>,
-        qd: Option<&FloatArray<'py>>,
-        qdd: Option<&FloatArray<'py>>,
-        gravity: Option<&FloatArray<'py>>,
-        payload: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Py<PyAny>> {
-        let model = self.dynamics_model()?;
-        let (q_values, batch) = self.configurations(q)?;
-        let dof = self.chain.dof();
-        let states = States {
-            q: q_values,
-            qd: dynamics::like_q(qd, q.shape(), dof, "qd")?,
-            qdd: dynamics::like_q(qdd, q.shape(), dof, "qdd")?,
-            batch,
-        };
-        let gravity = dynamics::gravity_vector(gravity, model.gravity())?;
-        let payload = payload_body(payload, "tool")?;
-        let model = if gravity == model.gravity() {
-            Cow::Borrowed(model)
-        } else {
-            Cow::Owned(model.clone().with_gravity(gravity).map_err(lib_error)?)
-        };
-        dynamics::evaluate(py, &model, payload, quantity, &states)
-    }
-
-    /// One of the joints' motion limits, `+inf` where unknown.
-    fn limits<'py>(
-        &self,
-        py: Python<'py>,
-        limit: fn(&MotionLimits) -> Option<f64>,
-    ) -> Bound<'py, PyArray1<f64>> {
-        let values: Vec<f64> = self
-            .chain
-            .motion_limits()
-            .iter()
-            .map(|l| limit(l).unwrap_or(f64::INFINITY))
-            .collect();
-        PyArray1::from_vec(py, values)
-    }
-
-    /// Configurations from `(dof,)` or `(n, dof)`, checked finite: row-major values (the
-    /// array's own memory when it is C-contiguous float64) and `Some(n)` for the batch form.
-    fn configurations<'a>(
-        &self,
-        q: &'a FloatArray<'_>,
-    ) -> PyResult<(Cow<'a, [f64]>, Option<usize>)> {
-        let (data, batch) = self.configurations_unchecked(q)?;
-        check_finite(&data, self.chain.dof(), "q", batch.is_some())?;
-        Ok((data, batch))
-    }
-
-    /// [`Self::configurations`] without the finiteness check (for calls whose kernel checks).
-    fn configurations_unchecked<'a>(
-        &self,
-        q: &'a FloatArray<'_>,
-    ) -> PyResult<(Cow<'a, [f64]>, Option<usize>)> {
-        let dof = self.chain.dof();
-        let batch = match q.shape() {
-            [w] if *w == dof => None,
-            [n, w] if *w == dof => Some(*n),
-            shape => {
-                return Err(error(format!(
-                    "q has shape {} but the chain '{}' has {dof} joints: expected ({dof},) or \
-                     (n, {dof})",
-                    shape_text(shape),
-                    self.chain.name()
-                )))
-            }
-        };
-        Ok((row_major(q, "q")?, batch))
-    }
-}
-
-/// Configurations per rayon task of the index calls (an SVD or a projection each).
-const INDEX_CHUNK: usize = 64;
-
-/// Configurations per rayon task of `within_limits` (a few comparisons each).
-const SCALAR_CHUNK: usize = 4096;
-
-fn part_of(part: &str) -> PyResult<JacobianPart> {
-    spelled("part", part)
-}
-
-fn direction_of(part: JacobianPart, u: &[f64]) -> Direction {
-    match part {
-        JacobianPart::Full => Direction::Full(Vector6::from_column_slice(u)),
-        JacobianPart::Translation => Direction::Translation(Vector3::from_column_slice(u)),
-        JacobianPart::Rotation => Direction::Rotation(Vector3::from_column_slice(u)),
-    }
-}
-
-/// The kept rows of the self-motion by name: `pose` or `position`.
-fn kept_rows(rows: &str) -> PyResult<KeptRows> {
-    match rows {
-        "pose" => Ok(KeptRows::Pose),
-        "position" => Ok(KeptRows::Position),
-        other => Err(error(format!(
-            "rows '{other}' is not one of 'pose', 'position'"
-        ))),
-    }
 }
 
 /// A tool offset `tip_from_tool` from an optional `(4, 4)` array.
 fn tool_pose(tool: Option<FloatArray<'_>>) -> PyResult<Option<Isometry3<f64>>> {
     tool.map(|t| single_pose(&t, "tool")).transpose()
-}
-
-/// The IK settings shared by `ik` and `ik_trajectory`.
-fn ik_options(
-    position_tolerance: f64,
-    rotation_tolerance: f64,
-    max_iterations: usize,
-    max_time: Option<f64>,
-    random_seed: u64,
-) -> PyResult<IkOptions> {
-    let max_time = match max_time {
-        None => None,
-        Some(t) => match Duration::try_from_secs_f64(t) {
-            Ok(budget) if t > 0.0 => Some(budget),
-            _ => {
-                return Err(error(format!(
-                    "option 'max_time': must be a positive number of seconds (at most about 1.8e19) or None, got {t}"
-                )))
-            }
-        },
-    };
-    Ok(IkOptions {
-        position_tolerance,
-        rotation_tolerance,
-        max_time,
-        max_iterations,
-        random_seed,
-    })
-}
-
-/// Copies `values` into `out` (as many as both hold).
-fn copy_into(out: &mut [f64], values: &[f64]) {
-    for (o, v) in out.iter_mut().zip(values) {
-        *o = *v;
-    }
-}
-
-fn failure_reason(solution: &IkSolution) -> Option<&'static str> {
-    solution.failure.as_ref().map(|f| f.reason.as_str())
 }
 
 #[pymethods]
@@ -411,30 +248,7 @@ impl PyRobot {
     /// Whether each configuration lies within the joint limits (bounds included): a ``bool``
     /// for ``(dof,)``, a ``bool`` array ``(n,)`` for ``(n, dof)``.
     fn within_limits<'py>(&self, py: Python<'py>, q: FloatArray<'py>) -> PyResult<Py<PyAny>> {
-        let dof = self.chain.dof();
-        let (data, batch) = self.configurations(&q)?;
-        let Some(n) = batch else {
-            return Ok(PyBool::new(py, self.chain.within_limits(&data))
-                .to_owned()
-                .into_any()
-                .unbind());
-        };
-        let flags = PyArray1::<bool>::zeros(py, n, false);
-        let mut guard = flags.try_readwrite().map_err(|e| error(e.to_string()))?;
-        let out = guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
-        let chain = &self.chain;
-        py.detach(|| {
-            split_rows_ref(&data, dof, n, SCALAR_CHUNK)
-                .into_par_iter()
-                .zip(split_rows(out, 1, n, SCALAR_CHUNK))
-                .for_each(|(q, out)| {
-                    for (k, flag) in out.iter_mut().enumerate() {
-                        *flag = chain.within_limits(&q[k * dof..(k + 1) * dof]);
-                    }
-                });
-        });
-        drop(guard);
-        Ok(flags.into_any().unbind())
+        self.limit_flags(py, q)
     }
 
     /// The tip pose ``base_from_tip`` (metres): ``(4, 4)`` for ``q`` of shape ``(dof,)``,
@@ -502,94 +316,7 @@ impl PyRobot {
         q: FloatArray<'py>,
         part: &str,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let part = part_of(part)?;
-        let dof = self.chain.dof();
-        let (data, batch) = self.configurations(&q)?;
-        let chain = &self.chain;
-        let names = [
-            "yoshikawa",
-            "inverse_condition",
-            "inverse_condition_squared",
-        ];
-        let dict = PyDict::new(py);
-        let Some(n) = batch else {
-            let mut jacobian = Matrix6xX::zeros(dof);
-            chain
-                .pose_and_jacobian_into(&data, &mut jacobian)
-                .map_err(lib_error)?;
-            let values = singular_values(&jacobian, part);
-            let indices = ClassicalIndices::from_singular_values(&values);
-            dict.set_item(names[0], indices.yoshikawa)?;
-            dict.set_item(names[1], indices.inverse_condition)?;
-            dict.set_item(names[2], indices.inverse_condition_squared)?;
-            dict.set_item("singular_values", PyArray1::from_vec(py, values))?;
-            return Ok(dict);
-        };
-        let rows = if part == JacobianPart::Full { 6 } else { 3 };
-        let columns = [
-            new_float_array(py, &[n])?,
-            new_float_array(py, &[n])?,
-            new_float_array(py, &[n])?,
-        ];
-        let singular = new_float_array(py, &[n, rows])?;
-        let mut guards = columns
-            .iter()
-            .map(|c| c.try_readwrite().map_err(|e| error(e.to_string())))
-            .collect::<PyResult<Vec<_>>>()?;
-        let mut singular_guard = singular.try_readwrite().map_err(|e| error(e.to_string()))?;
-        let [yoshikawa_out, condition_out, squared_out] = match guards.as_mut_slice() {
-            [a, b, c] => [a, b, c].map(|g| g.as_slice_mut().map_err(|e| error(e.to_string()))),
-            _ => return Err(error("three index columns")),
-        };
-        let (yoshikawa_out, condition_out, squared_out) =
-            (yoshikawa_out?, condition_out?, squared_out?);
-        let singular_out = singular_guard
-            .as_slice_mut()
-            .map_err(|e| error(e.to_string()))?;
-        py.detach(|| {
-            split_rows_ref(&data, dof, n, INDEX_CHUNK)
-                .into_par_iter()
-                .zip(split_rows(yoshikawa_out, 1, n, INDEX_CHUNK))
-                .zip(split_rows(condition_out, 1, n, INDEX_CHUNK))
-                .zip(split_rows(squared_out, 1, n, INDEX_CHUNK))
-                .zip(split_rows(singular_out, rows, n, INDEX_CHUNK))
-                .for_each_init(
-                    || Matrix6xX::zeros(dof),
-                    |jacobian, ((((q, yoshikawa), condition), squared), singular)| {
-                        for (k, (y, (c, s))) in yoshikawa
-                            .iter_mut()
-                            .zip(condition.iter_mut().zip(squared.iter_mut()))
-                            .enumerate()
-                        {
-                            let out = &mut singular[k * rows..(k + 1) * rows];
-                            // The rows were checked (length, finite values): the call cannot
-                            // fail, and NaN would mark it if it did.
-                            let values = match chain
-                                .pose_and_jacobian_into(&q[k * dof..(k + 1) * dof], jacobian)
-                            {
-                                Ok(_) => singular_values(jacobian, part),
-                                Err(_) => vec![f64::NAN; rows],
-                            };
-                            let indices = ClassicalIndices::from_singular_values(&values);
-                            (*y, *c, *s) = (
-                                indices.yoshikawa,
-                                indices.inverse_condition,
-                                indices.inverse_condition_squared,
-                            );
-                            for (o, v) in out.iter_mut().zip(&values) {
-                                *o = *v;
-                            }
-                        }
-                    },
-                );
-        });
-        drop(guards);
-        drop(singular_guard);
-        for (name, column) in names.iter().zip(columns) {
-            dict.set_item(name, column)?;
-        }
-        dict.set_item("singular_values", singular)?;
-        Ok(dict)
+        self.classical_indices(py, q, part)
     }
 
     /// The task-relevant manipulability ``M_T = uᵀ J Jᵀ u = ‖Jᵀ u‖²`` (paper eq. 13) of the rows
@@ -682,153 +409,7 @@ impl PyRobot {
             max_time,
             random_seed,
         )?;
-        let dof = self.chain.dof();
-        if dof == 0 {
-            return Err(error(format!(
-                "the chain '{}' has no joints: there is nothing to solve for",
-                self.chain.name()
-            )));
-        }
-        let (targets, batch) = poses(&target, "target")?;
-        let n = targets.len();
-        let starts: Vec<f64> = match &q_start {
-            None => self.chain.mid_configuration().repeat(n),
-            Some(s) => {
-                let (data, start_batch) = rows(s, dof, "q_start")?;
-                match (start_batch, batch) {
-                    (None, _) => data.repeat(n),
-                    (Some(m), Some(n)) if m == n => data,
-                    (Some(m), _) => {
-                        return Err(error(format!(
-                            "q_start has {m} rows but there are {n} target pose(s); give one \
-                             start configuration (dof,) or one per pose (n, dof)"
-                        )))
-                    }
-                }
-            }
-        };
-        let chain = &self.chain;
-        let dict = PyDict::new(py);
-        let Some(n) = batch else {
-            let s = py
-                .detach(|| solve_ik(chain, &targets[0], &starts, &options))
-                .map_err(lib_error)?;
-            dict.set_item("q", s.q.clone().map(|q| PyArray1::from_vec(py, q)))?;
-            dict.set_item("converged", s.converged())?;
-            dict.set_item("position_error", s.position_error)?;
-            dict.set_item("rotation_error", s.rotation_error)?;
-            dict.set_item("iterations", s.iterations)?;
-            match &s.failure {
-                None => dict.set_item("failure", py.None())?,
-                Some(f) => {
-                    let failure = PyDict::new(py);
-                    failure.set_item("reason", failure_reason(&s))?;
-                    failure.set_item("best_q", PyArray1::from_vec(py, f.best_q.clone()))?;
-                    failure.set_item("attempts", f.attempts)?;
-                    failure.set_item("message", f.to_string())?;
-                    dict.set_item("failure", failure)?;
-                }
-            }
-            return Ok(dict);
-        };
-        // Every result is written once, in place, by the task that solves its pose.
-        let q_out = new_float_array(py, &[n, dof])?;
-        let best_out = new_float_array(py, &[n, dof])?;
-        let converged_out = PyArray1::<bool>::zeros(py, n, false);
-        let errors_out = [new_float_array(py, &[n])?, new_float_array(py, &[n])?];
-        let iterations_out = PyArray1::<i64>::zeros(py, n, false);
-        let mut reasons: Vec<Option<&'static str>> = vec![None; n];
-        {
-            let mut q_guard = q_out.try_readwrite().map_err(|e| error(e.to_string()))?;
-            let mut best_guard = best_out.try_readwrite().map_err(|e| error(e.to_string()))?;
-            let mut converged_guard = converged_out
-                .try_readwrite()
-                .map_err(|e| error(e.to_string()))?;
-            let mut position_guard = errors_out[0]
-                .try_readwrite()
-                .map_err(|e| error(e.to_string()))?;
-            let mut rotation_guard = errors_out[1]
-                .try_readwrite()
-                .map_err(|e| error(e.to_string()))?;
-            let mut iterations_guard = iterations_out
-                .try_readwrite()
-                .map_err(|e| error(e.to_string()))?;
-            let q_rows = q_guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
-            let best_rows = best_guard
-                .as_slice_mut()
-                .map_err(|e| error(e.to_string()))?;
-            let converged = converged_guard
-                .as_slice_mut()
-                .map_err(|e| error(e.to_string()))?;
-            let position = position_guard
-                .as_slice_mut()
-                .map_err(|e| error(e.to_string()))?;
-            let rotation = rotation_guard
-                .as_slice_mut()
-                .map_err(|e| error(e.to_string()))?;
-            let iterations = iterations_guard
-                .as_slice_mut()
-                .map_err(|e| error(e.to_string()))?;
-            let failed = py.detach(|| {
-                q_rows
-                    .par_chunks_mut(dof.max(1))
-                    .zip(best_rows.par_chunks_mut(dof.max(1)))
-                    .zip(converged.par_iter_mut())
-                    .zip(position.par_iter_mut())
-                    .zip(rotation.par_iter_mut())
-                    .zip(iterations.par_iter_mut())
-                    .zip(reasons.par_iter_mut())
-                    .zip(targets.par_iter())
-                    .zip(starts.par_chunks(dof.max(1)))
-                    .enumerate()
-                    .map(|(k, item)| {
-                        let (
-                            (
-                                (
-                                    (((((q, best), converged), position), rotation), iterations),
-                                    reason,
-                                ),
-                                target,
-                            ),
-                            start,
-                        ) = item;
-                        let s = solve_ik(chain, target, start, &options).map_err(|e| (k, e))?;
-                        match (&s.q, &s.failure) {
-                            (Some(v), _) => {
-                                copy_into(q, v);
-                                copy_into(best, v);
-                            }
-                            (None, failure) => {
-                                q.fill(f64::NAN);
-                                match failure {
-                                    Some(f) => copy_into(best, &f.best_q),
-                                    None => best.fill(f64::NAN),
-                                }
-                            }
-                        }
-                        *converged = s.converged();
-                        *position = s.position_error;
-                        *rotation = s.rotation_error;
-                        *iterations = s.iterations as i64;
-                        *reason = failure_reason(&s);
-                        Ok(())
-                    })
-                    .filter_map(Result::err)
-                    .min_by_key(|(k, _)| *k)
-            });
-            if let Some((_, e)) = failed {
-                return Err(lib_error(e));
-            }
-        }
-        dict.set_item("q", q_out)?;
-        dict.set_item("best_q", best_out)?;
-        dict.set_item("converged", converged_out)?;
-        let [position_error, rotation_error] = errors_out;
-        dict.set_item("position_error", position_error)?;
-        dict.set_item("rotation_error", rotation_error)?;
-        dict.set_item("iterations", iterations_out)?;
-        dict.set_item("failure_reason", PyList::new(py, reasons)?)?;
-        Ok(dict)
+        self.solve_poses(py, target, q_start, options)
     }
 
     /// Inverse kinematics along a trajectory of tip poses ``(n, 4, 4)`` (base frame, in order):
@@ -873,15 +454,6 @@ impl PyRobot {
         rotation_tolerance: f64,
         random_seed: u64,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let dof = self.chain.dof();
-        let (trajectories, batch) = trajectories(&targets, "targets")?;
-        let q_start = match &q_start {
-            None => self.chain.mid_configuration(),
-            Some(s) => match rows(s, dof, "q_start")? {
-                (data, None) => data,
-                (_, Some(_)) => return Err(error("q_start must have shape (dof,)")),
-            },
-        };
         let options = TrajectoryIkOptions {
             ik: ik_options(
                 position_tolerance,
@@ -894,24 +466,7 @@ impl PyRobot {
             branches,
             per_sample_iterations,
         };
-        let chain = &self.chain;
-        let batch_of: Vec<&[Isometry3<f64>]> = trajectories.iter().map(Vec::as_slice).collect();
-        let results = py
-            .detach(|| solve_trajectories(chain, &batch_of, &q_start, &options))
-            .map_err(lib_error)?;
-        let mut dicts = Vec::with_capacity(results.len());
-        for (k, result) in results.into_iter().enumerate() {
-            let result = match (result, batch) {
-                (Ok(result), _) => result,
-                (Err(e), None) => return Err(lib_error(e)),
-                (Err(e), Some(_)) => return Err(error(format!("targets[{k}]: {e}"))),
-            };
-            dicts.push(trajectory_dict(py, &result, dof)?);
-        }
-        match batch {
-            None => Ok(dicts.remove(0).into_any()),
-            Some(_) => Ok(PyList::new(py, dicts)?.into_any()),
-        }
+        self.solve_pose_trajectories(py, targets, q_start, options)
     }
 
     /// An orthonormal basis of the joint velocities that leave the tip's twist unchanged at
@@ -927,27 +482,7 @@ impl PyRobot {
         rows: &str,
         tolerance: f64,
     ) -> PyResult<Py<PyAny>> {
-        let rows = kept_rows(rows)?;
-        if !(tolerance.is_finite() && tolerance >= 0.0) {
-            return Err(error(format!(
-                "tolerance must be a non-negative number, got {tolerance}"
-            )));
-        }
-        let (q, None) = self.configurations(&q)? else {
-            return Err(error("q must have shape (dof,)"));
-        };
-        let mut jacobian = Matrix6xX::zeros(self.chain.dof());
-        self.chain
-            .pose_and_jacobian_into(&q, &mut jacobian)
-            .map_err(lib_error)?;
-        let basis = null_space(&jacobian, rows, tolerance);
-        let (dof, k) = basis.shape();
-        // nalgebra is column-major; numpy wants rows.
-        let flat: Vec<f64> = (0..dof)
-            .flat_map(|r| (0..k).map(move |c| (r, c)))
-            .map(|(r, c)| basis[(r, c)])
-            .collect();
-        Ok(array(py, flat, &[dof, k])?.into_any().unbind())
+        self.self_motion_basis(py, q, rows, tolerance)
     }
 
     /// Moves a joint path along the arm's self-motion to maximise the task-relevant index
@@ -989,81 +524,6 @@ impl PyRobot {
         position_tolerance: f64,
         rotation_tolerance: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let dof = self.chain.dof();
-        let (targets, _) = poses(&targets, "targets")?;
-        let n = targets.len();
-        let (data, batch) = self.configurations(&q)?;
-        if batch != Some(n) {
-            return Err(error(format!(
-                "q must have shape ({n}, {dof}): one configuration per target"
-            )));
-        }
-        for (name, value) in [
-            ("max_joint_step", max_joint_step),
-            ("spacing", spacing),
-            ("position_tolerance", position_tolerance),
-            ("rotation_tolerance", rotation_tolerance),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(error(format!(
-                    "{name} must be a positive number, got {value}"
-                )));
-            }
-        }
-        if reach == 0 || reach > 1000 {
-            return Err(error(format!(
-                "reach must be between 1 and 1000, got {reach}"
-            )));
-        }
-        let rows = index_mode(mode, length_scale)?;
-        let seed: Vec<Vec<f64>> = data.chunks(dof).map(<[f64]>::to_vec).collect();
-        // The seed must be a feasible path: on its targets, inside the limits, small steps.
-        let (lower, upper) = (self.chain.lower(), self.chain.upper());
-        for (i, (q, target)) in seed.iter().zip(&targets).enumerate() {
-            let pose = self.chain.pose(q).map_err(lib_error)?;
-            let off = (pose.translation.vector - target.translation.vector).norm();
-            let turn = pose
-                .rotation
-                .angle_to(&target.rotation.to_rotation_matrix());
-            if off > position_tolerance * 10.0 || turn > rotation_tolerance * 10.0 {
-                return Err(error(format!(
-                    "q[{i}] puts the tip {off:.3e} m and {turn:.3e} rad from targets[{i}]: \
-                     give a joint path on the targets (e.g. a branch of ik_trajectory)"
-                )));
-            }
-            if let Some(j) = (0..dof).find(|&j| q[j] < lower[j] || q[j] > upper[j]) {
-                return Err(error(format!("q[{i}, {j}] is outside the joint limits")));
-            }
-            if i > 0 {
-                let step = q
-                    .iter()
-                    .zip(&seed[i - 1])
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
-                if step > max_joint_step {
-                    return Err(error(format!(
-                        "q moves a joint {step:.3} between samples {} and {i}, more than \
-                         max_joint_step ({max_joint_step})",
-                        i - 1
-                    )));
-                }
-            }
-        }
-        let directions: Vec<Option<Direction>> = (0..n)
-            .map(|i| {
-                let (a, b) = if i + 1 < n {
-                    (i, i + 1)
-                } else {
-                    (i.saturating_sub(1), i)
-                };
-                (a != b)
-                    .then(|| wrist_tangent(&targets[a], &targets[b], rows))
-                    .flatten()
-            })
-            .collect();
-        let value = |i: usize, _: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
-            directions[i].map_or(0.0, |d| rows.task_relevant(jacobian, &d).powi(2))
-        };
         let options = SelfMotionOptions {
             spacing,
             reach,
@@ -1071,37 +531,7 @@ impl PyRobot {
             position_tolerance,
             rotation_tolerance,
         };
-        let chain = &self.chain;
-        let found = py
-            .detach(|| {
-                optimize_self_motion(chain, &targets, &[&seed], KeptRows::Pose, &value, &options)
-            })
-            .ok_or_else(|| error("no joint path was found around q"))?;
-        let seed_total: f64 = {
-            let mut jacobian = Matrix6xX::zeros(dof);
-            seed.iter()
-                .enumerate()
-                .map(|(i, q)| {
-                    chain
-                        .pose_and_jacobian_into(q, &mut jacobian)
-                        .map_or(0.0, |_| value(i, q, &jacobian))
-                })
-                .sum()
-        };
-        let m_t: Vec<f64> = found
-            .values
-            .iter()
-            .zip(&directions)
-            .map(|(v, d)| if d.is_some() { v.sqrt() } else { f64::NAN })
-            .collect();
-        let dict = PyDict::new(py);
-        let flat: Vec<f64> = found.q.iter().flatten().copied().collect();
-        dict.set_item("q", array(py, flat, &[n, dof])?)?;
-        dict.set_item("m_t", PyArray1::from_vec(py, m_t))?;
-        dict.set_item("mu_l2", found.total.sqrt())?;
-        dict.set_item("mu_l2_seed", seed_total.sqrt())?;
-        dict.set_item("mu_l2_min", found.worst_total.sqrt())?;
-        Ok(dict)
+        self.optimized_self_motion(py, targets, q, mode, length_scale, options)
     }
 
     /// Joint effort limits, shape ``(dof,)`` (N·m, or N for a prismatic joint; ``inf`` where
@@ -1229,153 +659,4 @@ impl PyRobot {
             self.chain.source_name()
         )
     }
-}
-
-impl PyRobot {
-    /// Poses and/or Jacobians of `q`: each wanted result (`Some`) goes into a new array
-    /// (`Some(None)`) or into the caller's (`Some(Some(out))`), written in place in parallel
-    /// without the GIL.
-    #[allow(clippy::type_complexity)]
-    fn evaluate<'py>(
-        &self,
-        py: Python<'py>,
-        q: FloatArray<'py>,
-        poses: Option<Option<Bound<'py, PyAny>>>,
-        jacobians: Option<Option<Bound<'py, PyAny>>>,
-    ) -> PyResult<(Option<Py<PyAny>>, Option<Py<PyAny>>)> {
-        let dof = self.chain.dof();
-        let (data, batch) = self.configurations_unchecked(&q)?;
-        let lead: Vec<usize> = batch.into_iter().collect();
-        let shape = |tail: &[usize]| [lead.as_slice(), tail].concat();
-        let poses = poses
-            .map(|out| ResultArray::new(py, out, &shape(&[4, 4]), "out (poses)"))
-            .transpose()?;
-        let jacobians = jacobians
-            .map(|out| ResultArray::new(py, out, &shape(&[6, dof]), "out (jacobians)"))
-            .transpose()?;
-        let mut pose_guard = poses.as_ref().map(ResultArray::writer).transpose()?;
-        let mut jacobian_guard = jacobians.as_ref().map(ResultArray::writer).transpose()?;
-        let fresh =
-            poses.as_ref().is_some_and(|a| a.fresh) || jacobians.as_ref().is_some_and(|a| a.fresh);
-        let pose_slice = pose_guard
-            .as_mut()
-            .map(|g| g.as_slice_mut())
-            .transpose()
-            .map_err(|e| error(e.to_string()))?;
-        let jacobian_slice = jacobian_guard
-            .as_mut()
-            .map(|g| g.as_slice_mut())
-            .transpose()
-            .map_err(|e| error(e.to_string()))?;
-        let chain = &self.chain;
-        py.detach(|| kinematics_into(chain, &data, pose_slice, jacobian_slice, fresh))
-            .map_err(|e| match e {
-                RobotError::NonFiniteJoint { index } => {
-                    non_finite_error(index, dof, "q", batch.is_some())
-                }
-                e => lib_error(e),
-            })?;
-        drop((pose_guard, jacobian_guard));
-        Ok((
-            poses.map(ResultArray::unbind),
-            jacobians.map(ResultArray::unbind),
-        ))
-    }
-
-    /// Evaluates a per-configuration directional index in parallel, each value written once
-    /// into the result array.
-    fn directional<'py>(
-        &self,
-        py: Python<'py>,
-        q: FloatArray<'py>,
-        u: FloatArray<'py>,
-        part: &str,
-        index: fn(&Matrix6xX<f64>, &Direction) -> f64,
-    ) -> PyResult<Py<PyAny>> {
-        let part = part_of(part)?;
-        let width = if part == JacobianPart::Full { 6 } else { 3 };
-        let dof = self.chain.dof();
-        let (data, batch) = self.configurations(&q)?;
-        let n = batch.unwrap_or(1);
-        let (directions, direction_batch) = rows(&u, width, "u")?;
-        if let Some(m) = direction_batch {
-            if m != n || batch.is_none() {
-                return Err(error(format!(
-                    "u has {m} rows but there are {n} configuration(s); give one direction \
-                     ({width},) or one per configuration (n, {width})"
-                )));
-            }
-        }
-        let mut units = Vec::with_capacity(directions.len());
-        for (k, d) in directions.chunks(width).enumerate() {
-            let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(norm.is_finite() && norm > 0.0) {
-                return Err(error(format!("u[{k}] must be a finite non-zero direction")));
-            }
-            units.extend(d.iter().map(|v| v / norm));
-        }
-        let shared = direction_batch.is_none();
-        let chain = &self.chain;
-        let value = |jacobian: &mut Matrix6xX<f64>, i: usize, qi: &[f64]| -> f64 {
-            let k = if shared { 0 } else { i };
-            let direction = direction_of(part, &units[k * width..(k + 1) * width]);
-            // The rows were checked (length, finite values): the call cannot fail, and NaN
-            // would mark it if it did.
-            match chain.pose_and_jacobian_into(qi, jacobian) {
-                Ok(_) => index(jacobian, &direction),
-                Err(_) => f64::NAN,
-            }
-        };
-        let Some(n) = batch else {
-            let result = value(&mut Matrix6xX::zeros(dof), 0, &data);
-            return Ok(result.into_pyobject(py)?.into_any().unbind());
-        };
-        let values = new_float_array(py, &[n])?;
-        let mut guard = values.try_readwrite().map_err(|e| error(e.to_string()))?;
-        let out = guard.as_slice_mut().map_err(|e| error(e.to_string()))?;
-        py.detach(|| {
-            split_rows_ref(&data, dof, n, INDEX_CHUNK)
-                .into_par_iter()
-                .zip(split_rows(out, 1, n, INDEX_CHUNK))
-                .enumerate()
-                .for_each_init(
-                    || Matrix6xX::zeros(dof),
-                    |jacobian, (chunk, (q, out))| {
-                        for (k, o) in out.iter_mut().enumerate() {
-                            let i = chunk * INDEX_CHUNK + k;
-                            *o = value(jacobian, i, &q[k * dof..(k + 1) * dof]);
-                        }
-                    },
-                );
-        });
-        drop(guard);
-        Ok(values.into_any().unbind())
-    }
-}
-
-/// The dict `Robot.ik_trajectory` returns for one trajectory's result (`dof` joints).
-fn trajectory_dict<'py>(
-    py: Python<'py>,
-    result: &TrajectoryIkResult,
-    dof: usize,
-) -> PyResult<Bound<'py, PyDict>> {
-    let dict = PyDict::new(py);
-    dict.set_item("feasible", result.feasible())?;
-    let list = PyList::empty(py);
-    for branch in &result.branches {
-        let flat: Vec<f64> = branch.q.iter().flatten().copied().collect();
-        list.append(array(py, flat, &[branch.q.len(), dof])?)?;
-    }
-    dict.set_item("branches", list)?;
-    match &result.failure {
-        None => dict.set_item("failure", py.None())?,
-        Some(f) => {
-            let failure = PyDict::new(py);
-            failure.set_item("sample", f.sample)?;
-            failure.set_item("reason", f.reason.as_str())?;
-            failure.set_item("detail", &f.detail)?;
-            dict.set_item("failure", failure)?;
-        }
-    }
-    Ok(dict)
 }

@@ -25,7 +25,7 @@ def test_the_schema_is_well_formed():
     names = [c["name"] for c in cols]
     assert len(names) == len(set(names))
     for c in cols:
-        assert set(c) == {"name", "type", "nullable", "unit", "doc", "outputs"}
+        assert set(c) == {"name", "type", "nullable", "unit", "doc", "outputs", "json_field"}
         assert c["doc"] and c["outputs"], c["name"]
 
 

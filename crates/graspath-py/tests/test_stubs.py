@@ -121,3 +121,65 @@ def test_a_wrong_spelling_lists_the_right_ones():
         robot.indices(q, part="ful")
     for name in graspath.SPELLINGS["part"]:
         assert name in str(error.value)
+
+
+def _stub_parameters(function):
+    """``(name, kind, default)`` of a stub function's parameters, ``self``/``cls`` left out;
+    ``kind`` is ``positional`` or ``keyword``, ``default`` the literal value or ``EMPTY``."""
+    import inspect
+
+    arguments = function.args
+    positional = arguments.posonlyargs + arguments.args
+    defaults = [inspect.Parameter.empty] * (len(positional) - len(arguments.defaults))
+    defaults += [ast.literal_eval(d) for d in arguments.defaults]
+    rows = [(a.arg, "positional", d) for a, d in zip(positional, defaults)]
+    rows += [
+        (a.arg, "keyword", inspect.Parameter.empty if d is None else ast.literal_eval(d))
+        for a, d in zip(arguments.kwonlyargs, arguments.kw_defaults)
+    ]
+    if rows and rows[0][0] in ("self", "cls"):
+        rows = rows[1:]
+    return rows
+
+
+def _runtime_parameters(function):
+    import inspect
+
+    kinds = {
+        inspect.Parameter.POSITIONAL_ONLY: "positional",
+        inspect.Parameter.POSITIONAL_OR_KEYWORD: "positional",
+        inspect.Parameter.KEYWORD_ONLY: "keyword",
+    }
+    rows = [(p.name, kinds[p.kind], p.default) for p in inspect.signature(function).parameters.values()]
+    if rows and rows[0][0] in ("self", "cls"):
+        rows = rows[1:]
+    return rows
+
+
+def test_stub_signatures_are_the_runtime_signatures():
+    """Every stubbed function and method takes the parameters the module takes: the same
+    names in the same order, the same positional / keyword-only split and the same defaults
+    (read from the native module's own text signatures)."""
+    tree = ast.parse(STUB.read_text())
+    checked, differ = 0, []
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef):
+            pairs = [(node, getattr(graspath, node.name), node.name)]
+        elif isinstance(node, ast.ClassDef) and node.name in ("Robot", "Task", "Selection"):
+            cls = getattr(graspath, node.name)
+            pairs = [
+                (f, getattr(cls, f.name), f"{node.name}.{f.name}")
+                for f in node.body
+                if isinstance(f, ast.FunctionDef)
+                and not f.name.startswith("_")
+                and not any(isinstance(d, ast.Name) and d.id == "property" for d in f.decorator_list)
+            ]
+        else:
+            continue
+        for stub, runtime, name in pairs:
+            stub_rows, runtime_rows = _stub_parameters(stub), _runtime_parameters(runtime)
+            if stub_rows != runtime_rows:
+                differ.append(f"{name}: stub {stub_rows} != module {runtime_rows}")
+            checked += 1
+    assert not differ, "\n".join(differ)
+    assert checked >= 50

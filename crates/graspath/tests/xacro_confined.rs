@@ -235,4 +235,23 @@ fn xacro_runs_only_when_named_and_then_confined() {
     assert!(err.to_string().contains("stopped after 0.5 s"), "{err}");
     let pid = std::fs::read_to_string(&pid_file).unwrap();
     assert!(ended(&pid), "the background process {pid} still runs");
+
+    // 5. A program the operating system cannot start (executable, but neither a binary nor a
+    //    script) fails with the operating system's error kept as the source, not flattened
+    //    into the message.
+    let not_a_program = root.join("not-a-program");
+    std::fs::write(&not_a_program, [0u8, 1, 2, 3]).unwrap();
+    std::fs::set_permissions(&not_a_program, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let err = expand_xacro_with(&xacro_file, &not_a_program, &XacroOptions::default()).unwrap_err();
+    let RobotError::XacroIo { action, source, .. } = &err else {
+        panic!("not an operating-system error: {err:?}");
+    };
+    assert_eq!(*action, "cannot start it");
+    let cause = std::error::Error::source(&err).expect("a source");
+    assert!(
+        cause.downcast_ref::<std::io::Error>().is_some(),
+        "{cause:?}"
+    );
+    assert_eq!(source.raw_os_error(), Some(8), "ENOEXEC: {source}");
+    assert!(!err.to_string().contains(&source.to_string()), "{err}");
 }

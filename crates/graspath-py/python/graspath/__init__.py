@@ -34,6 +34,8 @@ base frame with Jacobian rows ``[v; ω]``.
   :class:`FileNotFoundError`, for a missing input) for a file that cannot be read or written,
   :class:`GraspathValueError` (a :class:`ValueError`) for bad content; each names the ``file``
   and ``field`` at fault when known.
+* :mod:`graspath.results` — the typed dicts the calls return (``IkResult``, ``Summary``,
+  ``CandidateRecord``, ``TimedMotion``, …): their keys, which are optional, the value types.
 * :func:`train` and :func:`generate` — the one-shot learned grasp model: trained from one
   demonstrated grasp, it generates candidates with likelihoods on a new object's point cloud
   (``docs/demonstrations.md``).

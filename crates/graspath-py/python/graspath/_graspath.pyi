@@ -11,6 +11,28 @@ from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple,
 import numpy as np
 import numpy.typing as npt
 
+from .results import (
+    CandidateRecord,
+    GeneratedGrasps,
+    GraspFile,
+    IkBatchResult,
+    IkResult,
+    Indices,
+    MjcfArm,
+    MjcfWorld,
+    PairRecord,
+    PlacementMap,
+    RecordColumn,
+    ResultCache,
+    SelfMotion,
+    Summary,
+    TaskCandidate,
+    TimedMotion,
+    TimedPath,
+    TrainedModel,
+    TrajectoryIk,
+)
+
 __version__: str
 DEFAULTS: Dict[str, float]
 """The library's task defaults that ``Task.from_arrays`` spells out in its signature."""
@@ -138,9 +160,16 @@ class Robot:
         self, q: ArrayLike, out: Optional[Tuple[FloatArray, FloatArray]] = None
     ) -> Tuple[FloatArray, FloatArray]:
         """``(poses, jacobians)`` in one pass; ``out`` a pair as for ``fk``."""
-    def indices(self, q: ArrayLike, part: Part = "full") -> Dict[str, Any]:
+    def indices(self, q: ArrayLike, part: Part = "full") -> Indices:
         """``yoshikawa``, ``inverse_condition``, ``inverse_condition_squared`` (floats or
-        ``(n,)`` arrays) and ``singular_values`` (``(rows,)`` or ``(n, rows)``)."""
+        ``(n,)`` arrays) and ``singular_values`` (``(rows,)`` or ``(n, rows)``).
+
+        Returns
+        -------
+        Indices
+            Float values for one configuration ``(dof,)``, ``(n,)`` arrays for ``(n, dof)``.
+            See :mod:`graspath.results`.
+        """
     def task_relevant(self, q: ArrayLike, u: ArrayLike, part: Part = "full") -> Union[float, FloatArray]:
         """``M_T = ‖Jᵀ u‖²`` along the (normalised) direction ``u`` (6-D for ``full``, else 3-D)."""
     def velocity_transmission_ratio(
@@ -159,13 +188,20 @@ class Robot:
         max_iterations: int = 100_000,
         max_time: Optional[float] = 0.005,
         random_seed: int = 0,
-    ) -> Dict[str, Any]:
+    ) -> Union[IkResult, IkBatchResult]:
         """IK of one pose ``(4, 4)`` (dict with ``q`` or ``None``, ``converged``, errors,
         ``iterations``, ``failure``) or many ``(n, 4, 4)`` (dict of arrays ``q`` with NaN rows,
         ``best_q``, ``converged``, ``position_error``, ``rotation_error``, ``iterations``,
         ``failure_reason``). ``q_start``: the start configuration ``(dof,)`` or ``(n, dof)``
         (default the middle of the limits); ``random_seed`` seeds the restarts.
-        ``max_time=None`` for reproducible results."""
+        ``max_time=None`` for reproducible results.
+
+        Returns
+        -------
+        IkResult or IkBatchResult
+            :class:`~graspath.results.IkResult` for one pose, :class:`~graspath.results.IkBatchResult` for many.
+            See :mod:`graspath.results`.
+        """
     def ik_trajectory(
         self,
         targets: ArrayLike,
@@ -178,12 +214,19 @@ class Robot:
         position_tolerance: float = 1e-5,
         rotation_tolerance: float = 1e-5,
         random_seed: int = 0,
-    ) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
+    ) -> Union[TrajectoryIk, List[TrajectoryIk]]:
         """Continuous joint paths through ``targets`` ``(n, 4, 4)`` from the start
         configuration ``q_start`` ``(dof,)`` (default the middle of the limits): ``feasible``,
         ``branches`` (list of ``(n, dof)``), ``failure`` (``None`` or ``sample``, ``reason``,
         ``detail``). A batch ``(b, n, 4, 4)`` gives a list of ``b`` such dicts, solved
-        together (each what its trajectory alone gives)."""
+        together (each what its trajectory alone gives).
+
+        Returns
+        -------
+        TrajectoryIk or list of TrajectoryIk
+            One per trajectory of a batch.
+            See :mod:`graspath.results`.
+        """
     def nullspace(
         self,
         q: ArrayLike,
@@ -204,10 +247,16 @@ class Robot:
         reach: int = 4,
         position_tolerance: float = 1e-5,
         rotation_tolerance: float = 1e-5,
-    ) -> Dict[str, Any]:
+    ) -> SelfMotion:
         """The joint path through ``targets`` ``(n, 4, 4)`` in the self-motion around ``q``
         ``(n, dof)`` (a path on the targets) with the largest ``Σ M_T²``: ``q``, ``m_t``
-        (NaN where the tip is still), ``mu_l2``, ``mu_l2_seed``, ``mu_l2_min``."""
+        (NaN where the tip is still), ``mu_l2``, ``mu_l2_seed``, ``mu_l2_min``.
+
+        Returns
+        -------
+        SelfMotion
+            See :mod:`graspath.results`.
+        """
     @property
     def effort_limits(self) -> FloatArray:
         """Joint effort limits ``(dof,)`` (N·m, N for prismatic joints; ``inf`` where unknown)."""
@@ -302,7 +351,7 @@ class Task:
         redundancy: Optional[Literal["first", "best_branch", "optimize"]] = None,
         measure: Literal["task_relevant", "velocity_ratio", "duration", "dynamic"] = "task_relevant",
         joint_limit_penalty: Optional[float] = None,
-        payload: Optional[Dict[str, Any]] = None,
+        payload: Optional[Payload] = None,
         name: str = "<arrays>",
         robot_name: str = "robot",
     ) -> Task:
@@ -340,8 +389,14 @@ class Task:
     def candidate_poses(self) -> FloatArray:
         """``object_from_wrist`` of every candidate, ``(k, 4, 4)``."""
     @property
-    def candidates(self) -> List[Dict[str, Any]]:
-        """``id``, ``label``, ``object_from_wrist``, ``likelihood``, ``log_likelihood``, ``contact``."""
+    def candidates(self) -> List[TaskCandidate]:
+        """``id``, ``label``, ``object_from_wrist``, ``likelihood``, ``log_likelihood``, ``contact``.
+
+        Returns
+        -------
+        list of TaskCandidate
+            See :mod:`graspath.results`.
+        """
     def robot(self, arm: str) -> Robot: ...
     def world_from_base(self, arm: str) -> FloatArray: ...
     def wrist_trajectory(self, candidate: int, arm: str) -> FloatArray:
@@ -352,14 +407,33 @@ class Selection:
     """The result of :func:`select`."""
 
     @property
-    def candidates(self) -> List[Dict[str, Any]]:
-        """The records of ``candidates.json``."""
+    def candidates(self) -> List[CandidateRecord]:
+        """The records of ``candidates.json``.
+
+        Returns
+        -------
+        list of CandidateRecord
+            See :mod:`graspath.results`.
+        """
     @property
-    def pairs(self) -> List[Dict[str, Any]]:
-        """The records of ``pairs.json``."""
+    def pairs(self) -> List[PairRecord]:
+        """The records of ``pairs.json``.
+
+        Returns
+        -------
+        list of PairRecord
+            Best first.
+            See :mod:`graspath.results`.
+        """
     @property
-    def summary(self) -> Dict[str, Any]:
-        """The document ``summary.json``."""
+    def summary(self) -> Summary:
+        """The document ``summary.json``.
+
+        Returns
+        -------
+        Summary
+            See :mod:`graspath.results`.
+        """
     @property
     def arms(self) -> List[str]: ...
     @property
@@ -382,12 +456,19 @@ class Selection:
         ``failure_sample`` (float64) NaN when feasible."""
     def joint_trajectory(self, arm: str, candidate: int) -> Optional[FloatArray]:
         """The joint path ``(n, dof)`` of one candidate, or ``None`` when infeasible."""
-    def timed_motions(self, period: Optional[float] = 0.01) -> List[Dict[str, Any]]:
+    def timed_motions(self, period: Optional[float] = 0.01) -> List[TimedMotion]:
         """The selected motions, timed (empty when the task does not time motions or nothing
         is selected): per arm ``arm``, ``candidate``, ``label``, ``duration``, ``grasp_time``
         and ``place_time`` (s: where the gripper closes and opens), ``joint_names``, ``time`` ``(n,)``, ``positions``, ``velocities``,
         ``accelerations`` and ``efforts`` ``(n, dof)`` (``efforts`` ``None`` without
-        dynamics), sampled every ``period`` s (``None``: at the timing grid's points)."""
+        dynamics), sampled every ``period`` s (``None``: at the timing grid's points).
+
+        Returns
+        -------
+        list of TimedMotion
+            One per arm.
+            See :mod:`graspath.results`.
+        """
     def write(self, out_dir: StrPath, trajectory_period: float = 0.01) -> List[Path]:
         """Writes the CLI's files into ``out_dir`` (with ``trajectory.json`` and
         ``trajectory-<arm>.csv`` when motions are timed)."""
@@ -400,17 +481,30 @@ def time_path(
     subdivisions: int = 2,
     discretization: Literal["interpolation", "collocation"] = "interpolation",
     check_between: bool = True,
-) -> Dict[str, Any]:
+) -> TimedPath:
     """The fastest rest-to-rest motion through the joint samples ``(n, dof)`` within the
     velocity and acceleration limits ``(dof,)`` (``inf``: none): TOPP-RA on the natural cubic
     spline through them (chord-length knots, each interval split into ``subdivisions``).
-    Returns ``duration``, ``knots``, ``grid``, ``sd_squared``, ``times`` and ``slowdown``."""
+    Returns ``duration``, ``knots``, ``grid``, ``sd_squared``, ``times`` and ``slowdown``.
+
+    Returns
+    -------
+    TimedPath
+        See :mod:`graspath.results`.
+    """
 
 def candidate_motions(
     task: Task, candidates: Sequence[int], period: Optional[float] = 0.01
-) -> Optional[List[Dict[str, Any]]]:
+) -> Optional[List[TimedMotion]]:
     """The timed motions of the candidates at positions ``candidates`` (one per arm), as
-    :meth:`Selection.timed_motions` gives them; ``None`` when one is not feasible."""
+    :meth:`Selection.timed_motions` gives them; ``None`` when one is not feasible.
+
+    Returns
+    -------
+    list of TimedMotion or None
+        One per arm.
+        See :mod:`graspath.results`.
+    """
 
 def world_mjcf(
     task: Task,
@@ -420,13 +514,26 @@ def world_mjcf(
     grip_force: float = 40.0,
     object_density: float = 500.0,
     arm_gravity_compensation: bool = False,
-) -> Dict[str, Any]:
+) -> MjcfWorld:
     """The task's world (arms, gripper, object, table, obstacles) as MJCF for MuJoCo:
     ``xml``, ``arms`` (names per arm), ``object``, ``object_mass``,
-    ``has_table``, ``notes``."""
+    ``has_table``, ``notes``.
 
-def robot_mjcf(robot: Robot, arm: str = "arm") -> Tuple[str, Dict[str, Any]]:
-    """The robot's chain alone as MJCF (base at the origin) and its names."""
+    Returns
+    -------
+    MjcfWorld
+        See :mod:`graspath.results`.
+    """
+
+def robot_mjcf(robot: Robot, arm: str = "arm") -> Tuple[str, MjcfArm]:
+    """The robot's chain alone as MJCF (base at the origin) and its names.
+
+    Returns
+    -------
+    tuple of str and MjcfArm
+        The mjcf text and the names in it.
+        See :mod:`graspath.results`.
+    """
 
 def placement_map(
     task: StrPath,
@@ -435,14 +542,26 @@ def placement_map(
     *,
     z: Optional[Tuple[float, float, int]] = None,
     yaw_deg: Optional[Tuple[float, float, int]] = None,
-) -> Dict[str, Any]:
+) -> PlacementMap:
     """The task file run with the object started at every placement of a grid (world x, y,
     optionally z in m and yaw in degrees, each ``(start, end, count)``): the document
-    ``graspath map`` writes as ``map.json``."""
+    ``graspath map`` writes as ``map.json``.
 
-def train(demonstration: StrPath, out: StrPath, *, force: bool = False) -> Dict[str, Any]:
+    Returns
+    -------
+    PlacementMap
+        See :mod:`graspath.results`.
+    """
+
+def train(demonstration: StrPath, out: StrPath, *, force: bool = False) -> TrainedModel:
     """Trains a grasp model from a demonstration file and writes it to ``out``: ``label``,
-    ``hand``, ``contact_links`` (link -> contact points)."""
+    ``hand``, ``contact_links`` (link -> contact points).
+
+    Returns
+    -------
+    TrainedModel
+        See :mod:`graspath.results`.
+    """
 
 def generate(
     model: StrPath,
@@ -455,10 +574,16 @@ def generate(
     max_candidates: Optional[int] = None,
     out: Optional[StrPath] = None,
     force: bool = False,
-) -> Dict[str, Any]:
+) -> GeneratedGrasps:
     """Grasp candidates on a cloud from a trained model, best first: ``object_from_wrist``
     ``(k, 4, 4)``, ``log_likelihood`` ``(k,)``, ``label``; ``out`` also writes the candidates
-    file ``graspath generate`` writes. ``None`` options take the model spec's defaults."""
+    file ``graspath generate`` writes. ``None`` options take the model spec's defaults.
+
+    Returns
+    -------
+    GeneratedGrasps
+        See :mod:`graspath.results`.
+    """
 
 def select(task: Task) -> Selection:
     """Scores and ranks every candidate of ``task`` (single arm, or pairs with two arms)."""
@@ -492,20 +617,17 @@ def select_batch(
     scores are the whole task's (the likelihood is taken relative to the whole task's most
     likely candidate), the ranks are within the slice."""
 
-class RecordColumn(TypedDict):
-    """One per-candidate output column (see ``docs/candidate-record.md``)."""
-
-    name: str
-    type: str
-    nullable: bool
-    unit: str
-    doc: str
-    outputs: List[Literal["json", "jsonl", "parquet", "arrays", "select_batch"]]
-
 def record_columns() -> List[RecordColumn]:
     """The candidate record's columns, in order: every per-candidate output (``candidates.json``,
     ``candidates.jsonl``, ``candidates.parquet``, :meth:`Selection.arrays`,
-    :func:`select_batch`) is read off this list."""
+    :func:`select_batch`) is read off this list.
+
+    Returns
+    -------
+    list of RecordColumn
+        In the record's order.
+        See :mod:`graspath.results`.
+    """
 
 def select_pairs(task: Task, rows: Mapping[str, ArrayLike], *, top_k: Optional[int] = None) -> Dict[str, npt.NDArray[Any]]:
     """The best arm pairs of a two-arm ``task`` from its candidates' scores found apart.
@@ -533,11 +655,17 @@ GraspFormatName = Literal[
     "graspath", "graspgen", "acronym", "contact_graspnet", "m2t2", "poses", "graspnet", "anygrasp"
 ]
 
-def result_cache(max_bytes: Optional[int] = None) -> Dict[str, int]:
+def result_cache(max_bytes: Optional[int] = None) -> ResultCache:
     """The cache of large result arrays' memory: ``max_bytes`` (the limit, default 1 GiB),
     ``bytes`` (held now) and ``buffers``; ``max_bytes``, when given, sets the limit first (0
     frees every cached buffer and turns the cache off). Batch calls write their large results
-    (1 MiB and more) into memory that earlier results freed instead of new memory."""
+    (1 MiB and more) into memory that earlier results freed instead of new memory.
+
+    Returns
+    -------
+    ResultCache
+        See :mod:`graspath.results`.
+    """
 
 def read_grasps(
     path: StrPath,
@@ -548,7 +676,7 @@ def read_grasps(
     gripper_from_tool: Optional[ArrayLike] = None,
     segment: Optional[int] = None,
     world_from_object: Optional[ArrayLike] = None,
-) -> Dict[str, Any]:
+) -> GraspFile:
     """A grasp file (graspath JSON/CSV, GraspGen, ACRONYM, Contact-GraspNet / M2T2, ``N×4×4``
     poses, GraspNet / AnyGrasp) read as a task file's ``candidates: {file, ...}`` reads it.
 
@@ -561,4 +689,10 @@ def read_grasps(
 
     Raises ``GraspathFileNotFoundError`` for a missing file, ``GraspathFileError`` for one that
     cannot be read (a folder), ``GraspathValueError`` for one over the 1 GiB cap or with bad
-    content."""
+    content.
+
+    Returns
+    -------
+    GraspFile
+        See :mod:`graspath.results`.
+    """

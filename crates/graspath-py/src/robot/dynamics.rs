@@ -6,12 +6,13 @@
 //! in the chain **base frame**; the payload in the **tool frame**; kg, m, kg·m², N·m.
 //! The `#[pymethods]` wrappers are in `robot.rs` (PyO3 wants one block per class).
 
+use super::PyRobot;
 use crate::convert::{array, check_finite, error, lib_error, row_major, shape_text, FloatArray};
 use crate::memory::{new_float_array, split_rows};
-use graspath::robot::{Dynamics, DynamicsData, RigidBody, RobotError};
+use graspath::robot::{Dynamics, DynamicsData, MotionLimits, RigidBody, RobotError};
 use graspath::task::{MAX_CENTER_OF_MASS_DISTANCE, MAX_PAYLOAD_MASS};
 use nalgebra::{DMatrix, Matrix3, Vector3};
-use numpy::{PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -41,6 +42,64 @@ pub(super) struct States<'a> {
     pub qdd: Option<Cow<'a, [f64]>>,
     /// `Some(n)` for the batch form `(n, dof)`.
     pub batch: Option<usize>,
+}
+
+impl PyRobot {
+    /// The chain's dynamics model with standard gravity; a `GraspathError` naming the robot
+    /// and the links when a moving link has no inertial data.
+    pub(super) fn dynamics_model(&self) -> PyResult<&Dynamics> {
+        self.dynamics
+            .get_or_init(|| self.chain.dynamics().map_err(|e| e.to_string()))
+            .as_ref()
+            .map_err(|e| error(e.as_str()))
+    }
+
+    /// A dynamics call's model (with `gravity` when given), states and payload, checked, and
+    /// its result.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn dynamics_call<'py>(
+        &self,
+        py: Python<'py>,
+        quantity: Quantity,
+        q: &FloatArray<'py>,
+        qd: Option<&FloatArray<'py>>,
+        qdd: Option<&FloatArray<'py>>,
+        gravity: Option<&FloatArray<'py>>,
+        payload: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
+        let model = self.dynamics_model()?;
+        let (q_values, batch) = self.configurations(q)?;
+        let dof = self.chain.dof();
+        let states = States {
+            q: q_values,
+            qd: like_q(qd, q.shape(), dof, "qd")?,
+            qdd: like_q(qdd, q.shape(), dof, "qdd")?,
+            batch,
+        };
+        let gravity = gravity_vector(gravity, model.gravity())?;
+        let payload = payload_body(payload, "tool")?;
+        let model = if gravity == model.gravity() {
+            Cow::Borrowed(model)
+        } else {
+            Cow::Owned(model.clone().with_gravity(gravity).map_err(lib_error)?)
+        };
+        evaluate(py, &model, payload, quantity, &states)
+    }
+
+    /// One of the joints' motion limits, `+inf` where unknown.
+    pub(super) fn limits<'py>(
+        &self,
+        py: Python<'py>,
+        limit: fn(&MotionLimits) -> Option<f64>,
+    ) -> Bound<'py, PyArray1<f64>> {
+        let values: Vec<f64> = self
+            .chain
+            .motion_limits()
+            .iter()
+            .map(|l| limit(l).unwrap_or(f64::INFINITY))
+            .collect();
+        PyArray1::from_vec(py, values)
+    }
 }
 
 /// Joint velocities or accelerations `what` of `q`'s shape (`(dof,)` or `(n, dof)`),

@@ -54,6 +54,21 @@ pub enum RobotError {
         /// Exit code (or time limit) and the end of the program's standard error.
         message: String,
     },
+    /// The operating system refused a step of running `xacro` (locating the file, making its
+    /// working folder, starting the program, waiting for it, reading its output); the
+    /// operating system's error is the source.
+    #[error("{source_name}: `{command}`: {action}")]
+    XacroIo {
+        /// The file.
+        source_name: String,
+        /// The command line that was (to be) run.
+        command: String,
+        /// The step that failed, e.g. `cannot start it`.
+        action: &'static str,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
     /// An MJCF (MuJoCo XML) element or attribute cannot be used: a missing or malformed
     /// value, an unknown default class, an unsupported element.
     #[error("{source_name}:{line}: {element}, attribute '{attribute}': {message}")]
@@ -356,7 +371,8 @@ pub enum RobotError {
 
 impl crate::fault::Classify for RobotError {
     /// A file that cannot be read, or a mesh that cannot be loaded, has its source's kind; a
-    /// mesh found nowhere is [`ErrorKind::File`]; everything else is [`ErrorKind::Content`].
+    /// mesh found nowhere is [`ErrorKind::File`]; everything else is [`ErrorKind::Content`]
+    /// (running `xacro` too, whatever its source: the file asked for the expansion).
     fn kind(&self) -> Option<ErrorKind> {
         match self {
             Self::Io { .. } | Self::MeshLoad { .. } => None,
@@ -372,6 +388,7 @@ impl crate::fault::Classify for RobotError {
             | Self::XacroMarkup { source_name, .. }
             | Self::XacroArgument { source_name, .. }
             | Self::XacroFailed { source_name, .. }
+            | Self::XacroIo { source_name, .. }
             | Self::Mjcf { source_name, .. }
             | Self::MjcfJointInChain { source_name, .. }
             | Self::MjcfNotUrdf { source_name }

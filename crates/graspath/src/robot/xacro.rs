@@ -212,23 +212,31 @@ pub fn expand_xacro_with(
             reason: format!("{} is not a program", program.display()),
         });
     }
-    let failed = |message: String| RobotError::XacroFailed {
-        source_name: source_name.clone(),
-        command: format!("{} {}", program.display(), path.display()),
-        message,
+    let command = format!("{} {}", program.display(), path.display());
+    let failed = |failure: RunFailure| match failure {
+        RunFailure::Program(message) => RobotError::XacroFailed {
+            source_name: source_name.clone(),
+            command: command.clone(),
+            message,
+        },
+        RunFailure::Io(action, source) => RobotError::XacroIo {
+            source_name: source_name.clone(),
+            command: command.clone(),
+            action,
+            source,
+        },
     };
+    let refused = |action| move |e| failed(RunFailure::Io(action, e));
     // The file is passed by absolute path: the run's working folder is elsewhere.
-    let file =
-        std::path::absolute(path).map_err(|e| failed(format!("cannot locate the file: {e}")))?;
+    let file = std::path::absolute(path).map_err(refused("cannot locate the file"))?;
     let folder = tempfile::Builder::new()
         .prefix("graspath-xacro-")
         .tempdir()
-        .map_err(|e| failed(format!("cannot make its working folder: {e}")))?;
+        .map_err(refused("cannot make its working folder"))?;
     let shim = folder.path().join("python");
-    write_shim(&shim).map_err(|e| failed(format!("cannot prepare its working folder: {e}")))?;
+    write_shim(&shim).map_err(refused("cannot prepare its working folder"))?;
     let work = folder.path().join("work");
-    std::fs::create_dir(&work)
-        .map_err(|e| failed(format!("cannot make its working folder: {e}")))?;
+    std::fs::create_dir(&work).map_err(refused("cannot make its working folder"))?;
     let packages = options.packages.clone().unwrap_or_else(|| {
         MeshResolver::from_env(file.parent().unwrap_or(Path::new("/")), Vec::new())
     });
@@ -249,9 +257,7 @@ pub fn expand_xacro_with(
         use std::os::unix::process::CommandExt;
         command.process_group(0);
     }
-    let child = command
-        .spawn()
-        .map_err(|e| failed(format!("cannot start it: {e}")))?;
+    let child = command.spawn().map_err(refused("cannot start it"))?;
     run(child, options.timeout).map_err(failed)
 }
 
@@ -339,12 +345,21 @@ fn write_shim(folder: &Path) -> std::io::Result<()> {
     std::fs::write(package.join("packages.py"), AMENT_INDEX_SHIM)
 }
 
+/// Why a run of `xacro` gave no URDF.
+enum RunFailure {
+    /// What the program did (exit code, time limit, output), with the end of its standard
+    /// error.
+    Program(String),
+    /// A step the operating system refused, and its error.
+    Io(&'static str, std::io::Error),
+}
+
 /// Waits for `child` (at most `timeout`), stops its process group, and returns its standard
-/// output as text, or what went wrong with the end of its standard error.
-fn run(mut child: Child, timeout: Duration) -> Result<String, String> {
+/// output as text, or what went wrong (with the end of its standard error).
+fn run(mut child: Child, timeout: Duration) -> Result<String, RunFailure> {
     let (Some(stdout), Some(stderr)) = (child.stdout.take(), child.stderr.take()) else {
         let _ = stop(&mut child);
-        return Err("cannot capture its output".into());
+        return Err(RunFailure::Program("cannot capture its output".into()));
     };
     // Both pipes are drained on their own threads so neither can fill up and stall the child;
     // the results come back over channels so that a pipe held open by an escaped process
@@ -366,10 +381,13 @@ fn run(mut child: Child, timeout: Duration) -> Result<String, String> {
         match has_ended(&mut child) {
             Ok(true) => break Ok(()),
             Ok(false) if started.elapsed() > timeout => {
-                break Err(format!("stopped after {} s", timeout.as_secs_f64()))
+                break Err(RunFailure::Program(format!(
+                    "stopped after {} s",
+                    timeout.as_secs_f64()
+                )))
             }
             Ok(false) => std::thread::sleep(Duration::from_millis(5)),
-            Err(e) => break Err(format!("cannot wait for it: {e}")),
+            Err(e) => break Err(RunFailure::Io("cannot wait for it", e)),
         }
     };
     // Whatever the program left running is stopped with it; that closes the pipes.
@@ -378,23 +396,28 @@ fn run(mut child: Child, timeout: Duration) -> Result<String, String> {
     let stderr = err_receiver.recv_timeout(DRAIN_GRACE).unwrap_or_default();
     let stderr = String::from_utf8_lossy(&stderr);
     let tail = tail(stderr.trim());
-    waited.map_err(|message| with_stderr(message, tail))?;
-    let status = status.map_err(|e| with_stderr(format!("cannot wait for it: {e}"), tail))?;
+    waited.map_err(|failure| match failure {
+        RunFailure::Program(message) => RunFailure::Program(with_stderr(message, tail)),
+        io => io,
+    })?;
+    let status = status.map_err(|e| RunFailure::Io("cannot wait for it", e))?;
     if !status.success() {
         let code = match status.code() {
             Some(code) => format!("exit code {code}"),
             None => "ended by a signal".to_string(),
         };
-        return Err(with_stderr(code, tail));
+        return Err(RunFailure::Program(with_stderr(code, tail)));
     }
+    let program = |message: &str| RunFailure::Program(message.to_string());
     match stdout {
-        Some(Ok(bytes)) if bytes.len() as u64 > MAX_OUTPUT_BYTES => Err(format!(
-            "its output is larger than {} MiB",
-            MAX_OUTPUT_BYTES >> 20
+        Some(Ok(bytes)) if bytes.len() as u64 > MAX_OUTPUT_BYTES => Err(RunFailure::Program(
+            format!("its output is larger than {} MiB", MAX_OUTPUT_BYTES >> 20),
         )),
-        Some(Ok(bytes)) => String::from_utf8(bytes).map_err(|_| "its output is not UTF-8".into()),
-        Some(Err(e)) => Err(format!("cannot read its output: {e}")),
-        None => Err("its output stayed open after it ended (a process it started escaped)".into()),
+        Some(Ok(bytes)) => String::from_utf8(bytes).map_err(|_| program("its output is not UTF-8")),
+        Some(Err(e)) => Err(RunFailure::Io("cannot read its output", e)),
+        None => Err(program(
+            "its output stayed open after it ended (a process it started escaped)",
+        )),
     }
 }
 

@@ -20,6 +20,15 @@ pub fn derive_seed(seed: u64, stream: u64, index: u64) -> u64 {
     splitmix64(splitmix64(z))
 }
 
+/// The seed of the restarts of trajectory IK's branch `branch` at sample `sample` under the
+/// user's `seed`: the indices packed into one word (branch in the high half), one
+/// [`splitmix64`] step, combined with the seed, then a second step. Its own stream, older than
+/// [`derive_seed`]: every selection's restarts come from it, so moving it onto [`derive_seed`]
+/// would change the selected grasps of every task file.
+pub fn trajectory_restart_seed(seed: u64, branch: usize, sample: usize) -> u64 {
+    splitmix64(seed ^ splitmix64((branch as u64) << 32 | sample as u64))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -46,5 +55,22 @@ mod tests {
         assert_ne!(derive_seed(1, 2, 3), derive_seed(1, 2, 4));
         assert_ne!(derive_seed(1, 2, 3), derive_seed(1, 3, 3));
         assert_ne!(derive_seed(1, 2, 3), derive_seed(2, 2, 3));
+    }
+
+    #[test]
+    fn trajectory_restart_seeds_are_distinct_per_branch_and_sample() {
+        // The packing is injective for samples below 2³² and each splitmix64 step is a
+        // bijection: no two (branch, sample) of a seed share a stream.
+        for seed in [0, 1, u64::MAX] {
+            let seeds: std::collections::HashSet<u64> = (0..8)
+                .flat_map(|branch| (0..2000).map(move |sample| (branch, sample)))
+                .map(|(branch, sample)| trajectory_restart_seed(seed, branch, sample))
+                .collect();
+            assert_eq!(seeds.len(), 8 * 2000);
+        }
+        assert_ne!(
+            trajectory_restart_seed(0, 1, 2),
+            trajectory_restart_seed(1, 1, 2)
+        );
     }
 }

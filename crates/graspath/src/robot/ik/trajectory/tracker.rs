@@ -3,7 +3,7 @@
 //! restarts, the text that names a joint outside its limits.
 
 use super::options::TrajectoryIkOptions;
-use crate::random::splitmix64;
+use crate::random::trajectory_restart_seed;
 use crate::robot::ik::kernel::Kernel;
 use nalgebra::Isometry3;
 use rand::rngs::Xoshiro256PlusPlus;
@@ -37,10 +37,11 @@ impl Tracker<'_> {
 
     /// The generator of the restarts of `branch` at `sample`, from the options' random seed.
     pub(super) fn rng(&self, branch: usize, sample: usize) -> Xoshiro256PlusPlus {
-        let seed = splitmix64(
-            self.options.ik.random_seed ^ splitmix64((branch as u64) << 32 | sample as u64),
-        );
-        Xoshiro256PlusPlus::seed_from_u64(seed)
+        Xoshiro256PlusPlus::seed_from_u64(trajectory_restart_seed(
+            self.options.ik.random_seed,
+            branch,
+            sample,
+        ))
     }
 
     /// Names the joint farthest outside its limits in `q`.

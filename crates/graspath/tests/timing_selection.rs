@@ -204,7 +204,59 @@ fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
         .collect();
     ranked.sort_by_key(|(rank, _)| *rank);
     assert!(ranked.windows(2).all(|w| w[0].1 <= w[1].1), "{ranked:?}");
-    assert_eq!(ranked[0].1, durations[0]);
+    let fastest_motion = arm
+        .scores
+        .iter()
+        .filter_map(|s| s.durations.map(|d| d.total()))
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(ranked[0].1, fastest_motion);
+    // Each candidate's branch is its fastest, so the fastest motion is no longer than the
+    // fastest among the branches the index picks.
+    assert!(fastest_motion <= durations[0], "{fastest_motion} s vs {} s", durations[0]);
+}
+
+/// With `index.measure: duration` each candidate's IK branch is its fastest: over the same
+/// branches (`ik.redundancy: best_branch` compares every branch the IK finds), no candidate's
+/// motion is longer than the one the index picks, the same candidates are feasible, and some
+/// get a shorter motion (the branch with the largest index is not always the fastest).
+#[test]
+fn duration_chooses_each_candidates_fastest_branch() {
+    let branches = "ik: { redundancy: best_branch, branches: 8 }";
+    let by_index = select(&task(branches), &|| {}).unwrap();
+    let by_duration = select(
+        &task(&format!("{branches}\nindex: {{ measure: duration }}")),
+        &|| {},
+    )
+    .unwrap();
+    let mut shorter = 0;
+    for (index, duration) in by_index.arms[0]
+        .scores
+        .iter()
+        .zip(&by_duration.arms[0].scores)
+    {
+        assert_eq!(
+            index.feasible(),
+            duration.feasible(),
+            "candidate {}",
+            index.candidate.id
+        );
+        let (Some(a), Some(b)) = (index.durations, duration.durations) else {
+            continue;
+        };
+        let (a, b) = (a.total(), b.total());
+        assert!(
+            b <= a,
+            "candidate {}: {b} s by duration, {a} s by the index",
+            index.candidate.id
+        );
+        if b < a * (1.0 - 1e-9) {
+            shorter += 1;
+        }
+    }
+    assert!(
+        shorter > 0,
+        "no candidate has a faster branch than its best by the index"
+    );
 }
 
 #[test]

@@ -383,9 +383,36 @@ impl ChosenBranch {
             > (self.norms.linf.is_finite(), self.norms.value(norm))
     }
 
-    /// Whether this branch ranks above `other` ([`ChosenBranch::norms_better`]).
-    fn better_than(&self, other: &ChosenBranch, norm: Norm) -> bool {
-        other.norms_better(&self.norms, norm)
+    /// Whether this branch, checked, ranks above `other` by `order`.
+    fn better_than(&self, other: &ChosenBranch, order: BranchOrder) -> bool {
+        if order.by_duration {
+            let duration = |b: &ChosenBranch| b.findings.durations.map(|d| d.total());
+            match (duration(self), duration(other)) {
+                (Some(mine), Some(theirs)) if mine != theirs => return mine < theirs,
+                (Some(_), None) => return true,
+                (None, Some(_)) => return false,
+                _ => {}
+            }
+        }
+        other.norms_better(&self.norms, order.norm)
+    }
+}
+
+/// How the branches of one candidate are compared: the task's ranked norm, or with
+/// `index.measure: duration` the whole motion's duration first (shorter ranks above; equal
+/// durations by the norm). Only the norm is known before a branch's checks, which time it.
+#[derive(Debug, Clone, Copy)]
+struct BranchOrder {
+    norm: Norm,
+    by_duration: bool,
+}
+
+impl BranchOrder {
+    fn of(setup: &ScoringSetup<'_>) -> Self {
+        Self {
+            norm: setup.norm,
+            by_duration: setup.ranked.measure == IndexMeasure::Duration,
+        }
     }
 }
 
@@ -422,6 +449,7 @@ fn score_solved(
     let checks = branch_checks(&scoring);
     let mut dynamic = dynamic_workspace(&scoring);
     let ranks_dynamic = ranked.measure == IndexMeasure::Dynamic;
+    let order = BranchOrder::of(scoring.setup);
     // One branch tracked first; more are searched only when it fails or collides, or when
     // every branch is to be compared.
     let mut tries = vec![Scoring::first_try(scoring.setup)];
@@ -472,9 +500,12 @@ fn score_solved(
             if redundancy == Redundancy::Optimize && first_branch.is_none() && attempt == 0 {
                 first_branch = Some((branch.q.clone(), norms.l2));
             }
-            if best
-                .as_ref()
-                .is_some_and(|b| !b.norms_better(&norms, scoring.setup.norm))
+            // By the norm a branch that cannot rank above the kept one is not checked; by
+            // duration every branch is, since the checks time it.
+            if !order.by_duration
+                && best
+                    .as_ref()
+                    .is_some_and(|b| !b.norms_better(&norms, order.norm))
             {
                 continue;
             }
@@ -484,12 +515,15 @@ fn score_solved(
             }
             match check_branch(&checks, &branch.q) {
                 Ok(findings) => {
-                    best = Some(ChosenBranch {
+                    let checked = ChosenBranch {
                         series,
                         norms,
                         q: branch.q.clone(),
                         findings,
-                    });
+                    };
+                    if best.as_ref().is_none_or(|b| checked.better_than(b, order)) {
+                        best = Some(checked);
+                    }
                 }
                 Err(failure) => {
                     refusal.get_or_insert_with(|| failure.clone());

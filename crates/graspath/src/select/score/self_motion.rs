@@ -5,7 +5,7 @@
 
 use super::branch_checks::{check_branch, BranchCheck, BranchFindings};
 use super::path::{index_along, ObjectMotion};
-use super::{ChosenBranch, ScoringSetup, SelfMotionScores};
+use super::{BranchOrder, ChosenBranch, ScoringSetup, SelfMotionScores};
 use crate::grasp::Candidate;
 use crate::manipulability::DynamicManipulability;
 use crate::manipulability::Norm;
@@ -110,12 +110,17 @@ impl SelfMotionSearch<'_> {
             q: found.q,
             findings: BranchFindings::default(),
         };
-        if optimised.better_than(chosen, self.setup.norm) {
+        // By the norm only a better path is checked; by duration the checks time it first.
+        let order = BranchOrder::of(self.setup);
+        if order.by_duration || chosen.norms_better(&optimised.norms, order.norm) {
             if let Ok(findings) = check_branch(self.checks, &optimised.q) {
-                *chosen = ChosenBranch {
+                let checked = ChosenBranch {
                     findings,
                     ..optimised
                 };
+                if checked.better_than(chosen, order) {
+                    *chosen = checked;
+                }
             }
         }
         // The range over every motion seen: the traced states' chains, the first branch and

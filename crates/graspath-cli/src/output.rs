@@ -20,6 +20,18 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
+/// Writes a command's result (the JSON Lines of `kinematics` and `ik`) to standard output and
+/// flushes it. A failure — a full disk, a closed pipe — is an error that says it was standard
+/// output that could not be written (exit code 1: writing the output failed).
+pub(crate) fn write_result_to_stdout(bytes: &[u8]) -> anyhow::Result<()> {
+    use anyhow::Context as _;
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    out.write_all(bytes)
+        .and_then(|()| out.flush())
+        .context("cannot write the result to standard output")
+}
+
 /// Output switches shared by the long-running subcommands.
 #[derive(Debug, Clone, Args)]
 pub(crate) struct OutputArgs {

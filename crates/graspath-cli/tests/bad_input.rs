@@ -698,3 +698,45 @@ fn the_help_documents_the_exit_codes() {
         }
     }
 }
+
+/// A result that cannot be written to standard output (here a full device) exits 1 — writing
+/// the output failed — with a message that says it was standard output, and the system's
+/// reason.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_standard_output_is_named_and_exits_1() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let calls: [(&[&str], &str); 2] = [
+        (
+            &["kinematics", "--robot", "baxter"],
+            "{\"q\":[0,0,0,0,0,0,0]}\n",
+        ),
+        (&["ik", "--robot", "baxter"], IDENTITY),
+    ];
+    for (args, input) in calls {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_graspath"))
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(full.try_clone().unwrap())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(input.as_bytes())
+            .unwrap();
+        let output = child.wait_with_output().unwrap();
+        let message = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {message}");
+        assert!(
+            message.contains("cannot write the result to standard output")
+                && message.contains("No space left on device"),
+            "{args:?}: {message}"
+        );
+    }
+}

@@ -212,7 +212,11 @@ fn max_duration_rejects_and_duration_ranks_the_fastest_first() {
     assert_eq!(ranked[0].1, fastest_motion);
     // Each candidate's branch is its fastest, so the fastest motion is no longer than the
     // fastest among the branches the index picks.
-    assert!(fastest_motion <= durations[0], "{fastest_motion} s vs {} s", durations[0]);
+    assert!(
+        fastest_motion <= durations[0],
+        "{fastest_motion} s vs {} s",
+        durations[0]
+    );
 }
 
 /// With `index.measure: duration` each candidate's IK branch is its fastest: over the same

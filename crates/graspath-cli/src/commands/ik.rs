@@ -13,7 +13,7 @@ use graspath::robot::{
 };
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
-use std::io::{Read, Write};
+use std::io::Read;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -179,11 +179,7 @@ pub(crate) fn run(args: &IkArgs) -> Result<()> {
             Ok(())
         })?;
     }
-    let stdout = std::io::stdout();
-    let mut out = stdout.lock();
-    out.write_all(&output)?;
-    out.flush()?;
-    Ok(())
+    crate::output::write_result_to_stdout(&output)
 }
 
 /// Targets with a coordinate beyond ±this (m, chain base frame) are refused: no arm reaches

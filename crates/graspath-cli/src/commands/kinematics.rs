@@ -63,6 +63,5 @@ pub(crate) fn run(args: &KinematicsArgs) -> Result<()> {
         out.write_all(b"\n")?;
         Ok(())
     })?;
-    std::io::stdout().lock().write_all(&out)?;
-    Ok(())
+    crate::output::write_result_to_stdout(&out)
 }

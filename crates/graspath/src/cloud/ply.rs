@@ -53,6 +53,21 @@ fn type_size(name: &str) -> Option<u64> {
 /// per element at least), before the parser allocates anything. Headers this cannot read
 /// are left to the parser's own errors.
 fn check_layout(bytes: &[u8], source_name: &str) -> Result<(), CloudError> {
+    // A PLY file's first line is `ply`: anything else is named plainly here, not in the
+    // parser's terms (an empty file read as "end of file while reading magic number").
+    let first_line = bytes.split(|b| *b == b'\n').next().unwrap_or(&[]);
+    if first_line.trim_ascii() != b"ply" {
+        let found = if bytes.is_empty() {
+            "the file is empty".to_string()
+        } else {
+            "its first line is not 'ply'".to_string()
+        };
+        return Err(CloudError::parse(
+            source_name,
+            "line 1",
+            format!("not a PLY file: {found}"),
+        ));
+    }
     let mut binary = None;
     // (name, count, smallest bytes per element)
     let mut elements: Vec<(String, u64, u64)> = Vec::new();
@@ -352,5 +367,27 @@ mod tests {
         let text = "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
         let err = read_ply_bytes(text.as_bytes(), "e.ply").unwrap_err();
         assert!(matches!(err, CloudError::Empty { .. }), "{err}");
+    }
+
+    #[test]
+    fn a_file_that_is_not_ply_is_named_so_not_in_the_parsers_terms() {
+        for (bytes, says) in [
+            (&b""[..], "not a PLY file: the file is empty"),
+            (
+                &b"OFF\n3 1 0\n"[..],
+                "not a PLY file: its first line is not 'ply'",
+            ),
+        ] {
+            let err = read_ply_bytes(bytes, "x.ply").unwrap_err().to_string();
+            assert!(err.starts_with("x.ply") && err.contains("line 1"), "{err}");
+            assert!(err.contains(says), "{err}");
+            assert!(!err.contains("magic"), "{err}");
+        }
+        let crlf = "ply\r\nformat ascii 1.0\r\nelement vertex 1\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\nend_header\r\n1 2 3\r\n";
+        assert!(
+            read_ply_bytes(crlf.as_bytes(), "w.ply")
+                .map_or_else(|e| !e.to_string().contains("not a PLY file"), |_| true),
+            "a CRLF file's first line is 'ply'"
+        );
     }
 }

@@ -500,6 +500,20 @@ fn bad_input_gets_clear_errors() {
     let m = err.to_string();
     assert!(m.contains("tip.xml") && m.contains("'forarm'"), "{m}");
     assert!(m.contains("did you mean: forearm?"), "{m}");
+    // In the file's own terms: bodies, not URDF links.
+    assert!(
+        m.contains("no body named 'forarm' (given as the tip body)"),
+        "{m}"
+    );
+    let err = MjcfRobot::from_file(&path)
+        .unwrap()
+        .chain("forearm", "world", None)
+        .unwrap_err();
+    let m = err.to_string();
+    assert!(
+        m.contains("tip body 'world' is not below base body 'forearm'"),
+        "{m}"
+    );
     // Malformed XML: line and column.
     let m = error_of(
         "broken.xml",

@@ -234,11 +234,13 @@ pub enum RobotError {
         /// Close names.
         suggestions: Vec<String>,
     },
-    /// A link name that the robot does not have.
-    #[error("{source_name}: no link named '{link}' (given as the {role} link){}", suggestion_text(.suggestions))]
+    /// A link name (an MJCF file's body name) that the robot does not have.
+    #[error("{source_name}: no {element} named '{link}' (given as the {role} {element}){}", suggestion_text(.suggestions))]
     UnknownLink {
         /// The file.
         source_name: String,
+        /// What the file calls its frames: `link` (URDF, built-in robots) or `body` (MJCF).
+        element: &'static str,
         /// The requested name.
         link: String,
         /// `base`, `tip` or another role.
@@ -246,11 +248,13 @@ pub enum RobotError {
         /// Link names that are close to the requested one.
         suggestions: Vec<String>,
     },
-    /// The tip link is not a descendant of the base link.
-    #[error("{source_name}: tip link '{tip}' is not below base link '{base}' (the root of '{tip}' is '{root}')")]
+    /// The tip link (an MJCF file's body) is not a descendant of the base link.
+    #[error("{source_name}: tip {element} '{tip}' is not below base {element} '{base}' (the root of '{tip}' is '{root}')")]
     TipNotBelowBase {
         /// The file.
         source_name: String,
+        /// What the file calls its frames: `link` (URDF, built-in robots) or `body` (MJCF).
+        element: &'static str,
         /// Base link.
         base: String,
         /// Tip link.

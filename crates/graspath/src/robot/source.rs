@@ -454,6 +454,7 @@ fn builtin_sub_chain(
 ) -> Result<ChainSpec, RobotError> {
     let unknown = |link: &str, role: &'static str| RobotError::UnknownLink {
         source_name: robot.source_name(),
+        element: "link",
         link: link.to_string(),
         role,
         suggestions: closest_names(link, all_links.iter().map(String::as_str).collect()),
@@ -491,6 +492,7 @@ fn builtin_sub_chain(
         .map_or_else(String::new, |s| s.base_link.clone());
     Err(RobotError::TipNotBelowBase {
         source_name: robot.source_name(),
+        element: "link",
         base: base_link.to_string(),
         tip: tip_link.to_string(),
         root,

@@ -189,6 +189,7 @@ impl Srdf {
         let known: HashSet<&str> = links.iter().map(String::as_str).collect();
         let unknown = |link: &str, role: &'static str| RobotError::UnknownLink {
             source_name: self.source_name.clone(),
+            element: "link",
             link: link.to_string(),
             role,
             suggestions: super::error::closest_names(

@@ -173,6 +173,7 @@ impl UrdfRobot {
             .find(|l| l.name == link)
             .ok_or_else(|| RobotError::UnknownLink {
                 source_name: self.source_name.clone(),
+                element: "link",
                 link: link.to_string(),
                 role: "collision",
                 suggestions: Vec::new(),
@@ -279,6 +280,7 @@ impl UrdfRobot {
                 None => {
                     return Err(RobotError::TipNotBelowBase {
                         source_name: self.source_name.clone(),
+                        element: "link",
                         base: base_link.to_string(),
                         tip: tip_link.to_string(),
                         root: link.to_string(),
@@ -403,6 +405,7 @@ impl UrdfRobot {
         }
         Err(RobotError::UnknownLink {
             source_name: self.source_name.clone(),
+            element: "link",
             link: name.to_string(),
             role,
             suggestions: closest_names(name, self.link_names()),

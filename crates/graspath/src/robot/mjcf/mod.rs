@@ -239,6 +239,7 @@ impl MjcfRobot {
             .copied()
             .ok_or_else(|| RobotError::UnknownLink {
                 source_name: self.source_name.clone(),
+                element: "body",
                 link: name.to_string(),
                 role,
                 suggestions: closest_names(name, self.body_names()),
@@ -275,6 +276,7 @@ impl MjcfRobot {
                 None => {
                     return Err(RobotError::TipNotBelowBase {
                         source_name: self.source_name.clone(),
+                        element: "body",
                         base: base.to_string(),
                         tip: tip.to_string(),
                         root: self.model.bodies[at].name.clone(),

@@ -34,10 +34,14 @@ pub(crate) fn read_datasets(
     names
         .iter()
         .map(|&name| {
-            let Ok(dataset) = file.dataset(name) else {
-                return Ok(None);
-            };
             let err = |m: String| (name.to_string(), m);
+            let dataset = match file.dataset(name) {
+                Ok(dataset) => dataset,
+                Err(e) if is_not_found(&e) => return Ok(None),
+                // Present but not readable (an external link, a damaged object header): say
+                // why, rather than calling it missing.
+                Err(e) => return Err(err(format!("cannot be opened: {}", innermost(&e)))),
+            };
             let shape: Vec<usize> = dataset
                 .shape()
                 .iter()
@@ -129,4 +133,22 @@ pub(crate) fn read_datasets(
             Ok(Some(Array { shape, data }))
         })
         .collect()
+}
+
+/// Whether `error` says the object is not in the file (as opposed to present but unreadable).
+fn is_not_found(error: &hdf5_reader::error::Error) -> bool {
+    use hdf5_reader::error::Error;
+    match error {
+        Error::DatasetNotFound(_) | Error::GroupNotFound(_) => true,
+        Error::Context { source, .. } => is_not_found(source),
+        _ => false,
+    }
+}
+
+/// The error under the reader's path context (the message names the dataset already).
+fn innermost(error: &hdf5_reader::error::Error) -> &hdf5_reader::error::Error {
+    match error {
+        hdf5_reader::error::Error::Context { source, .. } => innermost(source),
+        other => other,
+    }
 }

@@ -43,6 +43,11 @@ fn urdf_hand_has_its_joints_links_and_mimic_fingers() {
         matches!(err, HandError::UnknownRoot { .. }) && err.to_string().contains("palm"),
         "{err}"
     );
+    // The message starts with the hand's file, as every input error does.
+    assert!(
+        err.to_string().starts_with(robot.source_name()) && robot.source_name().ends_with(".urdf"),
+        "{err}"
+    );
 }
 
 #[test]

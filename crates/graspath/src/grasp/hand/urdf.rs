@@ -194,7 +194,7 @@ pub fn hand_from_urdf(
     meshes: &MeshResolver,
 ) -> Result<Hand, HandError> {
     let doc = robot.document();
-    let source_name = format!("URDF robot '{}'", robot.name());
+    let source_name = robot.source_name().to_string();
     if !doc.links.iter().any(|l| l.name == root_link) {
         return Err(HandError::UnknownRoot {
             source_name,

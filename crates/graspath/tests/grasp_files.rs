@@ -230,9 +230,9 @@ fn gripper_conventions_map_the_axes_as_documented() {
 fn bad_grasp_files_give_one_clear_error() {
     let cases: &[(&str, &str, &str)] = &[
         ("no_transforms.h5", "grasps/transforms", "dataset missing"),
-        // Present as a link to another file: why it cannot be read, not "missing".
+        // Present, with a damaged object header: why it cannot be read, not "missing".
         (
-            "external_transforms.h5",
+            "damaged_transforms.h5",
             "grasps/transforms",
             "cannot be opened: ",
         ),

@@ -483,6 +483,12 @@ pub struct TimingSettingsFile {
     /// The largest angular speed of the carried object (rad/s; default none).
     #[serde(default)]
     pub object_turn_rate: Option<f64>,
+    /// The largest linear acceleration of the carried object (m/s²; default none).
+    #[serde(default)]
+    pub object_acceleration: Option<f64>,
+    /// The largest angular acceleration of the carried object (rad/s²; default none).
+    #[serde(default)]
+    pub object_angular_acceleration: Option<f64>,
 }
 
 /// Trajectory IK settings.

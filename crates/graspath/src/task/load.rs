@@ -603,6 +603,8 @@ fn timing_request(timing: Option<&TimingFile>) -> TimingRequest {
             torque_limits: t.torque_limits.unwrap_or(defaults.torque_limits),
             object_speed: t.object_speed,
             object_turn_rate: t.object_turn_rate,
+            object_acceleration: t.object_acceleration,
+            object_angular_acceleration: t.object_angular_acceleration,
         }),
     }
 }

@@ -32,6 +32,11 @@ pub struct TimingSettings {
     pub object_speed: Option<f64>,
     /// The largest angular speed of the carried object (rad/s), while it is carried.
     pub object_turn_rate: Option<f64>,
+    /// The largest linear acceleration of the carried object's origin (m/s², base frame),
+    /// while it is carried.
+    pub object_acceleration: Option<f64>,
+    /// The largest angular acceleration of the carried object (rad/s²), while it is carried.
+    pub object_angular_acceleration: Option<f64>,
 }
 
 impl Default for TimingSettings {
@@ -46,6 +51,8 @@ impl Default for TimingSettings {
             torque_limits: true,
             object_speed: None,
             object_turn_rate: None,
+            object_acceleration: None,
+            object_angular_acceleration: None,
         }
     }
 }
@@ -96,12 +103,22 @@ impl TimingSettings {
         for (field, limit, unit) in [
             ("timing.object_speed", self.object_speed, "m/s"),
             ("timing.object_turn_rate", self.object_turn_rate, "rad/s"),
+            (
+                "timing.object_acceleration",
+                self.object_acceleration,
+                "m/s²",
+            ),
+            (
+                "timing.object_angular_acceleration",
+                self.object_angular_acceleration,
+                "rad/s²",
+            ),
         ] {
             if let Some(v) = limit {
                 if !(v > 0.0 && v.is_finite()) {
                     return Err((
                         field,
-                        format!("must be a positive speed in {unit}, got {v}"),
+                        format!("must be a positive number in {unit}, got {v}"),
                     ));
                 }
             }

@@ -22,7 +22,7 @@ mod trajectory;
 #[cfg(test)]
 mod tests;
 
-pub use motion::{ObjectSpeedLimits, PathLimits, TorqueLimits};
+pub use motion::{ObjectLimits, PathLimits, TorqueLimits};
 pub use spline::{JointSpline, PathPoint, REPEATED_SAMPLE};
 pub use topp::{time_optimal, Constraints, Discretization, Limit, Row, TimedPath};
 pub use trajectory::{TimedTrajectory, Torques, TrajectoryPoint, MAX_POINTS};
@@ -82,5 +82,9 @@ fn binding(limit: &Option<Limit>) -> String {
         Some(Limit::Torque(j)) => format!(": joint {j}'s torque limit binds"),
         Some(Limit::ObjectSpeed) => ": the object's speed limit binds".into(),
         Some(Limit::ObjectTurnRate) => ": the object's turn-rate limit binds".into(),
+        Some(Limit::ObjectAcceleration) => ": the object's acceleration limit binds".into(),
+        Some(Limit::ObjectAngularAcceleration) => {
+            ": the object's angular acceleration limit binds".into()
+        }
     }
 }

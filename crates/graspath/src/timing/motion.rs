@@ -8,7 +8,13 @@
 //!   `c = g(q) = rnea(q, 0, 0)`, `a = M(q) q' = rnea(q, 0, q') − c`,
 //!   `b = M(q) q'' + C(q, q') q' = rnea(q, q', q'') − c` (payload included);
 //! * a limit on a carried body's linear or angular speed bounds `x` by
-//!   `(v_max / ‖v_body(q, q')‖)²`, its velocity per unit `ṡ` from the Jacobian.
+//!   `(v_max / ‖v_body(q, q')‖)²`, its velocity per unit `ṡ` from the Jacobian;
+//! * a limit on its linear or angular acceleration `‖w(s) u + w'(s) x‖ ≤ a_max` (`w` the
+//!   body's velocity per unit `ṡ`, `w'` its derivative along the path) is a cone, not a row:
+//!   it is imposed as rows `|dᵢ · (w u + w' x)| ≤ a_max cos γ` over the 13 directions `dᵢ` of
+//!   a cube's faces, edges and corners, whose 26 points (±) cover the sphere within
+//!   `γ = 27.57°`. Those rows keep `‖·‖ ≤ a_max` (an inner approximation, up to 11 % below the
+//!   limit in the worst direction); the exact norm is checked between grid points.
 
 use super::spline::{JointSpline, PathPoint};
 use super::topp::{time_optimal, Constraints, Discretization, Limit, Row, TimedPath};
@@ -26,8 +32,8 @@ pub struct PathLimits<'a> {
     pub acceleration: &'a [Option<f64>],
     /// Joint torque limits through the arm's dynamics, when they apply.
     pub torque: Option<TorqueLimits<'a>>,
-    /// Limits on the carried object's own speed, when they apply.
-    pub object: Option<ObjectSpeedLimits<'a>>,
+    /// Limits on the carried object's own speed and acceleration, when they apply.
+    pub object: Option<ObjectLimits<'a>>,
     /// Grid intervals per spline interval (at least 1): the grid is the spline's knots with
     /// every interval split into this many equal parts.
     pub subdivisions: usize,
@@ -46,11 +52,13 @@ pub struct TorqueLimits<'a> {
     pub payload: Option<RigidBody>,
 }
 
-/// Limits on the speed of a body carried by the tool (a cup of coffee, a tray of parts): its
-/// origin's linear speed and its angular speed, from the chain's kinematics. Both bound
-/// `x = ṡ²` alone: the body's velocity is `J(q) q'(s) ṡ`.
+/// Limits on the motion of a body carried by the tool (a cup of coffee, a tray of parts): its
+/// origin's linear speed and acceleration, and its angular speed and acceleration (base frame),
+/// from the chain's kinematics. The body's velocity is `w(s) ṡ` with `w = J(q) q'(s)` (moved to
+/// the body's origin), so the speeds bound `x = ṡ²` alone and the accelerations
+/// `w(s) u + w'(s) x` are rows in `(u, x)`.
 #[derive(Debug, Clone, Copy)]
-pub struct ObjectSpeedLimits<'a> {
+pub struct ObjectLimits<'a> {
     /// The chain (its tool frame carries the body).
     pub chain: &'a Chain,
     /// The body's origin in the tool frame (m).
@@ -59,23 +67,189 @@ pub struct ObjectSpeedLimits<'a> {
     pub linear: Option<f64>,
     /// The largest angular speed of the body (rad/s).
     pub angular: Option<f64>,
+    /// The largest linear acceleration of the body's origin (m/s²).
+    pub linear_acceleration: Option<f64>,
+    /// The largest angular acceleration of the body (rad/s²).
+    pub angular_acceleration: Option<f64>,
 }
 
-impl ObjectSpeedLimits<'_> {
-    /// The body's linear and angular speed per unit `ṡ` at `q` moving along `dq`, using
+/// The 13 directions (and their opposites) of a cube's face centres, edge midpoints and
+/// corners, unnormalised: the acceleration cone's rows.
+const CUBE_DIRECTIONS: [[f64; 3]; 13] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 1.0, 0.0],
+    [1.0, -1.0, 0.0],
+    [1.0, 0.0, 1.0],
+    [1.0, 0.0, -1.0],
+    [0.0, 1.0, 1.0],
+    [0.0, 1.0, -1.0],
+    [1.0, 1.0, 1.0],
+    [1.0, 1.0, -1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, -1.0, -1.0],
+];
+
+/// `cos γ`, `γ` the largest angle between a unit vector and the nearest of the 26 points
+/// `±CUBE_DIRECTIONS`: the circumradius of the spherical triangle face–edge–corner that tiles
+/// the sphere 48 times, `1 / ‖(1, √2 − 1, √3 − √2)‖` (γ = 27.57°; a test recomputes it).
+const CUBE_COVER_COS: f64 = 0.886_451_886_282_891_3;
+
+/// The relative step (of the path's parameter span) of the central differences of the
+/// body's velocity along the path.
+const BODY_RATE_STEP: f64 = 1e-6;
+
+/// A carried body's velocity per unit `ṡ` at a path point and its derivative along the path
+/// (base frame): linear `p'`, `p''` of its origin and angular `w`, `w'`.
+#[derive(Debug, Clone, Copy)]
+struct BodyRates {
+    linear: Vector3<f64>,
+    linear_rate: Vector3<f64>,
+    angular: Vector3<f64>,
+    angular_rate: Vector3<f64>,
+}
+
+impl BodyRates {
+    /// The linear and angular acceleration at path acceleration `u` and `x = ṡ²`.
+    fn accelerations(&self, u: f64, x: f64) -> (Vector3<f64>, Vector3<f64>) {
+        (
+            self.linear * u + self.linear_rate * x,
+            self.angular * u + self.angular_rate * x,
+        )
+    }
+}
+
+impl<'a> ObjectLimits<'a> {
+    /// These limits, when at least one is set.
+    pub fn any(self) -> Option<Self> {
+        [
+            self.linear,
+            self.angular,
+            self.linear_acceleration,
+            self.angular_acceleration,
+        ]
+        .iter()
+        .any(Option::is_some)
+        .then_some(self)
+    }
+
+    /// Whether an acceleration limit is set.
+    fn limits_acceleration(&self) -> bool {
+        self.linear_acceleration.is_some() || self.angular_acceleration.is_some()
+    }
+
+    /// The acceleration limits that are set, with what each limits.
+    fn acceleration_limits(&self) -> impl Iterator<Item = (f64, Limit, bool)> {
+        [
+            (self.linear_acceleration, Limit::ObjectAcceleration, true),
+            (
+                self.angular_acceleration,
+                Limit::ObjectAngularAcceleration,
+                false,
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(limit, which, linear)| limit.map(|l| (l, which, linear)))
+    }
+
+    /// The body's linear and angular velocity per unit `ṡ` at `q` moving along `dq`, using
     /// `jacobian` as the workspace.
+    fn velocity(
+        &self,
+        q: &[f64],
+        dq: &[f64],
+        jacobian: &mut Matrix6xX<f64>,
+    ) -> Result<(Vector3<f64>, Vector3<f64>), TimingError> {
+        let pose = self.chain.pose_and_jacobian_into(q, jacobian)?;
+        let twist = &*jacobian * DVector::from_column_slice(dq);
+        let v_tool = Vector3::new(twist[0], twist[1], twist[2]);
+        let omega = Vector3::new(twist[3], twist[4], twist[5]);
+        let lever = pose.rotation * self.origin_in_tool;
+        Ok((v_tool + omega.cross(&lever), omega))
+    }
+
+    /// The body's linear and angular speed per unit `ṡ` at `q` moving along `dq`.
     fn speeds(
         &self,
         q: &[f64],
         dq: &[f64],
         jacobian: &mut Matrix6xX<f64>,
     ) -> Result<(f64, f64), TimingError> {
-        let pose = self.chain.pose_and_jacobian_into(q, jacobian)?;
-        let twist = &*jacobian * DVector::from_column_slice(dq);
-        let v_tool = Vector3::new(twist[0], twist[1], twist[2]);
-        let omega = Vector3::new(twist[3], twist[4], twist[5]);
-        let lever = pose.rotation * self.origin_in_tool;
-        Ok(((v_tool + omega.cross(&lever)).norm(), omega.norm()))
+        let (linear, angular) = self.velocity(q, dq, jacobian)?;
+        Ok((linear.norm(), angular.norm()))
+    }
+
+    /// The body's velocity per unit `ṡ` at `s` on `spline` and its derivative along the path,
+    /// the derivative by central differences of the velocity (one-sided at the path's ends).
+    fn rates(
+        &self,
+        spline: &JointSpline,
+        s: f64,
+        jacobian: &mut Matrix6xX<f64>,
+    ) -> Result<BodyRates, TimingError> {
+        let dof = spline.dof();
+        let [mut q, mut dq, mut ddq] = std::array::from_fn(|_| vec![0.0; dof]);
+        let knots = spline.knots();
+        let (first, last) = (knots[0], knots[knots.len() - 1]);
+        let step = BODY_RATE_STEP * (last - first).max(f64::MIN_POSITIVE);
+        let mut velocity_at = |s: f64| {
+            spline.evaluate_into(
+                s,
+                PathPoint {
+                    q: &mut q,
+                    dq: &mut dq,
+                    ddq: &mut ddq,
+                },
+            );
+            self.velocity(&q, &dq, jacobian)
+        };
+        let (before, after) = ((s - step).max(first), (s + step).min(last));
+        let (linear_before, angular_before) = velocity_at(before)?;
+        let (linear_after, angular_after) = velocity_at(after)?;
+        let (linear, angular) = velocity_at(s)?;
+        let span = after - before;
+        Ok(BodyRates {
+            linear,
+            linear_rate: (linear_after - linear_before) / span,
+            angular,
+            angular_rate: (angular_after - angular_before) / span,
+        })
+    }
+
+    /// The rows of the acceleration limits at `s` (see the module documentation).
+    fn acceleration_rows(
+        &self,
+        spline: &JointSpline,
+        s: f64,
+        jacobian: &mut Matrix6xX<f64>,
+        rows: &mut Vec<Row>,
+    ) -> Result<(), TimingError> {
+        let rates = self.rates(spline, s, jacobian)?;
+        for (limit, which, linear) in self.acceleration_limits() {
+            let (w, w_rate) = if linear {
+                (rates.linear, rates.linear_rate)
+            } else {
+                (rates.angular, rates.angular_rate)
+            };
+            let bound = limit * CUBE_COVER_COS;
+            for d in CUBE_DIRECTIONS {
+                let d = Vector3::from(d).normalize();
+                rows.push(Row {
+                    a: d.dot(&w),
+                    b: d.dot(&w_rate),
+                    lo: -bound,
+                    hi: bound,
+                    limit: which,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The number of rows [`ObjectLimits::acceleration_rows`] adds at a grid point.
+    fn acceleration_row_count(&self) -> usize {
+        self.acceleration_limits().count() * CUBE_DIRECTIONS.len()
     }
 
     /// The largest `x` the limits allow at `q` moving along `dq`, and which limit sets it.
@@ -85,6 +259,9 @@ impl ObjectSpeedLimits<'_> {
         dq: &[f64],
         jacobian: &mut Matrix6xX<f64>,
     ) -> Result<(f64, Option<Limit>), TimingError> {
+        if self.linear.is_none() && self.angular.is_none() {
+            return Ok((f64::INFINITY, None));
+        }
         let (linear, angular) = self.speeds(q, dq, jacobian)?;
         let mut bound = (f64::INFINITY, None);
         for (limit, speed, which) in [
@@ -184,12 +361,23 @@ impl PathLimits<'_> {
                 for k in 1..OBJECT_CHECKS_PER_INTERVAL {
                     let fraction = k as f64 / OBJECT_CHECKS_PER_INTERVAL as f64;
                     let s = s0 + fraction * (s1 - s0);
-                    let sd = (x0 + fraction * (x1 - x0)).sqrt();
+                    let x = x0 + fraction * (x1 - x0);
+                    let sd = x.sqrt();
                     evaluate(s, &mut q, &mut qd, &mut qdd);
                     let (linear, angular) = object.speeds(&q, &qd, &mut jacobian)?;
                     for (limit, speed) in [(object.linear, linear), (object.angular, angular)] {
                         if let Some(limit) = limit {
                             k2 = k2.max((speed * sd / limit).powi(2));
+                        }
+                    }
+                    // A uniform slow-down by k divides both `u` and `x`, so the
+                    // acceleration, by k².
+                    if object.limits_acceleration() {
+                        let rates = object.rates(spline, s, &mut jacobian)?;
+                        let (linear, angular) = rates.accelerations(u, x);
+                        for (limit, _, is_linear) in object.acceleration_limits() {
+                            let norm = if is_linear { linear } else { angular }.norm();
+                            k2 = k2.max(norm / limit);
                         }
                     }
                 }
@@ -233,7 +421,11 @@ impl PathLimits<'_> {
         let grid = grid(spline.knots(), self.subdivisions.max(1));
         let accelerated: Vec<(usize, f64)> = limited(self.acceleration);
         let torqued: Vec<(usize, f64)> = self.torque.map_or(Vec::new(), |t| limited(t.effort));
-        let rows_per_point = accelerated.len() + torqued.len();
+        let object_rows = self
+            .object
+            .as_ref()
+            .map_or(0, ObjectLimits::acceleration_row_count);
+        let rows_per_point = accelerated.len() + torqued.len() + object_rows;
         let mut rows = Vec::with_capacity(grid.len() * rows_per_point);
         let mut x_max = Vec::with_capacity(grid.len());
         let mut dynamics = match &self.torque {
@@ -284,6 +476,9 @@ impl PathLimits<'_> {
                         limit: Limit::Torque(j),
                     });
                 }
+            }
+            if let Some(object) = self.object.as_ref().filter(|o| o.limits_acceleration()) {
+                object.acceleration_rows(spline, s, &mut jacobian, &mut rows)?;
             }
         }
         Ok(Constraints {

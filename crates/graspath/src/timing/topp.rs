@@ -37,7 +37,7 @@ pub struct Row {
 }
 
 /// The quantity a constraint limits: a joint's velocity, acceleration or torque, or the carried
-/// object's speed.
+/// object's speed or acceleration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Limit {
     /// Joint `j`'s velocity.
@@ -50,6 +50,10 @@ pub enum Limit {
     ObjectSpeed,
     /// The carried object's angular speed.
     ObjectTurnRate,
+    /// The carried object's linear acceleration.
+    ObjectAcceleration,
+    /// The carried object's angular acceleration.
+    ObjectAngularAcceleration,
 }
 
 /// Where a stage's constraints are imposed (toppra's `DiscretizationType`).

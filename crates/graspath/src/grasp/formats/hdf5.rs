@@ -38,8 +38,9 @@ pub(crate) fn read_datasets(
             let dataset = match file.dataset(name) {
                 Ok(dataset) => dataset,
                 Err(e) if is_not_found(&e) => return Ok(None),
-                // Present but not readable (an external link, a damaged object header): say
-                // why, rather than calling it missing.
+                // Present but not readable (a damaged object header): say why, rather than
+                // calling it missing. (The reader leaves out links it cannot follow, external
+                // or dangling: those read as absent.)
                 Err(e) => return Err(err(format!("cannot be opened: {}", innermost(&e)))),
             };
             let shape: Vec<usize> = dataset

@@ -12,7 +12,7 @@ use crate::failure::{Failure, FailureReason, Phase};
 use crate::robot::{Dynamics, RigidBody};
 use crate::task::TimingSettings;
 use crate::timing::{
-    Constraints, Discretization, JointSpline, Limit, ObjectSpeedLimits, PathLimits, TimedPath,
+    Constraints, Discretization, JointSpline, Limit, ObjectLimits, PathLimits, TimedPath,
     TimedTrajectory, TimingError, TorqueLimits, TrajectoryPoint,
 };
 use std::ops::Range;
@@ -54,8 +54,9 @@ pub(super) struct TimingCheck<'a> {
     dynamics: Option<&'a Dynamics>,
     /// The carried object in the tool frame.
     payload: Option<RigidBody>,
-    /// Limits on the carried object's speed (while carrying), with the task's.
-    object_speed: Option<ObjectSpeedLimits<'a>>,
+    /// Limits on the carried object's speed and acceleration (while carrying), with the
+    /// task's.
+    object_limits: Option<ObjectLimits<'a>>,
     /// The whole-motion samples of the approach (with the grasp), the carry and the retreat
     /// (with the place).
     approach: Range<usize>,
@@ -100,13 +101,15 @@ impl<'a> TimingCheck<'a> {
             effort: limits.iter().map(|l| l.effort).collect(),
             dynamics,
             payload: payload.map(|p| p.transformed(&wrist_from_object)),
-            object_speed: (settings.object_speed.is_some() || settings.object_turn_rate.is_some())
-                .then_some(ObjectSpeedLimits {
-                    chain,
-                    origin_in_tool: wrist_from_object.translation.vector,
-                    linear: settings.object_speed,
-                    angular: settings.object_turn_rate,
-                }),
+            object_limits: ObjectLimits {
+                chain,
+                origin_in_tool: wrist_from_object.translation.vector,
+                linear: settings.object_speed,
+                angular: settings.object_turn_rate,
+                linear_acceleration: settings.object_acceleration,
+                angular_acceleration: settings.object_angular_acceleration,
+            }
+            .any(),
             approach: if before > 0 { 0..before + 1 } else { 0..0 },
             carry: before..before + n,
             retreat: if total > before + n {
@@ -127,7 +130,7 @@ impl<'a> TimingCheck<'a> {
                 effort: &self.effort,
                 payload: if carrying { self.payload } else { None },
             }),
-            object: self.object_speed.filter(|_| carrying),
+            object: self.object_limits.filter(|_| carrying),
             subdivisions: self.settings.subdivisions,
             discretization: Discretization::Interpolation,
         }
@@ -306,6 +309,10 @@ impl<'a> TimingCheck<'a> {
             Some(Limit::Torque(j)) => format!("joint '{}''s torque limit", names[*j]),
             Some(Limit::ObjectSpeed) => "the object's speed limit".into(),
             Some(Limit::ObjectTurnRate) => "the object's turn-rate limit".into(),
+            Some(Limit::ObjectAcceleration) => "the object's acceleration limit".into(),
+            Some(Limit::ObjectAngularAcceleration) => {
+                "the object's angular acceleration limit".into()
+            }
             None => "the limits".into(),
         };
         let sample = first

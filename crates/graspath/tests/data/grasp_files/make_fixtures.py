@@ -186,9 +186,14 @@ with h5py.File(os.path.join(BAD, "no_transforms.h5"), "w") as f:  # ACRONYM with
     f["grasps/qualities/flex/object_in_gripper"] = np.ones(3, dtype=np.int64)
 with h5py.File(os.path.join(BAD, "transforms_3x3.h5"), "w") as f:  # wrong shape
     f["grasps/transforms"] = np.tile(np.eye(3), (2, 1, 1))
-with h5py.File(os.path.join(BAD, "external_transforms.h5"), "w") as f:  # grasps in another file
+damaged = os.path.join(BAD, "damaged_transforms.h5")  # the grasps' object header overwritten
+with h5py.File(damaged, "w") as f:
     f["object/scale"] = 0.01
-    f["grasps/transforms"] = h5py.ExternalLink("elsewhere.h5", "/grasps/transforms")
+    f["grasps/transforms"] = np.tile(np.eye(4), (2, 1, 1))
+    header = h5py.h5o.get_info(f["grasps/transforms"].id).addr
+with open(damaged, "r+b") as f:
+    f.seek(header)
+    f.write(b"\xff" * 8)
 np.savez(os.path.join(BAD, "wrong_shape.npz"), pred_grasps_cam=np.zeros((3, 4)), scores=np.ones(3))
 # Contact-GraspNet keys with the poses one array but the scores per segment.
 np.savez(os.path.join(BAD, "mixed_segments.npz"), pred_grasps_cam=np.tile(np.eye(4), (2, 1, 1)),

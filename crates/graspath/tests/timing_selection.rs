@@ -328,6 +328,74 @@ fn an_object_speed_limit_holds_along_the_carry_and_slows_it() {
     );
 }
 
+/// Limits on the carried object's acceleration (linear and angular) hold along the written
+/// carry, checked by finite differences of the object's pose by forward kinematics, and bind:
+/// the carry is slower than without them, and the largest acceleration comes near the limit
+/// (the rows keep it within `cos 27.57° ≈ 0.886` of it in the worst direction).
+#[test]
+fn object_acceleration_limits_hold_along_the_carry_and_slow_it() {
+    let (linear_limit, angular_limit) = (0.5, 2.0); // m/s², rad/s²
+    let plain = task("");
+    let gentle = task(&format!(
+        "timing: {{ object_acceleration: {linear_limit}, object_angular_acceleration: {angular_limit} }}"
+    ));
+    let (plain_selection, gentle_selection) = (
+        select(&plain, &|| {}).unwrap(),
+        select(&gentle, &|| {}).unwrap(),
+    );
+    let (fast, chosen) = (best(&plain_selection), best(&gentle_selection));
+    assert_eq!(
+        fast.candidate.id, chosen.candidate.id,
+        "the limits change no feasibility"
+    );
+    let durations = chosen.durations.unwrap();
+    assert!(
+        durations.carry > fast.durations.unwrap().carry * 1.1,
+        "{} s against {} s",
+        durations.carry,
+        fast.durations.unwrap().carry
+    );
+    // Oracle: the object's pose by forward kinematics at every point of the written
+    // trajectory, its accelerations by second differences.
+    let period = 0.002;
+    let motion = &selected_motions(&gentle, &gentle_selection, Some(period))
+        .unwrap()
+        .unwrap()[0];
+    let chain = &gentle.arms()[0].chain;
+    let tool_from_object = chosen.candidate.object_from_wrist.inverse();
+    let origin = nalgebra::Point3::from(tool_from_object.translation.vector);
+    let turn = tool_from_object.rotation.to_rotation_matrix();
+    // The object's origin and orientation in the base frame.
+    let pose = |q: &[f64]| {
+        let base_from_tool = chain.pose(q).unwrap();
+        (base_from_tool * origin, base_from_tool.rotation * turn)
+    };
+    let (start, end) = (durations.approach, durations.approach + durations.carry);
+    let (mut linear, mut angular): (f64, f64) = (0.0, 0.0);
+    for triple in motion.trajectory.points.windows(3) {
+        if triple[0].time < start || triple[2].time > end {
+            continue;
+        }
+        let h = triple[1].time - triple[0].time;
+        if (triple[2].time - triple[1].time - h).abs() > 1e-9 {
+            continue; // a phase's last, shorter step
+        }
+        let [a, b, c] = [0, 1, 2].map(|k| pose(&triple[k].positions));
+        let second = (a.0.coords - 2.0 * b.0.coords + c.0.coords) / (h * h);
+        linear = linear.max(second.norm());
+        // Angular velocity over each step from the relative rotation, then its change.
+        type Pose = (nalgebra::Point3<f64>, nalgebra::Rotation3<f64>);
+        let rate = |from: &Pose, to: &Pose| (to.1 * from.1.inverse()).scaled_axis() / h;
+        angular = angular.max((rate(&b, &c) - rate(&a, &b)).norm() / h);
+    }
+    assert!(linear <= linear_limit * 1.02, "{linear} m/s²");
+    assert!(angular <= angular_limit * 1.02, "{angular} rad/s²");
+    assert!(
+        linear >= linear_limit * 0.8 || angular >= angular_limit * 0.8,
+        "neither limit binds ({linear} m/s², {angular} rad/s²)"
+    );
+}
+
 #[test]
 fn the_motion_passes_each_ik_sample_at_its_sample_time() {
     for extra in ["", "timing: { stops: false }"] {

@@ -659,4 +659,35 @@ mod tests {
             );
         }
     }
+
+    /// The nearest of the 26 points `±CUBE_DIRECTIONS` to `v` (unit): its cosine.
+    fn nearest_cos(v: &Vector3<f64>) -> f64 {
+        CUBE_DIRECTIONS
+            .iter()
+            .map(|d| Vector3::from(*d).normalize().dot(v).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn the_cube_directions_cover_the_sphere_within_the_stated_angle() {
+        // Closed form: the circumcentre of the spherical triangle face–edge–corner.
+        let s = Vector3::new(1.0, 2f64.sqrt() - 1.0, 3f64.sqrt() - 2f64.sqrt());
+        assert!((1.0 / s.norm() - CUBE_COVER_COS).abs() < 1e-15);
+        // That point is as far as the stated angle from all 26, ...
+        assert!((nearest_cos(&s.normalize()) - CUBE_COVER_COS).abs() < 1e-12);
+        // ... and no unit vector of a fine grid on the sphere is farther.
+        let n = 400;
+        for i in 0..=n {
+            let polar = std::f64::consts::PI * i as f64 / n as f64;
+            for j in 0..2 * n {
+                let azimuth = std::f64::consts::PI * j as f64 / n as f64;
+                let v = Vector3::new(
+                    polar.sin() * azimuth.cos(),
+                    polar.sin() * azimuth.sin(),
+                    polar.cos(),
+                );
+                assert!(nearest_cos(&v) >= CUBE_COVER_COS - 1e-12, "{v:?}");
+            }
+        }
+    }
 }

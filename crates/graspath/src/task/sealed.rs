@@ -41,7 +41,8 @@ pub struct ArmSetup {
 }
 
 /// A task ready to score: who, what, where to grasp, and how the object must move. Built by
-/// [`TaskBuilder`] (or [`Task::load`] from a task file), so every value has been checked.
+/// [`TaskBuilder`](super::TaskBuilder) (or [`Task::load`] from a task file), so every value
+/// has been checked.
 ///
 /// ```
 /// use graspath::grasp::edge_family;

@@ -109,7 +109,8 @@ fn task_slices(
 ///   candidates), ``id`` (int64, the candidate's id), ``label`` (str);
 /// * ``feasible`` (bool); ``failure_reason`` (object: the reason, ``unreachable``, ``joint_limit``,
 ///   ``discontinuity``, ``collision``, …, or ``None``); ``failure_sample`` (float64, NaN when
-///   feasible); ``rejected`` (object: why a feasible candidate is not ranked, or ``None``);
+///   feasible); ``failure_joint`` (object: the joint at fault, or ``None``); ``rejected``
+///   (object: why a feasible candidate is not ranked, or ``None``);
 /// * ``log_likelihood`` (float64, the candidate's); ``mu_l2``, ``mu_linf`` (``inf`` on a
 ///   singular path), ``mu_l1``, ``mu_rms`` (float64, the norms of the ranked per-sample index — ``M_T`` in
 ///   the units of the task's index mode — NaN when infeasible); ``yoshikawa_at_grasp``,

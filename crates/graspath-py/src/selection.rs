@@ -82,8 +82,9 @@ impl PySelection {
     /// plotting and analysis: the record columns marked ``arrays`` in
     /// :func:`record_columns` (``docs/candidate-record.md``) — ``id`` (int64), ``label`` (str),
     /// ``feasible`` (bool), ``failure_reason`` (object, ``None`` when feasible),
-    /// ``failure_sample`` (float64, NaN when feasible), ``rejected`` (object), ``rank``
-    /// (float64, 1 for the best, NaN when not ranked), ``score``, ``log_likelihood``,
+    /// ``failure_sample`` (float64, NaN when feasible), ``failure_joint`` (object), ``rejected``
+    /// (object), ``rank`` (float64, 1 for the best, NaN when not ranked), ``score``,
+    /// ``log_likelihood``,
     /// ``mu_l2``, ``mu_linf`` (``inf`` on a singular path), ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``,
     /// ``yoshikawa_penalized_at_grasp`` (with a joint-limit penalty),
     /// ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,

@@ -105,6 +105,10 @@ pub struct Failure {
     /// `hand l_finger`, `right arm: link ...`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bodies: Option<[String; 2]>,
+    /// The joint at fault, when one is: the joint whose torque limit is exceeded
+    /// (`torque_limit`) or whose limit no timing satisfies (`timing_infeasible`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint: Option<String>,
 }
 
 impl Failure {
@@ -116,6 +120,7 @@ impl Failure {
             sample,
             detail: detail.into(),
             bodies: None,
+            joint: None,
         }
     }
 }

@@ -79,6 +79,22 @@ fn payload_capacity_is_the_largest_mass_the_motion_carries() {
         let failure = heavy.failure.as_ref().expect("too heavy");
         assert_eq!(failure.reason, FailureReason::TorqueLimit, "{failure}");
         assert!(failure.detail.contains("N·m"), "{failure}");
+        // The joint is a field too, the one the sentence names.
+        let joint = failure.joint.as_deref().expect("the joint at fault");
+        assert!(
+            unloaded.arms()[0]
+                .chain
+                .joint_names()
+                .iter()
+                .any(|j| j == joint),
+            "{joint}"
+        );
+        assert!(
+            failure
+                .detail
+                .starts_with(&format!("joint '{joint}' needs")),
+            "{failure}"
+        );
         checked += 1;
         if checked == 2 {
             break;

@@ -443,7 +443,7 @@ class Selection:
     def arrays(self, arm: str) -> Dict[str, npt.NDArray[Any]]:
         """Per-candidate numpy arrays, the record columns marked ``arrays`` in
         :func:`record_columns`: ``id``, ``label``, ``feasible``, ``failure_reason``,
-        ``failure_sample``, ``rejected``, ``rank``, ``score``, ``log_likelihood``, ``mu_l2``,
+        ``failure_sample``, ``failure_joint``, ``rejected``, ``rank``, ``score``, ``log_likelihood``, ``mu_l2``,
         ``mu_linf``, ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``, ``yoshikawa_penalized_at_grasp``,
         ``inverse_condition_at_grasp``, ``inverse_condition_squared_at_grasp``,
         ``limit_distance_min``, ``hugs_limit``, ``clearance``, ``torque_margin`` and
@@ -604,7 +604,8 @@ def select_batch(
     (object, arm, rank): ``object`` (int64, position in ``tasks``), ``arm`` (str), ``arm_index``
     (int64), ``candidate`` (int64, position in the task's candidates), ``id`` (int64), ``label``
     (str), ``feasible`` (bool), ``failure_reason`` (object: reason or ``None``), ``failure_sample``
-    (float64, NaN when feasible), ``rejected`` (object: why a feasible candidate is not ranked,
+    (float64, NaN when feasible), ``failure_joint`` (object: the joint at fault, or ``None``),
+    ``rejected`` (object: why a feasible candidate is not ranked,
     or ``None``), ``log_likelihood``, ``mu_l2``, ``mu_linf`` (``inf`` on a singular path),
     ``mu_l1``, ``mu_rms``, ``yoshikawa_at_grasp``, ``clearance`` (m), ``torque_margin`` and
     ``payload_capacity`` (kg; with the object's mass), ``dynamic_manipulability`` ((m/s²)²; with the object's mass or ``measure="dynamic"``), ``duration`` (s; timed motions),

@@ -247,9 +247,11 @@ class _CandidateFailureWhy(TypedDict):
 class CandidateFailure(_CandidateFailureWhy, total=False):
     """A record's ``failure`` group (``None`` when the candidate is feasible): ``reason``,
     ``phase``, ``sample`` and ``detail`` always, ``bodies`` (the colliding pair) for a
-    collision. See ``docs/candidate-record.md``."""
+    collision, ``joint`` (the joint at fault) for ``torque_limit`` and for a
+    ``timing_infeasible`` that a joint's limit causes. See ``docs/candidate-record.md``."""
 
     bodies: List[str]
+    joint: str
 
 
 class CandidateSelfMotion(TypedDict):

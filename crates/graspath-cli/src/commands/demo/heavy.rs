@@ -14,11 +14,6 @@ use std::path::Path;
 /// The bar's masses (kg), lightest first.
 pub(super) const MASSES_KG: [f64; 6] = [0.1, 0.25, 0.5, 1.0, 1.5, 2.0];
 
-/// The joint a `torque_limit` failure names (its detail starts `joint 'NAME' needs …`).
-fn torque_joint(detail: &str) -> Option<&str> {
-    detail.strip_prefix("joint '")?.split('\'').next()
-}
-
 /// The finding for one arm at one mass: how many candidates stay feasible, the best grasp by
 /// the task's index and by the dynamic manipulability, whether the best grasp without a mass
 /// (`light_best`) is still feasible, how many fail for their torques and at which joint, and
@@ -30,8 +25,8 @@ fn at_mass(mass: f64, arm: &ArmResult, light_best: Option<&str>) -> Value {
     for failure in arm.scores.iter().filter_map(|s| s.failure.as_ref()) {
         if failure.reason == FailureReason::TorqueLimit {
             torque_failures += 1;
-            if let Some(joint) = torque_joint(&failure.detail) {
-                *joints.entry(joint.to_string()).or_default() += 1;
+            if let Some(joint) = &failure.joint {
+                *joints.entry(joint.clone()).or_default() += 1;
             }
         }
     }
@@ -120,18 +115,4 @@ pub(super) fn summarise(heavy: &Value) -> String {
         })
         .collect();
     parts.join("; ")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_joint_is_read_from_a_torque_limit_detail() {
-        assert_eq!(
-            torque_joint("joint 'left_s1' needs -51.71 N·m to hold the arm still at sample 0"),
-            Some("left_s1")
-        );
-        assert_eq!(torque_joint("no joint here"), None);
-    }
 }

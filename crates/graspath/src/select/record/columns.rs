@@ -165,6 +165,15 @@ pub static COLUMNS: &[Column] = &[
     )
     .in_json(JsonPlace::In(Group::Failure, "bodies"), WhenAbsent::Omit),
     column(
+        "failure_joint",
+        Kind::Text,
+        "",
+        "the joint at fault: its torque limit (torque_limit) or the limit no timing satisfies",
+        FILES | ARRAYS | BATCH,
+        |r| Cell::Text(r.score.failure.as_ref().and_then(|f| f.joint.as_deref())),
+    )
+    .in_json(JsonPlace::In(Group::Failure, "joint"), WhenAbsent::Omit),
+    column(
         "rejected",
         Kind::Text,
         "",

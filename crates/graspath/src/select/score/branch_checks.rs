@@ -99,5 +99,6 @@ pub(super) fn collision_failure(hit: &CollisionHit, scoring: &Scoring<'_>) -> Fa
             hit.distance, hit.required
         ),
         bodies: Some(hit.bodies.clone()),
+        joint: None,
     })
 }

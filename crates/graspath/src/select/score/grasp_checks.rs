@@ -91,6 +91,7 @@ impl GraspCheck for FingerCheck<'_> {
                     self.opening
                 ),
                 bodies: None,
+                joint: None,
             });
         }
         let object = self.object?;
@@ -109,6 +110,7 @@ impl GraspCheck for FingerCheck<'_> {
                         self.opening, -depth
                     ),
                     bodies: Some([format!("hand {name}"), "object".into()]),
+                    joint: None,
                 });
             }
         }

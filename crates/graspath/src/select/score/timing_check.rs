@@ -303,6 +303,12 @@ impl<'a> TimingCheck<'a> {
             return self.failure(first, error);
         };
         let names = self.scoring.setup.arm.chain.joint_names();
+        let joint = match limit {
+            Some(Limit::Velocity(j) | Limit::Acceleration(j) | Limit::Torque(j)) => {
+                Some(names[*j].clone())
+            }
+            _ => None,
+        };
         let what = match limit {
             Some(Limit::Velocity(j)) => format!("joint '{}''s velocity limit", names[*j]),
             Some(Limit::Acceleration(j)) => format!("joint '{}''s acceleration limit", names[*j]),
@@ -327,6 +333,7 @@ impl<'a> TimingCheck<'a> {
             sample,
             detail: format!("no timing of the motion near this sample satisfies {what}"),
             bodies: None,
+            joint,
         })
     }
 
@@ -338,6 +345,7 @@ impl<'a> TimingCheck<'a> {
             sample,
             detail: crate::fault::Chain(error).to_string(),
             bodies: None,
+            joint: None,
         })
     }
 }

@@ -69,9 +69,11 @@ impl BranchCheck for TorqueCheck<'_> {
                     }
                 });
             if let Err(e) = evaluated {
-                return Err(
-                    self.failure(sample, format!("the joint torques cannot be computed: {e}"))
-                );
+                return Err(self.failure(
+                    sample,
+                    None,
+                    format!("the joint torques cannot be computed: {e}"),
+                ));
             }
             for (j, limit) in self.limits.iter().enumerate() {
                 let Some(limit) = *limit else { continue };
@@ -82,6 +84,7 @@ impl BranchCheck for TorqueCheck<'_> {
                     let joint = &self.scoring.setup.arm.chain.joint_names()[j];
                     return Err(self.failure(
                         sample,
+                        Some(joint.clone()),
                         format!(
                             "joint '{joint}' needs {tau:.2} N·m to hold the arm{} still at \
                              sample {}, beyond its {limit:.2} N·m limit",
@@ -106,14 +109,16 @@ impl BranchCheck for TorqueCheck<'_> {
 }
 
 impl TorqueCheck<'_> {
-    /// A `torque_limit` failure at whole-motion sample `sample`, located in its phase.
-    fn failure(&self, sample: usize, detail: String) -> Failure {
+    /// A `torque_limit` failure at whole-motion sample `sample` (at `joint`), located in its
+    /// phase.
+    fn failure(&self, sample: usize, joint: Option<String>, detail: String) -> Failure {
         self.scoring.located(Failure {
             reason: FailureReason::TorqueLimit,
             phase: Phase::Path,
             sample,
             detail,
             bodies: None,
+            joint,
         })
     }
 }

@@ -123,6 +123,7 @@ fn expected_row(record: &Value) -> Map<String, Value> {
         ("failure_phase", "phase"),
         ("failure_sample", "sample"),
         ("failure_detail", "detail"),
+        ("failure_joint", "joint"),
     ] {
         row.insert(
             column.into(),

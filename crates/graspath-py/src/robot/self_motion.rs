@@ -59,6 +59,7 @@ impl PyRobot {
         length_scale: f64,
         options: SelfMotionOptions,
     ) -> PyResult<Bound<'py, PyDict>> {
+        // The fields read in the checks below; `options` itself goes to the search.
         let SelfMotionOptions {
             spacing,
             reach,
@@ -140,13 +141,6 @@ impl PyRobot {
             .collect();
         let value = |i: usize, _: &[f64], jacobian: &Matrix6xX<f64>| -> f64 {
             directions[i].map_or(0.0, |d| rows.task_relevant(jacobian, &d).powi(2))
-        };
-        let options = SelfMotionOptions {
-            spacing,
-            reach,
-            max_joint_step,
-            position_tolerance,
-            rotation_tolerance,
         };
         let chain = &self.chain;
         let found = py

@@ -169,27 +169,17 @@ impl<'a> ObjectLimits<'a> {
         Ok((v_tool + omega.cross(&lever), omega))
     }
 
-    /// The body's linear and angular speed per unit `ṡ` at `q` moving along `dq`.
-    fn speeds(
-        &self,
-        q: &[f64],
-        dq: &[f64],
-        jacobian: &mut Matrix6xX<f64>,
-    ) -> Result<(f64, f64), TimingError> {
-        let (linear, angular) = self.velocity(q, dq, jacobian)?;
-        Ok((linear.norm(), angular.norm()))
-    }
-
-    /// The body's velocity per unit `ṡ` at `s` on `spline` and its derivative along the path,
-    /// the derivative by central differences of the velocity (one-sided at the path's ends).
+    /// The body's velocity per unit `ṡ` at `s` on `spline` (given: `velocity`, from
+    /// [`ObjectLimits::velocity`]) and its derivative along the path, by central differences
+    /// of the velocity (one-sided at the path's ends); `scratch` holds the path points.
     fn rates(
         &self,
         spline: &JointSpline,
         s: f64,
+        (linear, angular): (Vector3<f64>, Vector3<f64>),
+        scratch: &mut PathScratch,
         jacobian: &mut Matrix6xX<f64>,
     ) -> Result<BodyRates, TimingError> {
-        let dof = spline.dof();
-        let [mut q, mut dq, mut ddq] = std::array::from_fn(|_| vec![0.0; dof]);
         let knots = spline.knots();
         let (first, last) = (knots[0], knots[knots.len() - 1]);
         let step = BODY_RATE_STEP * (last - first).max(f64::MIN_POSITIVE);
@@ -197,17 +187,16 @@ impl<'a> ObjectLimits<'a> {
             spline.evaluate_into(
                 s,
                 PathPoint {
-                    q: &mut q,
-                    dq: &mut dq,
-                    ddq: &mut ddq,
+                    q: &mut scratch.q,
+                    dq: &mut scratch.dq,
+                    ddq: &mut scratch.ddq,
                 },
             );
-            self.velocity(&q, &dq, jacobian)
+            self.velocity(&scratch.q, &scratch.dq, jacobian)
         };
         let (before, after) = ((s - step).max(first), (s + step).min(last));
         let (linear_before, angular_before) = velocity_at(before)?;
         let (linear_after, angular_after) = velocity_at(after)?;
-        let (linear, angular) = velocity_at(s)?;
         let span = after - before;
         Ok(BodyRates {
             linear,
@@ -217,15 +206,10 @@ impl<'a> ObjectLimits<'a> {
         })
     }
 
-    /// The rows of the acceleration limits at `s` (see the module documentation).
-    fn acceleration_rows(
-        &self,
-        spline: &JointSpline,
-        s: f64,
-        jacobian: &mut Matrix6xX<f64>,
-        rows: &mut Vec<Row>,
-    ) -> Result<(), TimingError> {
-        let rates = self.rates(spline, s, jacobian)?;
+    /// The rows of the acceleration limits at `s`, whose body rates are `rates` (see the
+    /// module documentation).
+    fn acceleration_rows(&self, rates: &BodyRates, rows: &mut Vec<Row>) {
+        let directions = CUBE_DIRECTIONS.map(|d| Vector3::from(d).normalize());
         for (limit, which, linear) in self.acceleration_limits() {
             let (w, w_rate) = if linear {
                 (rates.linear, rates.linear_rate)
@@ -233,8 +217,7 @@ impl<'a> ObjectLimits<'a> {
                 (rates.angular, rates.angular_rate)
             };
             let bound = limit * CUBE_COVER_COS;
-            for d in CUBE_DIRECTIONS {
-                let d = Vector3::from(d).normalize();
+            for d in &directions {
                 rows.push(Row {
                     a: d.dot(&w),
                     b: d.dot(&w_rate),
@@ -244,7 +227,6 @@ impl<'a> ObjectLimits<'a> {
                 });
             }
         }
-        Ok(())
     }
 
     /// The number of rows [`ObjectLimits::acceleration_rows`] adds at a grid point.
@@ -252,17 +234,10 @@ impl<'a> ObjectLimits<'a> {
         self.acceleration_limits().count() * CUBE_DIRECTIONS.len()
     }
 
-    /// The largest `x` the limits allow at `q` moving along `dq`, and which limit sets it.
-    fn bound(
-        &self,
-        q: &[f64],
-        dq: &[f64],
-        jacobian: &mut Matrix6xX<f64>,
-    ) -> Result<(f64, Option<Limit>), TimingError> {
-        if self.linear.is_none() && self.angular.is_none() {
-            return Ok((f64::INFINITY, None));
-        }
-        let (linear, angular) = self.speeds(q, dq, jacobian)?;
+    /// The largest `x` the speed limits allow for the body's velocity per unit `ṡ`
+    /// `(linear, angular)`, and which limit sets it.
+    fn bound(&self, (linear, angular): (Vector3<f64>, Vector3<f64>)) -> (f64, Option<Limit>) {
+        let (linear, angular) = (linear.norm(), angular.norm());
         let mut bound = (f64::INFINITY, None);
         for (limit, speed, which) in [
             (self.linear, linear, Limit::ObjectSpeed),
@@ -275,7 +250,25 @@ impl<'a> ObjectLimits<'a> {
                 }
             }
         }
-        Ok(bound)
+        bound
+    }
+}
+
+/// The path point buffers (`q`, `q'`, `q''`) of [`ObjectLimits::rates`], allocated once per
+/// timing.
+struct PathScratch {
+    q: Vec<f64>,
+    dq: Vec<f64>,
+    ddq: Vec<f64>,
+}
+
+impl PathScratch {
+    fn new(dof: usize) -> Self {
+        Self {
+            q: vec![0.0; dof],
+            dq: vec![0.0; dof],
+            ddq: vec![0.0; dof],
+        }
     }
 }
 
@@ -322,6 +315,7 @@ impl PathLimits<'_> {
         let [mut dq0, mut ddq0, mut qm, mut dqm, mut ddqm, mut dq1, mut ddq1] =
             std::array::from_fn(|_| vec![0.0; dof]);
         let mut jacobian = Matrix6xX::zeros(dof);
+        let mut scratch = PathScratch::new(dof);
         let evaluate = |s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64]| {
             spline.evaluate_into(s, PathPoint { q, dq, ddq });
         };
@@ -364,8 +358,11 @@ impl PathLimits<'_> {
                     let x = x0 + fraction * (x1 - x0);
                     let sd = x.sqrt();
                     evaluate(s, &mut q, &mut qd, &mut qdd);
-                    let (linear, angular) = object.speeds(&q, &qd, &mut jacobian)?;
-                    for (limit, speed) in [(object.linear, linear), (object.angular, angular)] {
+                    let velocity = object.velocity(&q, &qd, &mut jacobian)?;
+                    for (limit, speed) in [
+                        (object.linear, velocity.0.norm()),
+                        (object.angular, velocity.1.norm()),
+                    ] {
                         if let Some(limit) = limit {
                             k2 = k2.max((speed * sd / limit).powi(2));
                         }
@@ -373,7 +370,8 @@ impl PathLimits<'_> {
                     // A uniform slow-down by k divides both `u` and `x`, so the
                     // acceleration, by k².
                     if object.limits_acceleration() {
-                        let rates = object.rates(spline, s, &mut jacobian)?;
+                        let rates =
+                            object.rates(spline, s, velocity, &mut scratch, &mut jacobian)?;
                         let (linear, angular) = rates.accelerations(u, x);
                         for (limit, _, is_linear) in object.acceleration_limits() {
                             let norm = if is_linear { linear } else { angular }.norm();
@@ -438,6 +436,7 @@ impl PathLimits<'_> {
         };
         let [mut q, mut dq, mut ddq, mut g, mut a, mut b] = std::array::from_fn(|_| vec![0.0; dof]);
         let mut jacobian = Matrix6xX::zeros(dof);
+        let mut scratch = PathScratch::new(dof);
         for &s in &grid {
             spline.evaluate_into(
                 s,
@@ -448,10 +447,17 @@ impl PathLimits<'_> {
                 },
             );
             let mut bound = velocity_bound(self.velocity, &dq);
+            // The carried body's velocity per unit `ṡ`, with the derivative along the path
+            // when an acceleration limit needs it.
+            let mut rates = None;
             if let Some(object) = &self.object {
-                let by_object = object.bound(&q, &dq, &mut jacobian)?;
+                let velocity = object.velocity(&q, &dq, &mut jacobian)?;
+                let by_object = object.bound(velocity);
                 if by_object.0 < bound.0 {
                     bound = by_object;
+                }
+                if object.limits_acceleration() {
+                    rates = Some(object.rates(spline, s, velocity, &mut scratch, &mut jacobian)?);
                 }
             }
             x_max.push(bound);
@@ -477,8 +483,8 @@ impl PathLimits<'_> {
                     });
                 }
             }
-            if let Some(object) = self.object.as_ref().filter(|o| o.limits_acceleration()) {
-                object.acceleration_rows(spline, s, &mut jacobian, &mut rows)?;
+            if let (Some(object), Some(rates)) = (&self.object, &rates) {
+                object.acceleration_rows(rates, &mut rows);
             }
         }
         Ok(Constraints {

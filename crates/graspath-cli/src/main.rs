@@ -7,9 +7,15 @@ mod exit;
 mod jsonl;
 mod output;
 mod robot_args;
+mod timings;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
+
+/// mimalloc instead of the C library's allocator: scoring workers free results that another
+/// thread allocated, which the C library's allocator serialises on a lock per arena.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// Task-relevant grasp selection (Ghalamzan et al., IROS 2016) and the kinematics behind it.
 #[derive(Debug, Parser)]
@@ -72,6 +78,11 @@ fn main() -> ExitCode {
     remove_temporaries_on_signals();
     let cli = Cli::parse();
     let done = |r: anyhow::Result<()>| r.map(|()| Finished::Done);
+    let timings = match &cli.command {
+        Command::Select(args) if args.output.timings => timings::Recorder::install(),
+        Command::Map(args) if args.output.timings => timings::Recorder::install(),
+        _ => None,
+    };
     let result = match cli.command {
         Command::Kinematics(args) => done(commands::kinematics::run(&args)),
         Command::Select(args) => commands::select::run(&args),
@@ -82,6 +93,9 @@ fn main() -> ExitCode {
         Command::Generate(args) => done(commands::generate::run(&args)),
         Command::ExportMjcf(args) => done(commands::export_mjcf::run(&args)),
     };
+    if let Some(timings) = timings {
+        eprint!("{}", timings.report());
+    }
     ExitCode::from(match result {
         Ok(Finished::Done) => exit::SUCCESS,
         Ok(Finished::NothingSelected) => exit::NOTHING_SELECTED,

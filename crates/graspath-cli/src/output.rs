@@ -45,6 +45,11 @@ pub(crate) struct OutputArgs {
     /// logs where no progress bar is drawn: batch jobs, CI, Ray workers. Off by default.
     #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
     pub progress_every: Option<f64>,
+    /// Print where the run's time went on stderr when it ends: per phase (reading the task,
+    /// producing, scoring and writing the candidates, ranking, pairing, writing the other
+    /// files), the wall time, the CPU time and how many threads were busy on average.
+    #[arg(long)]
+    pub timings: bool,
 }
 
 impl OutputArgs {
@@ -54,6 +59,7 @@ impl OutputArgs {
             quiet: true,
             json: false,
             progress_every: None,
+            timings: false,
         }
     }
 }

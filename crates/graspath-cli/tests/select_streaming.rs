@@ -1,6 +1,6 @@
 //! `graspath select --format jsonl`: the streamed records equal the in-memory `candidates.json`
 //! field by field (with `rank` and `pareto` taken from `ranking.jsonl`), `summary.json` and
-//! `pairs.json` are the same bytes, the output does not depend on the thread count, and
+//! `pairs.json` are the same bytes, no output depends on the thread count (1, 2, 8), and
 //! `--trajectories` keeps the motions it names. A task naming a candidate file (read in chunks
 //! when streamed) gives the same records, and a bad record in it the same error and no output.
 
@@ -212,24 +212,44 @@ fn a_bad_record_in_a_candidate_file_gives_the_in_memory_error_and_no_output() {
 }
 
 #[test]
-fn streamed_output_is_the_same_at_one_and_two_threads() {
+fn every_output_is_the_same_bytes_at_one_two_and_eight_threads() {
     let dir = tempfile::tempdir().unwrap();
     let task = faces_task(dir.path());
-    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
-    select(&task, &one, &["--format", "jsonl"], "1");
-    select(&task, &two, &["--format", "jsonl"], "2");
-    for name in ["candidates.jsonl", "ranking.jsonl", "summary.json"] {
-        let a = std::fs::read(one.join(name)).unwrap();
-        let b = std::fs::read(two.join(name)).unwrap();
-        assert!(a == b, "{name} differs between 1 and 2 threads");
+    let formats: [(&str, &[&str]); 3] = [
+        (
+            "jsonl",
+            &["candidates.jsonl", "ranking.jsonl", "summary.json"],
+        ),
+        (
+            "parquet",
+            &["candidates.parquet", "ranking.parquet", "summary.json"],
+        ),
+        ("json", &["candidates.json", "summary.json"]),
+    ];
+    for (format, files) in formats {
+        let runs: Vec<PathBuf> = ["1", "2", "8"]
+            .iter()
+            .map(|threads| {
+                let out = dir.path().join(format!("{format}-{threads}"));
+                select(&task, &out, &["--format", format], threads);
+                out
+            })
+            .collect();
+        for name in files {
+            let one = std::fs::read(runs[0].join(name)).unwrap();
+            for other in &runs[1..] {
+                let bytes = std::fs::read(other.join(name)).unwrap();
+                assert!(
+                    one == bytes,
+                    "{format}: {name} differs in {}",
+                    other.display()
+                );
+            }
+        }
     }
     // Nothing but the output folders beside them (no temporary folder left behind).
-    let mut names: Vec<String> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    assert_eq!(names, ["faces.yaml", "one", "two"]);
+    let names = std::fs::read_dir(dir.path()).unwrap().count();
+    assert_eq!(names, 1 + 3 * formats.len());
 }
 
 #[test]
@@ -409,4 +429,58 @@ fn progress_every_ticks_inside_a_long_candidate() {
     );
     assert_eq!(counts.last(), Some(&(1, 1)), "{stderr}");
     assert!(stderr.lines().last().unwrap().ends_with(", done"));
+}
+
+#[test]
+fn timings_name_every_phase_on_stderr_and_change_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = faces_task(dir.path());
+    let (plain, timed) = (dir.path().join("plain"), dir.path().join("timed"));
+    select(&task, &plain, &["--format", "parquet"], "2");
+    let output = common::select_output(
+        &task,
+        &timed,
+        &["--quiet", "--format", "parquet", "--timings"],
+        "2",
+    );
+    assert!(output.status.success());
+    assert!(output.stdout.is_empty(), "--quiet prints nothing on stdout");
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(
+        stderr.starts_with("graspath: timings (2 worker threads)"),
+        "{stderr}"
+    );
+    let phase = |name: &str| -> Vec<f64> {
+        let line = stderr
+            .lines()
+            .find(|l| l.trim_start().starts_with(name))
+            .unwrap_or_else(|| panic!("no phase '{name}' in\n{stderr}"));
+        line[line.find(name).unwrap() + name.len()..]
+            .split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    // entries, wall s, CPU s, busy threads, own CPU s
+    let scoring = phase("score (arm 'left')");
+    assert_eq!(scoring[0], 1.0);
+    for name in [
+        "read the task",
+        "rank (arm 'left')",
+        "write the ranking file",
+    ] {
+        assert_eq!(phase(name)[0], 1.0, "{name}");
+    }
+    assert_eq!(phase("produce candidates")[0], 1.0);
+    assert!(phase("hand on results")[0] >= 1.0);
+    let whole = phase("whole run");
+    assert!(whole[0] >= scoring[1], "the run is longer than its scoring");
+    assert!(
+        stderr.contains("outside the parallel scoring: "),
+        "{stderr}"
+    );
+    for name in ["candidates.parquet", "ranking.parquet", "summary.json"] {
+        let a = std::fs::read(plain.join(name)).unwrap();
+        let b = std::fs::read(timed.join(name)).unwrap();
+        assert!(a == b, "{name} differs with --timings");
+    }
 }

@@ -9,12 +9,11 @@
 //! position) gives the whole task's ranking, which is how `graspath.ray` merges its shards.
 
 use crate::convert::{error, lib_error};
-use crate::record::set_numpy_columns;
+use crate::record::{gather_columns, set_gathered_columns, ColumnValues};
 use crate::task::PyTask;
 use graspath::select::record::{self, outputs, Trajectories};
 use graspath::select::{select as run_selection, CandidateScore, Ranking};
 use graspath::task::Task;
-use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -190,24 +189,28 @@ pub fn select_batch<'py>(
             None => run(),
         }
     });
-    columns(py, &rows.map_err(lib_error)?)
+    let rows = rows.map_err(lib_error)?;
+    let columns = py.detach(|| columns(&rows)).map_err(error)?;
+    let dict = PyDict::new(py);
+    set_gathered_columns(py, &dict, columns)?;
+    Ok(dict)
 }
 
-/// The rows as a dict of numpy columns: the batch's own (`object`, `arm_index`, `candidate`),
-/// then the record columns marked `select_batch` (see [`set_numpy_columns`]).
-fn columns<'py>(py: Python<'py>, rows: &[Row]) -> PyResult<Bound<'py, PyDict>> {
-    let int = |f: fn(&Row) -> usize| -> Bound<'py, PyArray1<i64>> {
-        PyArray1::from_vec(py, rows.iter().map(|r| f(r) as i64).collect())
-    };
-    let dict = PyDict::new(py);
-    dict.set_item("object", int(|r| r.object))?;
-    dict.set_item("arm_index", int(|r| r.arm_index))?;
-    dict.set_item("candidate", int(|r| r.candidate))?;
+/// The rows' columns, gathered without Python: the batch's own (`object`, `arm_index`,
+/// `candidate`), then the record columns marked `select_batch` (see [`gather_columns`]).
+fn columns(rows: &[Row]) -> Result<Vec<(&'static str, ColumnValues<'_>)>, String> {
+    let int =
+        |f: fn(&Row) -> usize| ColumnValues::Integers(rows.iter().map(|r| f(r) as i64).collect());
+    let mut columns = vec![
+        ("object", int(|r| r.object)),
+        ("arm_index", int(|r| r.arm_index)),
+        ("candidate", int(|r| r.candidate)),
+    ];
     let records: Vec<record::Row<'_>> = rows
         .iter()
         .map(|r| record::Row::new(&r.arm, &r.score, &r.ranking, Trajectories::None))
         .collect();
     // No batch column is a per-sample series (the tasks' paths differ in length).
-    set_numpy_columns(py, &dict, &records, outputs::BATCH, 0)?;
-    Ok(dict)
+    columns.extend(gather_columns(&records, outputs::BATCH, 0)?);
+    Ok(columns)
 }

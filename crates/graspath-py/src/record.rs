@@ -11,11 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 /// Sets the record columns of `output` ([`outputs::ARRAYS`] or [`outputs::BATCH`]) over `rows`
-/// in `dict`: a float as float64 and a nullable count as float64 (NaN where absent; an infinite
-/// `mu_linf` stays infinite), a required count as int64, a flag as bool (false where absent), a
-/// required text as a str array and a nullable one as an object array (`None` where absent), a
-/// point as `(k, 3)`, a pose as `(k, 4, 4)` and a per-sample series as `(k, samples)` (NaN
-/// where absent, or the values of the column's numpy fallback).
+/// in `dict` (see [`gather_columns`] for each column's dtype and shape).
 pub fn set_numpy_columns<'py>(
     py: Python<'py>,
     dict: &Bound<'py, PyDict>,
@@ -23,78 +19,124 @@ pub fn set_numpy_columns<'py>(
     output: u8,
     samples: usize,
 ) -> PyResult<()> {
-    for column in COLUMNS.iter().filter(|c| c.in_output(output)) {
-        dict.set_item(column.name, numpy_column(py, column, rows, samples)?)?;
+    let columns = gather_columns(rows, output, samples).map_err(error)?;
+    set_gathered_columns(py, dict, columns)
+}
+
+/// One record column's values over the rows, gathered without the GIL.
+pub enum ColumnValues<'r> {
+    /// float64 values, row-major, and the array's shape.
+    Floats(Vec<f64>, Vec<usize>),
+    /// int64 values.
+    Integers(Vec<i64>),
+    /// bool values.
+    Flags(Vec<bool>),
+    /// Texts: a `str` array, or (`nullable`) an `object` array with `None` where absent.
+    Texts(Vec<Option<&'r str>>, bool),
+}
+
+/// The record columns of `output` ([`outputs::ARRAYS`] or [`outputs::BATCH`]) over `rows`, by
+/// name, in the schema's order; Python is not needed (the values of a large batch are gathered
+/// with the GIL released). A float is float64 and a nullable count float64 (NaN where absent; an
+/// infinite `mu_linf` stays infinite), a required count int64, a flag bool (false where
+/// absent), a required text a str array and a nullable one an object array (`None` where
+/// absent), a point `(k, 3)`, a pose `(k, 4, 4)` and a per-sample series `(k, samples)` (NaN
+/// where absent, or the values of the column's numpy fallback). Errors name a column of the
+/// output that has no numpy form.
+pub fn gather_columns<'r>(
+    rows: &[Row<'r>],
+    output: u8,
+    samples: usize,
+) -> Result<Vec<(&'static str, ColumnValues<'r>)>, String> {
+    COLUMNS
+        .iter()
+        .filter(|c| c.in_output(output))
+        .map(|column| Ok((column.name, column_values(column, rows, samples)?)))
+        .collect()
+}
+
+/// Turns gathered columns into numpy arrays in `dict` (the GIL held).
+pub fn set_gathered_columns<'py>(
+    py: Python<'py>,
+    dict: &Bound<'py, PyDict>,
+    columns: Vec<(&'static str, ColumnValues<'_>)>,
+) -> PyResult<()> {
+    for (name, values) in columns {
+        let array = match values {
+            ColumnValues::Floats(flat, shape) => array(py, flat, &shape)?.into_any(),
+            ColumnValues::Integers(values) => PyArray1::from_vec(py, values).into_any(),
+            ColumnValues::Flags(values) => PyArray1::from_vec(py, values).into_any(),
+            ColumnValues::Texts(texts, nullable) => text_array(py, texts, nullable)?,
+        };
+        dict.set_item(name, array)?;
     }
     Ok(())
 }
 
-fn numpy_column<'py>(
-    py: Python<'py>,
+fn column_values<'r>(
     column: &Column,
-    rows: &[Row<'_>],
+    rows: &[Row<'r>],
     samples: usize,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> Result<ColumnValues<'r>, String> {
     let k = rows.len();
     let cells = || rows.iter().map(|r| (column.value)(r));
     let nan = f64::NAN;
     Ok(match column.kind {
-        Kind::Float => PyArray1::from_vec(
-            py,
+        Kind::Float => ColumnValues::Floats(
             cells()
                 .map(|c| match c {
                     Cell::Float(v) => v.unwrap_or(nan),
                     _ => nan,
                 })
                 .collect(),
-        )
-        .into_any(),
+            vec![k],
+        ),
         Kind::Count => {
             let counts = cells().map(|c| match c {
                 Cell::Count(v) => v,
                 _ => None,
             });
             if column.nullable {
-                PyArray1::from_vec(py, counts.map(|v| v.map_or(nan, |v| v as f64)).collect())
-                    .into_any()
+                ColumnValues::Floats(
+                    counts.map(|v| v.map_or(nan, |v| v as f64)).collect(),
+                    vec![k],
+                )
             } else {
-                PyArray1::from_vec(py, counts.map(|v| v.unwrap_or(0) as i64).collect()).into_any()
+                ColumnValues::Integers(counts.map(|v| v.unwrap_or(0) as i64).collect())
             }
         }
-        Kind::Flag => PyArray1::from_vec(
-            py,
+        Kind::Flag => ColumnValues::Flags(
             cells()
                 .map(|c| matches!(c, Cell::Flag(Some(true))))
                 .collect(),
-        )
-        .into_any(),
-        Kind::Text => {
-            let texts: Vec<Option<&str>> = cells()
+        ),
+        Kind::Text => ColumnValues::Texts(
+            cells()
                 .map(|c| match c {
                     Cell::Text(v) => v,
                     _ => None,
                 })
-                .collect();
-            text_array(py, texts, column.nullable)?
-        }
-        Kind::Point => {
-            let flat: Vec<f64> = cells()
+                .collect(),
+            column.nullable,
+        ),
+        Kind::Point => ColumnValues::Floats(
+            cells()
                 .flat_map(|c| match c {
                     Cell::Point(Some(p)) => p,
                     _ => [nan; 3],
                 })
-                .collect();
-            array(py, flat, &[k, 3])?.into_any()
-        }
-        Kind::Pose => {
-            let flat: Vec<f64> = cells()
+                .collect(),
+            vec![k, 3],
+        ),
+        Kind::Pose => ColumnValues::Floats(
+            cells()
                 .flat_map(|c| match c {
                     Cell::Pose(m) => *m.as_flattened().first_chunk::<16>().expect("4 × 4"),
                     _ => [nan; 16],
                 })
-                .collect();
-            array(py, flat, &[k, 4, 4])?.into_any()
-        }
+                .collect(),
+            vec![k, 4, 4],
+        ),
         Kind::Series => {
             let fallback = column.numpy_fallback.and_then(column_named);
             let mut flat = vec![nan; k * samples];
@@ -118,14 +160,14 @@ fn numpy_column<'py>(
                     _ => {}
                 }
             }
-            array(py, flat, &[k, samples])?.into_any()
+            ColumnValues::Floats(flat, vec![k, samples])
         }
         Kind::Bodies | Kind::Motion => {
-            return Err(error(format!(
+            return Err(format!(
                 "the record column {} ({}) has no numpy form",
                 column.name,
                 column.kind.name()
-            )))
+            ))
         }
     })
 }

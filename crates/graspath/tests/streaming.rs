@@ -419,9 +419,11 @@ fn a_candidate_file_cut_short_while_it_is_streamed_ends_the_selection_with_its_e
     let dir = tempfile::tempdir().unwrap();
     let faces = std::fs::read_to_string(examples().join("workload_1000_faces.yaml"))
         .unwrap()
-        .replace("count: 1000", "count: 600")
+        .replace("count: 1000", "count: 8000")
         .replace("samples: 50", "samples: 4");
-    let family = "family: { faces: { count: 600, exclude: [bottom], depth: 0.02 } }";
+    // Enough candidates that the file is cut well after what the selection reads ahead of
+    // the results it hands on (at most `IN_FLIGHT` candidates and a few chunks).
+    let family = "family: { faces: { count: 8000, exclude: [bottom], depth: 0.02 } }";
     let text = with_candidate_file(&faces, family, dir.path(), "cut.csv");
     let file = TaskFile::parse(&text, "t.yaml", "yaml").expect("task parses");
     let task = Task::from_file_chunked(&file, "t.yaml", &examples()).expect("task builds");
@@ -431,7 +433,7 @@ fn a_candidate_file_cut_short_while_it_is_streamed_ends_the_selection_with_its_e
         calls += 1;
         if calls == 1 {
             let bytes = std::fs::read(&path).unwrap();
-            std::fs::write(&path, &bytes[..bytes.len() / 3]).unwrap();
+            std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
         }
         Ok(())
     });
@@ -439,7 +441,7 @@ fn a_candidate_file_cut_short_while_it_is_streamed_ends_the_selection_with_its_e
         Err(Stop::Candidates(e)) => assert!(e.file.ends_with("cut.csv"), "{e}"),
         other => panic!("expected the file's error, got {other:?}"),
     }
-    assert!(calls < 600, "the selection went on after the file was cut");
+    assert!(calls < 8000, "the selection went on after the file was cut");
 }
 
 /// A consumer's own error, or a candidate file's.

@@ -45,7 +45,7 @@ pub(crate) struct MapArgs {
     #[arg(long)]
     force: bool,
     #[command(flatten)]
-    output: OutputArgs,
+    pub(crate) output: OutputArgs,
 }
 
 fn axis(text: &str, flag: &str) -> Result<GridAxis> {
@@ -70,6 +70,7 @@ pub(crate) fn run(args: &MapArgs) -> Result<Finished> {
     let existing = Existing::replace_if(args.force);
     check_folder_target(&args.out, existing)?;
     let grid = grid(args)?;
+    let reading = tracing::info_span!("read the task").entered();
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
     super::check_out_spares_task_inputs(&args.out, &args.task, &file)?;
     let name = args.task.display().to_string();
@@ -87,11 +88,14 @@ pub(crate) fn run(args: &MapArgs) -> Result<Finished> {
     super::print_warnings(&name, &task);
     let parameter = FamilyParameter::from_task_file(&file, &task.all_candidates()?);
     drop(task);
+    drop(reading);
     let progress = Progress::new(&args.output, grid.len() as u64, &name, "placements");
     let started = std::time::Instant::now();
-    let map = placement_map(&builder, &grid, parameter, &|| progress.inc())?;
+    let map = tracing::info_span!("score the placements")
+        .in_scope(|| placement_map(&builder, &grid, parameter, &|| progress.inc()))?;
     progress.finish();
     let elapsed = started.elapsed();
+    let writing = tracing::info_span!("write the map files").entered();
     let json = placement_map_json(&name, &map);
     let mut bytes = serde_json::to_vec_pretty(&json)?;
     bytes.push(b'\n');
@@ -104,6 +108,7 @@ pub(crate) fn run(args: &MapArgs) -> Result<Finished> {
         files.push((format!("{}.png", figure.name), render_png(&figure.plot)?));
     }
     write_files(&args.out, &files, existing)?;
+    drop(writing);
     if args.output.json {
         crate::say!("{}", serde_json::to_string_pretty(&json)?);
     } else if !args.output.quiet {

@@ -64,7 +64,7 @@ pub(crate) struct SelectArgs {
     #[arg(long, value_name = "SECONDS", default_value_t = 0.01, value_parser = sampling_period)]
     trajectory_period: f64,
     #[command(flatten)]
-    output: OutputArgs,
+    pub(crate) output: OutputArgs,
 }
 
 /// `--trajectory-period`: 0 (the grid's points) or from 0.1 ms to 10 s.
@@ -165,19 +165,9 @@ fn run_task_but_candidates(
     let selection = select(task, &|| progress.inc())?;
     progress.finish();
     let elapsed = started.elapsed();
-    let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
-        let mut bytes = serde_json::to_vec_pretty(&v)?;
-        bytes.push(b'\n');
-        Ok(bytes)
-    };
-    let mut files = vec![(
-        "summary.json".to_string(),
-        pretty(summary_json(task, &selection))?,
-    )];
-    if task.arms().len() == 2 {
-        files.push(("pairs.json".to_string(), pretty(pairs_json(&selection))?));
-    }
+    let mut files = summary_files(task, &selection)?;
     if report {
+        let _rendering = tracing::info_span!("render the report").entered();
         files.extend(render_report(task, &selection, parameter)?);
     }
     Ok(TaskRun {
@@ -185,6 +175,47 @@ fn run_task_but_candidates(
         files,
         elapsed,
     })
+}
+
+/// `summary.json` and, with two arms, `pairs.json`: their names and bytes.
+fn summary_files<S: Scored>(
+    task: &Task,
+    selection: &Selection<S>,
+) -> Result<Vec<(String, Vec<u8>)>> {
+    let _summing_up = tracing::info_span!("sum up").entered();
+    let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
+        let mut bytes = serde_json::to_vec_pretty(&v)?;
+        bytes.push(b'\n');
+        Ok(bytes)
+    };
+    let mut files = vec![(
+        "summary.json".to_string(),
+        pretty(summary_json(task, selection))?,
+    )];
+    if task.arms().len() == 2 {
+        files.push(("pairs.json".to_string(), pretty(pairs_json(selection))?));
+    }
+    Ok(files)
+}
+
+/// Writes `files` (rendered already) and the selected grasps' timed trajectories into the
+/// output's temporary folder, then moves the folder into place.
+fn write_other_files<S: Scored>(
+    mut folder: FolderWriter,
+    task: &Task,
+    selection: &Selection<S>,
+    trajectory_period: f64,
+    files: &[(String, Vec<u8>)],
+) -> Result<()> {
+    let _writing = tracing::info_span!("write the other files").entered();
+    for (name, bytes) in files {
+        folder.write(name, bytes)?;
+    }
+    for (name, bytes) in trajectory_files(task, selection, trajectory_period)? {
+        folder.write(&name, &bytes)?;
+    }
+    folder.finish()?;
+    Ok(())
 }
 
 /// Where a streamed run's candidate records go.
@@ -236,6 +267,7 @@ fn stream_task(
     })?;
     progress.finish();
     let elapsed = started.elapsed();
+    let finishing = tracing::info_span!("finish the candidates file").entered();
     let file = match records {
         Records::Lines(lines) => lines,
         Records::Parquet(writer) => writer.finish().with_context(|| cannot(candidates_name))?,
@@ -243,6 +275,8 @@ fn stream_task(
     file.into_inner()
         .map_err(std::io::IntoInnerError::into_error)
         .with_context(|| cannot(candidates_name))?;
+    drop(finishing);
+    let _ranking_file = tracing::info_span!("write the ranking file").entered();
     let ranking = BufWriter::new(folder.create(ranking_name)?);
     let ranking = match args.format {
         Format::Parquet => {
@@ -258,19 +292,9 @@ fn stream_task(
         .into_inner()
         .map_err(std::io::IntoInnerError::into_error)
         .with_context(|| cannot(ranking_name))?;
-    let pretty = |v: serde_json::Value| -> Result<Vec<u8>> {
-        let mut bytes = serde_json::to_vec_pretty(&v)?;
-        bytes.push(b'\n');
-        Ok(bytes)
-    };
-    folder.write("summary.json", &pretty(summary_json(task, &selection))?)?;
-    if task.arms().len() == 2 {
-        folder.write("pairs.json", &pretty(pairs_json(&selection))?)?;
-    }
-    for (name, bytes) in trajectory_files(task, &selection, args.trajectory_period)? {
-        folder.write(&name, &bytes)?;
-    }
-    folder.finish()?;
+    drop(_ranking_file);
+    let files = summary_files(task, &selection)?;
+    write_other_files(folder, task, &selection, args.trajectory_period, &files)?;
     Ok((selection, elapsed))
 }
 
@@ -280,6 +304,7 @@ pub(crate) fn run(args: &SelectArgs) -> Result<Finished> {
     let existing = Existing::replace_if(args.force);
     // Refuse a bad --out before the work, not after it.
     check_folder_target(&args.out, existing)?;
+    let reading = tracing::info_span!("read the task").entered();
     let file = TaskFile::load(&args.task).context("cannot use the task file")?;
     super::check_out_spares_task_inputs(&args.out, &args.task, &file)?;
     let title = args.task.display().to_string();
@@ -292,21 +317,24 @@ pub(crate) fn run(args: &SelectArgs) -> Result<Finished> {
         )?;
         super::print_warnings(&title, &task);
         let parameter = FamilyParameter::from_task_file(&file, &task.all_candidates()?);
+        drop(reading);
         let run =
             run_task_but_candidates(&task, parameter.as_ref(), &args.output, &title, args.report)?;
         // `candidates.json` is written as it is rendered, then the other files.
         let mut folder = FolderWriter::begin(&args.out, existing)?;
         let name = "candidates.json";
+        let writing = tracing::info_span!("write the candidates file").entered();
         let mut file = folder.create(name)?;
         write_candidates_json(&mut file, &run.selection, trajectories)
             .with_context(|| format!("cannot write {}", args.out.join(name).display()))?;
-        for (name, bytes) in &run.files {
-            folder.write(name, bytes)?;
-        }
-        for (name, bytes) in trajectory_files(&task, &run.selection, args.trajectory_period)? {
-            folder.write(&name, &bytes)?;
-        }
-        folder.finish()?;
+        drop(writing);
+        write_other_files(
+            folder,
+            &task,
+            &run.selection,
+            args.trajectory_period,
+            &run.files,
+        )?;
         return finish(args, &task, &run.selection, &title, run.elapsed);
     }
     if args.report {
@@ -319,6 +347,7 @@ pub(crate) fn run(args: &SelectArgs) -> Result<Finished> {
     let task =
         Task::from_file_chunked(&file, &title, &base_dir).context("cannot use the task file")?;
     super::print_warnings(&title, &task);
+    drop(reading);
     let (selection, elapsed) = stream_task(&task, args, existing, &title, trajectories)?;
     finish(args, &task, &selection, &title, elapsed)
 }

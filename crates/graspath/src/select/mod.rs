@@ -17,8 +17,9 @@ pub use rank::{
 pub use run::{pairs_of_eligible, scoring_setup, select, ArmResult, PairInputError, Selection};
 pub use scalars::{CandidateScalars, FailurePoint, Scored};
 pub use score::{
-    for_each_score, score_candidates, timed_together, wrist_trajectory, CandidateScore, Failure,
-    MotionDurations, ScoringSetup, SelfMotionScores, TimedMotion, STREAM_CHUNK,
+    for_each_score, score_candidates, timed_together, wrist_trajectory, CandidateChunks,
+    CandidateScore, Failure, MotionDurations, ScoringSetup, SelfMotionScores, TimedMotion,
+    IN_FLIGHT, STREAM_CHUNK,
 };
 pub use stream::{select_streaming, Streamed, NAMED_BEST};
 pub use timed::{candidate_motions, selected_motions, SelectedMotion};

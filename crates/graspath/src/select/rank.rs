@@ -5,6 +5,7 @@ use super::scalars::Scored;
 use super::score::CandidateScore;
 use crate::grasp::Candidate;
 use crate::task::{LikelihoodRule, SelectionOptions};
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::sync::Arc;
@@ -279,7 +280,7 @@ pub fn best_pairs<S: Scored>(
     first: (&[S], &[Ranking]),
     second: (&[S], &[Ranking]),
     options: &SelectionOptions,
-    compatible: &dyn Fn(usize, usize) -> bool,
+    compatible: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> (Vec<PositionPair>, usize) {
     // Each arm's eligible candidates with the norm pairs are scored by.
     let eligible = |scores: &[S], ranks: &[Ranking]| -> Vec<(usize, f64)> {
@@ -362,14 +363,16 @@ pub struct PairArm<'a> {
 ///
 /// Best-first over each arm's candidates sorted by norm (both scores grow with each arm's
 /// value): a pair is visited only after the pairs that beat it in both arms, so the work grows with the pairs visited, not with the product
-/// of the two candidate counts, and `compatible` is asked only about the pairs visited, in
-/// order. The pairs depend only on the sets given, not on their order.
+/// of the two candidate counts, and `compatible` is asked only about the pairs visited (in
+/// parallel, a batch of the next ones at a time: it may be asked about a few pairs after the
+/// last one kept). The pairs depend only on the sets given, not on their order, nor on the
+/// thread count.
 pub fn best_pairs_of(
     first: PairArm<'_>,
     second: PairArm<'_>,
     (min_separation, count): (f64, usize),
     pair_score: PairScore,
-    compatible: &dyn Fn(usize, usize) -> bool,
+    compatible: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> (Vec<PositionPair>, usize) {
     // Each arm's eligible candidates, by norm (best first), then candidate order.
     let by_norm = |mut list: Vec<(usize, f64)>| {
@@ -407,28 +410,56 @@ pub fn best_pairs_of(
         }
     };
     push(&mut frontier, 0, 0);
-    while let Some(next) = frontier.pop() {
-        let (x, y) = next.at;
-        if y == 0 {
-            push(&mut frontier, x + 1, 0);
+    // The pairs come out of the frontier in the same order whatever `compatible` answers, so
+    // the next ones are asked about together, in parallel, and their answers taken in order:
+    // as many as pairs are still wanted (at least one per thread), twice as many after a
+    // batch with a refusal. Pairs asked about after the last kept one change nothing.
+    let threads = rayon::current_num_threads();
+    let mut growth = 1;
+    while kept.len() < count {
+        let wanted = (count - kept.len()).max(threads).saturating_mul(growth);
+        let mut batch = Vec::with_capacity(wanted.min(MAX_PAIR_BATCH));
+        while batch.len() < wanted.min(MAX_PAIR_BATCH) {
+            let Some(next) = frontier.pop() else {
+                break;
+            };
+            let (x, y) = next.at;
+            if y == 0 {
+                push(&mut frontier, x + 1, 0);
+            }
+            push(&mut frontier, x, y + 1);
+            let (pi, pj) = (
+                (first.grasp_point)(next.first),
+                (second.grasp_point)(next.second),
+            );
+            if (pi - pj).norm() >= min_separation {
+                batch.push(next);
+            }
         }
-        push(&mut frontier, x, y + 1);
-        let (i, j) = (next.first, next.second);
-        let (pi, pj) = ((first.grasp_point)(i), (second.grasp_point)(j));
-        if (pi - pj).norm() < min_separation {
-            continue;
-        }
-        if !compatible(i, j) {
-            refused += 1;
-            continue;
-        }
-        kept.push((i, j, next.score));
-        if kept.len() == count {
+        if batch.is_empty() {
             break;
+        }
+        let answers: Vec<bool> = batch
+            .par_iter()
+            .map(|pair| compatible(pair.first, pair.second))
+            .collect();
+        for (pair, compatible) in batch.iter().zip(answers) {
+            if !compatible {
+                refused += 1;
+                growth = (growth * 2).min(MAX_PAIR_BATCH);
+                continue;
+            }
+            kept.push((pair.first, pair.second, pair.score));
+            if kept.len() == count {
+                break;
+            }
         }
     }
     (kept, refused)
 }
+
+/// The most pairs [`best_pairs_of`] asks `compatible` about at once.
+const MAX_PAIR_BATCH: usize = 1024;
 
 /// A pair waiting in the best-first search: ordered by score, then by `tie` (the smaller is
 /// the greater, so the max-heap yields it first).
@@ -610,6 +641,68 @@ mod tests {
             }
             assert_eq!(got, expected, "seed {seed}");
             assert_eq!(refused, expected_refused, "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn pairs_checked_in_parallel_are_the_sequential_ones_at_any_thread_count() {
+        // Oracle: every pair materialised, sorted by (sum desc, first, second) and taken in
+        // order; most pairs are refused, so the batches grow and end past the last kept pair.
+        for seed in 0..10 {
+            let values = |n: usize, stream: u64| -> Vec<(usize, f64)> {
+                (0..n)
+                    .map(|i| {
+                        let r = crate::random::derive_seed(seed, stream, i as u64);
+                        (i, 0.5 + (r % 6) as f64 * 0.125)
+                    })
+                    .collect()
+            };
+            let (a, b) = (values(40, 3), values(31, 4));
+            let point = |i: usize| Point3::new((i % 3) as f64 * 0.05, 0.0, 0.0);
+            let compatible = |i: usize, j: usize| (i * 31 + j).is_multiple_of(7);
+            let mut all = Vec::new();
+            for &(i, x) in &a {
+                for &(j, y) in &b {
+                    if (point(i) - point(j)).norm() >= 0.04 {
+                        all.push((i, j, x + y));
+                    }
+                }
+            }
+            all.sort_by(|p, q| q.2.total_cmp(&p.2).then((p.0, p.1).cmp(&(q.0, q.1))));
+            let (mut expected, mut expected_refused) = (Vec::new(), 0);
+            for (i, j, score) in all {
+                if expected.len() == 15 {
+                    break;
+                }
+                if compatible(i, j) {
+                    expected.push((i, j, score));
+                } else {
+                    expected_refused += 1;
+                }
+            }
+            for threads in [1, 2, 5] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let (got, refused) = pool.install(|| {
+                    best_pairs_of(
+                        PairArm {
+                            eligible: a.clone(),
+                            grasp_point: &point,
+                        },
+                        PairArm {
+                            eligible: b.clone(),
+                            grasp_point: &point,
+                        },
+                        (0.04, 15),
+                        PairScore::Sum,
+                        &compatible,
+                    )
+                });
+                assert_eq!(got, expected, "seed {seed}, {threads} threads");
+                assert_eq!(refused, expected_refused, "seed {seed}, {threads} threads");
+            }
         }
     }
 

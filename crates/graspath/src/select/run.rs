@@ -8,8 +8,8 @@ use super::score::{score_candidates, CandidateScore, ScoringSetup, WorldSetup};
 use crate::collision::{check_arms, ArmMotion};
 use crate::grasp::CandidateError;
 use crate::task::{ArmSetup, Task};
-use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 /// One arm's results: the full scores ([`select`]) or their scalars
 /// ([`CandidateScalars`](super::CandidateScalars), [`select_streaming`](super::select_streaming)).
@@ -86,14 +86,17 @@ pub struct Selection<S = CandidateScore> {
 /// candidate file that can no longer be read (removed or changed since the task was loaded)
 /// is the error.
 pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Result<Selection, CandidateError> {
-    let candidates = task.all_candidates()?;
+    let candidates =
+        tracing::info_span!("produce candidates").in_scope(|| task.all_candidates())?;
     let arms: Vec<ArmResult> = task
         .arms
         .iter()
         .map(|arm| {
             let setup = scoring_setup(task, arm);
-            let scores = score_candidates(&setup, &candidates, progress);
-            let rankings = rank_against(&scores, &task.selection, task.max_log_likelihood());
+            let scores = tracing::info_span!("score", arm = arm.name.as_str())
+                .in_scope(|| score_candidates(&setup, &candidates, progress));
+            let rankings = tracing::info_span!("rank", arm = arm.name.as_str())
+                .in_scope(|| rank_against(&scores, &task.selection, task.max_log_likelihood()));
             ArmResult {
                 arm: arm.name.clone(),
                 scores,
@@ -102,6 +105,7 @@ pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Result<Selection, Ca
         })
         .collect();
     let (pairs, colliding_pairs) = if arms.len() == 2 {
+        let _pairing = tracing::info_span!("pair").entered();
         let apart = |a: &CandidateScore, b: &CandidateScore| {
             arms_apart(task, &whole_motion(a), &whole_motion(b))
         };
@@ -240,25 +244,29 @@ pub fn pairs_of_eligible(
     }
     // Every position is in range (checked above).
     let all = task.all_candidates()?;
-    // Whole motions scored on demand, once per arm and candidate.
-    let motions = RefCell::new(HashMap::new());
-    let need_motions = task.checks_arms_against_each_other();
-    let apart = |i: usize, j: usize| {
-        if !need_motions {
-            return true;
-        }
-        let mut motions = motions.borrow_mut();
-        for (arm, position) in [(0, i), (1, j)] {
-            motions.entry((arm, position)).or_insert_with(|| {
-                let setup = scoring_setup(task, &task.arms[arm]);
-                score_candidates(&setup, std::slice::from_ref(&all[position]), &|| {})
-                    .first()
-                    .map(whole_motion)
-                    .unwrap_or_default()
-            });
-        }
-        arms_apart(task, &motions[&(0, i)], &motions[&(1, j)])
+    // Whole motions scored on demand, once per arm and candidate (pairs are checked in
+    // parallel: a motion another thread is scoring is waited for, not scored again).
+    type Motion = Arc<Vec<Vec<f64>>>;
+    type Slot = Arc<OnceLock<Motion>>;
+    let motions: Mutex<HashMap<(usize, usize), Slot>> = Mutex::default();
+    let motion = |arm: usize, position: usize| -> Motion {
+        let slot = Arc::clone(
+            motions
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .entry((arm, position))
+                .or_default(),
+        );
+        let motion = slot.get_or_init(|| {
+            let setup = scoring_setup(task, &task.arms[arm]);
+            let scores = score_candidates(&setup, std::slice::from_ref(&all[position]), &|| {});
+            Arc::new(scores.first().map(whole_motion).unwrap_or_default())
+        });
+        Arc::clone(motion)
     };
+    let need_motions = task.checks_arms_against_each_other();
+    let apart =
+        |i: usize, j: usize| !need_motions || arms_apart(task, &motion(0, i), &motion(1, j));
     Ok(best_pairs_of(
         PairArm {
             eligible: first.to_vec(),

@@ -1,15 +1,16 @@
-//! Streaming selection: every candidate's full scores are handed on as soon as its chunk of
-//! [`STREAM_CHUNK`](super::STREAM_CHUNK) candidates is scored, and only a compact record of
-//! scalars ([`CandidateScalars`], about 250 bytes) and its ranking are kept per candidate and
-//! arm, so the memory held does not grow with the per-sample series (`M_T`, the ranked index,
-//! limit distances), the joint trajectories or the candidates themselves (a family's are
-//! computed and a candidate file's read chunk by chunk, see
+//! Streaming selection: every candidate's full scores are handed on in candidate order as soon
+//! as they and the scores before them are done ([`for_each_score`]: at most
+//! [`IN_FLIGHT`](super::IN_FLIGHT) candidates between production and the consumer), and only a
+//! compact record of scalars ([`CandidateScalars`], about 250 bytes) and its ranking are kept
+//! per candidate and arm, so the memory held does not grow with the per-sample series (`M_T`,
+//! the ranked index, limit distances), the joint trajectories or the candidates themselves (a
+//! family's are computed and a candidate file's read chunk by chunk, see
 //! [`Task::for_each_candidate_chunk`]).
 
 use super::rank::{assign_ranks, best_pairs, ranking_alone, ArmPair, Ranking};
 use super::run::{arms_apart, scoring_setup, whole_motion, ArmResult, Selection};
 use super::scalars::CandidateScalars;
-use super::score::{score_candidates, CandidateScore, STREAM_CHUNK};
+use super::score::{for_each_score, CandidateScore};
 use crate::grasp::CandidateError;
 use crate::task::Task;
 use std::sync::Arc;
@@ -31,9 +32,10 @@ pub struct Streamed<'a> {
     pub ranking: &'a Ranking,
 }
 
-/// [`select`](super::select) with the results streamed: scores every arm's candidates chunk by
-/// chunk (in parallel within a chunk) and calls `consume` for each candidate in candidate
-/// order, arm by arm, as soon as its chunk is done; stops at the first error `consume`
+/// [`select`](super::select) with the results streamed: scores every arm's candidates in
+/// parallel and calls `consume` for each candidate in candidate order, arm by arm, as soon as
+/// it and the candidates before it are scored (by one worker at a time while the others score
+/// the next ones: [`for_each_score`]); stops at the first error `consume`
 /// returns. Returns the selection with each candidate reduced to its [`CandidateScalars`]
 /// (rankings and pairs equal to [`select`](super::select)'s); the candidates themselves are
 /// held only for the [`NAMED_BEST`] best ranked of each arm and the kept pairs' members.
@@ -43,10 +45,10 @@ pub struct Streamed<'a> {
 /// (`collision.between_arms`): the eligible candidates then keep their whole motions for that
 /// check. `progress` is called once per scored candidate and arm. A candidate file that can no
 /// longer be read (changed since the task was loaded) ends the selection with its error.
-pub fn select_streaming<E: From<CandidateError>>(
+pub fn select_streaming<E: From<CandidateError> + Send>(
     task: &Task,
     progress: &(dyn Fn() + Sync),
-    mut consume: impl FnMut(Streamed<'_>) -> Result<(), E>,
+    mut consume: impl FnMut(Streamed<'_>) -> Result<(), E> + Send,
 ) -> Result<Selection<CandidateScalars>, E> {
     let max_log = task.max_log_likelihood();
     let keep_motions = task.arms.len() == 2 && task.checks_arms_against_each_other();
@@ -59,8 +61,12 @@ pub fn select_streaming<E: From<CandidateError>>(
         let mut scores = Vec::with_capacity(count);
         let mut rankings = Vec::with_capacity(count);
         let mut kept_motions = Vec::new();
-        task.for_each_candidate_chunk(STREAM_CHUNK, |chunk| -> Result<(), E> {
-            for score in score_candidates(&setup, chunk, progress) {
+        let scoring = tracing::info_span!("score", arm = arm.name.as_str()).entered();
+        for_each_score(
+            &setup,
+            task.candidates(),
+            progress,
+            |score| -> Result<(), E> {
                 let ranking = ranking_alone(&score, &task.selection, max_log);
                 consume(Streamed {
                     arm: &arm.name,
@@ -72,10 +78,13 @@ pub fn select_streaming<E: From<CandidateError>>(
                 }
                 scores.push(CandidateScalars::of(&score));
                 rankings.push(ranking);
-            }
-            Ok(())
-        })?;
-        assign_ranks(&scores, &mut rankings, &task.selection);
+                Ok(())
+            },
+        )?;
+        drop(scoring);
+        tracing::info_span!("rank", arm = arm.name.as_str())
+            .in_scope(|| assign_ranks(&scores, &mut rankings, &task.selection));
+        let _fetching = tracing::info_span!("fetch the best candidates").entered();
         for (i, (score, ranking)) in scores.iter_mut().zip(&rankings).enumerate() {
             if ranking.rank.is_some_and(|r| r <= NAMED_BEST) {
                 score.candidate = task.candidate_at(i)?;
@@ -89,6 +98,7 @@ pub fn select_streaming<E: From<CandidateError>>(
         });
     }
     let (pairs, colliding_pairs) = if arms.len() == 2 {
+        let _pairing = tracing::info_span!("pair").entered();
         let apart = |i: usize, j: usize| match (&motions[0][..], &motions[1][..]) {
             ([], _) | (_, []) => true,
             (a, b) => match (&a[i], &b[j]) {

@@ -7,12 +7,14 @@ mod candidate_score;
 mod dynamic_index;
 mod grasp_checks;
 mod path;
+mod pipeline;
 mod self_motion;
 mod timing_check;
 mod torque_check;
 
 pub use candidate_score::{CandidateScore, SelfMotionScores};
 pub use path::wrist_trajectory;
+pub use pipeline::{CandidateChunks, IN_FLIGHT};
 pub use timing_check::{MotionDurations, TimedMotion};
 
 use crate::collision::{ArmInScene, Body, ObjectAlong};
@@ -34,13 +36,15 @@ use dynamic_index::{dynamic_norm, dynamic_workspace};
 use grasp_checks::{grasp_checks, FingerCheck, GraspCheck};
 use nalgebra::{Isometry3, Matrix6xX};
 use path::{counted_samples, index_along, IndexSeries, ObjectMotion};
-use rayon::prelude::*;
+use pipeline::score_in_order;
 use self_motion::SelfMotionSearch;
+use std::convert::Infallible;
 use std::sync::Arc;
 use timing_check::TimingCheck;
 use torque_check::TorqueCheck;
 
-/// How many candidates are scored in parallel before their results are handed on in order.
+/// How many candidates are produced (computed or read) at a time, and scored in parallel before
+/// their results are handed on when scoring runs chunk by chunk (inside a rayon worker).
 pub const STREAM_CHUNK: usize = 256;
 
 /// How many candidates share one batch of first IK solves (their branches tracked four at a
@@ -107,11 +111,14 @@ impl WorldSetup<'_> {
     }
 }
 
-/// Scores every candidate for one arm and hands each result to `consume` as soon as its chunk
-/// of [`STREAM_CHUNK`] candidates is done, in candidate order, so a consumer can write results
-/// out without holding them all. A chunk's candidates are scored in parallel (rayon), in
-/// groups whose first IK solves are batched (at most `SOLVE_GROUP` candidates, fewer when
-/// there are many threads); the results depend neither on the thread count nor on the
+/// Scores every candidate for one arm and hands each result to `consume` in candidate order,
+/// as soon as it and every candidate before it are scored, so a consumer can write results out
+/// without holding them all; stops at the first error of the candidates (a file that can no
+/// longer be read) or of `consume`. The candidates are produced, scored and consumed at the
+/// same time: scored in parallel (rayon), in groups whose first IK solves are batched (at most
+/// `SOLVE_GROUP` candidates, fewer when there are many threads), produced on a thread of their
+/// own, and consumed by one worker at a time (so `consume` is `Send`); at most [`IN_FLIGHT`]
+/// are between production and `consume`. The results depend neither on the thread count nor on the
 /// grouping. `progress` is called once per candidate, as its group finishes.
 ///
 /// In a scene, the hand and what rides rigidly with it (the links after the last moving
@@ -125,12 +132,16 @@ impl WorldSetup<'_> {
 /// best branch is then chosen as a smooth function of the path's time for the largest ranked
 /// norm ([`crate::robot::optimize_smooth_self_motion`]), kept when it ranks higher and passes
 /// the branch checks (else the best branch).
-pub fn for_each_score(
+pub fn for_each_score<C, E>(
     setup: &ScoringSetup<'_>,
-    candidates: &[Arc<Candidate>],
+    candidates: &C,
     progress: &(dyn Fn() + Sync),
-    mut consume: impl FnMut(CandidateScore),
-) {
+    consume: impl FnMut(CandidateScore) -> Result<(), E> + Send,
+) -> Result<(), E>
+where
+    C: CandidateChunks + ?Sized,
+    E: From<C::Error> + Send,
+{
     let base_from_world = setup.arm.world_from_base.inverse();
     let motion = ObjectMotion::new(setup.path, &base_from_world);
     let times = setup.path.times();
@@ -138,17 +149,12 @@ pub fn for_each_score(
     let checks = grasp_checks(fingers.as_ref());
     // Groups small enough to give every thread several.
     let group = (STREAM_CHUNK / (4 * rayon::current_num_threads())).clamp(1, SOLVE_GROUP);
-    for chunk in candidates.chunks(STREAM_CHUNK) {
-        let scores: Vec<Vec<CandidateScore>> = chunk
-            .par_chunks(group)
-            .map(|group| {
-                let scores = score_group(setup, group, &motion, &times, &checks);
-                scores.iter().for_each(|_| progress());
-                scores
-            })
-            .collect();
-        scores.into_iter().flatten().for_each(&mut consume);
-    }
+    let score = |members: &[Arc<Candidate>]| {
+        let scores = score_group(setup, members, &motion, &times, &checks);
+        scores.iter().for_each(|_| progress());
+        scores
+    };
+    score_in_order(candidates, group, &score, consume)
 }
 
 /// The chosen motions of feasible candidates — one per arm, each scored with its arm's setup
@@ -202,7 +208,10 @@ pub fn score_candidates(
     progress: &(dyn Fn() + Sync),
 ) -> Vec<CandidateScore> {
     let mut scores = Vec::with_capacity(candidates.len());
-    for_each_score(setup, candidates, progress, |s| scores.push(s));
+    let Ok(()) = for_each_score::<_, Infallible>(setup, candidates, progress, |s| {
+        scores.push(s);
+        Ok(())
+    });
     scores
 }
 

@@ -8,6 +8,7 @@ mod jsonl;
 mod output;
 mod robot_args;
 mod timings;
+mod writeback;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -7,21 +7,23 @@
 //! whole (see `graspath::output_files`).
 
 use crate::output::{print_summary_table, OutputArgs, Progress};
+use crate::writeback::Writeback;
 use crate::Finished;
 use anyhow::{Context, Result};
 use clap::Args;
 use graspath::output_files::{check_folder_target, Existing, FolderWriter};
 use graspath::placement::FamilyParameter;
 use graspath::select::record::Trajectories;
-use graspath::select::{select, select_streaming, CandidateScalars, Scored, Selection};
+use graspath::select::{
+    select, select_streaming_prepared, CandidateScalars, Scored, Selection, Streamed,
+};
 use graspath::task::{Task, TaskFile};
 use graspath_report::{
     candidates_json_bytes, nothing_selected, pairs_json, render_report, summary_json,
     write_candidate_line, write_candidates_json, write_ranking_jsonl, write_ranking_parquet,
     CandidatesParquet,
 };
-use std::fs::File;
-use std::io::BufWriter;
+use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -221,9 +223,9 @@ fn write_other_files<S: Scored>(
 /// Where a streamed run's candidate records go.
 enum Records {
     /// `candidates.jsonl`.
-    Lines(BufWriter<File>),
+    Lines(BufWriter<Writeback>),
     /// `candidates.parquet`.
-    Parquet(Box<CandidatesParquet<BufWriter<File>>>),
+    Parquet(Box<CandidatesParquet<BufWriter<Writeback>>>),
 }
 
 /// Runs a loaded task with `--format jsonl` or `parquet`: the candidates file is written (into
@@ -244,7 +246,7 @@ fn stream_task(
         Format::Parquet => ("candidates.parquet", "ranking.parquet"),
         Format::Json | Format::Jsonl => ("candidates.jsonl", "ranking.jsonl"),
     };
-    let file = BufWriter::with_capacity(1 << 20, folder.create(candidates_name)?);
+    let file = BufWriter::with_capacity(1 << 20, Writeback::new(folder.create(candidates_name)?));
     let mut records = match args.format {
         Format::Parquet => Records::Parquet(Box::new(
             CandidatesParquet::new(file, trajectories).with_context(|| cannot(candidates_name))?,
@@ -256,15 +258,31 @@ fn stream_task(
     let started = std::time::Instant::now();
     // A write fails with the file written; a candidate file that can no longer be read (it
     // changed since it was checked) with its own error.
-    let selection = select_streaming(task, &|| progress.inc(), |streamed| {
-        match &mut records {
-            Records::Lines(lines) => {
-                write_candidate_line(lines, &streamed, trajectories).map_err(anyhow::Error::from)
+    // A JSON Lines record is rendered on the worker that scored its candidate (in parallel),
+    // and written in candidate order; a Parquet row is appended to the writer's columns in
+    // order.
+    let lines = matches!(records, Records::Lines(_));
+    let render = |streamed: Streamed<'_>| -> Option<std::io::Result<Vec<u8>>> {
+        lines.then(|| {
+            let mut line = Vec::new();
+            write_candidate_line(&mut line, &streamed, trajectories).map(|()| line)
+        })
+    };
+    let selection =
+        select_streaming_prepared(task, &|| progress.inc(), render, |streamed, rendered| {
+            match (&mut records, rendered) {
+                (Records::Lines(file), Some(line)) => line
+                    .and_then(|line| file.write_all(&line))
+                    .map_err(anyhow::Error::from),
+                (Records::Lines(file), None) => {
+                    write_candidate_line(file, &streamed, trajectories).map_err(anyhow::Error::from)
+                }
+                (Records::Parquet(writer), _) => {
+                    writer.push(&streamed).map_err(anyhow::Error::from)
+                }
             }
-            Records::Parquet(writer) => writer.push(&streamed).map_err(anyhow::Error::from),
-        }
-        .with_context(|| cannot(candidates_name))
-    })?;
+            .with_context(|| cannot(candidates_name))
+        })?;
     progress.finish();
     let elapsed = started.elapsed();
     let finishing = tracing::info_span!("finish the candidates file").entered();

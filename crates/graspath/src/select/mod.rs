@@ -21,5 +21,5 @@ pub use score::{
     CandidateScore, Failure, MotionDurations, ScoringSetup, SelfMotionScores, TimedMotion,
     IN_FLIGHT, STREAM_CHUNK,
 };
-pub use stream::{select_streaming, Streamed, NAMED_BEST};
+pub use stream::{select_streaming, select_streaming_prepared, Streamed, NAMED_BEST};
 pub use timed::{candidate_motions, selected_motions, SelectedMotion};

@@ -45,10 +45,27 @@ pub struct Streamed<'a> {
 /// (`collision.between_arms`): the eligible candidates then keep their whole motions for that
 /// check. `progress` is called once per scored candidate and arm. A candidate file that can no
 /// longer be read (changed since the task was loaded) ends the selection with its error.
+///
+/// `consume` runs one call at a time: work on each result that needs no other (rendering a
+/// record) runs on every core when it is done in [`select_streaming_prepared`]'s `prepare`.
 pub fn select_streaming<E: From<CandidateError> + Send>(
     task: &Task,
     progress: &(dyn Fn() + Sync),
     mut consume: impl FnMut(Streamed<'_>) -> Result<(), E> + Send,
+) -> Result<Selection<CandidateScalars>, E> {
+    select_streaming_prepared(task, progress, |_| (), |streamed, ()| consume(streamed))
+}
+
+/// [`select_streaming`] with each result first prepared where it was scored: `prepare` runs on
+/// the worker that scored the candidate, in parallel with the others (render a record, encode
+/// it), and `consume` gets the result again with what `prepare` made of it, in candidate order
+/// and one call at a time (write it out). The ranking alone, the compact record and (for the
+/// pair check) the whole motion are also taken on the scoring worker.
+pub fn select_streaming_prepared<P: Send, E: From<CandidateError> + Send>(
+    task: &Task,
+    progress: &(dyn Fn() + Sync),
+    prepare: impl Fn(Streamed<'_>) -> P + Sync,
+    mut consume: impl FnMut(Streamed<'_>, P) -> Result<(), E> + Send,
 ) -> Result<Selection<CandidateScalars>, E> {
     let max_log = task.max_log_likelihood();
     let keep_motions = task.arms.len() == 2 && task.checks_arms_against_each_other();
@@ -62,22 +79,38 @@ pub fn select_streaming<E: From<CandidateError> + Send>(
         let mut rankings = Vec::with_capacity(count);
         let mut kept_motions = Vec::new();
         let scoring = tracing::info_span!("score", arm = arm.name.as_str()).entered();
+        let ready = |score: CandidateScore| {
+            let ranking = ranking_alone(&score, &task.selection, max_log);
+            let prepared = prepare(Streamed {
+                arm: &arm.name,
+                score: &score,
+                ranking: &ranking,
+            });
+            Ready {
+                scalars: CandidateScalars::of(&score),
+                motion: (keep_motions && ranking.score.is_some()).then(|| whole_motion(&score)),
+                score,
+                ranking,
+                prepared,
+            }
+        };
         for_each_score(
             &setup,
             task.candidates(),
             progress,
-            |score| -> Result<(), E> {
-                let ranking = ranking_alone(&score, &task.selection, max_log);
-                consume(Streamed {
+            ready,
+            |ready| -> Result<(), E> {
+                let streamed = Streamed {
                     arm: &arm.name,
-                    score: &score,
-                    ranking: &ranking,
-                })?;
+                    score: &ready.score,
+                    ranking: &ready.ranking,
+                };
+                consume(streamed, ready.prepared)?;
                 if keep_motions {
-                    kept_motions.push(ranking.score.is_some().then(|| whole_motion(&score)));
+                    kept_motions.push(ready.motion);
                 }
-                scores.push(CandidateScalars::of(&score));
-                rankings.push(ranking);
+                scores.push(ready.scalars);
+                rankings.push(ready.ranking);
                 Ok(())
             },
         )?;
@@ -135,4 +168,14 @@ pub fn select_streaming<E: From<CandidateError> + Send>(
         pairs,
         colliding_pairs,
     })
+}
+
+/// A scored candidate with what its worker prepared for the consumer.
+struct Ready<P> {
+    score: CandidateScore,
+    ranking: Ranking,
+    scalars: CandidateScalars,
+    /// The whole motion, kept for the check between the arms when the candidate is eligible.
+    motion: Option<Vec<Vec<f64>>>,
+    prepared: P,
 }

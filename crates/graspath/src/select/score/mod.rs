@@ -111,7 +111,8 @@ impl WorldSetup<'_> {
     }
 }
 
-/// Scores every candidate for one arm and hands each result to `consume` in candidate order,
+/// Scores every candidate for one arm, makes each score into what `prepare` returns on the
+/// worker that scored it (in parallel), and hands each result to `consume` in candidate order,
 /// as soon as it and every candidate before it are scored, so a consumer can write results out
 /// without holding them all; stops at the first error of the candidates (a file that can no
 /// longer be read) or of `consume`. The candidates are produced, scored and consumed at the
@@ -132,11 +133,12 @@ impl WorldSetup<'_> {
 /// best branch is then chosen as a smooth function of the path's time for the largest ranked
 /// norm ([`crate::robot::optimize_smooth_self_motion`]), kept when it ranks higher and passes
 /// the branch checks (else the best branch).
-pub fn for_each_score<C, E>(
+pub fn for_each_score<C, E, T: Send>(
     setup: &ScoringSetup<'_>,
     candidates: &C,
     progress: &(dyn Fn() + Sync),
-    consume: impl FnMut(CandidateScore) -> Result<(), E> + Send,
+    prepare: impl Fn(CandidateScore) -> T + Sync,
+    consume: impl FnMut(T) -> Result<(), E> + Send,
 ) -> Result<(), E>
 where
     C: CandidateChunks + ?Sized,
@@ -152,7 +154,7 @@ where
     let score = |members: &[Arc<Candidate>]| {
         let scores = score_group(setup, members, &motion, &times, &checks);
         scores.iter().for_each(|_| progress());
-        scores
+        scores.into_iter().map(&prepare).collect()
     };
     score_in_order(candidates, group, &score, consume)
 }
@@ -208,10 +210,16 @@ pub fn score_candidates(
     progress: &(dyn Fn() + Sync),
 ) -> Vec<CandidateScore> {
     let mut scores = Vec::with_capacity(candidates.len());
-    let Ok(()) = for_each_score::<_, Infallible>(setup, candidates, progress, |s| {
-        scores.push(s);
-        Ok(())
-    });
+    let Ok(()) = for_each_score::<_, Infallible, _>(
+        setup,
+        candidates,
+        progress,
+        |s| s,
+        |s| {
+            scores.push(s);
+            Ok(())
+        },
+    );
     scores
 }
 

@@ -89,7 +89,10 @@ mod tests {
         }
         file.flush().unwrap();
         assert_eq!(file.written, (pieces << 20) as u64);
-        assert_eq!(file.handed, STRIDE, "handed to the disk once, after the first stride");
+        assert_eq!(
+            file.handed, STRIDE,
+            "handed to the disk once, after the first stride"
+        );
         drop(file);
         let mut back = Vec::new();
         File::open(&path).unwrap().read_to_end(&mut back).unwrap();

@@ -3,7 +3,7 @@
 //! `file://`. Opening it with `#selftest` runs the page's own checks (see the template).
 
 use crate::figures::{figures, Figure};
-use crate::plots::{render_png, render_svg, Plot, PlotError};
+use crate::plots::{render_svg_and_png, Plot, PlotError};
 use crate::scene::scene_json;
 use crate::stage::{stage, stage_json};
 use graspath::placement::FamilyParameter;
@@ -128,9 +128,10 @@ pub fn render_report(
 ) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
     let mut files = Vec::new();
     let mut rendered = Vec::new();
-    for figure in figures(task, selection, parameter) {
-        let svg = render_svg(&figure.plot)?;
-        let png = render_png(&figure.plot)?;
+    let figures = figures(task, selection, parameter);
+    let plots: Vec<&Plot> = figures.iter().map(|figure| &figure.plot).collect();
+    let images = render_svg_and_png(&plots)?;
+    for (figure, (svg, png)) in figures.into_iter().zip(images) {
         let inline = match &figure.plot {
             Plot::Heatmap(h) if h.cells.len() > INLINE_SVG_MAX_CELLS => Inline::Png(png.clone()),
             _ => Inline::Svg(svg.clone()),

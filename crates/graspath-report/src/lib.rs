@@ -30,8 +30,8 @@ pub use lines::{Axes, LegendEntry, Line, LinePlot, LineStyle, SecondaryLabels, M
 pub use map::{placement_figures, placement_map_json};
 pub use parquet::{write_ranking_parquet, CandidatesParquet, ParquetOutputError};
 pub use plots::{
-    render_png, render_svg, viridis, Cell, Heatmap, Plot, PlotError, HEATMAP_SIZE, LINE_SIZE,
-    MARKED_COLOUR, MISSING_COLOUR,
+    render_png, render_svg, render_svg_and_png, viridis, Cell, Heatmap, Plot, PlotError,
+    HEATMAP_SIZE, LINE_SIZE, MARKED_COLOUR, MISSING_COLOUR,
 };
 pub use scene::{scene_json, MAX_BODY_MOTIONS_PER_ARM, MAX_MOTIONS_PER_ARM, MAX_WITNESSES_PER_ARM};
 pub use stage::{

@@ -5,8 +5,8 @@
 use graspath::select::select;
 use graspath::task::Task;
 use graspath_report::{
-    figures, render_png, render_svg, Cell, Heatmap, Line, LinePlot, LineStyle, Plot, HEATMAP_SIZE,
-    LINE_SIZE,
+    figures, render_png, render_svg, render_svg_and_png, Cell, Heatmap, Line, LinePlot, LineStyle,
+    Plot, HEATMAP_SIZE, LINE_SIZE,
 };
 use std::path::PathBuf;
 
@@ -124,6 +124,23 @@ fn line_plot() -> Plot {
         ],
         marks: vec![(9.0, "selected: 9".into())],
     })
+}
+
+#[test]
+fn plots_rendered_together_on_every_core_are_the_ones_rendered_alone() {
+    let plots = [
+        Plot::Heatmap(synthetic_heatmap(4, 5, (2, 3))),
+        line_plot(),
+        Plot::Heatmap(synthetic_heatmap(3, 7, (2, 6))),
+        line_plot(),
+    ];
+    let refs: Vec<&Plot> = plots.iter().collect();
+    let together = render_svg_and_png(&refs).unwrap();
+    assert_eq!(together.len(), plots.len());
+    for (plot, (svg, png)) in plots.iter().zip(&together) {
+        assert!(*svg == render_svg(plot).unwrap(), "SVG differs");
+        assert!(*png == render_png(plot).unwrap(), "PNG differs");
+    }
 }
 
 #[test]

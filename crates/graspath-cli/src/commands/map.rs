@@ -9,7 +9,7 @@ use clap::Args;
 use graspath::output_files::{check_folder_target, write_files, Existing};
 use graspath::placement::{placement_map, FamilyParameter, GridAxis, PlacementGrid};
 use graspath::task::{builder_from_file, TaskFile};
-use graspath_report::{placement_figures, placement_map_json, render_png, render_svg};
+use graspath_report::{placement_figures, placement_map_json, render_svg_and_png, Plot};
 use std::path::{Path, PathBuf};
 
 /// Options of `graspath map`.
@@ -100,12 +100,11 @@ pub(crate) fn run(args: &MapArgs) -> Result<Finished> {
     let mut bytes = serde_json::to_vec_pretty(&json)?;
     bytes.push(b'\n');
     let mut files = vec![("map.json".to_string(), bytes)];
-    for figure in placement_figures(&map) {
-        files.push((
-            format!("{}.svg", figure.name),
-            render_svg(&figure.plot)?.into_bytes(),
-        ));
-        files.push((format!("{}.png", figure.name), render_png(&figure.plot)?));
+    let figures = placement_figures(&map);
+    let plots: Vec<&Plot> = figures.iter().map(|figure| &figure.plot).collect();
+    for (figure, (svg, png)) in figures.iter().zip(render_svg_and_png(&plots)?) {
+        files.push((format!("{}.svg", figure.name), svg.into_bytes()));
+        files.push((format!("{}.png", figure.name), png));
     }
     write_files(&args.out, &files, existing)?;
     drop(writing);

@@ -61,8 +61,8 @@ impl Stamp {
     }
 }
 
-/// What one phase took, over all its entries.
-#[derive(Debug, Clone, Default)]
+/// What one phase took, over all its entries (a CPU time is `None` once a clock failed).
+#[derive(Debug, Clone)]
 struct Phase {
     /// How deep the phase's first span was nested in other phases.
     depth: usize,
@@ -74,13 +74,24 @@ struct Phase {
     thread: Option<Duration>,
 }
 
-fn add(total: &mut Option<Duration>, start: Option<Duration>, end: Option<Duration>, first: bool) {
-    let part = start.zip(end).map(|(s, e)| e.saturating_sub(s));
-    *total = match (first, *total, part) {
-        (true, _, part) => part,
-        (false, Some(t), Some(p)) => Some(t + p),
-        _ => None,
-    };
+impl Phase {
+    fn new(depth: usize) -> Self {
+        Self {
+            depth,
+            on_command_thread: false,
+            entries: 0,
+            wall: Duration::ZERO,
+            process: Some(Duration::ZERO),
+            thread: Some(Duration::ZERO),
+        }
+    }
+}
+
+/// Adds the time from `start` to `end` to `total`.
+fn add(total: &mut Option<Duration>, start: Option<Duration>, end: Option<Duration>) {
+    *total = total
+        .zip(start.zip(end))
+        .map(|(total, (s, e))| total + e.saturating_sub(s));
 }
 
 /// The phases seen so far, in the order they were first entered.
@@ -113,12 +124,19 @@ thread_local! {
     static OPEN: RefCell<Vec<OpenPhase>> = const { RefCell::new(Vec::new()) };
 }
 
+/// A live span: its phase and how many handles to it are open.
+#[derive(Debug)]
+struct LiveSpan {
+    name: PhaseName,
+    handles: usize,
+}
+
 /// The `tracing` subscriber behind `--timings`.
 #[derive(Debug, Default)]
 pub(crate) struct Timings {
     next_id: AtomicU64,
-    /// Each live span's phase.
-    names: Mutex<HashMap<u64, PhaseName>>,
+    /// Each live span, until its last handle is closed.
+    names: Mutex<HashMap<u64, LiveSpan>>,
     phases: Arc<Mutex<Phases>>,
     /// The thread that installed the timings: the command's own.
     command_thread: Option<std::thread::ThreadId>,
@@ -160,15 +178,13 @@ impl Subscriber for Timings {
         let mut names = self.names.lock().unwrap_or_else(PoisonError::into_inner);
         let depth = parent
             .and_then(|p| names.get(&p))
-            .map_or(0, |parent| parent.depth + 1);
-        names.insert(
-            id,
-            PhaseName {
-                name,
-                depth,
-                metadata: attributes.metadata(),
-            },
-        );
+            .map_or(0, |parent| parent.name.depth + 1);
+        let name = PhaseName {
+            name,
+            depth,
+            metadata: attributes.metadata(),
+        };
+        names.insert(id, LiveSpan { name, handles: 1 });
         Id::from_u64(id)
     }
 
@@ -192,7 +208,7 @@ impl Subscriber for Timings {
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
             .get(&id)
-            .cloned()
+            .map(|live| live.name.clone())
         else {
             return;
         };
@@ -200,13 +216,9 @@ impl Subscriber for Timings {
         let mut phases = self.phases.lock().unwrap_or_else(PoisonError::into_inner);
         if !phases.by_name.contains_key(&name.name) {
             phases.order.push(name.name.clone());
-            phases.by_name.insert(
-                name.name.clone(),
-                Phase {
-                    depth: name.depth,
-                    ..Phase::default()
-                },
-            );
+            phases
+                .by_name
+                .insert(name.name.clone(), Phase::new(name.depth));
         }
         drop(phases);
         OPEN.with(|open| {
@@ -237,20 +249,36 @@ impl Subscriber for Timings {
         let Some(phase) = phases.by_name.get_mut(&name) else {
             return;
         };
-        let first = phase.entries == 0;
         phase.on_command_thread |= self.command_thread == Some(std::thread::current().id());
         phase.entries += 1;
         phase.wall += end.wall - start.wall;
-        add(&mut phase.process, start.process, end.process, first);
-        add(&mut phase.thread, start.thread, end.thread, first);
+        add(&mut phase.process, start.process, end.process);
+        add(&mut phase.thread, start.thread, end.thread);
+    }
+
+    fn clone_span(&self, span: &Id) -> Id {
+        if let Some(live) = self
+            .names
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get_mut(&span.into_u64())
+        {
+            live.handles += 1;
+        }
+        span.clone()
     }
 
     fn try_close(&self, span: Id) -> bool {
-        self.names
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .remove(&span.into_u64());
-        true
+        let mut names = self.names.lock().unwrap_or_else(PoisonError::into_inner);
+        let id = span.into_u64();
+        let closed = names.get_mut(&id).is_some_and(|live| {
+            live.handles -= 1;
+            live.handles == 0
+        });
+        if closed {
+            names.remove(&id);
+        }
+        closed
     }
 }
 

@@ -262,24 +262,19 @@ fn stream_task(
     // and written in candidate order; a Parquet row is appended to the writer's columns in
     // order.
     let lines = matches!(records, Records::Lines(_));
-    let render = |streamed: Streamed<'_>| -> Option<std::io::Result<Vec<u8>>> {
-        lines.then(|| {
-            let mut line = Vec::new();
-            write_candidate_line(&mut line, &streamed, trajectories).map(|()| line)
-        })
+    let render_line = |streamed: &Streamed<'_>| -> std::io::Result<Vec<u8>> {
+        let mut line = Vec::new();
+        write_candidate_line(&mut line, streamed, trajectories).map(|()| line)
     };
+    let render = |streamed: Streamed<'_>| lines.then(|| render_line(&streamed));
     let selection =
         select_streaming_prepared(task, &|| progress.inc(), render, |streamed, rendered| {
-            match (&mut records, rendered) {
-                (Records::Lines(file), Some(line)) => line
+            match &mut records {
+                Records::Lines(file) => rendered
+                    .unwrap_or_else(|| render_line(&streamed))
                     .and_then(|line| file.write_all(&line))
                     .map_err(anyhow::Error::from),
-                (Records::Lines(file), None) => {
-                    write_candidate_line(file, &streamed, trajectories).map_err(anyhow::Error::from)
-                }
-                (Records::Parquet(writer), _) => {
-                    writer.push(&streamed).map_err(anyhow::Error::from)
-                }
+                Records::Parquet(writer) => writer.push(&streamed).map_err(anyhow::Error::from),
             }
             .with_context(|| cannot(candidates_name))
         })?;

@@ -443,16 +443,19 @@ pub fn best_pairs_of(
             .par_iter()
             .map(|pair| compatible(pair.first, pair.second))
             .collect();
+        let refused_before = refused;
         for (pair, compatible) in batch.iter().zip(answers) {
             if !compatible {
                 refused += 1;
-                growth = (growth * 2).min(MAX_PAIR_BATCH);
                 continue;
             }
             kept.push((pair.first, pair.second, pair.score));
             if kept.len() == count {
                 break;
             }
+        }
+        if refused > refused_before {
+            growth = (growth * 2).min(MAX_PAIR_BATCH);
         }
     }
     (kept, refused)
@@ -531,6 +534,27 @@ mod tests {
             .collect()
     }
 
+    /// The oracle's last step: the first `count` pairs of `sorted` (every pair, best first)
+    /// that `compatible` accepts, and how many it refused before the last one kept.
+    fn taken_in_order(
+        sorted: Vec<(usize, usize, f64)>,
+        count: usize,
+        compatible: impl Fn(usize, usize) -> bool,
+    ) -> (Vec<(usize, usize, f64)>, usize) {
+        let (mut kept, mut refused) = (Vec::new(), 0);
+        for (i, j, score) in sorted {
+            if kept.len() == count {
+                break;
+            }
+            if compatible(i, j) {
+                kept.push((i, j, score));
+            } else {
+                refused += 1;
+            }
+        }
+        (kept, refused)
+    }
+
     #[test]
     fn best_first_pairs_equal_sorting_every_pair() {
         // Oracle: every pair materialised, filtered and sorted by (score desc, first, second).
@@ -560,18 +584,8 @@ mod tests {
                 }
             }
             all.sort_by(|p, q| q.2.total_cmp(&p.2).then((p.0, p.1).cmp(&(q.0, q.1))));
-            let mut expected = Vec::new();
-            let mut expected_refused = 0;
-            for (i, j, score) in all {
-                if expected.len() == options.pairs {
-                    break;
-                }
-                if (i + j).is_multiple_of(5) {
-                    expected_refused += 1;
-                } else {
-                    expected.push((i, j, score));
-                }
-            }
+            let (expected, expected_refused) =
+                taken_in_order(all, options.pairs, |i, j| !(i + j).is_multiple_of(5));
             let got: Vec<(usize, usize, f64)> = pairs
                 .iter()
                 .map(|p| (p.first.id, p.second.id, p.score))
@@ -628,17 +642,7 @@ mod tests {
                 q.2.total_cmp(&p.2)
                     .then((order(&a, p.0), order(&b, p.1)).cmp(&(order(&a, q.0), order(&b, q.1))))
             });
-            let (mut expected, mut expected_refused) = (Vec::new(), 0);
-            for (i, j, score) in all {
-                if expected.len() == 10 {
-                    break;
-                }
-                if compatible(i, j) {
-                    expected.push((i, j, score));
-                } else {
-                    expected_refused += 1;
-                }
-            }
+            let (expected, expected_refused) = taken_in_order(all, 10, compatible);
             assert_eq!(got, expected, "seed {seed}");
             assert_eq!(refused, expected_refused, "seed {seed}");
         }
@@ -669,17 +673,7 @@ mod tests {
                 }
             }
             all.sort_by(|p, q| q.2.total_cmp(&p.2).then((p.0, p.1).cmp(&(q.0, q.1))));
-            let (mut expected, mut expected_refused) = (Vec::new(), 0);
-            for (i, j, score) in all {
-                if expected.len() == 15 {
-                    break;
-                }
-                if compatible(i, j) {
-                    expected.push((i, j, score));
-                } else {
-                    expected_refused += 1;
-                }
-            }
+            let (expected, expected_refused) = taken_in_order(all, 15, compatible);
             for threads in [1, 2, 5] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)

@@ -87,7 +87,7 @@ pub struct Selection<S = CandidateScore> {
 /// is the error.
 pub fn select(task: &Task, progress: &(dyn Fn() + Sync)) -> Result<Selection, CandidateError> {
     let candidates =
-        tracing::info_span!("produce candidates").in_scope(|| task.all_candidates())?;
+        tracing::info_span!("load the candidates").in_scope(|| task.all_candidates())?;
     let arms: Vec<ArmResult> = task
         .arms
         .iter()

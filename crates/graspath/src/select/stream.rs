@@ -1,6 +1,6 @@
 //! Streaming selection: every candidate's full scores are handed on in candidate order as soon
 //! as they and the scores before them are done ([`for_each_score`]: at most
-//! [`IN_FLIGHT`](super::IN_FLIGHT) candidates between production and the consumer), and only a
+//! [`IN_FLIGHT`](super::IN_FLIGHT) candidates scored and not yet consumed), and only a
 //! compact record of scalars ([`CandidateScalars`], about 250 bytes) and its ranking are kept
 //! per candidate and arm, so the memory held does not grow with the per-sample series (`M_T`,
 //! the ranked index, limit distances), the joint trajectories or the candidates themselves (a

@@ -119,7 +119,7 @@ impl WorldSetup<'_> {
 /// same time: scored in parallel (rayon), in groups whose first IK solves are batched (at most
 /// `SOLVE_GROUP` candidates, fewer when there are many threads), produced on a thread of their
 /// own, and consumed by one worker at a time (so `consume` is `Send`); at most [`IN_FLIGHT`]
-/// are between production and `consume`. The results depend neither on the thread count nor on the
+/// are scored and not yet consumed. The results depend neither on the thread count nor on the
 /// grouping. `progress` is called once per candidate, as its group finishes.
 ///
 /// In a scene, the hand and what rides rigidly with it (the links after the last moving

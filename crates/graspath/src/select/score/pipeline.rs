@@ -6,13 +6,15 @@
 //! the slowest group of a chunk before starting the next one: the only serial part left is
 //! what the caller does after the last result.
 //!
-//! At most [`IN_FLIGHT`] candidates are between production and consumption at any time, so the
-//! memory held stays bounded by that many scores, whatever the number of candidates.
+//! At most [`IN_FLIGHT`] candidates are scored or being scored and not yet consumed, and at most
+//! three chunks of candidates are read ahead of them, so the memory held stays bounded whatever
+//! the number of candidates.
 //!
 //! Called from inside a rayon worker (a placement map scores its placements in parallel, each
 //! on a worker), the pipeline would take over the pool from inside it: there the chunks are
-//! scored in turn instead, each in parallel, and consumed on the calling worker. The results are the same either
-//! way (each candidate's score depends on nothing but the candidate and the setup).
+//! scored in turn instead, each in parallel, and consumed on the calling worker. The results
+//! are the same either way (each candidate's score depends on nothing but the candidate and
+//! the setup).
 
 use super::STREAM_CHUNK;
 use crate::grasp::{Candidate, CandidateError, CandidateSource};
@@ -22,9 +24,9 @@ use std::convert::Infallible;
 use std::sync::mpsc::{sync_channel, Receiver};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 
-/// How many candidates may be produced and not yet handed to the caller: enough for every
-/// worker to find work while the caller writes a large block of results out, few enough that
-/// their full scores (series and motions) take little memory.
+/// How many candidates may be taken for scoring and not yet consumed: enough for every worker to
+/// find work while the consumer writes a large block of results out, few enough that their full
+/// scores (series and motions) take little memory.
 pub const IN_FLIGHT: usize = 4 * STREAM_CHUNK;
 
 /// What scores a group of candidates: one result per candidate, in order.
@@ -168,7 +170,7 @@ struct Pipeline<'a, F, E, K, T> {
     /// Signalled when groups are consumed or the run stops (a worker may wait for room).
     room: Condvar,
     /// The producing thread's chunks; one worker at a time fetches the next.
-    chunks: Mutex<Option<Receiver<Produced<F>>>>,
+    chunks: Mutex<Receiver<Produced<F>>>,
     /// The caller's `consume`, called by the worker on duty.
     consume: Mutex<K>,
     group: usize,
@@ -224,7 +226,7 @@ where
                 failure: None,
             }),
             room: Condvar::new(),
-            chunks: Mutex::new(Some(chunks)),
+            chunks: Mutex::new(chunks),
             consume: Mutex::new(consume),
             group,
             window: (IN_FLIGHT / group).max(2),
@@ -301,14 +303,15 @@ where
 
     /// Installs the producing thread's next chunk, unless another worker did meanwhile.
     fn fetch_chunk(&self) {
-        let mut chunks = self.chunks.lock().unwrap_or_else(PoisonError::into_inner);
+        let chunks = self.chunks.lock().unwrap_or_else(PoisonError::into_inner);
         {
             let state = self.lock();
             if state.next_in_chunk < state.chunk.len() || state.exhausted {
                 return;
             }
         }
-        let next = chunks.as_ref().and_then(|chunks| chunks.recv().ok());
+        // The producing thread has ended when nothing more comes.
+        let next = chunks.recv().ok();
         let mut state = self.lock();
         match next {
             Some(Ok(chunk)) => {
@@ -320,10 +323,7 @@ where
                 state.failure.get_or_insert(Stop::Failed(E::from(error)));
                 self.wake_waiting(&state);
             }
-            None => {
-                state.exhausted = true;
-                *chunks = None;
-            }
+            None => state.exhausted = true,
         }
     }
 

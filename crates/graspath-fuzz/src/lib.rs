@@ -2,7 +2,8 @@
 //!
 //! * [`targets`]: one target per input path (URDF, PLY, PCD, OBJ, STL, JSON cloud sources,
 //!   task files in YAML and JSON, candidate files in JSON and CSV, grasp-model and
-//!   demonstration files, the CLI's `kinematics` and `ik` inputs), each with a seed corpus.
+//!   demonstration files, the CLI's `kinematics` and `ik` inputs, the grasp-file readers,
+//!   MJCF, SRDF and the [`xacro`] hand-off), each with a seed corpus.
 //! * [`mutate`]: byte-level mutation of the seed corpus; [`structured`]: structure-aware
 //!   generators (proptest strategies) for URDF, task YAML and PCD files.
 //! * [`exec`]: the oracles of one execution (panic, time limit, allocation bounds through
@@ -23,3 +24,4 @@ pub mod readers;
 pub mod rng;
 pub mod structured;
 pub mod targets;
+pub mod xacro;

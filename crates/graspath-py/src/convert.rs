@@ -6,8 +6,9 @@
 //! views) is read through its strides into a row-major copy, so that the heavy work can run on
 //! row-major values without the GIL. A copy larger than [`MAX_COPY_BYTES`] (1 GiB) is refused
 //! before it is made: a broadcast view (zero strides, `np.broadcast_to`) of a billion rows takes
-//! no memory itself but would be copied whole. Complex arrays are refused, never converted
-//! (numpy's cast would drop their imaginary part).
+//! no memory itself but would be copied whole. Complex, date, string and record arrays are
+//! refused, never converted (numpy's cast would drop an imaginary part, or pass counts of time
+//! units or parsed text as numbers).
 
 use graspath::geometry::{pose_from_rows, pose_to_rows};
 use graspath::manipulability::JacobianRows;
@@ -26,8 +27,9 @@ use std::borrow::Cow;
 /// The largest row-major copy made of an array that is not C-contiguous `float64` (bytes).
 pub const MAX_COPY_BYTES: usize = 1 << 30;
 
-/// Any array-like that numpy can convert to `float64` without losing values: complex arrays
-/// (and lists of complex numbers) are refused with a `GraspathError`.
+/// Any array-like that numpy can convert to `float64` without losing what the values mean:
+/// complex, date, duration, string and record arrays (and lists of them) are refused with a
+/// `GraspathError` ([`refused_kind`]).
 pub struct FloatArray<'py>(PyArrayLikeDyn<'py, f64, AllowTypeChange>);
 
 impl<'py> std::ops::Deref for FloatArray<'py> {
@@ -42,23 +44,42 @@ impl<'a, 'py> FromPyObject<'a, 'py> for FloatArray<'py> {
     type Error = PyErr;
 
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        let complex = match ob.cast::<PyUntypedArray>() {
-            Ok(array) => array.dtype().kind() == b'c',
+        let kind = match ob.cast::<PyUntypedArray>() {
+            Ok(array) => Some(array.dtype().kind()),
             // Lists and scalars: what numpy makes of them.
             Err(_) => ob
                 .py()
                 .import("numpy")?
                 .call_method1("asarray", (ob.to_owned(),))
-                .and_then(|a| a.getattr("dtype")?.getattr("kind")?.extract::<String>())
-                .is_ok_and(|kind| kind == "c"),
+                .and_then(|a| a.getattr("dtype")?.getattr("kind")?.extract::<char>())
+                .ok()
+                .and_then(|kind| u8::try_from(kind).ok()),
         };
-        if complex {
-            return Err(error(
-                "complex values are refused (their imaginary part would be lost); pass the real \
-                 part (np.real) if that is what is meant",
-            ));
+        if let Some(reason) = kind.and_then(refused_kind) {
+            return Err(error(reason));
         }
         PyArrayLikeDyn::<f64, AllowTypeChange>::extract(ob).map(Self)
+    }
+}
+
+/// Why values of numpy dtype kind `kind` are refused, for the kinds whose cast to `float64`
+/// would not keep the values meant: complex numbers (the imaginary part dropped), dates and
+/// durations (their counts of time units), strings and raw bytes (parsed as text), structured
+/// records. `None` for numbers, booleans and Python objects (converted one by one, a number
+/// each, or refused by numpy).
+fn refused_kind(kind: u8) -> Option<&'static str> {
+    match kind {
+        b'c' => Some(
+            "complex values are refused (their imaginary part would be lost); pass the real \
+             part (np.real) if that is what is meant",
+        ),
+        b'M' | b'm' => Some(
+            "dates and durations are refused (numpy would pass their counts of time units as \
+             numbers); pass numbers in the documented units",
+        ),
+        b'U' | b'S' => Some("strings are refused: pass numbers (np.asarray(x, dtype=float))"),
+        b'V' => Some("structured and raw records are refused: pass an array of numbers"),
+        _ => None,
     }
 }
 

@@ -1,11 +1,11 @@
 //! Poses given from Python in the task file's pose syntax (`docs/task-file.md`, "Poses"):
 //! `graspath.pose_matrix`, and `Task.load`'s `object_pose`.
 
-use crate::convert::{array, error, lib_error, push_isometry, single_pose, FloatArray};
+use crate::convert::{array, error, lib_error, push_isometry, shape_text, single_pose, FloatArray};
 use graspath::geometry::PoseSpec;
 use graspath::task::TaskError;
 use nalgebra::Isometry3;
-use numpy::PyArrayDyn;
+use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -22,17 +22,23 @@ fn pose_from_mapping(value: &Bound<'_, PyAny>) -> Result<Isometry3<f64>, (String
                 .into(),
         )
     })?;
-    let numbers = |key: &str, item: &Bound<'_, PyAny>, count: usize| {
-        let values: Vec<f64> = item
-            .extract()
-            .map_err(|_| fault(key, format!("give {count} numbers")))?;
-        if values.len() != count {
+    // Numbers as any array-like of them (read by strides; complex, date and string values
+    // refused, never cast), of the given shape.
+    let numbers = |key: &str, item: &Bound<'_, PyAny>, shape: &[usize], what: &str| {
+        let array: FloatArray<'_> = item.extract().map_err(|e: PyErr| {
+            let reason = e.value(item.py()).to_string();
+            fault(key, format!("give {what}: {reason}"))
+        })?;
+        if array.shape() != shape {
             return Err(fault(
                 key,
-                format!("{} numbers given, expected {count}", values.len()),
+                format!(
+                    "give {what}, not an array of shape {}",
+                    shape_text(array.shape())
+                ),
             ));
         }
-        Ok(values)
+        Ok(array.as_array().iter().copied().collect::<Vec<f64>>())
     };
     let three = |v: Vec<f64>| [v[0], v[1], v[2]];
     let mut spec = PoseSpec::default();
@@ -41,20 +47,21 @@ fn pose_from_mapping(value: &Bound<'_, PyAny>) -> Result<Isometry3<f64>, (String
             .extract()
             .map_err(|_| fault("", "the pose's keys must be strings".into()))?;
         match key.as_str() {
-            "xyz" => spec.xyz = Some(three(numbers(&key, &item, 3)?)),
-            "rpy" => spec.rpy = Some(three(numbers(&key, &item, 3)?)),
-            "rpy_deg" => spec.rpy_deg = Some(three(numbers(&key, &item, 3)?)),
+            "xyz" | "rpy" | "rpy_deg" => {
+                let value = Some(three(numbers(&key, &item, &[3], "3 numbers")?));
+                match key.as_str() {
+                    "xyz" => spec.xyz = value,
+                    "rpy" => spec.rpy = value,
+                    _ => spec.rpy_deg = value,
+                }
+            }
             "quaternion" => {
-                let q = numbers(&key, &item, 4)?;
+                let q = numbers(&key, &item, &[4], "4 numbers")?;
                 spec.quaternion = Some([q[0], q[1], q[2], q[3]]);
             }
             "matrix" => {
-                let shape = || fault("matrix", "give 4 rows of 4 numbers".into());
-                let rows: Vec<Vec<f64>> = item.extract().map_err(|_| shape())?;
-                if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
-                    return Err(shape());
-                }
-                let row = |r: usize| [rows[r][0], rows[r][1], rows[r][2], rows[r][3]];
+                let m = numbers(&key, &item, &[4, 4], "4 rows of 4 numbers")?;
+                let row = |r: usize| [m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3]];
                 spec.matrix = Some([row(0), row(1), row(2), row(3)]);
             }
             other => {

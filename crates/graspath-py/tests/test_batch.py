@@ -284,7 +284,7 @@ def test_bad_object_poses_name_the_field(tmp_path):
     template.write_text(FACES)
     cases = [
         ({"xyz": [0.7, float("nan"), 0]}, r"faces.yaml: field 'object_pose.xyz': not finite"),
-        ({"xyz": [0.7, 0.2]}, r"faces.yaml: field 'object_pose.xyz': 2 numbers given, expected 3"),
+        ({"xyz": [0.7, 0.2]}, r"faces.yaml: field 'object_pose.xyz': give 3 numbers, not an array of shape \(2,\)"),
         ({"xyz": [0.7, 0.2, 0], "quaternion": [0, 0, 0, 2]}, r"field 'object_pose.quaternion': must be a unit quaternion \[x, y, z, w\] \(its norm is 2.000000"),
         ({"xyz": [0.7, 0.2, 0], "rpy_deg": [0, 0, 1], "quaternion": [0, 0, 0, 1]}, r"field 'object_pose.rpy': give at most one of rpy, rpy_deg, quaternion"),
         ({"xyz": [0.7, 0.2, 0], "yaw": [1, 2, 3]}, r"field 'object_pose.yaw': not a pose field"),

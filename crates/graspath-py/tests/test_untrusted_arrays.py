@@ -58,3 +58,47 @@ def test_refused_grasp_files_raise_graspath_errors(name, fragment, options):
     with pytest.raises(graspath.GraspathError, match=fragment) as info:
         graspath.read_grasps(os.path.join(BAD, name), **options)
     assert name in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "values, fragment",
+    [
+        (np.zeros(7, dtype="datetime64[s]"), "dates and durations are refused"),
+        (np.zeros(7, dtype="timedelta64[ms]"), "dates and durations are refused"),
+        (np.array(["0.1"] * 7), "strings are refused"),
+        (["0.1"] * 7, "strings are refused"),
+        (np.zeros(7, dtype="S3"), "strings are refused"),
+        (np.zeros(7, dtype=[("a", "f8")]), "structured and raw records are refused"),
+    ],
+)
+def test_values_numpy_would_cast_to_other_numbers_are_refused(panda, values, fragment):
+    with pytest.raises(graspath.GraspathError, match=fragment):
+        panda.fk(values)
+
+
+def test_pose_fields_are_read_as_arrays_complex_refused_and_views_by_strides():
+    with pytest.raises(graspath.GraspathError, match="field 'xyz'.*complex values are refused"):
+        graspath.pose_matrix({"xyz": np.array([0.1, 0.2, 0.3 + 1j])})
+    with pytest.raises(graspath.GraspathError, match=r"field 'matrix': give 4 rows of 4 numbers"):
+        graspath.pose_matrix({"matrix": np.eye(3)})
+    matrix = np.eye(4)
+    matrix[:3, 3] = [0.1, 0.2, 0.3]
+    # The transpose of a transposed copy: the same matrix, column-major in memory.
+    fortran = np.asfortranarray(matrix)
+    assert not fortran.flags.c_contiguous
+    np.testing.assert_array_equal(graspath.pose_matrix({"matrix": fortran}), matrix)
+    np.testing.assert_array_equal(
+        graspath.pose_matrix({"xyz": np.array([0.3, 0.2, 0.1])[::-1]})[:3, 3], [0.1, 0.2, 0.3]
+    )
+
+
+def test_a_slice_of_the_entry_point_fuzz_campaign_finds_nothing():
+    """The deterministic slice of `fuzz_entry_points.py` (its oracles: no exception other than
+    GraspathError / TypeError, refused kinds never accepted, strided arrays read as their
+    C-ordered copies)."""
+    import fuzz_entry_points
+
+    outcomes, findings = fuzz_entry_points.campaign(3000, seed=11)
+    assert findings == [], findings[:3]
+    # Both outcomes occur: the slice reaches the computations and the refusals.
+    assert outcomes["accepted"] > 500 and outcomes["refused"] > 500, outcomes

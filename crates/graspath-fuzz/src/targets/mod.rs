@@ -467,6 +467,15 @@ static TARGETS: &[Target] = &[
         run: |ctx, bytes| readers::run_srdf(&ctx.dir, bytes),
         ci_execs: 3000,
     },
+    Target {
+        name: "xacro",
+        description: "RobotSource::load of a robot file not named *.xacro (never handed to xacro), and one input in 64 expanded as *.xacro by a stand-in program (its folder and environment checked)",
+        extension: "urdf",
+        seeds: |_| crate::xacro::xacro_seeds(),
+        structured: Some(crate::xacro::xacro_document),
+        run: crate::xacro::run_xacro,
+        ci_execs: 3000,
+    },
 ];
 
 #[cfg(test)]

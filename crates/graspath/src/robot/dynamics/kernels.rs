@@ -186,6 +186,41 @@ impl Dynamics {
         self.gather(data, tau);
     }
 
+    /// `g(q)` into `tau` and, into `per_kg`, the torques that hold one kilogram at `point`
+    /// (tool frame, m) still: `τᵢ = zᵢ · ((c − pᵢ) × (−g))` (revolute) or `zᵢ · (−g)`
+    /// (prismatic) with `c` the point in the base frame, from one placement of the frames,
+    /// without checks.
+    pub(super) fn gravity_and_point_load_unchecked(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        point: &Vector3<f64>,
+        tau: &mut [f64],
+        per_kg: &mut [f64],
+    ) {
+        self.gravity_unchecked(data, q, tau);
+        let Some(last) = data.frames.last() else {
+            per_kg.fill(0.0);
+            return;
+        };
+        let c = last.translation.vector
+            + last.rotation.matrix() * (self.tail_rotation * point + self.tail_translation);
+        let lift = -self.gravity;
+        for ((s, frame), t) in self
+            .segments
+            .iter()
+            .zip(&data.frames)
+            .zip(data.segment_tau.iter_mut())
+        {
+            let z = frame.rotation.matrix().column(2);
+            *t = match s.kind {
+                MotionKind::Revolute => z.dot(&(c - frame.translation.vector).cross(&lift)),
+                MotionKind::Prismatic => z.dot(&lift),
+            };
+        }
+        self.gather(data, per_kg);
+    }
+
     /// `g(q)` and the tool frame's geometric Jacobian (6 × dof column-major storage `jacobian`,
     /// rows `[v; ω]`, base frame) from one placement of the frames, without checks.
     pub(super) fn gravity_and_jacobian_unchecked(

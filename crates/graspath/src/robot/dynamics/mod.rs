@@ -418,6 +418,34 @@ impl Dynamics {
         Ok(())
     }
 
+    /// The gravity torques `g(q)` into `tau` (as [`Dynamics::gravity_torques_into`], with the
+    /// payload of `data` if any) and, into `per_kg`, the joint torques that hold **one
+    /// kilogram** at `point` (tool frame, m) still against gravity, from one placement of the
+    /// segment frames. Gravity torques are linear in a carried mass at a fixed centre of mass:
+    /// holding `m` kg there needs `tau + m · per_kg`, so one call gives the torques for every
+    /// mass (what a torque check and a payload capacity need). Nothing is allocated.
+    pub fn gravity_torques_and_point_load_into(
+        &self,
+        data: &mut DynamicsData,
+        q: &[f64],
+        point: &Vector3<f64>,
+        tau: &mut [f64],
+        per_kg: &mut [f64],
+    ) -> Result<(), RobotError> {
+        self.check_data(data)?;
+        self.check_q(q)?;
+        self.check_out(tau.len())?;
+        self.check_out(per_kg.len())?;
+        if point.iter().any(|v| !v.is_finite()) {
+            return Err(RobotError::BadDynamicsInput {
+                what: "point",
+                message: format!("{:?} is not finite", point.as_slice()),
+            });
+        }
+        self.gravity_and_point_load_unchecked(data, q, point, tau, per_kg);
+        Ok(())
+    }
+
     /// The gravity torques `g(q)` into `tau` (as [`Dynamics::gravity_torques_into`]) and the
     /// tool frame's geometric Jacobian into `jacobian` (6 × dof, rows `[v; ω]`, base frame:
     /// the Jacobian of [`Chain::pose_and_jacobian_into`]), from one placement of the segment

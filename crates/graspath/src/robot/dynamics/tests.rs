@@ -557,3 +557,65 @@ fn the_mass_matrix_is_the_same_bits_with_and_without_avx2() {
         assert_eq!(bits(&dispatched), bits(&portable), "trial {trial}");
     }
 }
+
+/// The torques per kilogram at a tool point equal the gravity torques with that mass attached
+/// as a payload (joined to the last body) minus those without, and scale with the mass, on
+/// random chains with prismatic, fixed and mimic joints and a tilted gravity.
+#[test]
+fn point_load_torques_are_the_payload_difference_per_kilogram() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(41);
+    for trial in 0..40 {
+        let chain =
+            Chain::from_spec(&random_chain(&mut rng, 1 + trial % 8, trial % 3 == 1)).unwrap();
+        let gravity = Vector3::new(0.8, -1.1, -9.7);
+        let dynamics = chain.dynamics().unwrap().with_gravity(gravity).unwrap();
+        let n = dynamics.dof();
+        let q = random_vector(&mut rng, n, 2.0);
+        let point = Vector3::from_vec(random_vector(&mut rng, 3, 0.3));
+        let mut data = dynamics.data();
+        let (mut tau, mut per_kg) = (vec![0.0; n], vec![0.0; n]);
+        dynamics
+            .gravity_torques_and_point_load_into(&mut data, &q, &point, &mut tau, &mut per_kg)
+            .unwrap();
+        let empty = dynamics.gravity_torques(&q).unwrap();
+        for mass in [1.0, 2.5] {
+            let mut loaded_data = dynamics.data();
+            loaded_data
+                .set_payload(Some(RigidBody::point(mass, point)))
+                .unwrap();
+            let mut loaded = vec![0.0; n];
+            dynamics
+                .gravity_torques_into(&mut loaded_data, &q, &mut loaded)
+                .unwrap();
+            let scale = loaded
+                .iter()
+                .chain(&empty)
+                .fold(1.0_f64, |m, v| m.max(v.abs()));
+            for j in 0..n {
+                assert_eq!(tau[j], empty[j], "g(q), trial {trial}");
+                close(
+                    empty[j] + mass * per_kg[j],
+                    loaded[j],
+                    1e-12 * scale,
+                    "τ + m · per_kg",
+                );
+            }
+        }
+    }
+    let dynamics = Chain::from_spec(&random_chain(&mut rng, 3, false))
+        .unwrap()
+        .dynamics()
+        .unwrap();
+    let n = dynamics.dof();
+    let (mut tau, mut per_kg) = (vec![0.0; n], vec![0.0; n]);
+    let error = dynamics
+        .gravity_torques_and_point_load_into(
+            &mut dynamics.data(),
+            &vec![0.0; n],
+            &Vector3::new(0.0, f64::NAN, 0.0),
+            &mut tau,
+            &mut per_kg,
+        )
+        .unwrap_err();
+    assert!(error.to_string().contains("point"), "{error}");
+}

@@ -7,16 +7,18 @@
 use super::branch_checks::{BranchCheck, BranchFindings};
 use super::Scoring;
 use crate::failure::{Failure, FailureReason, Phase};
-use crate::robot::{Dynamics, RigidBody};
+use crate::robot::Dynamics;
+use nalgebra::{Point3, Vector3};
 use std::ops::Range;
 
 /// The torque check of one candidate.
 pub(super) struct TorqueCheck<'a> {
     scoring: &'a Scoring<'a>,
     dynamics: &'a Dynamics,
-    /// The object at 1 kg, tool frame: the payload's torques are its mass times this one's
-    /// (gravity torques are linear in the mass at a fixed centre of mass).
-    unit_payload: RigidBody,
+    /// The object's centre of mass in the tool frame (m): holding it needs its mass times the
+    /// torques that hold one kilogram there (gravity torques are linear in the mass at a fixed
+    /// centre of mass).
+    object_com: Vector3<f64>,
     /// The object's mass (kg).
     mass: f64,
     /// The samples of the whole motion where the object is held (the path).
@@ -31,12 +33,12 @@ impl<'a> TorqueCheck<'a> {
         let payload = scoring.setup.world.payload?;
         let dynamics = scoring.setup.arm.dynamics.as_deref()?;
         let wrist_from_object = scoring.candidate.object_from_wrist.inverse();
-        let unit_payload = RigidBody::point(1.0, payload.com).transformed(&wrist_from_object);
+        let object_com = wrist_from_object * Point3::from(payload.com);
         let before = scoring.plan.approach_samples();
         Some(Self {
             scoring,
             dynamics,
-            unit_payload,
+            object_com: object_com.coords,
             mass: payload.mass,
             held: before..before + scoring.setup.path.samples.len(),
             limits: dynamics.motion_limits().iter().map(|l| l.effort).collect(),
@@ -48,26 +50,22 @@ impl BranchCheck for TorqueCheck<'_> {
     fn check(&self, q: &[Vec<f64>], findings: &mut BranchFindings) -> Result<(), Failure> {
         let dof = self.dynamics.dof();
         let mut data = self.dynamics.data();
-        let mut loaded_data = self.dynamics.data();
-        loaded_data
-            .set_payload(Some(self.unit_payload))
-            .expect("a point mass of 1 kg is a valid payload");
-        let (mut arm, mut unit) = (vec![0.0; dof], vec![0.0; dof]);
+        let (mut arm, mut per_kg) = (vec![0.0; dof], vec![0.0; dof]);
         let mut margin = f64::INFINITY;
         let mut capacity = f64::INFINITY;
         for (sample, q) in q.iter().enumerate() {
             let held = self.held.contains(&sample);
-            let evaluated = self
-                .dynamics
-                .gravity_torques_into(&mut data, q, &mut arm)
-                .and_then(|()| {
-                    if held {
-                        self.dynamics
-                            .gravity_torques_into(&mut loaded_data, q, &mut unit)
-                    } else {
-                        Ok(())
-                    }
-                });
+            let evaluated = if held {
+                self.dynamics.gravity_torques_and_point_load_into(
+                    &mut data,
+                    q,
+                    &self.object_com,
+                    &mut arm,
+                    &mut per_kg,
+                )
+            } else {
+                self.dynamics.gravity_torques_into(&mut data, q, &mut arm)
+            };
             if let Err(e) = evaluated {
                 return Err(self.failure(
                     sample,
@@ -77,9 +75,9 @@ impl BranchCheck for TorqueCheck<'_> {
             }
             for (j, limit) in self.limits.iter().enumerate() {
                 let Some(limit) = *limit else { continue };
-                // τ(m) = τ_arm + m · (τ_unit − τ_arm): affine in the object's mass.
-                let per_kg = if held { unit[j] - arm[j] } else { 0.0 };
-                let tau = arm[j] + self.mass * per_kg;
+                // τ(m) = τ_arm + m · τ_per_kg: affine in the object's mass.
+                let slope = if held { per_kg[j] } else { 0.0 };
+                let tau = arm[j] + self.mass * slope;
                 if tau.abs() > limit {
                     let joint = &self.scoring.setup.arm.chain.joint_names()[j];
                     return Err(self.failure(
@@ -94,11 +92,11 @@ impl BranchCheck for TorqueCheck<'_> {
                     ));
                 }
                 margin = margin.min(1.0 - tau.abs() / limit);
-                // The largest mass within the limit here: |τ_arm + m · per_kg| ≤ limit.
-                if per_kg > 0.0 {
-                    capacity = capacity.min((limit - arm[j]) / per_kg);
-                } else if per_kg < 0.0 {
-                    capacity = capacity.min((-limit - arm[j]) / per_kg);
+                // The largest mass within the limit here: |τ_arm + m · slope| ≤ limit.
+                if slope > 0.0 {
+                    capacity = capacity.min((limit - arm[j]) / slope);
+                } else if slope < 0.0 {
+                    capacity = capacity.min((-limit - arm[j]) / slope);
                 }
             }
         }

@@ -53,8 +53,10 @@ pub(crate) fn for_each_line<T: DeserializeOwned>(
         if line.trim().is_empty() {
             continue;
         }
-        let value: T = serde_json::from_str(line)
-            .map_err(|e| bad_input!("{source}: line {number}: not a valid input object: {e}"))?;
+        let value: T = serde_json::from_str(line).map_err(|e| {
+            let e = graspath::input::plain_serde_message(&e.to_string());
+            bad_input!("{source}: line {number}: not a valid input object: {e}")
+        })?;
         each(number, value).with_context(|| format!("{source}: line {number}"))?;
     }
     Ok(())

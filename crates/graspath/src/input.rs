@@ -180,3 +180,80 @@ mod tests {
         assert!(read(Path::new("/no/such/file"), 10).is_err());
     }
 }
+
+/// A message of serde's about a file's value in the words of the file's reader rather than
+/// Rust's: `expected usize` reads `expected a whole number ≥ 0`, `expected f64` reads
+/// `expected a number`, `expected struct TaskObject` reads `expected a mapping of fields`
+/// (the types serde names are the program's, not the file format's).
+pub fn plain_serde_message(message: &str) -> String {
+    const WORDS: [(&str, &str); 12] = [
+        ("usize", "a whole number ≥ 0"),
+        ("u64", "a whole number ≥ 0"),
+        ("u32", "a whole number from 0 to 4294967295"),
+        ("u16", "a whole number from 0 to 65535"),
+        ("u8", "a whole number from 0 to 255"),
+        ("isize", "a whole number"),
+        ("i64", "a whole number"),
+        ("i32", "a whole number from -2147483648 to 2147483647"),
+        ("f64", "a number"),
+        ("f32", "a number"),
+        ("bool", "true or false"),
+        ("char", "a single character"),
+    ];
+    let mut out = String::with_capacity(message.len() + 16);
+    let mut rest = message;
+    while let Some(at) = rest.find("expected ") {
+        let (before, after) = rest.split_at(at + "expected ".len());
+        out.push_str(before);
+        let word_end = after
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(after.len());
+        let word = &after[..word_end];
+        if let Some((_, plain)) = WORDS.iter().find(|(rust, _)| *rust == word) {
+            out.push_str(plain);
+            rest = &after[word_end..];
+        } else if word == "struct" {
+            // `struct Name`: the name is the program's.
+            let name = after[word_end..].trim_start_matches(' ');
+            let name_end = name
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(name.len());
+            out.push_str("a mapping of fields");
+            rest = &name[name_end..];
+        } else {
+            rest = after;
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+#[cfg(test)]
+mod plain_message_tests {
+    use super::plain_serde_message;
+
+    #[test]
+    fn rust_type_names_become_the_file_format_words() {
+        assert_eq!(
+            plain_serde_message("invalid value: integer `-5`, expected usize"),
+            "invalid value: integer `-5`, expected a whole number ≥ 0"
+        );
+        assert_eq!(
+            plain_serde_message("invalid type: boolean `true`, expected f64"),
+            "invalid type: boolean `true`, expected a number"
+        );
+        assert_eq!(
+            plain_serde_message("invalid type: integer `5`, expected struct TaskObject"),
+            "invalid type: integer `5`, expected a mapping of fields"
+        );
+        // Other words, and words that only start like a type, are kept.
+        for kept in [
+            "invalid length 2, expected an array of length 3",
+            "unknown field `robt`, expected one of `robot`, `arms`",
+            "expected u8s",
+            "expected",
+        ] {
+            assert_eq!(plain_serde_message(kept), kept);
+        }
+    }
+}

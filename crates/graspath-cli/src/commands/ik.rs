@@ -124,8 +124,10 @@ pub(crate) fn run(args: &IkArgs) -> Result<()> {
         input
             .read_to_string(&mut text)
             .map_err(|e| bad_input!("{source}: cannot read: {e}"))?;
-        let document: TrajectoryInput = serde_json::from_str(&text)
-            .map_err(|e| bad_input!("{source}: not a valid trajectory document: {e}"))?;
+        let document: TrajectoryInput = serde_json::from_str(&text).map_err(|e| {
+            let e = graspath::input::plain_serde_message(&e.to_string());
+            bad_input!("{source}: not a valid trajectory document: {e}")
+        })?;
         let poses = document
             .poses
             .iter()

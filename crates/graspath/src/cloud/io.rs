@@ -131,8 +131,13 @@ fn load_counted(path: &Path) -> Result<(PointCloud, usize), CloudError> {
     let name = path.display().to_string();
     let text = crate::input::read_to_string(path, crate::input::MAX_CLOUD_FILE_BYTES)
         .map_err(|e| CloudError::io(&name, e))?;
-    let source: CloudSource = serde_json::from_str(&text)
-        .map_err(|e| CloudError::parse(&name, format!("line {}", e.line()), e.to_string()))?;
+    let source: CloudSource = serde_json::from_str(&text).map_err(|e| {
+        CloudError::parse(
+            &name,
+            format!("line {}", e.line()),
+            crate::input::plain_serde_message(&e.to_string()),
+        )
+    })?;
     let cloud = source
         .load(path.parent().unwrap_or(Path::new(".")))
         .map_err(|e| e.in_file(&name, ""))?;

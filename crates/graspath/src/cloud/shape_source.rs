@@ -219,12 +219,17 @@ fn t_shape(t: TShapeFile) -> Result<CloudShape, ShapeError> {
     };
     match t.stem {
         stem @ serde_json::Value::Array(_) => {
-            let stem: [f64; 3] = serde_json::from_value(stem)
-                .map_err(|e| malformed(format!("the upright T's stem [x, y, z] (m): {e}")))?;
+            let stem: [f64; 3] = serde_json::from_value(stem).map_err(|e| {
+                malformed(format!(
+                    "the upright T's stem [x, y, z] (m): {}",
+                    crate::input::plain_serde_message(&e.to_string())
+                ))
+            })?;
             Ok(CloudShape::LegacyT(LegacyTShape::new(stem, t.bar)?))
         }
         stem => {
-            let stem: Stem = serde_json::from_value(stem).map_err(|e| malformed(e.to_string()))?;
+            let stem: Stem = serde_json::from_value(stem)
+                .map_err(|e| malformed(crate::input::plain_serde_message(&e.to_string())))?;
             Ok(CloudShape::Shape(Shape::TShape(TShape::new(t.bar, stem)?)))
         }
     }

@@ -584,7 +584,11 @@ impl TaskFile {
         };
         serde_path_to_error::deserialize(value).map_err(|e| {
             let field = e.path().to_string();
-            TaskError::new(file, field, e.into_inner().to_string())
+            TaskError::new(
+                file,
+                field,
+                crate::input::plain_serde_message(&e.into_inner().to_string()),
+            )
         })
     }
 }

@@ -600,8 +600,12 @@ fn json_candidate(
     location: Location,
     index: usize,
 ) -> Result<Candidate, Fault> {
-    let entry: Entry =
-        serde_json::from_value(value).map_err(|e| (location.to_string(), e.to_string()))?;
+    let entry: Entry = serde_json::from_value(value).map_err(|e| {
+        (
+            location.to_string(),
+            crate::input::plain_serde_message(&e.to_string()),
+        )
+    })?;
     Raw {
         id: entry.id,
         label: entry.label,

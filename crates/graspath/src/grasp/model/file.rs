@@ -339,7 +339,11 @@ impl GraspModel {
         }
         let model: GraspModel = serde_path_to_error::deserialize(value).map_err(|e| {
             let field = e.path().to_string();
-            ModelError::field(source_name, field, e.into_inner().to_string())
+            ModelError::field(
+                source_name,
+                field,
+                crate::input::plain_serde_message(&e.into_inner().to_string()),
+            )
         })?;
         model.check(source_name)?;
         Ok(model)

@@ -151,7 +151,11 @@ impl Demonstration {
             } else {
                 path
             };
-            ModelError::field(&name, field, inner.to_string())
+            ModelError::field(
+                &name,
+                field,
+                crate::input::plain_serde_message(&inner.to_string()),
+            )
         })?;
         if demo.format != DEMONSTRATION_FORMAT {
             return Err(ModelError::field(

@@ -17,6 +17,7 @@
 pub mod alloc;
 pub mod campaign;
 pub mod exec;
+pub mod fixtures;
 pub mod known;
 pub mod minimise;
 pub mod mutate;

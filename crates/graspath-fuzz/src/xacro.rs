@@ -14,12 +14,12 @@
 //!   the input's; its environment holds only the variables the hand-off passes; it did not
 //!   run at all when the arguments were refused.
 
-use crate::targets::{Ctx, SMALL_ROBOT_URDF};
+use crate::fixtures::SMALL_ROBOT_URDF;
 use graspath::robot::{
     expand_xacro_with, RobotError, RobotSource, UrdfRobot, XacroOptions, PASSED_ENVIRONMENT,
 };
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// One input in this many is also expanded by the stand-in program (a process start each).
@@ -101,10 +101,18 @@ fn is_run_error(error: &RobotError) -> bool {
     )
 }
 
-/// Feeds one input (see the module documentation).
-pub fn run_xacro(ctx: &Ctx, bytes: &[u8]) {
+/// Writes `bytes` to `name` in `dir` and returns its path.
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    // A failed write shows up as a read error, which is not a finding.
+    let _ = std::fs::write(&path, bytes);
+    path
+}
+
+/// Feeds one input (see the module documentation); `dir` is the worker's work directory.
+pub fn run_xacro(dir: &Path, bytes: &[u8]) {
     let (args, body) = split(bytes);
-    let urdf = ctx.file("robot_under_test.urdf", body);
+    let urdf = write(dir, "robot_under_test.urdf", body);
     let loaded = RobotSource::urdf(&urdf)
         .with_urdf_options(Vec::new(), args.clone())
         .and_then(|source| source.load());
@@ -115,21 +123,21 @@ pub fn run_xacro(ctx: &Ctx, bytes: &[u8]) {
         );
     }
     if fingerprint(bytes).is_multiple_of(EXPANDED_ONE_IN) {
-        expand_with_stand_in(ctx, &args, body);
+        expand_with_stand_in(dir, &args, body);
     }
 }
 
 /// Expands `body` as a `*.xacro` file with the stand-in program and checks where and how it
 /// ran; returns whether it ran.
-fn expand_with_stand_in(ctx: &Ctx, args: &BTreeMap<String, String>, body: &[u8]) -> bool {
-    let program = ctx.dir.join("xacro-stand-in");
+fn expand_with_stand_in(dir: &Path, args: &BTreeMap<String, String>, body: &[u8]) -> bool {
+    let program = dir.join("xacro-stand-in");
     if !program.exists() {
         write_program(&program);
     }
-    let (ran_in, ran_with) = (ctx.dir.join("xacro-ran-in"), ctx.dir.join("xacro-ran-with"));
+    let (ran_in, ran_with) = (dir.join("xacro-ran-in"), dir.join("xacro-ran-with"));
     let _ = std::fs::remove_file(&ran_in);
     let _ = std::fs::remove_file(&ran_with);
-    let file = ctx.file("robot_under_test.urdf.xacro", body);
+    let file = write(dir, "robot_under_test.urdf.xacro", body);
     let options = XacroOptions {
         args: args.clone(),
         packages: None,
@@ -150,9 +158,12 @@ fn expand_with_stand_in(ctx: &Ctx, args: &BTreeMap<String, String>, body: &[u8])
         !matches!(expanded, Err(RobotError::XacroArgument { .. })),
         "xacro ran although its arguments were refused"
     );
+    // The run's own folder is gone by now; the input's folder is not (compared by their
+    // real paths, in case one is reached through a link).
     let folder = Path::new(folder.trim_end());
+    let real = |path: &Path| path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
     assert!(
-        folder != ctx.dir && folder != file.parent().unwrap_or(&ctx.dir),
+        real(folder) != real(dir) && real(folder) != real(file.parent().unwrap_or(dir)),
         "xacro ran in the input's folder {}",
         folder.display()
     );
@@ -243,20 +254,21 @@ mod tests {
     /// environment, is reported.
     #[test]
     fn the_stand_in_records_its_folder_and_environment() {
-        let ctx = Ctx::new().unwrap();
-        let program = ctx.dir.join("xacro-stand-in");
+        let temporary = tempfile::tempdir().unwrap();
+        let dir = &temporary.path().canonicalize().unwrap();
+        let program = dir.join("xacro-stand-in");
         write_program(&program);
-        let file = ctx.file("r.urdf.xacro", SMALL_ROBOT_URDF.as_bytes());
+        let file = write(dir, "r.urdf.xacro", SMALL_ROBOT_URDF.as_bytes());
         let out = std::process::Command::new(&program)
             .arg(&file)
-            .current_dir(&ctx.dir)
+            .current_dir(dir)
             .env("GRASPATH_FUZZ_SECRET", "s")
             .output()
             .unwrap();
         assert_eq!(out.stdout, SMALL_ROBOT_URDF.as_bytes());
-        let folder = std::fs::read_to_string(ctx.dir.join("xacro-ran-in")).unwrap();
-        assert_eq!(Path::new(folder.trim_end()), ctx.dir);
-        let environment = std::fs::read(ctx.dir.join("xacro-ran-with")).unwrap();
+        let folder = std::fs::read_to_string(dir.join("xacro-ran-in")).unwrap();
+        assert_eq!(Path::new(folder.trim_end()), dir);
+        let environment = std::fs::read(dir.join("xacro-ran-with")).unwrap();
         assert!(environment
             .split(|&b| b == 0)
             .any(|e| e == b"GRASPATH_FUZZ_SECRET=s"));
@@ -267,14 +279,15 @@ mod tests {
     /// arguments keep it from running.
     #[test]
     fn every_seed_passes_the_oracles() {
-        let ctx = Ctx::new().unwrap();
+        let temporary = tempfile::tempdir().unwrap();
+        let dir = temporary.path();
         let mut runs = [0, 0];
         let mut rng = crate::rng::Rng::new(3);
         let generated: Vec<Vec<u8>> = (0..20).map(|_| xacro_document(&mut rng)).collect();
         for input in xacro_seeds().iter().chain(&generated) {
-            run_xacro(&ctx, input);
+            run_xacro(dir, input);
             let (args, body) = split(input);
-            runs[usize::from(expand_with_stand_in(&ctx, &args, body))] += 1;
+            runs[usize::from(expand_with_stand_in(dir, &args, body))] += 1;
         }
         assert!(runs[0] > 0 && runs[1] > 0, "runs refused / ran: {runs:?}");
     }

@@ -67,24 +67,7 @@ pub fn scratch_root() -> PathBuf {
     }
 }
 
-/// A three-link arm (base → l1 → tip, two revolute joints) named by generated task files.
-pub const SMALL_ROBOT_URDF: &str = r#"<?xml version="1.0"?>
-<robot name="small">
-  <link name="base"/>
-  <link name="l1"/>
-  <link name="tip"/>
-  <joint name="j1" type="revolute">
-    <parent link="base"/><child link="l1"/>
-    <origin xyz="0 0 0.3" rpy="0 0 0"/><axis xyz="0 0 1"/>
-    <limit lower="-2.5" upper="2.5" effort="10" velocity="1"/>
-  </joint>
-  <joint name="j2" type="revolute">
-    <parent link="l1"/><child link="tip"/>
-    <origin xyz="0.4 0 0" rpy="0 0 0"/><axis xyz="0 1 0"/>
-    <limit lower="-2" upper="2" effort="10" velocity="1"/>
-  </joint>
-</robot>
-"#;
+pub use crate::fixtures::SMALL_ROBOT_URDF;
 
 const CUBE_OBJ: &str = "# unit cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
 f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
@@ -473,7 +456,7 @@ static TARGETS: &[Target] = &[
         extension: "urdf",
         seeds: |_| crate::xacro::xacro_seeds(),
         structured: Some(crate::xacro::xacro_document),
-        run: crate::xacro::run_xacro,
+        run: |ctx, bytes| crate::xacro::run_xacro(&ctx.dir, bytes),
         ci_execs: 3000,
     },
 ];

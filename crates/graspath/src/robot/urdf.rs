@@ -86,9 +86,14 @@ impl UrdfRobot {
             });
         }
         let robot = urdf_rs::read_from_string(&scan.without_blank_textures(text)).map_err(|e| {
+            // urdf-rs prefixes serde's messages with `custom: `, which says nothing to a reader.
+            let message = e.to_string();
             RobotError::Parse {
                 source_name: source_name.to_string(),
-                message: e.to_string(),
+                message: message
+                    .strip_prefix("custom: ")
+                    .unwrap_or(&message)
+                    .to_string(),
             }
         })?;
         if robot.links.is_empty() {

@@ -1,4 +1,14 @@
-//! Small robot files that several targets write or mutate.
+//! Small robot files that several targets write or mutate, and the writing of an input file.
+
+use std::path::{Path, PathBuf};
+
+/// Writes `bytes` to `name` in `dir` and returns its path. A failed write shows up as a read
+/// error in the target, which is not a finding.
+pub fn write_input(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    let _ = std::fs::write(&path, bytes);
+    path
+}
 
 /// A three-link arm (base → l1 → tip, two revolute joints) named by generated task files.
 pub const SMALL_ROBOT_URDF: &str = r#"<?xml version="1.0"?>

@@ -14,12 +14,12 @@
 //!   the input's; its environment holds only the variables the hand-off passes; it did not
 //!   run at all when the arguments were refused.
 
-use crate::fixtures::SMALL_ROBOT_URDF;
+use crate::fixtures::{write_input as write, SMALL_ROBOT_URDF};
 use graspath::robot::{
     expand_xacro_with, RobotError, RobotSource, UrdfRobot, XacroOptions, PASSED_ENVIRONMENT,
 };
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 /// One input in this many is also expanded by the stand-in program (a process start each).
@@ -99,14 +99,6 @@ fn is_run_error(error: &RobotError) -> bool {
         error,
         RobotError::Xacro { .. } | RobotError::XacroFailed { .. } | RobotError::XacroIo { .. }
     )
-}
-
-/// Writes `bytes` to `name` in `dir` and returns its path.
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let path = dir.join(name);
-    // A failed write shows up as a read error, which is not a finding.
-    let _ = std::fs::write(&path, bytes);
-    path
 }
 
 /// Feeds one input (see the module documentation); `dir` is the worker's work directory.

@@ -7,6 +7,8 @@
 //!
 //! Each kind of input has its cap here, well above any real file of that kind. Readers that
 //! stream their file (candidate files, see [`crate::grasp`]) check sizes on their own.
+//!
+//! [`plain_serde_message`] puts the messages of the serde-based readers in the file's words.
 
 use std::fs::File;
 use std::io::{self, Read};

@@ -127,10 +127,7 @@ impl Ctx {
 
     /// Writes `bytes` to `name` in the work directory and returns its path.
     pub fn file(&self, name: &str, bytes: &[u8]) -> PathBuf {
-        let path = self.dir.join(name);
-        // A failed write shows up as a read error in the target, which is not a finding.
-        let _ = std::fs::write(&path, bytes);
-        path
+        crate::fixtures::write_input(&self.dir, name, bytes)
     }
 
     /// Builds what `target` needs (the trained model, the Baxter chain) before executions are

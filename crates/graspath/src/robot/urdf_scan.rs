@@ -115,24 +115,24 @@ pub(crate) fn xml_error(
     }
 }
 
-/// The attributes of element `name` (below the open elements `path`, root first) that
+/// The attributes of element `name` (below the open elements `stack`, root first) that
 /// `urdf-rs` reads as numbers: a value that is not whitespace-separated numbers is reported
 /// here, with its line and element, rather than as the reader's bare `invalid float literal`.
-fn numeric_attributes(path: &[&str], name: &str) -> &'static [&'static str] {
-    match (path.get(1..).unwrap_or_default(), name) {
-        (["joint"], "origin") | (["link", "inertial" | "visual" | "collision"], "origin") => {
-            &["xyz", "rpy"]
-        }
-        (["joint"], "axis") => &["xyz"],
-        (["joint"], "limit") => &["lower", "upper", "effort", "velocity"],
-        (["link", "inertial"], "mass") => &["value"],
-        (["link", "inertial"], "inertia") => &["ixx", "ixy", "ixz", "iyy", "iyz", "izz"],
-        (["link", "visual" | "collision", "geometry"], "box") => &["size"],
-        (["link", "visual" | "collision", "geometry"], "cylinder" | "capsule") => {
+fn numeric_attributes(stack: &[(String, usize, bool)], name: &str) -> &'static [&'static str] {
+    let at = |i: usize| stack.get(i).map_or("", |(n, _, _)| n.as_str());
+    match (stack.len(), at(1), at(2), at(3), name) {
+        (2, "joint", _, _, "origin")
+        | (3, "link", "inertial" | "visual" | "collision", _, "origin") => &["xyz", "rpy"],
+        (2, "joint", _, _, "axis") => &["xyz"],
+        (2, "joint", _, _, "limit") => &["lower", "upper", "effort", "velocity"],
+        (3, "link", "inertial", _, "mass") => &["value"],
+        (3, "link", "inertial", _, "inertia") => &["ixx", "ixy", "ixz", "iyy", "iyz", "izz"],
+        (4, "link", "visual" | "collision", "geometry", "box") => &["size"],
+        (4, "link", "visual" | "collision", "geometry", "cylinder" | "capsule") => {
             &["radius", "length"]
         }
-        (["link", "visual" | "collision", "geometry"], "sphere") => &["radius"],
-        (["link", "visual" | "collision", "geometry"], "mesh") => &["scale"],
+        (4, "link", "visual" | "collision", "geometry", "sphere") => &["radius"],
+        (4, "link", "visual" | "collision", "geometry", "mesh") => &["scale"],
         _ => &[],
     }
 }
@@ -181,10 +181,7 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             let mut element_name = None;
             let mut substitution = false;
             let mut has_filename = false;
-            let numeric = {
-                let path: Vec<&str> = stack.iter().map(|(n, _, _)| n.as_str()).collect();
-                numeric_attributes(&path, &name)
-            };
+            let numeric = numeric_attributes(&stack, &name);
             for attribute in e.attributes().with_checks(true) {
                 let attribute = attribute.map_err(|err| {
                     xml_error(text, source_name, start, format!("in <{name}>: {err}"))

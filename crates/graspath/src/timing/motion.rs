@@ -299,6 +299,19 @@ impl PathLimits<'_> {
     /// uniform slow-down by `k` divides velocities by `k` and accelerations by `k²`, and moves
     /// each torque to `g + (τ − g)/k²` ([`TimedPath::slowed`]).
     pub fn slowdown(&self, spline: &JointSpline, timed: &TimedPath) -> Result<f64, TimingError> {
+        self.slowdown_between(spline, timed, f64::NEG_INFINITY, f64::INFINITY)
+    }
+
+    /// [`PathLimits::slowdown`] over the grid intervals that lie in `[from, to]` only (a part
+    /// of a motion timed as one, whose other parts have other limits: the carry, with the
+    /// object's weight, between the grasp and the place).
+    pub fn slowdown_between(
+        &self,
+        spline: &JointSpline,
+        timed: &TimedPath,
+        from: f64,
+        to: f64,
+    ) -> Result<f64, TimingError> {
         let dof = spline.dof();
         let torqued: Vec<(usize, f64)> = self.torque.map_or(Vec::new(), |t| limited(t.effort));
         let mut dynamics = match &self.torque {
@@ -321,20 +334,26 @@ impl PathLimits<'_> {
         };
         // The smallest k², from velocities (k² ≥ ratio²), accelerations and torques.
         let mut k2: f64 = 1.0;
+        // Where the last interval checked ended (its end's `q'`, `q''` are the next start's).
+        let mut previous_end = None;
         for i in 0..timed.grid.len().saturating_sub(1) {
             let (s0, s1) = (timed.grid[i], timed.grid[i + 1]);
+            if s0 < from || s1 > to {
+                continue;
+            }
             let (x0, x1) = (
                 timed.sd_squared[i].max(0.0),
                 timed.sd_squared[i + 1].max(0.0),
             );
             let u = (x1 - x0) / (2.0 * (s1 - s0));
-            if i == 0 {
-                evaluate(s0, &mut q, &mut dq0, &mut ddq0);
-            } else {
+            if previous_end == Some(s0) {
                 std::mem::swap(&mut dq0, &mut dq1);
                 std::mem::swap(&mut ddq0, &mut ddq1);
+            } else {
+                evaluate(s0, &mut q, &mut dq0, &mut ddq0);
             }
             evaluate(s1, &mut q, &mut dq1, &mut ddq1);
+            previous_end = Some(s1);
             evaluate(0.5 * (s0 + s1), &mut qm, &mut dqm, &mut ddqm);
             for j in 0..dof {
                 if let Some(v) = self.velocity[j] {

@@ -222,3 +222,75 @@ fn the_time_at_a_path_parameter_inverts_the_state_at_a_time() {
     assert_eq!(timed.time_at(-1.0), 0.0);
     assert_eq!(timed.time_at(2.0), timed.duration());
 }
+
+#[test]
+fn stacked_constraints_time_the_paths_as_one_path_of_all_their_joints() {
+    // Two "arms" (2 and 3 joints) along one parameter; the oracle is the one 5-joint path
+    // timed with all the limits.
+    let q: Vec<Vec<f64>> = (0..25)
+        .map(|k| {
+            let t = k as f64 / 24.0;
+            vec![t.sin(), 0.5 * t * t, -t, 0.3 * (3.0 * t).cos(), 2.0 * t]
+        })
+        .collect();
+    let whole = JointSpline::through(&q).unwrap();
+    let knots = whole.knots().to_vec();
+    let split = |range: std::ops::Range<usize>| -> JointSpline {
+        let part: Vec<Vec<f64>> = q.iter().map(|s| s[range.clone()].to_vec()).collect();
+        JointSpline::with_knots(&knots, &part).unwrap()
+    };
+    let v = [Some(1.0), Some(0.5), Some(0.8), Some(0.6), Some(1.5)];
+    let a = [Some(3.0), Some(2.0), Some(4.0), Some(1.0), Some(5.0)];
+    let limits = |range: std::ops::Range<usize>| PathLimits {
+        velocity: &v[range.clone()],
+        acceleration: &a[range],
+        torque: None,
+        object: None,
+        subdivisions: 2,
+        discretization: Discretization::default(),
+    };
+    let parts = vec![
+        limits(0..2).constraints(&split(0..2)).unwrap(),
+        limits(2..5).constraints(&split(2..5)).unwrap(),
+    ];
+    let stacked = Constraints::stacked(parts, &[2, 3]).unwrap();
+    let as_one = limits(0..5).constraints(&whole).unwrap();
+    let (stacked, as_one) = (
+        time_optimal(&stacked).unwrap(),
+        time_optimal(&as_one).unwrap(),
+    );
+    assert_eq!(stacked.grid, as_one.grid);
+    for (x, y) in stacked.sd_squared.iter().zip(&as_one.sd_squared) {
+        assert!((x - y).abs() <= 1e-12 * y.max(1.0), "{x} vs {y}");
+    }
+    assert!((stacked.duration() - as_one.duration()).abs() < 1e-12);
+    // A limit of the stack names its part and that part's own joint.
+    assert_eq!(Limit::Torque(3).in_part(&[2, 3]), (1, Limit::Torque(1)));
+    assert_eq!(Limit::Velocity(1).in_part(&[2, 3]), (0, Limit::Velocity(1)));
+    assert_eq!(Limit::ObjectSpeed.in_part(&[2, 3]), (0, Limit::ObjectSpeed));
+}
+
+#[test]
+fn paths_on_different_grids_do_not_stack() {
+    let line = |n: usize| -> Vec<Vec<f64>> { (0..n).map(|k| vec![k as f64]).collect() };
+    let limits = PathLimits {
+        velocity: &[Some(1.0)],
+        acceleration: &[Some(1.0)],
+        torque: None,
+        object: None,
+        subdivisions: 1,
+        discretization: Discretization::default(),
+    };
+    let parts = vec![
+        limits
+            .constraints(&JointSpline::through(&line(3)).unwrap())
+            .unwrap(),
+        limits
+            .constraints(&JointSpline::through(&line(4)).unwrap())
+            .unwrap(),
+    ];
+    assert!(matches!(
+        Constraints::stacked(parts, &[1, 1]),
+        Err(TimingError::BadPath(_))
+    ));
+}

@@ -90,6 +90,87 @@ pub struct Constraints {
     pub rows: Vec<Row>,
 }
 
+impl Limit {
+    /// The joint this limit is on, when it is on one.
+    pub fn joint(self) -> Option<usize> {
+        match self {
+            Limit::Velocity(j) | Limit::Acceleration(j) | Limit::Torque(j) => Some(j),
+            _ => None,
+        }
+    }
+
+    /// This limit on joint `joint` instead (the object's limits, on none, unchanged).
+    fn on_joint(self, joint: usize) -> Self {
+        match self {
+            Limit::Velocity(_) => Limit::Velocity(joint),
+            Limit::Acceleration(_) => Limit::Acceleration(joint),
+            Limit::Torque(_) => Limit::Torque(joint),
+            other => other,
+        }
+    }
+
+    /// This limit with its joint index moved by `offset` (the object's limits unchanged).
+    fn shifted(self, offset: usize) -> Self {
+        self.joint().map_or(self, |j| self.on_joint(j + offset))
+    }
+
+    /// This limit of a stacked path ([`Constraints::stacked`]) as `(part, limit)`: the part
+    /// whose joint it is on, with the joint's index there (the object's limits, on no
+    /// joint, as the first part's).
+    pub fn in_part(self, dofs: &[usize]) -> (usize, Self) {
+        let Some(mut joint) = self.joint() else {
+            return (0, self);
+        };
+        for (part, &dof) in dofs.iter().enumerate() {
+            if joint < dof {
+                return (part, self.on_joint(joint));
+            }
+            joint -= dof;
+        }
+        (0, self)
+    }
+}
+
+impl Constraints {
+    /// The constraints of one path whose joints are those of `parts`' paths one after the
+    /// other, all on one grid (arms that carry one object, timed by one path parameter): at
+    /// each grid point the smallest bound on `x` and every part's rows. Part `k`'s joint
+    /// indices move by the joint counts `dofs` of the parts before it
+    /// ([`Limit::in_part`] moves them back).
+    pub fn stacked(parts: Vec<Constraints>, dofs: &[usize]) -> Result<Self, TimingError> {
+        let mut parts = parts.into_iter();
+        let Some(first) = parts.next() else {
+            return Err(TimingError::BadPath("no path to stack".into()));
+        };
+        let mut stacked = first;
+        let mut offset = dofs.first().copied().unwrap_or(0);
+        for (part, &dof) in parts.zip(dofs.iter().skip(1)) {
+            if part.grid != stacked.grid || part.discretization != stacked.discretization {
+                return Err(TimingError::BadPath(
+                    "the stacked paths are not on one grid".into(),
+                ));
+            }
+            let (m, n) = (stacked.rows_per_point, part.rows_per_point);
+            let mut rows = Vec::with_capacity(stacked.grid.len() * (m + n));
+            for i in 0..stacked.grid.len() {
+                rows.extend_from_slice(&stacked.rows[i * m..(i + 1) * m]);
+                rows.extend(part.rows[i * n..(i + 1) * n].iter().map(|row| Row {
+                    limit: row.limit.shifted(offset),
+                    ..*row
+                }));
+                let (x, limit) = part.x_max[i];
+                if x < stacked.x_max[i].0 {
+                    stacked.x_max[i] = (x, limit.map(|l| l.shifted(offset)));
+                }
+            }
+            stacked.rows = rows;
+            stacked.rows_per_point = m + n;
+            offset += dof;
+        }
+        Ok(stacked)
+    }
+}
+
 /// A time-optimal parameterisation: `ṡ²` at every grid point and the times.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TimedPath {

@@ -162,10 +162,11 @@ where
 /// The chosen motions of feasible candidates — one per arm, each scored with its arm's setup
 /// — timed as the task times motions on one shared timeline, and sampled every `period`
 /// seconds (at the timing grid's points with `None`): positions, velocities, accelerations
-/// and, with the arm's dynamics, torques. Arms that move the object together wait for each
-/// other: each part of the motion (approach, carry, retreat; or the whole without stops)
-/// takes the slowest arm's time, the faster arms' timings slowed uniformly to it. `None`
-/// when the task does not time motions or a candidate is not feasible.
+/// and, with the arm's dynamics, torques. Arms that carry the object together are timed as
+/// one path of all their joints (the carry, or the whole motion without stops): every arm
+/// passes its IK sample of each object pose at the same instant, under every arm's limits. An
+/// approach or a retreat takes the slowest arm's time, the faster arms' timings slowed
+/// uniformly to it. `None` when the task does not time motions or a candidate is not feasible.
 pub fn timed_together(
     members: &[(ScoringSetup<'_>, &CandidateScore)],
     period: Option<f64>,
@@ -182,22 +183,22 @@ pub fn timed_together(
         .map(TimingCheck::of)
         .collect::<Option<_>>()?;
     let timed = || -> Result<Vec<TimedMotion>, Failure> {
-        let mut motions = Vec::with_capacity(members.len());
-        for (check, (_, score)) in checks.iter().zip(members) {
-            let q: Vec<Vec<f64>> = score
-                .approach
-                .iter()
-                .chain(&score.joint_trajectory)
-                .chain(&score.retreat)
-                .cloned()
-                .collect();
-            motions.push(check.timed(&q)?);
-        }
-        timing_check::synchronise(&mut motions);
-        checks
+        let motions: Vec<Vec<Vec<f64>>> = members
             .iter()
-            .zip(motions)
-            .map(|(check, segments)| check.sample(segments, period))
+            .map(|(_, score)| {
+                score
+                    .approach
+                    .iter()
+                    .chain(&score.joint_trajectory)
+                    .chain(&score.retreat)
+                    .cloned()
+                    .collect()
+            })
+            .collect();
+        timing_check::timed_jointly(&checks, &motions)?
+            .into_iter()
+            .zip(&checks)
+            .map(|(segments, check)| check.sample(segments, period))
             .collect()
     };
     Some(timed())

@@ -149,17 +149,55 @@ impl<'a> TimingCheck<'a> {
         }
         let samples = &q[range.clone()];
         let spline = JointSpline::through(samples).map_err(|e| self.failure(range.start, &e))?;
+        let parameters = JointSpline::sample_parameters(samples);
         let timed = self
             .limits(carrying)
             .time(&spline)
-            .map_err(|e| self.timing_failure(&e, samples, range.start))?;
+            .map_err(|e| self.timing_failure(&e, &parameters, range.start))?;
         Ok(Some(TimedSegment {
             spline,
             timed,
-            parameters: JointSpline::sample_parameters(samples),
+            parameters,
             carried: carrying.then_some((0.0, f64::INFINITY)),
             hold: 0.0,
         }))
+    }
+
+    /// The constraints of `spline` carrying the object as `load` says.
+    fn constraints(&self, spline: &JointSpline, load: Load) -> Result<Constraints, TimingError> {
+        match load {
+            Load::Empty => self.limits(false).constraints(spline),
+            Load::Carried => self.limits(true).constraints(spline),
+            Load::Between(grasp, place) => {
+                let empty = self.limits(false).constraints(spline)?;
+                let loaded = self.limits(true).constraints(spline)?;
+                Ok(carried_between(empty, &loaded, grasp, place))
+            }
+        }
+    }
+
+    /// How much slower (`≥ 1`) `timed` along `spline` must run for every limit to hold
+    /// between its grid points too ([`PathLimits::slowdown`]), carrying the object as `load`
+    /// says.
+    fn slowdown(
+        &self,
+        spline: &JointSpline,
+        timed: &TimedPath,
+        load: Load,
+    ) -> Result<f64, TimingError> {
+        match load {
+            Load::Empty => self.limits(false).slowdown(spline, timed),
+            Load::Carried => self.limits(true).slowdown(spline, timed),
+            Load::Between(grasp, place) => {
+                let empty = self.limits(false);
+                let before = empty.slowdown_between(spline, timed, f64::NEG_INFINITY, grasp)?;
+                let after = empty.slowdown_between(spline, timed, place, f64::INFINITY)?;
+                let carry = self
+                    .limits(true)
+                    .slowdown_between(spline, timed, grasp, place)?;
+                Ok(before.max(carry).max(after))
+            }
+        }
     }
 
     /// The whole motion as one, the payload's torques only on the carry's grid points.
@@ -167,14 +205,19 @@ impl<'a> TimingCheck<'a> {
         let spline = JointSpline::through(q).map_err(|e| self.failure(0, &e))?;
         let parameters = JointSpline::sample_parameters(q);
         let (grasp, place) = (parameters[self.carry.start], parameters[self.carry.end - 1]);
-        let empty = self.limits(false).constraints(&spline);
-        let loaded = self.limits(true).constraints(&spline);
-        let constraints = match (empty, loaded) {
-            (Ok(empty), Ok(loaded)) => carried_between(empty, &loaded, grasp, place),
-            (Err(e), _) | (_, Err(e)) => return Err(self.timing_failure(&e, q, 0)),
-        };
-        let timed =
-            crate::timing::time_optimal(&constraints).map_err(|e| self.timing_failure(&e, q, 0))?;
+        let load = Load::Between(grasp, place);
+        let timed = self
+            .constraints(&spline, load)
+            .and_then(|constraints| crate::timing::time_optimal(&constraints))
+            .and_then(|timed| {
+                let factor = self.slowdown(&spline, &timed, load)?;
+                Ok(if factor > 1.0 {
+                    timed.slowed(factor)
+                } else {
+                    timed
+                })
+            })
+            .map_err(|e| self.timing_failure(&e, &parameters, 0))?;
         let carried = Some((timed.time_at(grasp), timed.time_at(place)));
         Ok(TimedSegment {
             spline,
@@ -296,9 +339,9 @@ impl<'a> TimingCheck<'a> {
         })
     }
 
-    /// A `timing_infeasible` failure for a timing error along `samples` (whose first is
-    /// whole-motion sample `first`).
-    fn timing_failure(&self, error: &TimingError, samples: &[Vec<f64>], first: usize) -> Failure {
+    /// A `timing_infeasible` failure for a timing error along samples at path parameters
+    /// `parameters` (whose first is whole-motion sample `first`).
+    fn timing_failure(&self, error: &TimingError, parameters: &[f64], first: usize) -> Failure {
         let TimingError::Infeasible { s, limit, .. } = error else {
             return self.failure(first, error);
         };
@@ -322,7 +365,7 @@ impl<'a> TimingCheck<'a> {
             None => "the limits".into(),
         };
         let sample = first
-            + JointSpline::sample_parameters(samples)
+            + parameters
                 .iter()
                 .take_while(|&&p| p <= *s)
                 .count()
@@ -455,6 +498,178 @@ pub(super) fn synchronise(motions: &mut [Vec<TimedSegment>]) {
             }
         }
     }
+}
+
+/// How a timed part of a motion carries the object.
+#[derive(Debug, Clone, Copy)]
+enum Load {
+    /// Not at all (an approach or a retreat).
+    Empty,
+    /// Throughout (a carry between stops).
+    Carried,
+    /// Between these two path parameters (a whole motion: the grasp's and the place's).
+    Between(f64, f64),
+}
+
+/// The whole motions `motions` (per arm of `checks`, in order: the approach's, the path's and
+/// the retreat's samples) of arms that carry the object together, timed on one timeline.
+///
+/// The carry (with stops) or the whole motion (without) is one path through all the arms'
+/// joints, timed by one path parameter under every arm's limits ([`Constraints::stacked`]):
+/// the arms pass their IK samples of each object pose at the same instant, so the object both
+/// hold is at each of its poses at one time, never pulled between two. An approach or a
+/// retreat, where the arms do not hold the object together, is timed per arm and the faster
+/// arm's timing slowed uniformly to the slower one's ([`synchronise`]).
+pub(super) fn timed_jointly(
+    checks: &[TimingCheck<'_>],
+    motions: &[Vec<Vec<f64>>],
+) -> Result<Vec<Vec<TimedSegment>>, Failure> {
+    let Some(first) = checks.first() else {
+        return Ok(Vec::new());
+    };
+    let samples = motions.first().map_or(0, Vec::len);
+    let aligned = motions.len() == checks.len()
+        && checks.iter().zip(motions).all(|(check, q)| {
+            q.len() == samples
+                && check.approach == first.approach
+                && check.carry == first.carry
+                && check.retreat == first.retreat
+        });
+    if !aligned {
+        let error = TimingError::BadPath("the arms' motions do not have the same samples".into());
+        return Err(first.failure(0, &error));
+    }
+    let mut timed: Vec<Vec<TimedSegment>> = checks.iter().map(|_| Vec::with_capacity(3)).collect();
+    let parts = if first.settings.stops {
+        vec![
+            (first.approach.clone(), Load::Empty),
+            (first.carry.clone(), Load::Carried),
+            (first.retreat.clone(), Load::Empty),
+        ]
+    } else {
+        vec![(0..samples, Load::Between(0.0, 0.0))]
+    };
+    for (range, load) in parts {
+        match load {
+            Load::Empty => {
+                for ((arm, check), q) in timed.iter_mut().zip(checks).zip(motions) {
+                    arm.extend(check.time_segment(q, range.clone(), false)?);
+                }
+            }
+            // A carry of one sample does not move (as one arm's, no segment).
+            Load::Carried if range.len() < 2 => {}
+            _ => {
+                let together = time_jointly(checks, motions, range, load)?;
+                for (arm, segment) in timed.iter_mut().zip(together) {
+                    arm.push(segment);
+                }
+            }
+        }
+    }
+    synchronise(&mut timed);
+    Ok(timed)
+}
+
+/// The part `range` of every arm's motion timed as one path of all the arms' joints (see
+/// [`timed_jointly`]), carrying the object as `load` says (for a whole motion, between the
+/// grasp and the place): one segment per arm, all on one timing.
+fn time_jointly(
+    checks: &[TimingCheck<'_>],
+    motions: &[Vec<Vec<f64>>],
+    range: Range<usize>,
+    load: Load,
+) -> Result<Vec<TimedSegment>, Failure> {
+    let first = &checks[0];
+    let stacked: Vec<Vec<f64>> = range
+        .clone()
+        .map(|i| motions.iter().flat_map(|q| q[i].iter().copied()).collect())
+        .collect();
+    // The arms' samples at one knot each: the chord length of all their joints together
+    // (samples where no arm moves share the previous one's knot).
+    let parameters = JointSpline::sample_parameters(&stacked);
+    let distinct: Vec<usize> = (0..parameters.len())
+        .filter(|&k| k == 0 || parameters[k] > parameters[k - 1])
+        .collect();
+    let knots: Vec<f64> = distinct.iter().map(|&k| parameters[k]).collect();
+    let load = match load {
+        Load::Between(..) => Load::Between(
+            parameters[first.carry.start - range.start],
+            parameters[first.carry.end - 1 - range.start],
+        ),
+        other => other,
+    };
+    let splines = checks
+        .iter()
+        .zip(motions)
+        .map(|(check, q)| {
+            let samples: Vec<Vec<f64>> = distinct
+                .iter()
+                .map(|&k| q[range.start + k].clone())
+                .collect();
+            JointSpline::with_knots(&knots, &samples).map_err(|e| check.failure(range.start, &e))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let constraints = checks
+        .iter()
+        .zip(&splines)
+        .map(|(check, spline)| {
+            check
+                .constraints(spline, load)
+                .map_err(|e| check.timing_failure(&e, &parameters, range.start))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let dofs: Vec<usize> = splines.iter().map(JointSpline::dof).collect();
+    let stacked =
+        Constraints::stacked(constraints, &dofs).map_err(|e| first.failure(range.start, &e))?;
+    let mut timed = crate::timing::time_optimal(&stacked).map_err(|error| {
+        // The failure is the arm's whose limit binds, named by its own joint.
+        let (arm, error) = match error {
+            TimingError::Infeasible {
+                grid_point,
+                s,
+                limit: Some(limit),
+            } => {
+                let (arm, limit) = limit.in_part(&dofs);
+                let limit = Some(limit);
+                (
+                    arm,
+                    TimingError::Infeasible {
+                        grid_point,
+                        s,
+                        limit,
+                    },
+                )
+            }
+            other => (0, other),
+        };
+        checks[arm].timing_failure(&error, &parameters, range.start)
+    })?;
+    // Checked between the grid points as one arm's motion is: the largest slow-down any arm
+    // needs.
+    let mut factor: f64 = 1.0;
+    for (check, spline) in checks.iter().zip(&splines) {
+        let own = check
+            .slowdown(spline, &timed, load)
+            .map_err(|e| check.timing_failure(&e, &parameters, range.start))?;
+        factor = factor.max(own);
+    }
+    if factor > 1.0 {
+        timed = timed.slowed(factor);
+    }
+    let carried = match load {
+        Load::Between(grasp, place) => Some((timed.time_at(grasp), timed.time_at(place))),
+        _ => Some((0.0, f64::INFINITY)),
+    };
+    Ok(splines
+        .into_iter()
+        .map(|spline| TimedSegment {
+            spline,
+            timed: timed.clone(),
+            parameters: parameters.clone(),
+            carried,
+            hold: 0.0,
+        })
+        .collect())
 }
 
 /// `empty`'s constraints with the rows of `loaded` at the grid points in `[from, to]`.

@@ -360,6 +360,42 @@ fn bad_urdf_table() {
             ),
             vec!["joint 'j'", "field 'limit'", "not an interval"],
         ),
+        (
+            "negative effort",
+            joint(
+                "revolute",
+                r#"<limit lower="-1" upper="1" effort="-50" velocity="1"/>"#,
+            ),
+            vec!["joint 'j'", "field 'limit'", "<limit effort> is -50", "0 or more"],
+        ),
+        (
+            "negative velocity",
+            joint(
+                "prismatic",
+                r#"<limit lower="-1" upper="1" effort="5" velocity="-0.5"/>"#,
+            ),
+            vec!["joint 'j'", "<limit velocity> is -0.5"],
+        ),
+        (
+            "NaN effort",
+            joint(
+                "revolute",
+                r#"<limit lower="-1" upper="1" effort="NaN" velocity="1"/>"#,
+            ),
+            vec!["joint 'j'", "<limit effort> is NaN"],
+        ),
+        (
+            "a link named twice",
+            "<robot name=\"r\">\n<link name=\"base\"/>\n<link name=\"tip\"/>\n<link name=\"base\"><inertial><mass value=\"2\"/></inertial></link>\n</robot>".into(),
+            vec!["line 4: a second link named \"base\" (the first is on line 2)"],
+        ),
+        (
+            "a joint named twice",
+            format!(
+                "<robot name=\"r\"><link name=\"base\"/><link name=\"mid\"/><link name=\"tip\"/>\n<joint name=\"j\" type=\"fixed\"><parent link=\"base\"/><child link=\"mid\"/></joint>\n<joint name=\"j\" type=\"revolute\"><parent link=\"mid\"/><child link=\"tip\"/>{LIMIT}</joint></robot>"
+            ),
+            vec!["line 3: a second joint named \"j\" (the first is on line 2)"],
+        ),
     ];
     for (what, text, fragments) in cases {
         let err = match UrdfRobot::from_xml(&text, "bad.urdf") {
@@ -375,6 +411,14 @@ fn bad_urdf_table() {
             );
         }
     }
+    // A limit of 0 is none given (a common way of writing "unknown"): accepted, unlimited.
+    let zero = joint(
+        "revolute",
+        r#"<limit lower="-1" upper="1" effort="0" velocity="0"/>"#,
+    );
+    let chain = parse_urdf_chain(&zero, "ok.urdf", "base", "tip").unwrap();
+    assert_eq!(chain.motion_limits()[0].effort, None);
+    assert_eq!(chain.motion_limits()[0].velocity, None);
     // A continuous joint needs no limit; a fixed one neither.
     assert!(parse_urdf_chain(&joint("continuous", ""), "ok.urdf", "base", "tip").is_ok());
     assert!(parse_urdf_chain(&joint("revolute", LIMIT), "ok.urdf", "base", "tip").is_ok());

@@ -85,6 +85,12 @@ impl UrdfRobot {
                 markup,
             });
         }
+        if let Some(message) = scan.duplicate_name.clone() {
+            return Err(RobotError::Parse {
+                source_name: source_name.to_string(),
+                message,
+            });
+        }
         let robot = urdf_rs::read_from_string(&scan.without_blank_textures(text)).map_err(|e| {
             // urdf-rs prefixes serde's messages with `custom: `, which says nothing to a reader.
             let message = e.to_string();
@@ -492,14 +498,25 @@ impl UrdfRobot {
                 })
             })
             .transpose()?;
-        let known = |v: f64| (v.is_finite() && v > 0.0).then_some(v);
+        // A limit of 0 (or `inf`) is none given; a negative or NaN one is a mistake, never
+        // read as "unlimited".
+        let known = |what: &'static str, v: f64| {
+            if v < 0.0 || v.is_nan() {
+                Err(bad(
+                    "limit",
+                    format!("<limit {what}> is {v}: a limit is a magnitude, 0 or more"),
+                ))
+            } else {
+                Ok((v.is_finite() && v > 0.0).then_some(v))
+            }
+        };
         let limits = if kind == JointKind::Fixed {
             MotionLimits::default()
         } else {
             MotionLimits {
-                velocity: known(joint.limit.velocity),
-                effort: known(joint.limit.effort),
-                acceleration: known(joint.limit.acceleration),
+                velocity: known("velocity", joint.limit.velocity)?,
+                effort: known("effort", joint.limit.effort)?,
+                acceleration: known("acceleration", joint.limit.acceleration)?,
             }
         };
         Ok(JointSpec {

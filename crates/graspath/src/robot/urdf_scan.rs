@@ -21,6 +21,9 @@ pub(crate) struct Scan {
     pub blank_textures: Vec<std::ops::Range<usize>>,
     /// The links that have an `<inertial>` child (`urdf-rs` gives the others a zero mass).
     pub inertial_links: HashSet<String>,
+    /// The first link or joint whose name an earlier one already has (`urdf-rs` keeps both;
+    /// urdfdom refuses the file): what it is and the message naming both lines.
+    pub duplicate_name: Option<String>,
 }
 
 impl Scan {
@@ -137,6 +140,17 @@ fn numeric_attributes(stack: &[(String, usize, bool)], name: &str) -> &'static [
     }
 }
 
+/// Records the first name given twice: `kind` (`link` or `joint`) `name`, first on line
+/// `first`, again on line `line`.
+fn note_duplicate(found: &mut Option<String>, kind: &str, name: &str, first: usize, line: usize) {
+    if found.is_none() {
+        *found = Some(format!(
+            "line {line}: a second {kind} named {} (the first is on line {first}); every {kind} needs a name of its own",
+            excerpt(name)
+        ));
+    }
+}
+
 /// Whether an attribute value holds a xacro substitution, `${...}` or `$(...)`.
 fn attribute_has_substitution(value: &[u8]) -> bool {
     value.windows(2).any(|w| w == b"${" || w == b"$(")
@@ -161,6 +175,8 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
     let mut current_joint: Option<String> = None;
     let mut current_link: Option<String> = None;
     let mut out = Scan::default();
+    // Link name → the line of its start tag.
+    let mut link_lines: HashMap<String, usize> = HashMap::new();
     let mut seen_root = false;
     let mut lines = LineCounter::default();
     // Prefixes bound to the xacro namespace (`xacro` by convention, whether declared or not).
@@ -255,12 +271,23 @@ pub(crate) fn scan(text: &str, source_name: &str) -> Result<Scan, RobotError> {
             let depth = stack.len();
             if depth == 1 && name == "joint" {
                 let joint = element_name.unwrap_or_default();
-                out.joints
-                    .insert(joint.clone(), (lines.line(text, start), false));
+                let line = lines.line(text, start);
+                if let Some((first, _)) = out.joints.get(&joint) {
+                    note_duplicate(&mut out.duplicate_name, "joint", &joint, *first, line);
+                } else {
+                    out.joints.insert(joint.clone(), (line, false));
+                }
                 if !empty {
                     current_joint = Some(joint);
                 }
             } else if depth == 1 && name == "link" {
+                let link = element_name.clone().unwrap_or_default();
+                let line = lines.line(text, start);
+                if let Some(first) = link_lines.get(&link) {
+                    note_duplicate(&mut out.duplicate_name, "link", &link, *first, line);
+                } else {
+                    link_lines.insert(link, line);
+                }
                 current_link = (!empty).then(|| element_name.clone().unwrap_or_default());
             } else if depth == 2 && name == "inertial" && stack[1].0 == "link" {
                 if let Some(link) = &current_link {

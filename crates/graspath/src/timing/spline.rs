@@ -189,10 +189,15 @@ impl JointSpline {
             .min(intervals - 1);
         let t = s - self.knots[i];
         let row = &self.coefficients[i * self.dof..(i + 1) * self.dof];
-        for (j, [c0, c1, c2, c3]) in row.iter().enumerate() {
-            point.q[j] = c0 + t * (c1 + t * (c2 + t * c3));
-            point.dq[j] = c1 + t * (2.0 * c2 + t * 3.0 * c3);
-            point.ddq[j] = 2.0 * c2 + 6.0 * c3 * t;
+        let outputs = point
+            .q
+            .iter_mut()
+            .zip(point.dq.iter_mut())
+            .zip(point.ddq.iter_mut());
+        for ([c0, c1, c2, c3], ((q, dq), ddq)) in row.iter().zip(outputs) {
+            *q = c0 + t * (c1 + t * (c2 + t * c3));
+            *dq = c1 + t * (2.0 * c2 + t * 3.0 * c3);
+            *ddq = 2.0 * c2 + 6.0 * c3 * t;
         }
     }
 }

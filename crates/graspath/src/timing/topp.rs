@@ -302,7 +302,7 @@ impl Constraints {
     /// [`Lines::add`]).
     fn largest_u(&self, i: usize, x: f64, reach: [f64; 4]) -> f64 {
         let bound = |a: f64, b: f64, lo: f64, hi: f64| {
-            if a.abs() > 1e-12 * a.abs().max(b.abs()).max(f64::MIN_POSITIVE) {
+            if bounds_u(a, b) {
                 (if a > 0.0 { hi } else { lo } - b * x) / a
             } else {
                 f64::INFINITY
@@ -312,7 +312,7 @@ impl Constraints {
             .rows_of(i)
             .iter()
             .map(|r| bound(r.a, r.b, r.lo, r.hi))
-            .fold(f64::INFINITY, f64::min);
+            .fold(f64::INFINITY, |m, v| if v < m { v } else { m });
         if self.discretization == Discretization::Interpolation && i + 1 < self.grid.len() {
             let two_delta = 2.0 * (self.grid[i + 1] - self.grid[i]);
             for r in self.rows_of(i + 1) {
@@ -357,6 +357,13 @@ fn controllable_sets(constraints: &Constraints) -> Result<Vec<(f64, f64)>, Timin
             .ok_or_else(|| infeasible(constraints, i))?;
     }
     Ok(sets)
+}
+
+/// Whether a row `a u + b x` bounds `u` (else it bounds `x` alone): `|a| > 10⁻¹² max(|a|, |b|)`
+/// (a NaN `b` ignored), written with plain comparisons.
+fn bounds_u(a: f64, b: f64) -> bool {
+    let (abs_a, abs_b) = (a.abs(), b.abs());
+    abs_a > 0.0 && (abs_b.is_nan() || abs_a > 1e-12 * abs_b)
 }
 
 /// The row `k_lo ≤ x + 2 Δ u ≤ k_hi` as `(a, b, lo, hi)`: the next grid point's
@@ -416,8 +423,7 @@ impl Lines {
 
     /// Adds the row `lo ≤ a u + b x ≤ hi`.
     fn add(&mut self, a: f64, b: f64, lo: f64, hi: f64) {
-        let scale = a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
-        if a.abs() > 1e-12 * scale {
+        if bounds_u(a, b) {
             let inverse = 1.0 / a;
             let slope = -b * inverse;
             let upper = (hi * inverse, slope);
@@ -496,15 +502,16 @@ impl Lines {
         let mut x = start;
         let steps = 2 * (self.upper.len() + self.lower.len()) + 4;
         for _ in 0..steps {
-            let (up, up_slope) = active(&self.upper, x, side, Bound::Upper);
-            let (down, down_slope) = active(&self.lower, x, side, Bound::Lower);
+            let up = binding(&self.upper, x, Bound::Upper);
+            let down = binding(&self.lower, x, Bound::Lower);
             let gap = up - down;
             let scale = 1.0 + up.abs().min(1e300) + down.abs().min(1e300);
             if gap >= -TOLERANCE * scale || gap.is_nan() {
                 return (!gap.is_nan()).then_some(x);
             }
             // g grows towards `limit` only when it falls (Left) or rises (Right) at x.
-            let slope = up_slope - down_slope;
+            let slope = active_slope(&self.upper, x, up, side, Bound::Upper)
+                - active_slope(&self.lower, x, down, side, Bound::Lower);
             let next = match side {
                 Side::Left if slope < 0.0 => x - gap / slope,
                 Side::Right if slope > 0.0 => x - gap / slope,
@@ -542,38 +549,41 @@ enum Bound {
     Lower,
 }
 
-/// The binding value of `lines` at `x` and the slope of the line that binds just beyond `x`
-/// on `side` (ties broken by the slope, so that a step follows the right piece).
-fn active(lines: &[(f64, f64)], x: f64, side: Side, bound: Bound) -> (f64, f64) {
-    let mut best: Option<(f64, f64)> = None;
-    for &(alpha, beta) in lines {
-        let value = alpha + beta * x;
-        best = match best {
-            None => Some((value, beta)),
-            Some((v, s)) => {
-                let tie = (value - v).abs() <= 1e-14 * (value.abs() + v.abs() + 1.0);
-                let wins = if tie {
-                    // Just left of x, the upper line with the largest slope is the smallest
-                    // and the lower line with the smallest slope the largest; mirrored to
-                    // the right.
-                    match (side, bound) {
-                        (Side::Left, Bound::Upper) | (Side::Right, Bound::Lower) => beta > s,
-                        (Side::Left, Bound::Lower) | (Side::Right, Bound::Upper) => beta < s,
-                    }
-                } else {
-                    match bound {
-                        Bound::Upper => value < v,
-                        Bound::Lower => value > v,
-                    }
-                };
-                Some(if wins { (value, beta) } else { (v, s) })
-            }
-        };
+/// The binding value of `lines` at `x`: the smallest upper line's, the largest lower
+/// line's (`±∞` without lines).
+fn binding(lines: &[(f64, f64)], x: f64, bound: Bound) -> f64 {
+    let values = lines.iter().map(|&(alpha, beta)| alpha + beta * x);
+    // Plain comparisons (a NaN value never binds), cheaper than `f64::min`'s.
+    match bound {
+        Bound::Upper => values.fold(f64::INFINITY, |m, v| if v < m { v } else { m }),
+        Bound::Lower => values.fold(f64::NEG_INFINITY, |m, v| if v > m { v } else { m }),
     }
-    match (best, bound) {
-        (Some(b), _) => b,
-        (None, Bound::Upper) => (f64::INFINITY, 0.0),
-        (None, Bound::Lower) => (f64::NEG_INFINITY, 0.0),
+}
+
+/// The slope of the line of `lines` that binds just beyond `x` on `side`, `value` being their
+/// binding value at `x` ([`binding`]): among the lines through (within rounding of) that
+/// value, the one that stays binding on that side (0 without lines).
+fn active_slope(lines: &[(f64, f64)], x: f64, value: f64, side: Side, bound: Bound) -> f64 {
+    // Just left of x, the upper line with the largest slope is the smallest and the lower
+    // line with the smallest slope the largest; mirrored to the right.
+    let steepest = matches!(
+        (side, bound),
+        (Side::Left, Bound::Upper) | (Side::Right, Bound::Lower)
+    );
+    let through = lines.iter().filter(|&&(alpha, beta)| {
+        let at = alpha + beta * x;
+        (at - value).abs() <= 1e-14 * (at.abs() + value.abs() + 1.0)
+    });
+    let slopes = through.map(|&(_, beta)| beta);
+    let slope = if steepest {
+        slopes.fold(f64::NEG_INFINITY, f64::max)
+    } else {
+        slopes.fold(f64::INFINITY, f64::min)
+    };
+    if slope.is_finite() {
+        slope
+    } else {
+        0.0
     }
 }
 

@@ -2,26 +2,13 @@
 //! the schema itself (`graspath.record_columns()`), all read off
 //! [`graspath::select::record::COLUMNS`].
 
-use crate::convert::{array, error};
+use crate::convert::array;
 use graspath::select::record::{
     column_named, outputs, Cell, Column, JsonPlace, Kind, Row, COLUMNS,
 };
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-
-/// Sets the record columns of `output` ([`outputs::ARRAYS`] or [`outputs::BATCH`]) over `rows`
-/// in `dict` (see [`gather_columns`] for each column's dtype and shape).
-pub fn set_numpy_columns<'py>(
-    py: Python<'py>,
-    dict: &Bound<'py, PyDict>,
-    rows: &[Row<'_>],
-    output: u8,
-    samples: usize,
-) -> PyResult<()> {
-    let columns = gather_columns(rows, output, samples).map_err(error)?;
-    set_gathered_columns(py, dict, columns)
-}
 
 /// One record column's values over the rows, gathered without the GIL.
 pub enum ColumnValues<'r> {

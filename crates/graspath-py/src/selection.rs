@@ -2,7 +2,7 @@
 //! with the same records the CLI writes (`candidates.json`, `pairs.json`, `summary.json`).
 
 use crate::convert::{array, error, json_to_py, lib_error};
-use crate::record::set_numpy_columns;
+use crate::record::{gather_columns, set_gathered_columns};
 use crate::task::PyTask;
 use graspath::output_files::{write_files, Existing};
 use graspath::select::record::{outputs, Row, Trajectories};
@@ -97,20 +97,24 @@ impl PySelection {
     /// still). No value is a sentinel: whatever is absent is NaN (or ``None``).
     fn arrays<'py>(&self, py: Python<'py>, arm: &str) -> PyResult<Bound<'py, PyDict>> {
         let result = self.arm_result(arm)?;
-        let rows: Vec<Row<'_>> = result
-            .scores
-            .iter()
-            .zip(&result.rankings)
-            .map(|(score, ranking)| Row::new(&result.arm, score, ranking, Trajectories::None))
-            .collect();
+        let samples = self.task.path().samples.len();
+        // The values are gathered with the GIL released (a large selection's columns take a
+        // while); only the arrays are made with it.
+        let columns = py
+            .detach(|| {
+                let rows: Vec<Row<'_>> = result
+                    .scores
+                    .iter()
+                    .zip(&result.rankings)
+                    .map(|(score, ranking)| {
+                        Row::new(&result.arm, score, ranking, Trajectories::None)
+                    })
+                    .collect();
+                gather_columns(&rows, outputs::ARRAYS, samples)
+            })
+            .map_err(error)?;
         let dict = PyDict::new(py);
-        set_numpy_columns(
-            py,
-            &dict,
-            &rows,
-            outputs::ARRAYS,
-            self.task.path().samples.len(),
-        )?;
+        set_gathered_columns(py, &dict, columns)?;
         Ok(dict)
     }
 

@@ -317,8 +317,10 @@ pub enum PairScore {
     /// The sum of the two arms' norms (the paper's two-arm score).
     Sum,
     /// The slower arm's: the smaller of the two rates (1 / duration) when candidates are ranked
-    /// by the duration of their motion. Two arms carrying one object share one timeline, so
-    /// the pair takes at least the slower arm's time.
+    /// by the duration of their motion. Two arms carrying one object share one timeline that
+    /// waits for the slower arm; an estimate of the pair's time, since the written motions
+    /// time the carry as one path of both arms' joints
+    /// ([`timed_together`](crate::select::timed_together)).
     Slower,
 }
 

@@ -4,7 +4,8 @@
 //! default) the approach, the carry and the retreat are three motions from rest to rest (the
 //! gripper closes at the grasp and opens at the place); otherwise one motion through all.
 //! A motion no timing can keep within the limits is refused (`timing_infeasible`); the
-//! smoothing never refuses a branch that IK found (its departures are reported).
+//! smoothing never refuses a branch that IK found (its departures are reported). Arms that
+//! carry the object together are timed on one path parameter ([`timed_jointly`]).
 
 use super::branch_checks::{BranchCheck, BranchFindings};
 use super::Scoring;

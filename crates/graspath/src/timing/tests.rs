@@ -271,7 +271,7 @@ fn stacked_constraints_time_the_paths_as_one_path_of_all_their_joints() {
 }
 
 #[test]
-fn paths_on_different_grids_do_not_stack() {
+fn paths_on_different_grids_or_without_their_joint_counts_do_not_stack() {
     let line = |n: usize| -> Vec<Vec<f64>> { (0..n).map(|k| vec![k as f64]).collect() };
     let limits = PathLimits {
         velocity: &[Some(1.0)],
@@ -290,7 +290,14 @@ fn paths_on_different_grids_do_not_stack() {
             .unwrap(),
     ];
     assert!(matches!(
-        Constraints::stacked(parts, &[1, 1]),
+        Constraints::stacked(parts.clone(), &[1, 1]),
+        Err(TimingError::BadPath(_))
+    ));
+    // Each path needs its joint count.
+    let same = vec![parts[0].clone(), parts[0].clone()];
+    assert!(Constraints::stacked(same.clone(), &[1, 1]).is_ok());
+    assert!(matches!(
+        Constraints::stacked(same, &[1]),
         Err(TimingError::BadPath(_))
     ));
 }

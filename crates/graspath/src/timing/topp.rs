@@ -138,13 +138,20 @@ impl Constraints {
     /// indices move by the joint counts `dofs` of the parts before it
     /// ([`Limit::in_part`] moves them back).
     pub fn stacked(parts: Vec<Constraints>, dofs: &[usize]) -> Result<Self, TimingError> {
+        if parts.len() != dofs.len() {
+            return Err(TimingError::BadPath(format!(
+                "{} paths to stack with {} joint counts",
+                parts.len(),
+                dofs.len()
+            )));
+        }
         let mut parts = parts.into_iter();
         let Some(first) = parts.next() else {
             return Err(TimingError::BadPath("no path to stack".into()));
         };
         let mut stacked = first;
-        let mut offset = dofs.first().copied().unwrap_or(0);
-        for (part, &dof) in parts.zip(dofs.iter().skip(1)) {
+        let mut offset = dofs[0];
+        for (part, &dof) in parts.zip(&dofs[1..]) {
             if part.grid != stacked.grid || part.discretization != stacked.discretization {
                 return Err(TimingError::BadPath(
                     "the stacked paths are not on one grid".into(),

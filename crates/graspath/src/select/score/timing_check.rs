@@ -347,12 +347,7 @@ impl<'a> TimingCheck<'a> {
             return self.failure(first, error);
         };
         let names = self.scoring.setup.arm.chain.joint_names();
-        let joint = match limit {
-            Some(Limit::Velocity(j) | Limit::Acceleration(j) | Limit::Torque(j)) => {
-                Some(names[*j].clone())
-            }
-            _ => None,
-        };
+        let joint = limit.and_then(Limit::joint).map(|j| names[j].clone());
         let what = match limit {
             Some(Limit::Velocity(j)) => format!("joint '{}''s velocity limit", names[*j]),
             Some(Limit::Acceleration(j)) => format!("joint '{}''s acceleration limit", names[*j]),

@@ -13,69 +13,132 @@
 //!   `Fᵢ = Yᵢ Aᵢ + Vᵢ ×* Yᵢ Vᵢ` evaluated as Newton–Euler at the centre of mass `c`
 //!   (`f = m (v̇ + ω̇ × c + ω × (v + ω × c))`, `n_c = R (I ω̇_b + ω_b × I ω_b)` with the body's
 //!   own inertia `I` and `ω_b = Rᵀ ω`, `n = n_c + c × f`), then `τᵢ = Sᵢ · Σⱼ≥ᵢ Fⱼ`;
-//! * CRBA: composite inertias `Yᶜᵢ = Σⱼ≥ᵢ Yⱼ`, `Mₖᵢ = Sₖ · Yᶜᵢ Sᵢ` for `k ≤ i`.
+//! * CRBA: composite inertias `Yᶜᵢ = Σⱼ≥ᵢ Yⱼ`, `Mₖᵢ = Sₖ · Yᶜᵢ Sᵢ` for `k ≤ i`. Each body's
+//!   inertia about its centre is kept as `λ 1 − a aᵀ − b bᵀ` (its principal spread, from one
+//!   eigen-decomposition when the model or the payload is set), so turning it into the base
+//!   frame takes two rotations of a vector instead of `R I Rᵀ`; the bodies are placed four at
+//!   a time, lane by lane (four-lane vector instructions where the processor has them), and
+//!   summed in the backward sweep.
 
-use super::{Dynamics, DynamicsData, WorldBody};
+use super::{BodyLanes, Dynamics, DynamicsData, PlacedLanes, SegmentBody};
 use crate::robot::chain::MotionKind;
-use crate::robot::spec::RigidBody;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{IsometryMatrix3, Vector3};
 
-/// `(I_O ω + h × v, m v − h × ω)`: a body's spatial inertia times a motion `(ω, v)`.
-#[inline(always)]
-fn apply(body: &WorldBody, w: &Vector3<f64>, v: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    (
-        body.rotational * w + body.first_moment.cross(v),
-        body.mass * v - body.first_moment.cross(w),
-    )
+/// The composite of bodies about the base origin, base axes, as the CRBA sums it: mass `m`
+/// (kg), first moment `h = m·c` (kg·m), and the rotational inertia about the origin
+/// `I_O = κ 1 − P` (kg·m²) kept as the scalar `κ` and the symmetric `P` (upper triangle
+/// `xx, xy, xz, yy, yz, zz`). A body with centre `c` and inertia `λ 1 − a aᵀ − b bᵀ`
+/// (base axes, [`super::PrincipalSpread`]) adds `κ += λ + m ‖c‖²` and
+/// `P += a aᵀ + b bᵀ + m c cᵀ` (the parallel-axis term `m (‖c‖² 1 − c cᵀ)` folded in).
+#[derive(Debug, Clone, Copy)]
+struct Composite {
+    mass: f64,
+    first_moment: Vector3<f64>,
+    scalar: f64,
+    outer: [f64; 6],
 }
 
-/// A body (mass kg, centre `com` m and inertia about it kg·m², in a frame with rotation
-/// `rotation` and origin `origin` in the base) about the base origin along base axes.
-#[inline(always)]
-fn world_body(
-    mass: f64,
-    com: &Vector3<f64>,
-    inertia: &Matrix3<f64>,
-    rotation: &Matrix3<f64>,
-    origin: &Vector3<f64>,
-) -> WorldBody {
-    let c = origin + rotation * com;
-    let mut turned = symmetric_sandwich(rotation, inertia);
-    let (x, y, z) = (c[0], c[1], c[2]);
-    let (mx, my, mz) = (mass * x, mass * y, mass * z);
-    // + m (‖c‖² 1 − c cᵀ)
-    turned[(0, 0)] += my * y + mz * z;
-    turned[(1, 1)] += mx * x + mz * z;
-    turned[(2, 2)] += mx * x + my * y;
-    let (xy, xz, yz) = (mx * y, mx * z, my * z);
-    turned[(0, 1)] -= xy;
-    turned[(1, 0)] -= xy;
-    turned[(0, 2)] -= xz;
-    turned[(2, 0)] -= xz;
-    turned[(1, 2)] -= yz;
-    turned[(2, 1)] -= yz;
-    WorldBody {
-        mass,
-        first_moment: c * mass,
-        rotational: turned,
+impl Composite {
+    const ZERO: Self = Self {
+        mass: 0.0,
+        first_moment: Vector3::new(0.0, 0.0, 0.0),
+        scalar: 0.0,
+        outer: [0.0; 6],
+    };
+
+    /// Adds the body of mass `mass` placed in lane `lane` of `placed`.
+    #[inline(always)]
+    fn add(&mut self, mass: f64, placed: &PlacedLanes, lane: usize) {
+        self.mass += mass;
+        for (sum, row) in self.first_moment.iter_mut().zip(&placed.first_moment) {
+            *sum += row[lane];
+        }
+        self.scalar += placed.scalar[lane];
+        for (sum, row) in self.outer.iter_mut().zip(&placed.outer) {
+            *sum += row[lane];
+        }
+    }
+
+    /// `(I_O ω + h × v, m v − h × ω)`: the composite's spatial inertia times a motion `(ω, v)`.
+    #[inline(always)]
+    fn apply(&self, w: &Vector3<f64>, v: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+        let [xx, xy, xz, yy, yz, zz] = self.outer;
+        let outer_w = Vector3::new(
+            xx * w[0] + xy * w[1] + xz * w[2],
+            xy * w[0] + yy * w[1] + yz * w[2],
+            xz * w[0] + yz * w[1] + zz * w[2],
+        );
+        let h = &self.first_moment;
+        (
+            w * self.scalar - outer_w + h.cross(v),
+            v * self.mass - h.cross(w),
+        )
     }
 }
 
-/// `R I Rᵀ` for a symmetric `I`, computing the upper triangle and mirroring it.
+/// Places four bodies at once (lane `l`: the body of `bodies` in the frame `frames[l]`,
+/// base frame): their first moments and the two parts of their rotational inertias about the
+/// base origin ([`Composite`]), into `placed`.
 #[inline(always)]
-fn symmetric_sandwich(r: &Matrix3<f64>, inertia: &Matrix3<f64>) -> Matrix3<f64> {
-    let a = r * inertia;
-    let entry =
-        |i: usize, j: usize| a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)];
-    let (xx, xy, xz, yy, yz, zz) = (
-        entry(0, 0),
-        entry(0, 1),
-        entry(0, 2),
-        entry(1, 1),
-        entry(1, 2),
-        entry(2, 2),
+fn place_four(bodies: &BodyLanes, frames: [&IsometryMatrix3<f64>; 4], placed: &mut PlacedLanes) {
+    let mut rotation = [[[0.0; 4]; 3]; 3];
+    let mut origin = [[0.0; 4]; 3];
+    for (l, frame) in frames.iter().enumerate() {
+        let r = frame.rotation.matrix();
+        for row in 0..3 {
+            for col in 0..3 {
+                rotation[row][col][l] = r[(row, col)];
+            }
+            origin[row][l] = frame.translation.vector[row];
+        }
+    }
+    let mut c = turn_lanes(&rotation, &bodies.com);
+    let mut h = [[0.0; 4]; 3];
+    for row in 0..3 {
+        for l in 0..4 {
+            c[row][l] += origin[row][l];
+            h[row][l] = c[row][l] * bodies.mass[l];
+        }
+    }
+    let (a, b) = (
+        turn_lanes(&rotation, &bodies.axes[0]),
+        turn_lanes(&rotation, &bodies.axes[1]),
     );
-    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+    const PAIRS: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+    for (out, (i, j)) in placed.outer.iter_mut().zip(PAIRS) {
+        for l in 0..4 {
+            out[l] = a[i][l] * a[j][l] + b[i][l] * b[j][l] + h[i][l] * c[j][l];
+        }
+    }
+    for l in 0..4 {
+        placed.scalar[l] =
+            bodies.peak[l] + (h[0][l] * c[0][l] + h[1][l] * c[1][l] + h[2][l] * c[2][l]);
+    }
+    placed.first_moment = h;
+}
+
+/// `R x` in four lanes (`rotation[row][col][lane]`, `x[row][lane]`).
+#[inline(always)]
+fn turn_lanes(rotation: &[[[f64; 4]; 3]; 3], x: &[[f64; 4]; 3]) -> [[f64; 4]; 3] {
+    let mut turned = [[0.0; 4]; 3];
+    for (out, r) in turned.iter_mut().zip(rotation) {
+        for l in 0..4 {
+            out[l] = r[0][l] * x[0][l] + r[1][l] * x[1][l] + r[2][l] * x[2][l];
+        }
+    }
+    turned
+}
+
+/// A segment's motion subspace about the base origin from its placed frame (base frame):
+/// `(z, p × z)` for a turn about the frame's `z` axis through its origin `p`, `(0, z)` for a
+/// slide along it.
+#[inline(always)]
+fn motion(kind: MotionKind, frame: &IsometryMatrix3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let z = frame.rotation.matrix().column(2).into_owned();
+    match kind {
+        MotionKind::Revolute => (z, frame.translation.vector.cross(&z)),
+        MotionKind::Prismatic => (Vector3::zeros(), z),
+    }
 }
 
 impl Dynamics {
@@ -115,31 +178,17 @@ impl Dynamics {
             .zip(&data.frames)
             .zip(data.motion_w.iter_mut().zip(data.motion_v.iter_mut()));
         for ((s, frame), (motion_w, motion_v)) in placed {
-            let z = frame.rotation.matrix().column(2).into_owned();
-            (*motion_w, *motion_v) = match s.kind {
-                MotionKind::Revolute => (z, frame.translation.vector.cross(&z)),
-                MotionKind::Prismatic => (Vector3::zeros(), z),
-            };
+            (*motion_w, *motion_v) = motion(s.kind, frame);
         }
     }
 
-    /// Segment `i`'s body in its aligned frame: mass (kg), centre of mass (m), inertia about
-    /// it (kg·m²); the last segment's is `loaded_last` when a payload is joined to it
-    /// (`DynamicsData::loaded_last`).
+    /// Segment `i`'s body in its aligned frame; the last segment's is `loaded_last` when a
+    /// payload is joined to it (`DynamicsData::loaded_last`).
     #[inline(always)]
-    fn body<'a>(
-        &'a self,
-        loaded_last: Option<&'a RigidBody>,
-        i: usize,
-    ) -> (f64, &'a Vector3<f64>, &'a Matrix3<f64>) {
+    fn body<'a>(&'a self, loaded_last: Option<&'a SegmentBody>, i: usize) -> &'a SegmentBody {
         match loaded_last {
-            Some(loaded) if i + 1 == self.segments.len() => {
-                (loaded.mass, &loaded.com, &loaded.inertia)
-            }
-            _ => {
-                let s = &self.segments[i];
-                (s.mass, &s.com, &s.inertia)
-            }
+            Some(loaded) if i + 1 == self.segments.len() => loaded,
+            _ => &self.segments[i].body,
         }
     }
 
@@ -171,12 +220,12 @@ impl Dynamics {
         let mut mass = 0.0;
         let mut moment = Vector3::<f64>::zeros();
         for i in (0..self.segments.len()).rev() {
-            let (m, com, _) = self.body(data.loaded_last.as_ref(), i);
+            let body = self.body(data.loaded_last.as_ref(), i);
             let frame = &data.frames[i];
             let r = frame.rotation.matrix();
             let p = &frame.translation.vector;
-            mass += m;
-            moment += (p + r * com) * m;
+            mass += body.mass;
+            moment += (p + r * body.com) * body.mass;
             let z = r.column(2);
             data.segment_tau[i] = match self.segments[i].kind {
                 MotionKind::Revolute => z.dot(&(moment - p * mass).cross(&lift)),
@@ -318,13 +367,15 @@ impl Dynamics {
                 dw += sw * accel;
                 dv += sv * accel;
             }
-            let (mass, com, inertia) = self.body(data.loaded_last.as_ref(), i);
+            let SegmentBody {
+                mass, com, inertia, ..
+            } = self.body(data.loaded_last.as_ref(), i);
             let frame = &data.frames[i];
             let r = frame.rotation.matrix();
             let c = frame.translation.vector + r * com;
             // The centre of mass's classical acceleration (gravity included through the base).
             let velocity = v + w.cross(&c);
-            let f = (dv + dw.cross(&c) + w.cross(&velocity)) * mass;
+            let f = (dv + dw.cross(&c) + w.cross(&velocity)) * *mass;
             let (w_body, dw_body) = (r.tr_mul(&w), r.tr_mul(&dw));
             let n_body = inertia * dw_body + w_body.cross(&(inertia * w_body));
             data.force_n[i] = r * n_body + c.cross(&f);
@@ -344,10 +395,14 @@ impl Dynamics {
         self.gather(data, tau);
     }
 
-    /// `M(q)` without checks; `out` is the column-major dof × dof storage. The bodies are
-    /// placed about the base origin in the backward sweep that sums them. On a processor with
-    /// AVX2 the same code is compiled for it (three-operand instructions, no fused
-    /// multiply–add: the same IEEE operations, the same bits).
+    /// `M(q)` without checks; `out` is the column-major dof × dof storage. One backward sweep
+    /// places the bodies about the base origin, sums them into the composite inertias and
+    /// keeps each column's force `Fᵢ = Yᶜᵢ Sᵢ`; then each column's upper part
+    /// `Mₖᵢ = Sₖ · Fᵢ` (`k ≤ i`, contiguous in column-major storage) is evaluated four rows at
+    /// a time from the motions stored component by component, and the lower triangle is
+    /// mirrored from it. On a processor with AVX2 the same code is compiled for it
+    /// (three-operand and four-lane instructions, no fused multiply–add: the same IEEE
+    /// operations, the same bits).
     pub(super) fn crba_unchecked(&self, data: &mut DynamicsData, q: &[f64], out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         if crate::cpu::has_avx2() {
@@ -374,34 +429,33 @@ impl Dynamics {
         self.place(data, q);
         self.place_motions(data);
         let n = self.segments.len();
-        let mut composite = WorldBody::ZERO;
+        for (g, (bodies, placed)) in data
+            .body_lanes
+            .iter()
+            .zip(data.placed_lanes.iter_mut())
+            .enumerate()
+        {
+            // Lanes past the last segment hold empty bodies: any frame places them at zero.
+            let frames = std::array::from_fn(|l| &data.frames[(4 * g + l).min(n - 1)]);
+            place_four(bodies, frames, placed);
+        }
+        let mut composite = Composite::ZERO;
         let stride = if self.has_mimic { n } else { self.dof };
-        let loaded_last = data.loaded_last.as_ref();
         let target: &mut [f64] = if self.has_mimic {
             &mut data.segment_mass
         } else {
             out
         };
         for i in (0..n).rev() {
-            let (mass, com, inertia) = self.body(loaded_last, i);
-            let frame = &data.frames[i];
-            let body = world_body(
-                mass,
-                com,
-                inertia,
-                frame.rotation.matrix(),
-                &frame.translation.vector,
-            );
-            composite.mass += body.mass;
-            composite.first_moment += body.first_moment;
-            composite.rotational += body.rotational;
-            let (fn_, ff) = apply(&composite, &data.motion_w[i], &data.motion_v[i]);
+            let (g, lane) = (i / 4, i % 4);
+            composite.add(data.body_lanes[g].mass[lane], &data.placed_lanes[g], lane);
+            let (force_n, force_f) = composite.apply(&data.motion_w[i], &data.motion_v[i]);
             for (k, (kw, kv)) in data.motion_w[..=i]
                 .iter()
                 .zip(&data.motion_v[..=i])
                 .enumerate()
             {
-                let entry = kw.dot(&fn_) + kv.dot(&ff);
+                let entry = kw.dot(&force_n) + kv.dot(&force_f);
                 target[k * stride + i] = entry;
                 target[i * stride + k] = entry;
             }

@@ -54,11 +54,92 @@ struct Segment {
     source: usize,
     multiplier: f64,
     offset: f64,
+    /// The body moved by the segment, in its aligned frame.
+    body: SegmentBody,
+}
+
+/// A segment's body in the segment's aligned frame: mass (kg), centre of mass (m), inertia
+/// about it (kg·m²), and that inertia's principal spread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct SegmentBody {
     mass: f64,
-    /// Centre of mass in the aligned frame (m).
     com: Vector3<f64>,
-    /// Inertia about the centre of mass, aligned axes (kg·m²).
     inertia: Matrix3<f64>,
+    spread: PrincipalSpread,
+}
+
+impl SegmentBody {
+    fn new(body: &RigidBody) -> Self {
+        Self {
+            mass: body.mass,
+            com: body.com,
+            inertia: body.inertia,
+            spread: PrincipalSpread::of(&body.inertia),
+        }
+    }
+}
+
+/// Four segments' bodies lane by lane, for the CRBA's placement of four bodies at once:
+/// lane `l` of group `g` is segment `4g + l` (aligned frame: mass kg, centre of mass m, the
+/// inertia's [`PrincipalSpread`]); lanes past the last segment hold empty bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct BodyLanes {
+    mass: [f64; 4],
+    peak: [f64; 4],
+    com: [[f64; 4]; 3],
+    axes: [[[f64; 4]; 3]; 2],
+}
+
+impl BodyLanes {
+    /// Puts `body` in lane `lane`.
+    fn set(&mut self, lane: usize, body: &SegmentBody) {
+        self.mass[lane] = body.mass;
+        self.peak[lane] = body.spread.peak;
+        for row in 0..3 {
+            self.com[row][lane] = body.com[row];
+            for (axes, axis) in self.axes.iter_mut().zip(&body.spread.axes) {
+                axes[row][lane] = axis[row];
+            }
+        }
+    }
+}
+
+/// Four placed bodies lane by lane (as [`BodyLanes`]), about the base origin along base
+/// axes: first moment `h = m c` (kg·m) and the two parts of the rotational inertia about the
+/// origin `I_O = κ 1 − P` (kg·m²): `κ` and the upper triangle of `P` (`xx, xy, xz, yy, yz,
+/// zz`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct PlacedLanes {
+    first_moment: [[f64; 4]; 3],
+    scalar: [f64; 4],
+    outer: [[f64; 4]; 6],
+}
+
+/// A symmetric inertia `I` (kg·m²) written `λ 1 − a aᵀ − b bᵀ`: `λ` its largest principal
+/// moment, `a` and `b` its other two principal axes scaled by `√(λ − λᵢ)`. Turned by a
+/// rotation `R` it is `λ 1 − (R a)(R a)ᵀ − (R b)(R b)ᵀ`: two matrix–vector products where
+/// `R I Rᵀ` takes two matrix products (what the CRBA pays per body and call).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PrincipalSpread {
+    peak: f64,
+    axes: [Vector3<f64>; 2],
+}
+
+impl PrincipalSpread {
+    /// The spread of a symmetric inertia (its eigen-decomposition, once per body).
+    fn of(inertia: &Matrix3<f64>) -> Self {
+        let eigen = inertia.symmetric_eigen();
+        let mut order = [0, 1, 2];
+        order.sort_by(|&i, &j| eigen.eigenvalues[j].total_cmp(&eigen.eigenvalues[i]));
+        let peak = eigen.eigenvalues[order[0]];
+        let axis = |k: usize| {
+            eigen.eigenvectors.column(order[k]) * (peak - eigen.eigenvalues[order[k]]).sqrt()
+        };
+        Self {
+            peak,
+            axes: [axis(1), axis(2)],
+        }
+    }
 }
 
 /// The dynamics model of one chain: per moving segment its placement, joint axis and mass
@@ -100,23 +181,6 @@ impl PartialEq for Dynamics {
 /// The source of [`Dynamics`] ids.
 static NEXT_MODEL_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
-/// A spatial inertia about the base origin, base axes: mass (kg), first moment `h = m·c`
-/// (kg·m) and rotational inertia about the origin (kg·m²).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct WorldBody {
-    mass: f64,
-    first_moment: Vector3<f64>,
-    rotational: Matrix3<f64>,
-}
-
-impl WorldBody {
-    const ZERO: Self = Self {
-        mass: 0.0,
-        first_moment: Vector3::new(0.0, 0.0, 0.0),
-        rotational: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-    };
-}
-
 /// The workspace of the dynamics kernels for one model (one per thread): per-segment
 /// buffers sized once by [`Dynamics::data`], and the optional payload at the tool.
 #[derive(Debug, Clone)]
@@ -126,7 +190,7 @@ pub struct DynamicsData {
     payload: Option<RigidBody>,
     /// The last segment's body with the payload joined to it (its aligned frame), when a
     /// payload is attached: the kernels use it in place of the segment's own body.
-    loaded_last: Option<RigidBody>,
+    loaded_last: Option<SegmentBody>,
     /// The last segment's own body and the tool frame in its aligned frame (rotation,
     /// origin), from the model, to join a payload to it.
     last_segment: Option<RigidBody>,
@@ -137,6 +201,10 @@ pub struct DynamicsData {
     /// Each segment's motion subspace `S = (ω, v)` (about the base origin).
     motion_w: Vec<Vector3<f64>>,
     motion_v: Vec<Vector3<f64>>,
+    /// The segments' bodies four by four (the last one with the payload joined), and their
+    /// placement in the CRBA.
+    body_lanes: Vec<BodyLanes>,
+    placed_lanes: Vec<PlacedLanes>,
     /// Each segment's spatial force `(n, f)` in the RNEA (about the base origin).
     force_n: Vec<Vector3<f64>>,
     force_f: Vec<Vector3<f64>>,
@@ -162,10 +230,15 @@ impl DynamicsData {
                     r * p.com + self.tail_translation,
                     r * p.inertia * r.transpose(),
                 );
-                Some(last.combined(&in_last))
+                Some(SegmentBody::new(&last.combined(&in_last)))
             }
             _ => None,
         };
+        if let Some(last) = &self.last_segment {
+            let i = self.frames.len() - 1;
+            let body = self.loaded_last.unwrap_or_else(|| SegmentBody::new(last));
+            self.body_lanes[i / 4].set(i % 4, &body);
+        }
         Ok(())
     }
 
@@ -240,9 +313,7 @@ impl Chain {
                 source: s.drive.0,
                 multiplier: s.drive.1,
                 offset: s.drive.2,
-                mass: body.mass,
-                com: body.com,
-                inertia: body.inertia,
+                body: SegmentBody::new(&body),
             });
         }
         Ok(Dynamics {
@@ -286,12 +357,24 @@ impl Dynamics {
             last_segment: self
                 .segments
                 .last()
-                .map(|s| RigidBody::new(s.mass, s.com, s.inertia)),
+                .map(|s| RigidBody::new(s.body.mass, s.body.com, s.body.inertia)),
             tail_rotation: self.tail_rotation,
             tail_translation: self.tail_translation,
             frames: vec![IsometryMatrix3::identity(); n],
             motion_w: vec![Vector3::zeros(); n],
             motion_v: vec![Vector3::zeros(); n],
+            body_lanes: self
+                .segments
+                .chunks(4)
+                .map(|group| {
+                    let mut lanes = BodyLanes::default();
+                    for (lane, s) in group.iter().enumerate() {
+                        lanes.set(lane, &s.body);
+                    }
+                    lanes
+                })
+                .collect(),
+            placed_lanes: vec![PlacedLanes::default(); n.div_ceil(4)],
             force_n: vec![Vector3::zeros(); n],
             force_f: vec![Vector3::zeros(); n],
             segment_tau: vec![0.0; n],
@@ -338,7 +421,7 @@ impl Dynamics {
 
     /// The total mass carried by the moving segments (kg), without the payload.
     pub fn moving_mass(&self) -> f64 {
-        self.segments.iter().map(|s| s.mass).sum()
+        self.segments.iter().map(|s| s.body.mass).sum()
     }
 
     fn check_q(&self, q: &[f64]) -> Result<(), RobotError> {

@@ -133,7 +133,9 @@ fn sorted_eigen(m: &Matrix3<f64>) -> Option<([f64; 3], [Vector3<f64>; 3])> {
     if m.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let eigen = SymmetricEigen::new(*m);
+    // Bounded: an unbounded iteration can fail to end on some inputs (nalgebra#1025), and a
+    // cloud is untrusted input.
+    let eigen = SymmetricEigen::try_new(*m, f64::EPSILON, 1_000)?;
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));
     let values = order.map(|i| eigen.eigenvalues[i]);

@@ -69,13 +69,29 @@ struct SegmentBody {
 }
 
 impl SegmentBody {
-    fn new(body: &RigidBody) -> Self {
-        Self {
+    /// The body with its inertia's principal spread; `what` names it in the error when the
+    /// spread cannot be computed ([`PrincipalSpread::of`]).
+    fn new(body: &RigidBody, what: &str) -> Result<Self, RobotError> {
+        let Some(spread) = PrincipalSpread::of(&body.inertia) else {
+            return Err(RobotError::BadInertia {
+                what: what.to_string(),
+                message: format!(
+                    "the principal axes of the inertia {:?} could not be computed",
+                    body.inertia.as_slice()
+                ),
+            });
+        };
+        Ok(Self {
             mass: body.mass,
             com: body.com,
             inertia: body.inertia,
-            spread: PrincipalSpread::of(&body.inertia),
-        }
+            spread,
+        })
+    }
+
+    /// The body without its spread.
+    fn rigid(&self) -> RigidBody {
+        RigidBody::new(self.mass, self.com, self.inertia)
     }
 }
 
@@ -126,19 +142,22 @@ struct PrincipalSpread {
 }
 
 impl PrincipalSpread {
-    /// The spread of a symmetric inertia (its eigen-decomposition, once per body).
-    fn of(inertia: &Matrix3<f64>) -> Self {
-        let eigen = inertia.symmetric_eigen();
+    /// The spread of a finite symmetric inertia (its eigen-decomposition, once per body), or
+    /// `None` when the decomposition does not converge within a bounded number of iterations
+    /// (the file's numbers are untrusted: an unbounded iteration could hang on them).
+    fn of(inertia: &Matrix3<f64>) -> Option<Self> {
+        const MAX_ITERATIONS: usize = 1_000;
+        let eigen = inertia.try_symmetric_eigen(f64::EPSILON, MAX_ITERATIONS)?;
         let mut order = [0, 1, 2];
         order.sort_by(|&i, &j| eigen.eigenvalues[j].total_cmp(&eigen.eigenvalues[i]));
         let peak = eigen.eigenvalues[order[0]];
         let axis = |k: usize| {
             eigen.eigenvectors.column(order[k]) * (peak - eigen.eigenvalues[order[k]]).sqrt()
         };
-        Self {
+        Some(Self {
             peak,
             axes: [axis(1), axis(2)],
-        }
+        })
     }
 }
 
@@ -193,7 +212,7 @@ pub struct DynamicsData {
     loaded_last: Option<SegmentBody>,
     /// The last segment's own body and the tool frame in its aligned frame (rotation,
     /// origin), from the model, to join a payload to it.
-    last_segment: Option<RigidBody>,
+    last_segment: Option<SegmentBody>,
     tail_rotation: Matrix3<f64>,
     tail_translation: Vector3<f64>,
     /// Each segment's aligned frame (base frame), from the FK kernel's link-frame pass.
@@ -221,8 +240,7 @@ impl DynamicsData {
         if let Some(body) = &payload {
             check_body(body, "payload")?;
         }
-        self.payload = payload;
-        self.loaded_last = match (payload, self.last_segment) {
+        let loaded_last = match (payload, &self.last_segment) {
             (Some(p), Some(last)) => {
                 let r = self.tail_rotation;
                 let in_last = RigidBody::new(
@@ -230,14 +248,19 @@ impl DynamicsData {
                     r * p.com + self.tail_translation,
                     r * p.inertia * r.transpose(),
                 );
-                Some(SegmentBody::new(&last.combined(&in_last)))
+                Some(SegmentBody::new(
+                    &last.rigid().combined(&in_last),
+                    "payload",
+                )?)
             }
             _ => None,
         };
+        self.payload = payload;
+        self.loaded_last = loaded_last;
         if let Some(last) = &self.last_segment {
             let i = self.frames.len() - 1;
-            let body = self.loaded_last.unwrap_or_else(|| SegmentBody::new(last));
-            self.body_lanes[i / 4].set(i % 4, &body);
+            let body = self.loaded_last.as_ref().unwrap_or(last);
+            self.body_lanes[i / 4].set(i % 4, body);
         }
         Ok(())
     }
@@ -313,7 +336,10 @@ impl Chain {
                 source: s.drive.0,
                 multiplier: s.drive.1,
                 offset: s.drive.2,
-                body: SegmentBody::new(&body),
+                body: SegmentBody::new(
+                    &body,
+                    &format!("chain '{}', segment of joint '{joint}'", self.name()),
+                )?,
             });
         }
         Ok(Dynamics {
@@ -354,10 +380,7 @@ impl Dynamics {
             model: self.id,
             payload: None,
             loaded_last: None,
-            last_segment: self
-                .segments
-                .last()
-                .map(|s| RigidBody::new(s.body.mass, s.body.com, s.body.inertia)),
+            last_segment: self.segments.last().map(|s| s.body),
             tail_rotation: self.tail_rotation,
             tail_translation: self.tail_translation,
             frames: vec![IsometryMatrix3::identity(); n],

@@ -672,3 +672,41 @@ fn the_mass_matrix_follows_the_payload_on_and_off() {
         );
     }
 }
+
+/// A body's principal spread gives back its inertia, `λ 1 − a aᵀ − b bᵀ = I`, with `λ` the
+/// largest principal moment, for random symmetric inertias (rods, discs, near-isotropic and
+/// zero ones included).
+#[test]
+fn the_principal_spread_recomposes_the_inertia() {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(53);
+    let mut inertias = vec![Matrix3::zeros(), Matrix3::identity() * 0.2];
+    for _ in 0..200 {
+        let axes = UnitQuaternion::from_euler_angles(
+            rng.random_range(-3.0..3.0),
+            rng.random_range(-3.0..3.0),
+            rng.random_range(-3.0..3.0),
+        )
+        .to_rotation_matrix()
+        .into_inner();
+        let scale = 10f64.powf(rng.random_range(-6.0..1.0));
+        let moments = Vector3::new(
+            rng.random_range(0.0..1.0),
+            rng.random_range(0.0..1.0),
+            rng.random_range(0.0..1e-3),
+        ) * scale;
+        inertias.push(axes * Matrix3::from_diagonal(&moments) * axes.transpose());
+    }
+    for inertia in inertias {
+        let inertia = (inertia + inertia.transpose()) / 2.0;
+        let spread = super::PrincipalSpread::of(&inertia).expect("a symmetric 3 × 3 converges");
+        let [a, b] = spread.axes;
+        let back = Matrix3::identity() * spread.peak - a * a.transpose() - b * b.transpose();
+        let largest = inertia.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!(
+            (back - inertia).amax() <= 1e-14 * largest,
+            "{inertia} came back as {back}"
+        );
+        let eigen_max = inertia.symmetric_eigenvalues().max();
+        assert!((spread.peak - eigen_max).abs() <= 1e-14 * largest.max(f64::MIN_POSITIVE));
+    }
+}

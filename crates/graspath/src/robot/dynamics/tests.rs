@@ -163,6 +163,15 @@ fn payload_at_the_tool_equals_the_same_mass_on_the_last_link() {
 
 /// A random chain with bodies on every segment: revolute, continuous, prismatic and fixed
 /// joints with random axes, placements and inertias.
+/// A rotation drawn over all orientations (roll and yaw in ±3 rad, pitch in ±1.5 rad).
+fn random_turn(rng: &mut Xoshiro256PlusPlus) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_euler_angles(
+        rng.random_range(-3.0..3.0),
+        rng.random_range(-1.5..1.5),
+        rng.random_range(-3.0..3.0),
+    )
+}
+
 fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize, mimic: bool) -> ChainSpec {
     let mut specs = Vec::new();
     let mut moving = Vec::new();
@@ -184,11 +193,7 @@ fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize, mimic: bool) -> Cha
                 rng.random_range(-0.4..0.4),
                 rng.random_range(-0.4..0.4),
             ),
-            UnitQuaternion::from_euler_angles(
-                rng.random_range(-3.0..3.0),
-                rng.random_range(-1.5..1.5),
-                rng.random_range(-3.0..3.0),
-            ),
+            random_turn(rng),
         );
         let mut j = joint(&format!("j{i}"), kind, origin, axis.normalize());
         let principal = Matrix3::from_diagonal(&Vector3::new(
@@ -196,13 +201,7 @@ fn random_chain(rng: &mut Xoshiro256PlusPlus, joints: usize, mimic: bool) -> Cha
             rng.random_range(0.001..0.05),
             rng.random_range(0.001..0.05),
         ));
-        let turn = UnitQuaternion::from_euler_angles(
-            rng.random_range(-3.0..3.0),
-            rng.random_range(-1.5..1.5),
-            rng.random_range(-3.0..3.0),
-        )
-        .to_rotation_matrix()
-        .into_inner();
+        let turn = random_turn(rng).to_rotation_matrix().into_inner();
         j.child_inertial = Some(RigidBody::new(
             rng.random_range(0.2..3.0),
             Vector3::new(
@@ -681,13 +680,7 @@ fn the_principal_spread_recomposes_the_inertia() {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(53);
     let mut inertias = vec![Matrix3::zeros(), Matrix3::identity() * 0.2];
     for _ in 0..200 {
-        let axes = UnitQuaternion::from_euler_angles(
-            rng.random_range(-3.0..3.0),
-            rng.random_range(-3.0..3.0),
-            rng.random_range(-3.0..3.0),
-        )
-        .to_rotation_matrix()
-        .into_inner();
+        let axes = random_turn(&mut rng).to_rotation_matrix().into_inner();
         let scale = 10f64.powf(rng.random_range(-6.0..1.0));
         let moments = Vector3::new(
             rng.random_range(0.0..1.0),
